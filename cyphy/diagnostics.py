@@ -1,0 +1,167 @@
+"""Diagnostics as data: codes, spans, messages and hints, collected and rendered once.
+
+Every stage reports problems through a :class:`Report`; nothing in the pipeline prints, raises
+for bad input, or exits. The CLI renders the collected diagnostics and derives its exit status
+from them (see ``../shared/spec/style.md``, sections 4 and 9).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from enum import Enum
+from pathlib import Path
+from typing import Iterable, Iterator, Protocol
+
+
+class Severity(str, Enum):
+    ERROR = "ERROR"
+    WARNING = "WARNING"
+
+
+@dataclass(frozen=True, slots=True, order=True)
+class Span:
+    """A region of a source file; lines and columns count from 1, ``end_column`` is exclusive."""
+
+    file: str
+    line: int
+    column: int
+    end_line: int
+    end_column: int
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line}:{self.column}"
+
+    @staticmethod
+    def unknown(file: str = "<unknown>") -> Span:
+        return Span(file, 0, 0, 0, 0)
+
+    def to_json(self) -> dict[str, object]:
+        return {
+            "file": self.file,
+            "line": self.line,
+            "column": self.column,
+            "end_line": self.end_line,
+            "end_column": self.end_column,
+        }
+
+
+class HasSpan(Protocol):
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class Code:
+    """A diagnostic code: an id such as ``S1`` or ``E-SYNTAX``, its severity and a summary."""
+
+    id: str
+    severity: Severity
+    summary: str
+
+
+@dataclass(frozen=True, slots=True)
+class Diagnostic:
+    code: Code
+    message: str
+    span: Span
+    hint: str = ""
+    notes: tuple[str, ...] = ()
+
+    @property
+    def severity(self) -> Severity:
+        return self.code.severity
+
+    def to_json(self) -> dict[str, object]:
+        return {
+            "code": self.code.id,
+            "severity": self.severity.value,
+            "message": self.message,
+            "span": self.span.to_json(),
+            "hint": self.hint,
+            "notes": list(self.notes),
+        }
+
+
+def _sort_key(d: Diagnostic) -> tuple[object, ...]:
+    return (d.span.file, d.span.line, d.span.column, d.code.id, d.message)
+
+
+@dataclass
+class Report:
+    """Collects diagnostics; de-duplicates and sorts them when read."""
+
+    _items: list[Diagnostic] = field(default_factory=list)
+
+    def add(self, diagnostic: Diagnostic) -> None:
+        self._items.append(diagnostic)
+
+    def extend(self, diagnostics: Iterable[Diagnostic]) -> None:
+        self._items.extend(diagnostics)
+
+    def report(
+        self, code: Code, message: str, span: Span, hint: str = "", notes: Iterable[str] = ()
+    ) -> None:
+        self._items.append(Diagnostic(code, message, span, hint, tuple(notes)))
+
+    @property
+    def diagnostics(self) -> list[Diagnostic]:
+        seen: set[tuple[object, ...]] = set()
+        unique = []
+        for d in sorted(self._items, key=_sort_key):
+            key = (d.code.id, d.message, d.span)
+            if key not in seen:
+                seen.add(key)
+                unique.append(d)
+        return unique
+
+    def __iter__(self) -> Iterator[Diagnostic]:
+        return iter(self.diagnostics)
+
+    def __len__(self) -> int:
+        return len(self.diagnostics)
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.severity is Severity.ERROR]
+
+    @property
+    def has_errors(self) -> bool:
+        return any(d.severity is Severity.ERROR for d in self._items)
+
+    @property
+    def exit_code(self) -> int:
+        return 1 if self.has_errors else 0
+
+
+def render_text(diagnostics: Iterable[Diagnostic], sources: dict[str, str] | None = None) -> str:
+    """Render like rustc or mypy: location, severity and code, the source line with a caret."""
+    sources = sources if sources is not None else {}
+    out: list[str] = []
+    for d in diagnostics:
+        out.append(f"{d.span}: {d.severity.value} {d.code.id}: {d.message}")
+        text = sources.get(d.span.file)
+        if text is None and d.span.line > 0:
+            try:
+                text = Path(d.span.file).read_text(encoding="utf-8", errors="replace")
+                sources[d.span.file] = text
+            except OSError:
+                text = None
+        if text is not None and d.span.line > 0:
+            lines = text.splitlines()
+            if d.span.line <= len(lines):
+                src = lines[d.span.line - 1].replace("\t", " ")
+                width = 1
+                if d.span.end_line == d.span.line and d.span.end_column > d.span.column:
+                    width = d.span.end_column - d.span.column
+                gutter = f"{d.span.line:>5} | "
+                out.append(gutter + src)
+                out.append(" " * (len(gutter) + d.span.column - 1) + "^" * max(1, width))
+        for note in d.notes:
+            out.append(f"  note: {note}")
+        if d.hint:
+            out.append(f"  hint: {d.hint}")
+    return "\n".join(out) + ("\n" if out else "")
+
+
+def render_json(diagnostics: Iterable[Diagnostic]) -> str:
+    return json.dumps([d.to_json() for d in diagnostics], indent=2) + "\n"

@@ -1,0 +1,233 @@
+"""The one expression AST shared by every stage (parser, model, checks, semantics, printers).
+
+Nodes are frozen dataclasses with tuple children. ``span`` does not take part in equality, so
+two expressions that mean the same thing compare equal wherever they were written; passes return
+new trees instead of mutating. Printers dispatch on the class name (``_print_BinOp``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields, replace
+from typing import Callable, Iterator
+
+from cyphy.diagnostics import Span
+
+_NO_SPAN = Span.unknown()
+
+
+@dataclass(frozen=True, slots=True)
+class Expr:
+    """Base class of expressions; never instantiated itself."""
+
+    def children(self) -> Iterator[Expr]:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, Expr):
+                yield value
+            elif isinstance(value, tuple):
+                for item in value:
+                    if isinstance(item, Expr):
+                        yield item
+                    elif isinstance(item, tuple):
+                        yield from (x for x in item if isinstance(x, Expr))
+
+    def walk(self) -> Iterator[Expr]:
+        """This node and all its descendants, parents first."""
+        yield self
+        for child in self.children():
+            yield from child.walk()
+
+
+@dataclass(frozen=True, slots=True)
+class Num(Expr):
+    """A numeric literal, kept as written (``0.05``, ``1e+16``) so integers stay integers."""
+
+    text: str
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+    @property
+    def is_integer(self) -> bool:
+        return all(c.isdigit() for c in self.text)
+
+
+@dataclass(frozen=True, slots=True)
+class Quantity(Expr):
+    """A value with a unit suffix: ``0.03m``, ``(0.085*cos(i))m``, ``1.0 metre``."""
+
+    value: Expr
+    unit: str
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Str(Expr):
+    value: str
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Bool(Expr):
+    value: bool
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Name(Expr):
+    """A possibly qualified name: ``PI``, ``Core::LHinge::LMotor`` (parts split at ``::``)."""
+
+    parts: tuple[str, ...]
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+    @property
+    def text(self) -> str:
+        return "::".join(self.parts)
+
+
+@dataclass(frozen=True, slots=True)
+class BinOp(Expr):
+    """A binary operation; ``op`` is the notation's operator (``+``, ``/\\``, ``==``, ``^``…)."""
+
+    op: str
+    left: Expr
+    right: Expr
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class UnaryOp(Expr):
+    """``-e`` or ``not e``."""
+
+    op: str
+    operand: Expr
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Call(Expr):
+    """An application ``f(a, b)``; also curried calls ``submatrix(M)(0,0,3,3)``."""
+
+    func: Expr
+    args: tuple[Expr, ...]
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Index(Expr):
+    """``x[i]``, ``x[i, j]``; an index whose single argument is ``t == e`` is an IBCondition."""
+
+    base: Expr
+    args: tuple[Expr, ...]
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Member(Expr):
+    """Field or port access ``base.name`` (``LMotor.T``, ``su.shoulderAngle``)."""
+
+    base: Expr
+    name: str
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Derivative(Expr):
+    """``derivative(e)``: the time derivative, classified from a call after parsing."""
+
+    operand: Expr
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Integral(Expr):
+    """``integral(e)`` (running integral from 0) or ``integral(e, lo, hi)``."""
+
+    operand: Expr
+    lower: Expr | None = None
+    upper: Expr | None = None
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Vector(Expr):
+    """``(| a, b, c |)``: a vector or tuple; rows separated by ``;`` make it a matrix."""
+
+    rows: tuple[tuple[Expr, ...], ...]
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Matrix(Expr):
+    """``[| a, b; c, d |]``: a matrix (a single row is also used for vectors)."""
+
+    rows: tuple[tuple[Expr, ...], ...]
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Seq(Expr):
+    """``< a, b >``: a sequence."""
+
+    items: tuple[Expr, ...]
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Record(Expr):
+    """``Geom (| geomType = "box", geomVal = [|…|] |)``: a record constructor."""
+
+    type_name: tuple[str, ...]
+    fields: tuple[tuple[str, Expr], ...]
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+    def children(self) -> Iterator[Expr]:
+        for _, value in self.fields:
+            yield value
+
+
+@dataclass(frozen=True, slots=True)
+class IfExpr(Expr):
+    cond: Expr
+    then: Expr
+    orelse: Expr
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+
+def transform(expr: Expr, fn: Callable[[Expr], Expr | None]) -> Expr:
+    """Rebuild ``expr`` bottom-up; ``fn`` may return a replacement for a node or ``None``."""
+    changes: dict[str, object] = {}
+    for f in fields(expr):
+        value = getattr(expr, f.name)
+        if isinstance(value, Expr):
+            new = transform(value, fn)
+            if new is not value:
+                changes[f.name] = new
+        elif isinstance(value, tuple) and value and f.name != "type_name":
+            new_items = tuple(_transform_item(item, fn) for item in value)
+            if any(a is not b for a, b in zip(new_items, value)):
+                changes[f.name] = new_items
+    rebuilt = replace(expr, **changes) if changes else expr
+    result = fn(rebuilt)
+    return rebuilt if result is None else result
+
+
+def _transform_item(item: object, fn: Callable[[Expr], Expr | None]) -> object:
+    if isinstance(item, Expr):
+        return transform(item, fn)
+    if isinstance(item, tuple):
+        new = tuple(_transform_item(x, fn) for x in item)
+        return item if all(a is b for a, b in zip(new, item)) else new
+    return item
+
+
+def path_of(expr: Expr) -> tuple[str, ...] | None:
+    """The element path an expression denotes, or None when it is not a plain path.
+
+    ``Core::LHinge::LMotor.das`` → ``('Core', 'LHinge', 'LMotor', 'das')``; ``.`` and ``::``
+    are equivalent for navigation (notation A.12.6). Index steps are not plain paths.
+    """
+    if isinstance(expr, Name):
+        return expr.parts
+    if isinstance(expr, Member):
+        base = path_of(expr.base)
+        return None if base is None else base + (expr.name,)
+    return None

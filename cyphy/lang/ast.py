@@ -1,0 +1,783 @@
+"""The syntax tree of RoboSim model files: frozen dataclasses with source spans.
+
+This is what the parser returns and what name resolution and elaboration read. Member lists
+keep source order (the notation's members are unordered and may repeat, and checks need to see
+duplicates); properties give the members of one kind. Expressions are :mod:`cyphy.expr` nodes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import Enum
+from typing import Iterator, TypeVar, Union
+
+from cyphy.diagnostics import Span
+from cyphy.expr import Expr
+
+_NO_SPAN = Span.unknown()
+QName = tuple[str, ...]
+T = TypeVar("T")
+
+
+@dataclass(frozen=True, slots=True)
+class Node:
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False, kw_only=True)
+
+
+def _of(members: tuple[object, ...], cls: type[T]) -> tuple[T, ...]:
+    return tuple(m for m in members if isinstance(m, cls))
+
+
+# --------------------------------------------------------------------------- types
+
+
+@dataclass(frozen=True, slots=True)
+class PrimitiveType(Node):
+    name: str  # real, int, nat, boolean, string
+
+
+@dataclass(frozen=True, slots=True)
+class VectorType(Node):
+    element: TypeRef
+    size: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class MatrixType(Node):
+    element: TypeRef
+    rows: Expr
+    cols: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class SeqType(Node):
+    element: TypeRef
+
+
+@dataclass(frozen=True, slots=True)
+class SetType(Node):
+    element: TypeRef
+
+
+@dataclass(frozen=True, slots=True)
+class NamedType(Node):
+    name: QName
+
+
+TypeRef = Union[PrimitiveType, VectorType, MatrixType, SeqType, SetType, NamedType]
+
+
+# --------------------------------------------------------------------------- declarations
+
+
+class DeclKind(str, Enum):
+    CONST = "const"
+    VAR = "var"
+    INPUT = "input"
+    OUTPUT = "output"
+    INOUT = "InOut"
+    LOCAL = "local"
+
+
+@dataclass(frozen=True, slots=True)
+class VarDecl(Node):
+    """One declared name; comma lists (``const a: real, b: real``) become several."""
+
+    kind: DeclKind
+    name: str
+    type: TypeRef
+    value: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class Param(Node):
+    name: str
+    type: TypeRef
+
+
+@dataclass(frozen=True, slots=True)
+class PackageDecl(Node):
+    name: QName
+
+
+@dataclass(frozen=True, slots=True)
+class EndPackage(Node):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class Import(Node):
+    path: QName
+    wildcard: bool
+
+    @property
+    def text(self) -> str:
+        return "::".join(self.path) + ("::*" if self.wildcard else "")
+
+
+@dataclass(frozen=True, slots=True)
+class TypeDecl(Node):
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class FunctionDecl(Node):
+    name: str
+    params: tuple[Param, ...]
+    return_type: TypeRef | None
+    preconditions: tuple[Expr, ...] = ()
+    postconditions: tuple[Expr, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class DataType(Node):
+    name: str
+    fields: tuple[Param, ...]
+    is_record: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class Enumeration(Node):
+    name: str
+    literals: tuple[str, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class UnitDecl(Node):
+    """``primitive unit metre`` (no base) or ``derived unit newton { base … factor … }``."""
+
+    name: str
+    base: Expr | None = None
+    factor: Expr | None = None
+
+
+# --------------------------------------------------------------------------- annotations
+
+
+@dataclass(frozen=True, slots=True)
+class TemplateInstance(Node):
+    """``Axis { xyz = (|0,1,0|) }``: a template applied to named arguments."""
+
+    template: QName
+    args: tuple[AnnotationArg, ...]
+
+    def arg(self, name: str) -> AnnotationArg | None:
+        for a in self.args:
+            if a.name == name:
+                return a
+        return None
+
+
+@dataclass(frozen=True, slots=True)
+class AnnotationArg(Node):
+    name: str
+    value: Expr | TemplateInstance
+
+
+@dataclass(frozen=True, slots=True)
+class Annotation(Node):
+    """``annotation Revolute { … }`` on a joint, sensor or actuator."""
+
+    instance: TemplateInstance
+
+
+@dataclass(frozen=True, slots=True)
+class TemplateParam(Node):
+    """A parameter of an annotation template: a value (``xyz: vector(real,3)``) or a nested
+    template (``limit: template Limit``), with an optional default."""
+
+    name: str
+    type: TypeRef | None
+    template: QName | None
+    default: Expr | TemplateInstance | None
+
+
+@dataclass(frozen=True, slots=True)
+class AnnotationTemplate(Node):
+    name: str
+    extends: QName | None
+    params: tuple[TemplateParam, ...]
+
+
+# --------------------------------------------------------------------------- block members
+
+
+@dataclass(frozen=True, slots=True)
+class PoseField(Node):
+    key: str  # x y z roll pitch yaw
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Pose(Node):
+    fields: tuple[PoseField, ...]
+
+    def get(self, key: str) -> Expr | None:
+        for f in self.fields:
+            if f.key == key:
+                return f.value
+        return None
+
+
+@dataclass(frozen=True, slots=True)
+class IndexDecl(Node):
+    """``index i : [a, b)`` (half-open) or ``[a, b]`` (closed)."""
+
+    var: str
+    lower: Expr
+    upper: Expr
+    closed: bool
+
+
+@dataclass(frozen=True, slots=True)
+class FixedConnection(Node):
+    """``fixed to L`` or ``fixed to L in P`` (link L of part P)."""
+
+    target: str
+    part: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class FlexibleConnection(Node):
+    target: str
+    part: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class Relation(Node):
+    """A containment label: ``relation e``, ``relation_flexi e`` or a bare comparison."""
+
+    expr: Expr
+    flexi: bool = False
+    bare: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class Equation(Node):
+    expr: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Constraint(Node):
+    expr: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Instantiation(Node):
+    name: str
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class GeomArg(Node):
+    name: str
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Shape(Node):
+    """``box(length=…, width=…, height=…)``, ``cylinder(radius=…, length=…)``, ``sphere(…)``."""
+
+    kind: str
+    args: tuple[GeomArg, ...]
+
+    def arg(self, name: str) -> Expr | None:
+        for a in self.args:
+            if a.name == name:
+                return a.value
+        return None
+
+
+@dataclass(frozen=True, slots=True)
+class Mesh(Node):
+    shape: str | None
+    scaling: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class InertiaEntry(Node):
+    name: str  # ixx ixy ixz iyy iyz izz
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Inertial(Node):
+    """``inertial information { mass m inertia matrix {…} pose {…} }`` (in source order)."""
+
+    mass: Expr | None
+    inertia: tuple[InertiaEntry, ...] | None
+    pose: Pose | None
+    order: tuple[str, ...] = ()  # the member keywords in source order, for the order check
+
+
+@dataclass(frozen=True, slots=True)
+class Bounce(Node):
+    restitution: Expr | None
+    threshold: Expr | None
+
+
+@dataclass(frozen=True, slots=True)
+class FrictionEntry(Node):
+    name: str
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Friction(Node):
+    entries: tuple[FrictionEntry, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class LaserRetro(Node):
+    value: Expr
+
+
+DefMember = Union[
+    Shape, Mesh, Inertial, Bounce, Friction, LaserRetro, VarDecl, Equation, Constraint,
+    Annotation, Relation,
+]
+
+
+class BlockKind(str, Enum):
+    LINK = "link"
+    BODY = "body"
+    JOINT = "joint"
+    SENSOR = "sensor"
+    ACTUATOR = "actuator"
+
+    @property
+    def ref_keyword(self) -> str:
+        return self.value[0] + "ref" if self is not BlockKind.BODY else "bref"
+
+
+REF_KINDS = {"lref": BlockKind.LINK, "bref": BlockKind.BODY, "jref": BlockKind.JOINT,
+             "sref": BlockKind.SENSOR, "aref": BlockKind.ACTUATOR}
+
+
+@dataclass(frozen=True, slots=True)
+class DefBlock(Node):
+    """The ``def { … }`` of a local block: an anonymous definition."""
+
+    members: tuple[DefMember, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Definition(Node):
+    """A named package-level definition (``link Tip {}``, ``sensor IR {…}``)."""
+
+    kind: BlockKind
+    name: str
+    members: tuple[DefMember, ...]
+
+
+class _Members:
+    """Typed views of a ``members`` tuple; shared by blocks, p-models and parts."""
+
+    __slots__ = ()
+    members: tuple[object, ...]
+
+    @property
+    def blocks(self) -> tuple[Block, ...]:
+        return _of(self.members, Block)
+
+    @property
+    def poses(self) -> tuple[Pose, ...]:
+        return _of(self.members, Pose)
+
+    @property
+    def pose(self) -> Pose | None:
+        poses = self.poses
+        return poses[0] if poses else None
+
+    @property
+    def indices(self) -> tuple[IndexDecl, ...]:
+        return _of(self.members, IndexDecl)
+
+    @property
+    def index(self) -> IndexDecl | None:
+        indices = self.indices
+        return indices[0] if indices else None
+
+    @property
+    def declarations(self) -> tuple[VarDecl, ...]:
+        return _of(self.members, VarDecl)
+
+    @property
+    def equations(self) -> tuple[Equation, ...]:
+        return _of(self.members, Equation)
+
+    @property
+    def instantiations(self) -> tuple[Instantiation, ...]:
+        return _of(self.members, Instantiation)
+
+    @property
+    def annotations(self) -> tuple[Annotation, ...]:
+        return _of(self.members, Annotation)
+
+    @property
+    def relations(self) -> tuple[Relation, ...]:
+        return _of(self.members, Relation)
+
+
+@dataclass(frozen=True, slots=True)
+class Block(_Members, Node):
+    """A link, body, joint, sensor or actuator inside a p-model: local (``local link L {…}``)
+    when ``ref`` is None, a reference (``jref LHinge = Revolute {…}``) otherwise."""
+
+    kind: BlockKind
+    name: str
+    ref: QName | None
+    members: tuple[object, ...]
+
+    @property
+    def is_local(self) -> bool:
+        return self.ref is None
+
+    @property
+    def definitions(self) -> tuple[DefBlock, ...]:
+        return _of(self.members, DefBlock)
+
+    @property
+    def definition(self) -> DefBlock | None:
+        defs = self.definitions
+        return defs[0] if defs else None
+
+    @property
+    def fixed(self) -> tuple[FixedConnection, ...]:
+        return _of(self.members, FixedConnection)
+
+    @property
+    def flexible(self) -> tuple[FlexibleConnection, ...]:
+        return _of(self.members, FlexibleConnection)
+
+
+@dataclass(frozen=True, slots=True)
+class PartFixed(Node):
+    """``link L fixed to T in P`` inside a part: link L of the part's p-model is fixed to T."""
+
+    link: str
+    target: str
+    part: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class PartFlexible(Node):
+    """``joint J flexibly connected to T in P`` inside a part."""
+
+    joint: str
+    target: str
+    part: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class Part(_Members, Node):
+    name: str
+    pmodel: QName
+    members: tuple[object, ...]
+
+    @property
+    def fixed(self) -> tuple[PartFixed, ...]:
+        return _of(self.members, PartFixed)
+
+    @property
+    def flexible(self) -> tuple[PartFlexible, ...]:
+        return _of(self.members, PartFlexible)
+
+
+@dataclass(frozen=True, slots=True)
+class SolutionInput(Node):
+    name: str
+    type: TypeRef
+
+
+@dataclass(frozen=True, slots=True)
+class Solution(Node):
+    """A generated p-model+ solution block (order of members fixed by the notation)."""
+
+    expr_name: str
+    type: TypeRef
+    order: int
+    group: int
+    method: str
+    inputs: tuple[SolutionInput, ...]
+    constraints: tuple[Constraint, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class PModel(_Members, Node):
+    """``pmodel N {…}`` or, with ``fragment`` set, ``fragment N {…}``."""
+
+    name: str
+    members: tuple[object, ...]
+    fragment: bool = False
+
+    @property
+    def parts(self) -> tuple[Part, ...]:
+        return _of(self.members, Part)
+
+
+# --------------------------------------------------------------------------- mappings
+
+
+@dataclass(frozen=True, slots=True)
+class Predicate(Node):
+    expr: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Assign(Node):
+    target: Expr
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class CallStatement(Node):
+    call: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class SkipStatement(Node):
+    pass
+
+
+Statement = Union[Assign, CallStatement, SkipStatement]
+
+
+@dataclass(frozen=True, slots=True)
+class Action(Node):
+    statements: tuple[Statement, ...]
+
+
+MappingMember = Union[VarDecl, Equation, Predicate, Action]
+
+
+class _MappingMembers:
+    __slots__ = ()
+    members: tuple[MappingMember, ...]
+
+    @property
+    def declarations(self) -> tuple[VarDecl, ...]:
+        return _of(self.members, VarDecl)
+
+    @property
+    def equations(self) -> tuple[Equation, ...]:
+        return _of(self.members, Equation)
+
+    @property
+    def predicates(self) -> tuple[Predicate, ...]:
+        return _of(self.members, Predicate)
+
+    @property
+    def actions(self) -> tuple[Action, ...]:
+        return _of(self.members, Action)
+
+
+@dataclass(frozen=True, slots=True)
+class OperationMapping(_MappingMembers, Node):
+    name: str
+    members: tuple[MappingMember, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class EventMapping(_MappingMembers, Node):
+    """``input event obstacle {…}`` or ``output event e ? p {…}``."""
+
+    direction: str  # "input" or "output"
+    name: str
+    param: str | None
+    members: tuple[MappingMember, ...]
+    param_span: Span | None = field(default=None, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class VariableMapping(_MappingMembers, Node):
+    name: str
+    members: tuple[MappingMember, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class PlatformMapping(Node):
+    """``map M dmodel Module to pmodel PModel {…}``."""
+
+    name: str
+    dmodel: QName
+    pmodel: QName
+    members: tuple[object, ...]
+    dmodel_span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+    pmodel_span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+    @property
+    def declarations(self) -> tuple[VarDecl, ...]:
+        return _of(self.members, VarDecl)
+
+    @property
+    def operations(self) -> tuple[OperationMapping, ...]:
+        return _of(self.members, OperationMapping)
+
+    @property
+    def events(self) -> tuple[EventMapping, ...]:
+        return _of(self.members, EventMapping)
+
+    @property
+    def variables(self) -> tuple[VariableMapping, ...]:
+        return _of(self.members, VariableMapping)
+
+
+# --------------------------------------------------------------------------- d-models
+
+
+@dataclass(frozen=True, slots=True)
+class EventDecl(Node):
+    name: str
+    type: TypeRef | None
+
+
+@dataclass(frozen=True, slots=True)
+class OperationSig(Node):
+    name: str
+    params: tuple[Param, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class ClockDecl(Node):
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class Interface(Node):
+    name: str
+    members: tuple[object, ...]
+
+    @property
+    def events(self) -> tuple[EventDecl, ...]:
+        return _of(self.members, EventDecl)
+
+    @property
+    def operations(self) -> tuple[OperationSig, ...]:
+        return _of(self.members, OperationSig)
+
+    @property
+    def variables(self) -> tuple[VarDecl, ...]:
+        return _of(self.members, VarDecl)
+
+
+@dataclass(frozen=True, slots=True)
+class InterfaceUse(Node):
+    """``uses I``, ``provides I`` or ``requires I`` in a robotic platform."""
+
+    relation: str  # uses, provides, requires
+    interface: QName
+
+
+@dataclass(frozen=True, slots=True)
+class RoboticPlatform(Node):
+    name: str
+    members: tuple[object, ...]
+
+    @property
+    def uses(self) -> tuple[QName, ...]:
+        return tuple(m.interface for m in _of(self.members, InterfaceUse) if m.relation == "uses")
+
+    @property
+    def provides(self) -> tuple[QName, ...]:
+        return tuple(
+            m.interface for m in _of(self.members, InterfaceUse) if m.relation == "provides"
+        )
+
+    @property
+    def interface_uses(self) -> tuple[InterfaceUse, ...]:
+        return _of(self.members, InterfaceUse)
+
+    @property
+    def events(self) -> tuple[EventDecl, ...]:
+        return _of(self.members, EventDecl)
+
+    @property
+    def operations(self) -> tuple[OperationSig, ...]:
+        return _of(self.members, OperationSig)
+
+    @property
+    def variables(self) -> tuple[VarDecl, ...]:
+        return _of(self.members, VarDecl)
+
+
+@dataclass(frozen=True, slots=True)
+class CycleDef(Node):
+    expr: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class NodeRef(Node):
+    """``cref cm = Movement`` or ``rref rp = Platform`` inside a module."""
+
+    kind: str
+    name: str
+    target: QName
+
+
+@dataclass(frozen=True, slots=True)
+class Connection(Node):
+    source: str
+    source_event: str
+    target: str
+    target_event: str
+    flag: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class Skipped(Node):
+    """A controller, state machine or operation definition kept as text (not needed by
+    mappings; parsed as a brace-balanced block)."""
+
+    kind: str  # controller, stm, operation
+    name: str
+    params: tuple[Param, ...]
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
+class Module(Node):
+    name: str
+    members: tuple[object, ...]
+
+    @property
+    def cycle_defs(self) -> tuple[CycleDef, ...]:
+        return _of(self.members, CycleDef)
+
+    @property
+    def platform(self) -> RoboticPlatform | None:
+        platforms = _of(self.members, RoboticPlatform)
+        return platforms[0] if platforms else None
+
+
+# --------------------------------------------------------------------------- files
+
+
+TopLevel = Union[
+    PackageDecl, EndPackage, Import, VarDecl, TypeDecl, FunctionDecl, DataType, Enumeration,
+    UnitDecl, AnnotationTemplate, Definition, PModel, PlatformMapping, Solution, Interface,
+    Module, RoboticPlatform, Skipped,
+]
+
+
+@dataclass(frozen=True, slots=True)
+class SourceFile(Node):
+    path: str
+    items: tuple[TopLevel, ...]
+
+    @property
+    def package(self) -> QName:
+        """The file's package (``()`` for files without one: the global package)."""
+        for item in self.items:
+            if isinstance(item, PackageDecl):
+                return item.name
+        return ()
+
+    @property
+    def imports(self) -> tuple[Import, ...]:
+        return _of(self.items, Import)
+
+    def declarations(self) -> Iterator[TopLevel]:
+        for item in self.items:
+            if not isinstance(item, (PackageDecl, EndPackage, Import)):
+                yield item
