@@ -7,6 +7,7 @@ from them (see ``../shared/spec/style.md``, sections 4 and 9).
 
 from __future__ import annotations
 
+import difflib
 import json
 from dataclasses import dataclass, field
 from enum import Enum
@@ -165,3 +166,11 @@ def render_text(diagnostics: Iterable[Diagnostic], sources: dict[str, str] | Non
 
 def render_json(diagnostics: Iterable[Diagnostic]) -> str:
     return json.dumps([d.to_json() for d in diagnostics], indent=2) + "\n"
+
+
+def did_you_mean(name: str, candidates: Iterable[str]) -> str:
+    """A hint naming the closest candidates (``did you mean 'Revolute'?``), or ``""``."""
+    close = difflib.get_close_matches(name, sorted(set(candidates)), n=3, cutoff=0.6)
+    if not close:
+        return ""
+    return "did you mean " + " or ".join(f"'{c}'" for c in close) + "?"

@@ -32,10 +32,13 @@ class Expr:
                         yield from (x for x in item if isinstance(x, Expr))
 
     def walk(self) -> Iterator[Expr]:
-        """This node and all its descendants, parents first."""
-        yield self
-        for child in self.children():
-            yield from child.walk()
+        """This node and all its descendants, parents first (iterative: expressions from
+        generated files can be thousands of levels deep)."""
+        stack: list[Expr] = [self]
+        while stack:
+            node = stack.pop()
+            yield node
+            stack.extend(reversed(list(node.children())))
 
 
 @dataclass(frozen=True, slots=True)

@@ -12,15 +12,18 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Iterable
 
-from lark import Lark, Token, Transformer, Tree, v_args
+import re
+
+from lark import Lark, Token, Transformer_NonRecursive, Tree, v_args
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from cyphy import codes
 from cyphy import expr as ex
-from cyphy.diagnostics import Diagnostic, Span
+from cyphy.diagnostics import Diagnostic, Span, did_you_mean
 from cyphy.lang import ast
 
 GRAMMAR = "robosim.lark"
+POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
 
 
 @lru_cache(maxsize=None)
@@ -143,7 +146,7 @@ def _syntax_diagnostic(err: UnexpectedInput, text: str, path: str) -> Diagnostic
             hint = "close the comment with '*/'"
         elif char == '"':
             message = "unterminated string"
-            hint = "close the string with '\"' on the same line"
+            hint = "close the string with '\"'"
         elif char == "^":
             hint = "'^' is a power operator or escapes a name ('^x'); nothing else"
         elif err.allowed:
@@ -176,6 +179,17 @@ def _syntax_diagnostic(err: UnexpectedInput, text: str, path: str) -> Diagnostic
                 f"expected {_expected_text(expected)}",
             )
         value = str(token)
+        if token.type == "SKIPPED_TEXT":
+            # No terminal of the parser state matched: Lark's fallback lexer read a run of
+            # text. Report the word or character that really starts there.
+            word = _WORD.match(value)
+            if word is None:
+                span = Span(path, line, column, line, column + 1)
+                hint = f"expected {_expected_text(expected)}"
+                return Diagnostic(codes.LEX, f"unexpected character {value[0]!r}", span, hint)
+            value = word.group(0)
+            token = Token("NAME", value, token.start_pos, line, column, line,
+                          column + len(value))
         end_col = (token.end_column or column + len(value)) if token.end_line == line else column + 1
         span = Span(path, line, column, line, max(end_col, column + 1))
         message = f"unexpected {_describe_token(token)}"
@@ -189,6 +203,9 @@ def _syntax_diagnostic(err: UnexpectedInput, text: str, path: str) -> Diagnostic
 
     span = Span(path, line, column, line, column + 1)
     return Diagnostic(codes.SYNTAX, str(err).splitlines()[0], span, "")
+
+
+_WORD = re.compile(r"\^?[A-Za-z_][A-Za-z0-9_]*|[0-9]")
 
 
 def _describe_token(token: Token) -> str:
@@ -228,8 +245,9 @@ def _unescape(s: str) -> str:
 
 
 @v_args(meta=True)
-class _Builder(Transformer):  # type: ignore[type-arg]
-    """Builds the AST. Methods are named after grammar rules and aliases."""
+class _Builder(Transformer_NonRecursive):  # type: ignore[type-arg]
+    """Builds the AST. Methods are named after grammar rules and aliases. Non-recursive, so
+    that a long expression (a sum of a thousand terms) does not exhaust Python's stack."""
 
     def __init__(self, text: str, path: str) -> None:
         super().__init__()
@@ -377,7 +395,9 @@ class _Builder(Transformer):  # type: ignore[type-arg]
         )
 
     def value_param(self, meta: Any, c: list[Any]) -> ast.TemplateParam:
-        name, type_, default = c
+        # `["=" _ann_value]` inlines its rule, so an absent default leaves no placeholder.
+        name, type_, *rest = c
+        default = rest[0] if rest else None
         return ast.TemplateParam(_name(name), type_, None, default, span=self._span(meta))
 
     def template_param(self, meta: Any, c: list[Any]) -> ast.TemplateParam:
@@ -464,11 +484,14 @@ class _Builder(Transformer):  # type: ignore[type-arg]
     def pose(self, meta: Any, c: list[Any]) -> ast.Pose:
         return ast.Pose(tuple(c), span=self._span(meta))
 
-    def pose_key(self, meta: Any, c: list[Token]) -> str:
-        return str(c[0])
-
     def pose_field(self, meta: Any, c: list[Any]) -> ast.PoseField:
-        return ast.PoseField(c[0], c[1], span=self._span(meta))
+        key, span = _name(c[0]), self._span(meta)
+        if key not in POSE_KEYS:
+            self.diagnostics.append(Diagnostic(
+                codes.MEMBER, f"a pose has no field '{key}'", self._tok_span(c[0]),
+                (did_you_mean(key, POSE_KEYS) + " ").lstrip()
+                + "the fields are " + ", ".join(POSE_KEYS)))
+        return ast.PoseField(key, c[1], span=span)
 
     def index(self, meta: Any, c: list[Any]) -> ast.IndexDecl:
         return ast.IndexDecl(_name(c[0]), c[1], c[2], c[3], span=self._span(meta))

@@ -1,0 +1,42 @@
+"""Front-end benchmark: parse and resolve the marXbot model files, in-process, after imports.
+
+Target (issue 2): under 50 ms. Uses the corpus marXbot folder when ../shared/corpus is present,
+our own examples/marxbot otherwise. Run: ``python benchmarks/bench_frontend.py``.
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from cyphy import api  # noqa: E402
+from cyphy.lang.parser import grammar  # noqa: E402
+
+TARGET_MS = 50.0
+
+
+def main() -> int:
+    corpus = ROOT.parent / "shared" / "corpus" / "pmodel-examples" / "marXbot"
+    folder = corpus if corpus.is_dir() else ROOT / "examples" / "marxbot"
+    files = sorted(p for p in folder.iterdir() if p.suffix in (".pm", ".rst", ".rsm"))
+    grammar()
+    api.check(files)  # warm-up: grammar tables and the library parse are per process
+    times = []
+    for _ in range(30):
+        start = time.perf_counter()
+        result = api.check(files)
+        times.append((time.perf_counter() - start) * 1000)
+    median = statistics.median(times)
+    print(f"parse + resolve {len(files)} marXbot files ({folder}): "
+          f"median {median:.1f} ms, min {min(times):.1f} ms over {len(times)} runs "
+          f"(target < {TARGET_MS:.0f} ms); {len(result.report.diagnostics)} diagnostics")
+    return 0 if median < TARGET_MS else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,5 @@
+import sys
+
+from cyphy.cli import main
+
+sys.exit(main())

@@ -1,0 +1,66 @@
+"""The ``cyphy`` command line: arguments in, rendered diagnostics and an exit status out.
+
+Heavy libraries are imported by the subcommands that need them, so ``cyphy --help`` and
+``cyphy check`` start fast. Exit status: 0 no errors (warnings allowed), 1 errors, 2 usage.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Sequence
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="cyphy",
+        description="Read RoboSim models (.pm, .rst, .rsm) and check or translate them.",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    check = sub.add_parser(
+        "check",
+        help="parse, resolve and check model files",
+        description="Parse the model files (a folder means every model file in it), resolve "
+        "names across them and the built-in physmod library, and report every problem.",
+    )
+    check.add_argument("paths", nargs="+", metavar="PATH", help="model file or folder")
+    check.add_argument("--syntax-only", action="store_true", help="stop after parsing")
+    check.add_argument("--format", choices=("text", "json"), default="text",
+                       help="diagnostic format (default: text)")
+    check.add_argument("--path", action="append", default=[], metavar="DIR",
+                       help="another folder of model files to resolve names against")
+    return parser
+
+
+def _check(args: argparse.Namespace) -> int:
+    from cyphy.api import CheckOptions, check
+    from cyphy.diagnostics import render_json, render_text
+
+    result = check(args.paths, CheckOptions(args.syntax_only, tuple(args.path)))
+    diagnostics = result.report.diagnostics
+    if args.format == "json":
+        sys.stdout.write(render_json(diagnostics))
+    else:
+        sys.stdout.write(render_text(diagnostics, dict(result.sources)))
+        errors = sum(1 for d in diagnostics if d.severity.value == "ERROR")
+        warnings = len(diagnostics) - errors
+        files = len(result.workspace.targets)
+        sys.stdout.write(f"{files} file{'s' if files != 1 else ''} checked: "
+                         f"{errors} error{'s' if errors != 1 else ''}, "
+                         f"{warnings} warning{'s' if warnings != 1 else ''}\n")
+    return result.report.exit_code
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    try:
+        if args.command == "check":
+            return _check(args)
+    except KeyboardInterrupt:
+        return 130
+    return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,26 @@
+"""Shared test fixtures: where the examples and the (optional) conformance corpus live."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
+CORPUS = ROOT.parent / "shared" / "corpus" / "pmodel-examples"
+
+needs_corpus = pytest.mark.skipif(
+    not CORPUS.is_dir(), reason="../shared/corpus is absent (a fresh clone has none)"
+)
+
+
+def corpus_model_files() -> list[Path]:
+    if not CORPUS.is_dir():
+        return []
+    return sorted(p for p in CORPUS.rglob("*") if p.suffix in (".pm", ".rst"))
+
+
+def corpus_project_folders() -> list[Path]:
+    """Folders that hold model files: each is one RoboTool project."""
+    return sorted({p.parent for p in corpus_model_files()})

@@ -1,0 +1,80 @@
+"""The command line: exit statuses, text and JSON output, and start-up imports."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+from cyphy.cli import main
+from conftest import EXAMPLES
+
+BROKEN = "pmodel P {\n  local link L {\n    def { }\n    jref J = Revolte { }\n  }\n}\n"
+
+
+def test_check_clean_example_exits_0(capsys) -> None:
+    assert main(["check", str(EXAMPLES / "marxbot")]) == 0
+    assert "4 files checked: 0 errors, 0 warnings" in capsys.readouterr().out
+
+
+def test_check_errors_exit_1_with_caret_and_hint(tmp_path: Path, capsys) -> None:
+    model = tmp_path / "broken.rsm"
+    model.write_text(BROKEN)
+    assert main(["check", str(model)]) == 1
+    out = capsys.readouterr().out
+    assert f"{model}:4:5: ERROR S1: unknown joint definition 'Revolte'" in out
+    assert "    4 |     jref J = Revolte { }\n" in out
+    assert "hint: did you mean 'Revolute'? (import physmod::joints::Revolute)" in out
+
+
+def test_json_format(tmp_path: Path, capsys) -> None:
+    model = tmp_path / "broken.rsm"
+    model.write_text(BROKEN.replace("}\n}\n", ""))
+    assert main(["check", "--format", "json", str(model)]) == 1
+    diags = json.loads(capsys.readouterr().out)
+    assert [d["code"] for d in diags] == ["E-SYNTAX"]
+    assert diags[0]["span"]["line"] == 2 and diags[0]["span"]["column"] == 16
+    assert "'}'" in diags[0]["hint"]
+
+
+def test_syntax_only_skips_resolution(tmp_path: Path, capsys) -> None:
+    model = tmp_path / "broken.rsm"
+    model.write_text(BROKEN)
+    assert main(["check", "--syntax-only", str(model)]) == 0
+
+
+def test_search_path(tmp_path: Path, capsys) -> None:
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "app").mkdir()
+    (tmp_path / "lib" / "defs.rsm").write_text("package mine\njoint Hinge { input tau: real }\n")
+    model = tmp_path / "app" / "robot.rsm"
+    model.write_text("import mine::*\n" + BROKEN.replace("Revolte", "Hinge"))
+    assert main(["check", str(model)]) == 1
+    capsys.readouterr()
+    assert main(["check", "--path", str(tmp_path / "lib"), str(model)]) == 0
+
+
+def test_missing_path_is_an_error(tmp_path: Path, capsys) -> None:
+    assert main(["check", str(tmp_path / "nope.rsm")]) == 1
+    assert "E-IO" in capsys.readouterr().out
+
+
+def test_usage_error_exits_2() -> None:
+    proc = subprocess.run([sys.executable, "-m", "cyphy", "check"], capture_output=True)
+    assert proc.returncode == 2
+    proc = subprocess.run([sys.executable, "-m", "cyphy", "frobnicate"], capture_output=True)
+    assert proc.returncode == 2
+
+
+def test_help_and_check_do_not_import_heavy_libraries() -> None:
+    code = (
+        "import sys\n"
+        "from cyphy.cli import main\n"
+        "try:\n    main(['--help'])\nexcept SystemExit:\n    pass\n"
+        f"main(['check', {str(EXAMPLES / 'marxbot')!r}])\n"
+        "heavy = sorted(m for m in ('sympy', 'z3', 'numpy', 'scipy') if m in sys.modules)\n"
+        "print('HEAVY', heavy)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert "HEAVY []" in proc.stdout, proc.stdout + proc.stderr
