@@ -78,3 +78,12 @@ def test_help_and_check_do_not_import_heavy_libraries() -> None:
     )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert "HEAVY []" in proc.stdout, proc.stdout + proc.stderr
+
+
+def test_faulty_example_reports_each_mistake(capsys) -> None:
+    assert main(["check", "--format", "json", str(EXAMPLES / "faulty")]) == 1
+    diags = json.loads(capsys.readouterr().out)
+    assert [(d["code"], d["span"]["line"], d["span"]["column"]) for d in diags] == [
+        ("S1", 9, 3), ("E-MEMBER", 17, 4)]
+    assert "import physmod::joints::Revolute" in diags[0]["hint"]
+    assert "body" in diags[1]["hint"]

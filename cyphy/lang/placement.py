@@ -129,7 +129,10 @@ def _def_members(kind: K, members: Iterable[object], where: str, report: Report)
     members = list(members)
     allowed = _DEF_MEMBERS[kind]
     for m in members:
-        if not isinstance(m, allowed):
+        if isinstance(m, (ast.Shape, ast.Mesh)) and not isinstance(m, allowed):
+            _misplaced(m, where, report, "a geometry belongs to a body: put it in "
+                       "'local body B { def { … } }' inside the link")
+        elif not isinstance(m, allowed):
             _misplaced(m, where, report)
         elif isinstance(m, ast.Shape):
             _shape(m, report)
