@@ -7,7 +7,7 @@ duplicates); properties give the members of one kind. Expressions are :mod:`cyph
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from enum import Enum
 from typing import Iterator, TypeVar, Union
 
@@ -26,6 +26,20 @@ class Node:
 
 def _of(members: tuple[object, ...], cls: type[T]) -> tuple[T, ...]:
     return tuple(m for m in members if isinstance(m, cls))
+
+
+def expressions_in(node: object) -> Iterator[Expr]:
+    """The outermost expressions held by a syntax-tree node (a shape's arguments, an
+    inertial's mass, entries and pose values…), in field order."""
+    if isinstance(node, Expr):
+        yield node
+    elif isinstance(node, tuple):
+        for item in node:
+            yield from expressions_in(item)
+    elif isinstance(node, Node):
+        for f in fields(node):
+            if f.name != "span":
+                yield from expressions_in(getattr(node, f.name))
 
 
 # --------------------------------------------------------------------------- types

@@ -537,27 +537,9 @@ class _Checker:
                 self._expr(m.expr, own, restricted=restricted, where=what)
             elif isinstance(m, ast.Annotation):
                 self._template_instance(m.instance, own, pm)
-            elif isinstance(m, ast.Shape):
-                for a in m.args:
-                    self._expr(a.value, own)
-            elif isinstance(m, ast.Mesh):
-                self._expr(m.scaling, own)
-            elif isinstance(m, ast.Inertial):
-                self._expr(m.mass, own)
-                for entry in m.inertia or ():
-                    self._expr(entry.value, own)
-                if m.pose is not None:
-                    self._members_exprs([m.pose], own)
-            elif isinstance(m, ast.Bounce):
-                self._expr(m.restitution, own)
-                self._expr(m.threshold, own)
-            elif isinstance(m, ast.Friction):
-                for entry in m.entries:
-                    self._expr(entry.value, own)
-            elif isinstance(m, ast.LaserRetro):
-                self._expr(m.value, own)
-            elif isinstance(m, ast.Relation):
-                self._expr(m.expr, own)
+            elif not isinstance(m, ast.VarDecl):
+                for e in ast.expressions_in(m):
+                    self._expr(e, own)
         self._unique(decls, "variable", what)
 
     def _template_instance(self, inst: ast.TemplateInstance, scope: Scope,
