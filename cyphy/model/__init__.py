@@ -1,0 +1,1 @@
+"""The elaborated model: parts, indices, constants and poses resolved."""

@@ -1,0 +1,183 @@
+"""Rigid poses of links, bodies, sensors and joints (sdf.md decision 4, sdf-robotool.md §3).
+
+A RoboSim pose ``(x, y, z, roll, pitch, yaw)`` is a rigid transform ``T = [R p; 0 1]`` with
+``R = Rz(yaw)·Ry(pitch)·Rx(roll)``: SDF's fixed-axis convention, which SciPy spells ``"xyz"``
+(lower case = extrinsic). Nested poses compose outer first, ``T = T_outer · … · T_inner``, so the
+innermost pose is applied first; a child pose in its parent's frame is ``parent.compose(child)``.
+
+The rotation is stored as a 3x3 matrix, not a quaternion: composition is then plain matrix
+arithmetic, ``isclose`` compares what SDF means entry by entry, and a matrix has no double cover
+(``q`` and ``-q`` are the same rotation) to trip up equality.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+Vector3 = tuple[float, float, float]
+Matrix3 = tuple[Vector3, Vector3, Vector3]
+XyzRpy = tuple[float, float, float, float, float, float]
+
+NOISE = 1e-12
+"""Float noise that ``clean`` and the angle normalisation absorb: far below the 1e-6 m / 1e-6 rad
+that the conformance comparison tolerates, far above the ~1e-16 error of one operation."""
+
+_ORTHONORMAL_TOL = 1e-6
+"""How far from a proper rotation a stored matrix may drift (many compositions add rounding)."""
+
+
+def clean(value: float) -> float:
+    """``value`` with float noise removed, for printing.
+
+    A value within ``NOISE`` of an integer (zero included) becomes that integer as a float, and
+    ``-0.0`` becomes ``0.0``, so a computed ``2.9999999999999996`` or ``-1.2e-16`` prints as an
+    exact input would (``3.0``, ``0.0``). Other values, and non-finite ones, are returned as given.
+    """
+    if not math.isfinite(value):
+        return value
+    nearest = round(value)
+    return float(nearest) if abs(value - nearest) <= NOISE else value
+
+
+def _half_open_angle(angle: float) -> float:
+    """``angle`` (already in [−π, π]) moved into (−π, π].
+
+    SciPy wraps angles into [−π, π), so a yaw of π comes back as −π; anything within ``NOISE`` of
+    −π is reported as π so that a half turn prints the same whichever way it was computed.
+    """
+    return math.pi if angle <= -math.pi + NOISE else angle
+
+
+@dataclass(frozen=True, slots=True)
+class Pose:
+    """A rigid transform: ``position`` in metres and ``rotation`` as a row-major 3x3 matrix.
+
+    Immutable so that one pose can be shared by every element that refers to it; equality is
+    exact (use ``isclose`` for computed poses).
+    """
+
+    position: Vector3
+    rotation: Matrix3
+
+    def __post_init__(self) -> None:
+        # Normalise to tuples of plain floats so that lists or NumPy arrays passed in cannot be
+        # mutated later and equal poses compare equal whatever type built them.
+        position = np.asarray(self.position, dtype=float)
+        rotation = np.asarray(self.rotation, dtype=float)
+        if position.shape != (3,) or rotation.shape != (3, 3):
+            raise ValueError("a pose needs a 3-vector position and a 3x3 rotation matrix")
+        if not _is_rotation(rotation):
+            raise ValueError("the rotation of a pose must be orthonormal with determinant +1")
+        object.__setattr__(self, "position", _vector(position))
+        object.__setattr__(self, "rotation", tuple(_vector(row) for row in rotation))
+
+    @classmethod
+    def identity(cls) -> Pose:
+        """The pose of a frame in itself (the default when a RoboSim element gives no pose)."""
+        return cls((0.0, 0.0, 0.0), ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
+
+    @classmethod
+    def from_xyz_rpy(
+        cls, x: float, y: float, z: float, roll: float, pitch: float, yaw: float
+    ) -> Pose:
+        """The pose written ``x y z roll pitch yaw`` in RoboSim and SDF.
+
+        ``R = Rz(yaw)·Ry(pitch)·Rx(roll)``: roll about the fixed x axis first, then pitch about
+        fixed y, then yaw about fixed z (SciPy ``"xyz"``; equivalently intrinsic ``"ZYX"``).
+        """
+        rotation = Rotation.from_euler("xyz", [roll, pitch, yaw]).as_matrix()
+        return cls((x, y, z), rotation)
+
+    def compose(self, inner: Pose) -> Pose:
+        """``self ∘ inner`` (``T_self · T_inner``): ``inner`` is expressed in ``self``'s frame.
+
+        The result expresses ``inner``'s frame in the frame ``self`` is expressed in, which is how
+        a part's pose carries the poses of its links into the model frame.
+        """
+        rotation = self._rotation_array()
+        return Pose(
+            rotation @ inner._position_array() + self._position_array(),
+            rotation @ inner._rotation_array(),
+        )
+
+    def __matmul__(self, inner: Pose) -> Pose:
+        """``self @ inner`` is ``self.compose(inner)``, reading like the matrix product."""
+        return self.compose(inner)
+
+    def inverse(self) -> Pose:
+        """The pose of the outer frame in this one: ``[Rᵀ  −Rᵀp]``."""
+        transposed = self._rotation_array().T
+        return Pose(-(transposed @ self._position_array()), transposed)
+
+    def relative_to(self, frame: Pose) -> Pose:
+        """This pose expressed in ``frame`` (both given in the same outer frame).
+
+        This is how a joint pose is re-expressed relative to its child link (SDF 1.6);
+        ``frame.compose(p).relative_to(frame)`` gives back ``p``.
+        """
+        return frame.inverse().compose(self)
+
+    def to_xyz_rpy(self) -> XyzRpy:
+        """``(x, y, z, roll, pitch, yaw)`` with roll, yaw in (−π, π] and pitch in [−π/2, π/2].
+
+        Angles come from SciPy's ``as_euler("xyz")``. At gimbal lock (|pitch| within SciPy's
+        1e-7 rad of π/2) roll and yaw turn about the same axis and only their difference
+        (pitch = π/2) or sum (pitch = −π/2) is determined: then **yaw = 0** and roll carries it,
+        as RoboTool does (sdf-robotool.md §3). Inside that band the angles reproduce the
+        rotation to within 2e-7 rad, inside the 1e-6 rad that the conformance check allows.
+        Values are not passed through ``clean``: that is the printer's choice.
+        """
+        roll, pitch, yaw = Rotation.from_matrix(self._rotation_array()).as_euler(
+            "xyz", suppress_warnings=True
+        )
+        return (
+            *self.position,
+            _half_open_angle(float(roll)),
+            float(pitch),
+            _half_open_angle(float(yaw)),
+        )
+
+    def apply(self, point: Sequence[float]) -> Vector3:
+        """``point`` (given in this pose's frame) expressed in the outer frame: ``R·point + p``."""
+        return _vector(self._rotation_array() @ np.asarray(point, dtype=float) + self._position_array())
+
+    def matrix(self) -> np.ndarray:
+        """The 4x4 homogeneous matrix ``[R p; 0 1]`` (a fresh array the caller may modify)."""
+        result = np.eye(4)
+        result[:3, :3] = self._rotation_array()
+        result[:3, 3] = self._position_array()
+        return result
+
+    def isclose(self, other: Pose, tol: float = 1e-9) -> bool:
+        """Positions and rotation matrices equal entry by entry within ``tol``.
+
+        Comparing matrices rather than Euler angles keeps poses near gimbal lock comparable: there
+        two nearly equal rotations can have angles that differ by 2π (sdf-robotool.md §3.2).
+        """
+        return np.allclose(
+            self._position_array(), other._position_array(), rtol=0.0, atol=tol
+        ) and np.allclose(self._rotation_array(), other._rotation_array(), rtol=0.0, atol=tol)
+
+    def _position_array(self) -> np.ndarray:
+        return np.array(self.position)
+
+    def _rotation_array(self) -> np.ndarray:
+        return np.array(self.rotation)
+
+
+def _vector(values: np.ndarray) -> Vector3:
+    x, y, z = (float(v) for v in values)
+    return (x, y, z)
+
+
+def _is_rotation(matrix: np.ndarray) -> bool:
+    """Orthonormal with determinant +1, within the drift that repeated composition causes."""
+    return bool(
+        np.allclose(matrix @ matrix.T, np.eye(3), rtol=0.0, atol=_ORTHONORMAL_TOL)
+        and np.linalg.det(matrix) > 0.0
+    )
