@@ -2,7 +2,7 @@
 
 Every .pm and .rst file parses, and every project folder of the corpus resolves with no
 scope error. Where a corpus model really is wrong, it is listed in KNOWN_WRONG with the
-reason (none so far: the deliberately odd models are odd in ways that are not scope errors).
+reason: the SimpleArm model equates 3x4 matrices with 4x3 literals (S3).
 """
 
 from __future__ import annotations
@@ -15,8 +15,13 @@ from cyphy import api
 from cyphy.lang.parser import contains_lark_objects, parse_text
 from conftest import CORPUS, corpus_model_files, corpus_project_folders, needs_corpus
 
-KNOWN_WRONG: dict[str, list[tuple[str, str]]] = {}
-"""folder (relative to the corpus) → [(code, reason)] for models that really are wrong."""
+_X_4X3 = ("S3", "Revolute_x/Revolute_z/Prismatic_x declare X_CF/X_FM: matrix(real,3,4) but "
+          "equate them to 4-row, 3-column literals [|…;…;…;…|]: a real dimension mismatch")
+KNOWN_WRONG: dict[str, list[tuple[str, str]]] = {
+    "SimpleArm": [_X_4X3] * 3,
+}
+"""folder (relative to the corpus) → [(code, reason)], one per diagnostic, for models that
+really are wrong."""
 
 
 def _rel(p: Path) -> str:
@@ -51,7 +56,7 @@ def test_syntax_only_check_passes_on_the_whole_corpus() -> None:
 def test_every_corpus_project_resolves(folder: Path) -> None:
     files = sorted(p for p in folder.iterdir() if p.suffix in (".pm", ".rst"))
     result = api.check(files)
-    found = sorted({(d.code.id, d.message) for d in result.report.diagnostics})
+    found = sorted((d.code.id, d.message) for d in result.report.diagnostics)
     expected_codes = [code for code, _ in KNOWN_WRONG.get(_rel(folder), [])]
     assert [code for code, _ in found] == expected_codes, found
 

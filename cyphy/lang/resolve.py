@@ -22,6 +22,7 @@ from cyphy.lang.scopes import (
     Scopes, did_you_mean, is_constant, is_definition, is_interface, is_module, is_node, is_pmodel,
     is_template, is_type, is_value,
 )
+from cyphy.lang.typing import TypeChecker
 from cyphy.lang.workspace import Declaration, Workspace
 
 BUILTIN_NAMES = {"t"}  # time, used undeclared in equations and mappings
@@ -119,6 +120,30 @@ class _Checker:
     def error(self, code: codes.Code, message: str, span: Span, hint: str = "") -> None:
         self.report.report(code, message, span, hint)
 
+    # ------------------------------------------------------------------ S3 typing
+    def _types(self, scope: Scope) -> TypeChecker:
+        def lookup(name: ex.Name) -> object | None:
+            if len(name.parts) == 1:
+                local = scope.find(name.parts[0])
+                if local is not None:
+                    return local
+            found = self.scopes.lookup(self.file, name.parts, is_value)
+            return found[0] if found else None
+
+        return TypeChecker(lookup, self.report)
+
+    def predicate(self, e: ex.Expr | None, scope: Scope, what: str) -> None:
+        if e is not None:
+            self._types(scope).expect_predicate(e, what)
+
+    def number(self, e: ex.Expr | None, scope: Scope, what: str) -> None:
+        if e is not None:
+            self._types(scope).expect_number(e, what)
+
+    def declared(self, d: ast.VarDecl, scope: Scope) -> None:
+        if d.value is not None:
+            self._types(scope).expect_declared(d.value, d.type, d.name)
+
     def resolve(self, node: object, name: ast.QName, accept, what: str, span: Span,
                 candidates_accept=None) -> Declaration | None:
         found = self.scopes.lookup(self.file, name, accept)
@@ -211,6 +236,7 @@ class _Checker:
             self._type(item.type)
             if item.value is not None:
                 self._expr(item.value, globals_scope)
+                self.declared(item, globals_scope)
         elif isinstance(item, ast.FunctionDecl):
             self._function(item)
         elif isinstance(item, ast.DataType):
@@ -247,9 +273,12 @@ class _Checker:
         scope = Scope({p.name: p for p in f.params})
         for e in f.preconditions:
             self._expr(e, scope)
-        post = scope.child({"result": f})
+            self.predicate(e, scope, "a precondition")
+        post = scope.child({"result": ast.Param("result", f.return_type, span=f.span)}
+                           if f.return_type is not None else {"result": f})
         for e in f.postconditions:
             self._expr(e, post)
+            self.predicate(e, post, "a postcondition")
 
     def _template(self, t: ast.AnnotationTemplate) -> None:
         if t.extends is not None:
@@ -342,6 +371,7 @@ class _Checker:
         for d in pm.declarations:
             self._type(d.type)
             self._expr(d.value, scope)
+            self.declared(d, scope)
         for m in pm.members:
             if isinstance(m, ast.Part):
                 self._part(m, pm, scope)
@@ -349,6 +379,8 @@ class _Checker:
                 self._block(m, pm, scope, blocks, ancestors=())
             elif isinstance(m, (ast.Equation, ast.Constraint, ast.Relation)):
                 self._expr(m.expr, scope.child({n: bs[0] for n, bs in blocks.items()}))
+                if not isinstance(m, ast.Relation):
+                    self.predicate(m.expr, scope, f"an equation of p-model {pm.name}")
             elif isinstance(m, ast.Solution):
                 self._type(m.type)
             elif isinstance(m, (ast.Pose, ast.IndexDecl)):
@@ -359,16 +391,16 @@ class _Checker:
             if isinstance(m, ast.Pose):
                 for f in m.fields:
                     self._expr(f.value, scope)
+                    self.number(f.value, scope, f"pose field '{f.key}'")
             elif isinstance(m, ast.IndexDecl):
-                self._expr(m.lower, scope)
-                self._expr(m.upper, scope)
+                for bound in (m.lower, m.upper):
+                    self._expr(bound, scope)
+                    self.number(bound, scope, "an index bound")
 
     def _part(self, part: ast.Part, pm: ast.PModel, scope: Scope) -> None:
         target = self.resolve(part, part.pmodel, is_pmodel, "p-model", part.span)
         inner = scope.child({part.index.var: part.index} if part.index else {})
-        if part.index is not None:
-            self._expr(part.index.lower, scope)
-            self._expr(part.index.upper, scope)
+        self._members_exprs(part.indices, scope)
         for m in part.members:
             if isinstance(m, ast.Pose):
                 self._members_exprs([m], inner)
@@ -425,9 +457,7 @@ class _Checker:
                                      block.kind))
             definition = found if isinstance(found, ast.Definition) else None
         index_names = {i.var: i for i in block.indices}
-        for i in block.indices:
-            self._expr(i.lower, scope)
-            self._expr(i.upper, scope)
+        self._members_exprs(block.indices, scope)
         def_members: list[object] = []
         if definition is not None:
             def_members.extend(definition.members)
@@ -473,9 +503,11 @@ class _Checker:
                                f"instantiate one of: {', '.join(consts) or '(no constants)'}")
             elif isinstance(m, (ast.Equation, ast.Constraint)):
                 self._expr(m.expr, inner.child(block_names))
+                self.predicate(m.expr, inner, f"an equation of {what}")
             elif isinstance(m, ast.VarDecl):
                 self._type(m.type)
                 self._expr(m.value, inner)
+                self.declared(m, inner)
 
     def _relation(self, rel: ast.Relation, scope: Scope, blocks: dict[str, list[ast.Block]]
                   ) -> None:
@@ -532,14 +564,18 @@ class _Checker:
         for d in decls:
             self._type(d.type)
             self._expr(d.value, own)
+            self.declared(d, own)
         for m in members:
             if isinstance(m, (ast.Equation, ast.Constraint)):
                 self._expr(m.expr, own, restricted=restricted, where=what)
+                self.predicate(m.expr, own, f"an equation of {what}")
             elif isinstance(m, ast.Annotation):
                 self._template_instance(m.instance, own, pm)
             elif not isinstance(m, ast.VarDecl):
                 for e in ast.expressions_in(m):
                     self._expr(e, own)
+                    if isinstance(m, (ast.Shape, ast.Inertial, ast.Bounce, ast.LaserRetro)):
+                        self.number(e, own, f"a value of the {_MEMBER_WORD[type(m)]} of {what}")
         self._unique(decls, "variable", what)
 
     def _template_instance(self, inst: ast.TemplateInstance, scope: Scope,
@@ -600,7 +636,9 @@ class _Checker:
             elif isinstance(m, ast.Skipped):
                 nodes[m.name] = m
             elif isinstance(m, ast.CycleDef):
-                self._expr(m.expr, Scope({"cycle": m}))
+                cycle = ast.Param("cycle", ast.PrimitiveType("nat"), span=m.span)
+                self._expr(m.expr, Scope({"cycle": cycle}))
+                self.predicate(m.expr, Scope({"cycle": cycle}), "cycleDef")
         for m in mod.members:
             if isinstance(m, ast.Connection):
                 for node in (m.source, m.target):
@@ -663,6 +701,7 @@ class _MappingChecker:
         for d in m.declarations:
             c._type(d.type)
             c._expr(d.value, top)
+            c.declared(d, top)
         for member in m.members:
             if isinstance(member, ast.OperationMapping):
                 params = self._operation_params(member.name)
@@ -707,9 +746,13 @@ class _MappingChecker:
         for d in decls:
             self.c._type(d.type)
             self.c._expr(d.value, scope)
+            self.c.declared(d, scope)
         for m in getattr(member, "members"):
             if isinstance(m, (ast.Equation, ast.Predicate)):
                 self._expr(m.expr, scope, known)
+                kind = "a predicate" if isinstance(m, ast.Predicate) else "an equation"
+                self.c.predicate(m.expr, scope, f"{kind} of the mapping of "
+                                 f"{getattr(member, 'name')}")
             elif isinstance(m, ast.Action):
                 for s in m.statements:
                     if isinstance(s, ast.Assign):
@@ -785,6 +828,10 @@ def _path_roots(e: ex.Expr) -> Iterator[ex.Expr]:
         return
     for child in e.children():
         yield from _path_roots(child)
+
+
+_MEMBER_WORD = {ast.Shape: "geometry", ast.Inertial: "inertial information",
+                ast.Bounce: "bounce", ast.LaserRetro: "laser retro"}
 
 
 def _indices_of(blocks: Iterable[ast.Block]) -> dict[str, object]:

@@ -129,8 +129,9 @@ class Pose:
         1e-7 rad of π/2) roll and yaw turn about the same axis and only their difference
         (pitch = π/2) or sum (pitch = −π/2) is determined: then **yaw = 0** and roll carries it,
         as RoboTool does (sdf-robotool.md §3). Inside that band the angles reproduce the
-        rotation to within 2e-7 rad, inside the 1e-6 rad that the conformance check allows.
-        Values are not passed through ``clean``: that is the printer's choice.
+        rotation to twice the distance of pitch from ±π/2 (at most 2e-7 rad), within the 1e-6 rad
+        that the conformance check allows. Values are not passed through ``clean``: that is the
+        printer's choice.
         """
         roll, pitch, yaw = Rotation.from_matrix(self._rotation_array()).as_euler(
             "xyz", suppress_warnings=True
@@ -144,7 +145,8 @@ class Pose:
 
     def apply(self, point: Sequence[float]) -> Vector3:
         """``point`` (given in this pose's frame) expressed in the outer frame: ``R·point + p``."""
-        return _vector(self._rotation_array() @ np.asarray(point, dtype=float) + self._position_array())
+        moved = self._rotation_array() @ np.asarray(point, dtype=float)
+        return _vector(moved + self._position_array())
 
     def matrix(self) -> np.ndarray:
         """The 4x4 homogeneous matrix ``[R p; 0 1]`` (a fresh array the caller may modify)."""
