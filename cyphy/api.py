@@ -7,12 +7,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 from cyphy.diagnostics import Report
 from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
 from cyphy.lang.workspace import Workspace, load_workspace
+
+if TYPE_CHECKING:  # the model needs NumPy and SciPy: `cyphy check` must not import them
+    from cyphy.model.elements import ElaboratedModel
 
 
 @dataclass(frozen=True)
@@ -39,3 +42,34 @@ def check(paths: Sequence[str | Path], options: CheckOptions = CheckOptions()) -
     check_placement(ws.user_files(), report)
     result.resolution = check_scopes(ws, report)
     return result
+
+
+@dataclass(frozen=True)
+class ElaborateOptions:
+    model: str | None = None
+    consts: dict[str, object] = field(default_factory=dict)
+    search_paths: tuple[str, ...] = ()
+
+
+@dataclass
+class ElaborateResult:
+    check: CheckResult
+    model: "ElaboratedModel | None"
+
+    @property
+    def report(self) -> Report:
+        return self.check.report
+
+
+def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = ElaborateOptions()
+              ) -> ElaborateResult:
+    """Check the files, then elaborate one p-model. The model is None when the files have
+    errors (generation must not run on them) or no p-model can be chosen."""
+    from cyphy.model.elaborate import elaborate as run
+
+    checked = check(paths, CheckOptions(search_paths=options.search_paths))
+    if checked.report.has_errors or checked.resolution is None:
+        return ElaborateResult(checked, None)
+    model = run(checked.workspace, checked.resolution, checked.report, options.model,
+                options.consts)  # type: ignore[arg-type]
+    return ElaborateResult(checked, model)

@@ -30,7 +30,54 @@ def _parser() -> argparse.ArgumentParser:
                        help="diagnostic format (default: text)")
     check.add_argument("--path", action="append", default=[], metavar="DIR",
                        help="another folder of model files to resolve names against")
+    show = sub.add_parser(
+        "show",
+        help="print the elaborated model",
+        description="Elaborate one p-model (parts instantiated, indexed blocks replicated, "
+        "constants evaluated, poses composed) and print it as a tree or as JSON.",
+    )
+    show.add_argument("paths", nargs="+", metavar="PATH", help="model file or folder")
+    show.add_argument("--model", metavar="NAME", help="the p-model to show")
+    _const_options(show)
+    show.add_argument("--format", choices=("text", "json"), default="text")
+    show.add_argument("--path", action="append", default=[], metavar="DIR",
+                      help="another folder of model files to resolve names against")
     return parser
+
+
+def _const_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
+                        help="value of a constant that has none (NAME may be qualified: "
+                        "Treel::HEIGHT); repeatable")
+    parser.add_argument("--consts", metavar="FILE",
+                        help="constant values from a TOML or JSON file (NAME = VALUE)")
+
+
+def _consts(args: argparse.Namespace) -> dict[str, object]:
+    from cyphy.model.constants import ConstantsError, parse_const_options
+
+    try:
+        return parse_const_options(args.const, args.consts)
+    except ConstantsError as err:
+        sys.stderr.write(f"cyphy: error: {err}\n")
+        raise SystemExit(2) from None
+
+
+def _show(args: argparse.Namespace) -> int:
+    from cyphy.api import ElaborateOptions, elaborate
+    from cyphy.backends.show import model_to_json, model_to_text
+    from cyphy.diagnostics import render_text
+
+    consts = _consts(args)
+    result = elaborate(args.paths, ElaborateOptions(args.model, consts, tuple(args.path)))
+    diagnostics = result.report.diagnostics
+    if diagnostics:
+        sys.stderr.write(render_text(diagnostics, dict(result.check.sources)))
+    if result.model is None:
+        return 1
+    out = model_to_json(result.model) if args.format == "json" else model_to_text(result.model)
+    sys.stdout.write(out)
+    return result.report.exit_code
 
 
 def _check(args: argparse.Namespace) -> int:
@@ -57,6 +104,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.command == "check":
             return _check(args)
+        if args.command == "show":
+            return _show(args)
     except KeyboardInterrupt:
         return 130
     return 2

@@ -87,3 +87,33 @@ def test_faulty_example_reports_each_mistake(capsys) -> None:
         ("S1", 9, 3), ("E-MEMBER", 17, 4)]
     assert "import physmod::joints::Revolute" in diags[0]["hint"]
     assert "body" in diags[1]["hint"]
+
+
+def test_show_text_and_json(capsys) -> None:
+    assert main(["show", str(EXAMPLES / "marxbot"), "--model", "marXbotBase"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("p-model marXbotBase\n")
+    assert "  link marXbotBase::Core  pose 0 0 0.0575 0 0 0\n" in out
+    assert main(["show", str(EXAMPLES / "marxbot"), "--model", "marXbotBase",
+                 "--format", "json", "--const", "Kp=2", "--const", "IR::a=1e-3"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert set(data) == {"model", "links", "joints", "fixed", "devices", "relations",
+                         "constants", "missing"}
+    assert "SpeedControlMotor::Kp" not in data["missing"] and "IR::b" in data["missing"]
+    motor = next(d for d in data["devices"] if d["prefix"] == "LMotor")
+    assert {"name": "Kp", "kind": "const", "mangled": "LMotor_Kp", "value": 2} in motor["ports"]
+
+
+def test_show_bad_const_is_a_usage_error(capsys) -> None:
+    try:
+        main(["show", str(EXAMPLES / "marxbot"), "--const", "Kp"])
+    except SystemExit as exit:
+        assert exit.code == 2
+    assert "NAME=VALUE" in capsys.readouterr().err
+
+
+def test_show_with_errors_exits_1(tmp_path: Path, capsys) -> None:
+    model = tmp_path / "broken.rsm"
+    model.write_text(BROKEN)
+    assert main(["show", str(model)]) == 1
+    assert capsys.readouterr().out == ""

@@ -1,0 +1,797 @@
+"""Elaboration: from the resolved syntax tree to the :class:`ElaboratedModel`.
+
+One walk over the chosen p-model instantiates parts (their constants bound by
+``instantiation``, evaluated in the container's scope), replicates indexed blocks once per
+index value, merges references with their definitions, evaluates constants (lazily, so
+constants may use one another) and composes poses innermost first. Connections are resolved in
+a second pass, once every link instance exists, because a joint may point into a part declared
+after it, and a part may connect a joint of its own p-model (``joint J flexibly connected to
+…``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+from cyphy import codes
+from cyphy import expr as ex
+from cyphy.diagnostics import Report, Span
+from cyphy.lang import ast
+from cyphy.lang.resolve import Resolution
+from cyphy.lang.scopes import Scopes, is_constant, is_template
+from cyphy.lang.workspace import Workspace
+from cyphy.model import inertia as inertia_math
+from cyphy.model.elements import (
+    Actuator, AnnotationValue, Body, Device, ElaboratedModel, FixedJoint, Joint, Link, Port,
+    Sensor,
+)
+from cyphy.model.evaluate import EvalError, UnboundName, Value, coerce, evaluate
+from cyphy.model.poses import Pose
+
+MODEL = codes.code("E-MODEL", codes.E, "the p-model to elaborate cannot be chosen")
+EVAL = codes.code("E-EVAL", codes.E, "a constant expression cannot be evaluated")
+MISSING = codes.code("E-CONST", codes.E, "constants without values that a generator needs")
+INDEX = codes.code("E-INDEX", codes.E, "an index range that is not a range of integers")
+
+DEVICE_KINDS = (ast.DeclKind.INPUT, ast.DeclKind.OUTPUT, ast.DeclKind.INOUT,
+                ast.DeclKind.LOCAL, ast.DeclKind.CONST)
+POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
+
+
+# --------------------------------------------------------------------------- constants
+
+
+@dataclass(eq=False)
+class _Binding:
+    """A constant: its value expression, the scope to evaluate it in, and its names."""
+
+    decl: ast.VarDecl
+    expr: ex.Expr | None
+    env: Env | None
+    qualified: str  # instance-qualified: marXbotBase::LTreel::HEIGHT
+    definition: str  # definition-qualified: Treel::HEIGHT
+    value: Value | None = None
+    state: str = "new"  # new, busy, done, missing
+
+
+class Env(Mapping[str, Value]):
+    """Names in scope for evaluation, innermost first; constants are evaluated on demand and
+    cached. A constant with no value is recorded as missing and is not ``in`` the env, so
+    evaluation raises :class:`UnboundName` for it."""
+
+    def __init__(self, ctx: _Context, file: ast.SourceFile, parent: Env | None = None,
+                 names: dict[str, _Binding | Value] | None = None) -> None:
+        self.ctx = ctx
+        self.file = file
+        self.parent = parent
+        self.names: dict[str, _Binding | Value] = names or {}
+
+    def child(self, names: dict[str, _Binding | Value]) -> Env:
+        return Env(self.ctx, self.file, self, names)
+
+    def _find(self, name: str) -> _Binding | Value | None:
+        env: Env | None = self
+        while env is not None:
+            if name in env.names:
+                return env.names[name]
+            env = env.parent
+        return self.ctx.global_binding(self.file, name)
+
+    def __contains__(self, name: object) -> bool:
+        if not isinstance(name, str):
+            return False
+        found = self._find(name)
+        if isinstance(found, _Binding):
+            return self.ctx.value_of(found) is not None
+        return found is not None
+
+    def __getitem__(self, name: str) -> Value:
+        found = self._find(name)
+        if isinstance(found, _Binding):
+            value = self.ctx.value_of(found)
+            if value is None:
+                raise KeyError(name)
+            return value
+        if found is None:
+            raise KeyError(name)
+        return found
+
+    def __iter__(self) -> Iterator[str]:
+        seen: set[str] = set()
+        env: Env | None = self
+        while env is not None:
+            for n in env.names:
+                if n not in seen:
+                    seen.add(n)
+                    yield n
+            env = env.parent
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
+
+
+@dataclass
+class _Instance:
+    """One instance of a p-model (the top model or a part copy) and its links and parts."""
+
+    prefix: tuple[str, ...]
+    pmodel: ast.PModel
+    file: ast.SourceFile
+    env: Env
+    frame: Pose | None
+    links: dict[str, list[Link]] = field(default_factory=dict)
+    parts: dict[str, list[_Instance]] = field(default_factory=dict)
+    joint_clauses: dict[str, ast.PartFlexible] = field(default_factory=dict)
+    container: _Instance | None = None
+
+
+@dataclass
+class _PendingJoint:
+    prototype: Joint
+    block: ast.Block
+    target: str | None
+    part: str | None
+    instance: _Instance  # where the target is looked up
+
+
+class _Context:
+    def __init__(self, ws: Workspace, resolution: Resolution, report: Report,
+                 consts: Mapping[str, Value]) -> None:
+        self.ws = ws
+        self.resolution = resolution
+        self.report = report
+        self.scopes = Scopes(ws)
+        self.consts = dict(consts)
+        self.used_consts: set[str] = set()
+        self.missing: dict[str, list[Span]] = {}
+        self.constants: dict[str, Value] = {}
+        self._globals: dict[tuple[str, str], _Binding | None] = {}
+        self.file_of: dict[int, ast.SourceFile] = {}
+        for f in ws.files.values():
+            for item in f.items:
+                self.file_of[id(item)] = f
+
+    # ----- constants
+    def binding(self, decl: ast.VarDecl, env: Env | None, qualified: str, definition: str,
+                override: ex.Expr | None = None, override_env: Env | None = None) -> _Binding:
+        if override is not None:
+            return _Binding(decl, override, override_env, qualified, definition)
+        return _Binding(decl, decl.value, env, qualified, definition)
+
+    def global_binding(self, file: ast.SourceFile, name: str) -> _Binding | None:
+        key = (file.path, name)
+        if key not in self._globals:
+            found = self.scopes.lookup(file, tuple(name.split("::")), is_constant)
+            binding = None
+            if found and isinstance(found[0], ast.VarDecl):
+                decl = found[0]
+                decl_file = self.file_of.get(id(decl), file)
+                package = "::".join(decl_file.package)
+                qualified = f"{package}::{decl.name}" if package else decl.name
+                env = Env(self, decl_file)
+                binding = _Binding(decl, decl.value, env, qualified, qualified)
+            self._globals[key] = binding
+        return self._globals[key]
+
+    def value_of(self, b: _Binding) -> Value | None:
+        if b.state == "done":
+            return b.value
+        if b.state in ("missing", "busy"):
+            if b.state == "busy":
+                self.report.report(EVAL, f"constant '{b.qualified}' is defined in terms of "
+                                   "itself", b.decl.span, "break the cycle")
+                b.state = "missing"
+            return None
+        b.state = "busy"
+        value: Value | None = None
+        if b.expr is None:
+            value = self._user_value(b)
+            if value is None:
+                b.state = "missing"
+                self.missing.setdefault(b.definition, []).append(b.decl.span)
+                return None
+        else:
+            assert b.env is not None
+            value = self.evaluate(b.expr, b.env)
+        if value is not None and isinstance(b.decl.type, ast.PrimitiveType):
+            try:
+                value = coerce(value, b.decl.type.name, b.decl.span)
+            except EvalError as err:
+                self.report.report(EVAL, f"constant '{b.qualified}': {err.message}", err.span,
+                                   err.hint)
+                value = None
+        b.value, b.state = value, ("done" if value is not None else "missing")
+        if value is not None:
+            self.constants[b.qualified] = value
+        return value
+
+    def _user_value(self, b: _Binding) -> Value | None:
+        """The ``--const`` value for a constant, the most specific key winning: the instance
+        name, the definition name, a ``::`` suffix of either, or the bare name."""
+        best: tuple[int, str] | None = None
+        for key in self.consts:
+            for full in (b.qualified, b.definition):
+                if full == key or full.endswith("::" + key) or key == b.decl.name:
+                    if best is None or len(key) > best[0]:
+                        best = (len(key), key)
+        if best is None:
+            return None
+        self.used_consts.add(best[1])
+        return self.consts[best[1]]
+
+    def evaluate(self, e: ex.Expr | None, env: Env) -> Value | None:
+        """The value of ``e``, or None when it needs a constant without a value (recorded)
+        or cannot be evaluated (reported)."""
+        if e is None:
+            return None
+        try:
+            return evaluate(e, env)
+        except UnboundName as err:
+            if self._known_missing(err.name, env):
+                return None
+            self.report.report(EVAL, err.message, err.span, err.hint)
+        except EvalError as err:
+            self.report.report(EVAL, err.message, err.span, err.hint)
+        return None
+
+    def _known_missing(self, name: str, env: Env) -> bool:
+        found = env._find(name)
+        return isinstance(found, _Binding) and found.state == "missing"
+
+
+# --------------------------------------------------------------------------- elaboration
+
+
+def choose_pmodel(ws: Workspace, name: str | None, report: Report
+                  ) -> tuple[ast.PModel, ast.SourceFile] | None:
+    """The p-model to elaborate: the one named, else the only one of the user's files that
+    no other p-model uses as a part."""
+    candidates: list[tuple[ast.PModel, ast.SourceFile]] = []
+    used: set[str] = set()
+    for f in ws.user_files():
+        for item in f.items:
+            if isinstance(item, ast.PModel) and not item.fragment:
+                candidates.append((item, f))
+                used.update(p.pmodel[-1] for p in item.parts)
+    if name is not None:
+        chosen = [c for c in candidates if c[0].name == name or
+                  "::".join(c[1].package + (c[0].name,)) == name]
+        if not chosen:
+            names = ", ".join(sorted(c[0].name for c in candidates)) or "(none)"
+            report.report(MODEL, f"no p-model named '{name}'", Span.unknown(name),
+                          f"the p-models are: {names}")
+            return None
+        return chosen[0]
+    top = [c for c in candidates if c[0].name not in used]
+    if len(top) == 1:
+        return top[0]
+    if not candidates:
+        report.report(MODEL, "no p-model in the given files", Span.unknown(),
+                      "name a file or folder that declares a pmodel")
+        return None
+    names = ", ".join(sorted(c[0].name for c in (top or candidates)))
+    report.report(MODEL, "several p-models could be meant", Span.unknown(),
+                  f"choose one with --model: {names}")
+    return None
+
+
+def elaborate(ws: Workspace, resolution: Resolution, report: Report, model: str | None = None,
+              consts: Mapping[str, Value] | None = None) -> ElaboratedModel | None:
+    """Elaborate one p-model of the workspace (see :func:`choose_pmodel`)."""
+    chosen = choose_pmodel(ws, model, report)
+    if chosen is None:
+        return None
+    pm, file = chosen
+    ctx = _Context(ws, resolution, report, consts or {})
+    return _Elaborator(ctx).run(pm, file)
+
+
+class _Elaborator:
+    def __init__(self, ctx: _Context) -> None:
+        self.ctx = ctx
+        self.model: ElaboratedModel
+        self.pending: list[_PendingJoint] = []
+        self.pending_fixed: list[tuple[Link, str, str | None, _Instance, Span]] = []
+        self.device_names: list[tuple[Device, tuple[str, ...]]] = []
+        self.index_values: dict[int, dict[str, int]] = {}
+        self.relation_queue: list[tuple[ex.Expr, ast.Block, Device | None,
+                                        dict[str, int]]] = []
+
+    def run(self, pm: ast.PModel, file: ast.SourceFile) -> ElaboratedModel:
+        self.model = ElaboratedModel(pm.name, pm)
+        top = self._instance((pm.name,), pm, file, Pose.identity(), None, {})
+        self._connect(top)
+        self._name_devices()
+        self.model.constants = dict(sorted(self.ctx.constants.items()))
+        self.model.missing = dict(sorted(self.ctx.missing.items()))
+        return self.model
+
+    # ----- p-model instances and parts
+    def _pmodel_env(self, pm: ast.PModel, file: ast.SourceFile,
+                    prefix: tuple[str, ...], overrides: dict[str, tuple[ex.Expr, Env]]) -> Env:
+        env = Env(self.ctx, file)  # a part sees its own package's constants, not the container's
+        names: dict[str, _Binding | Value] = {}
+        for d in pm.declarations:
+            if d.kind is ast.DeclKind.CONST:
+                expr, oenv = overrides.get(d.name, (None, None))
+                names[d.name] = self.ctx.binding(d, None, "::".join(prefix + (d.name,)),
+                                                 f"{pm.name}::{d.name}", expr, oenv)
+        pm_env = env.child(names)
+        for b in names.values():
+            if isinstance(b, _Binding) and b.env is None and b.expr is not None:
+                b.env = pm_env
+        return pm_env
+
+    def _instance(self, prefix: tuple[str, ...], pm: ast.PModel, file: ast.SourceFile,
+                  frame: Pose | None, container: _Instance | None,
+                  overrides: dict[str, tuple[ex.Expr, Env]]) -> _Instance:
+        env = self._pmodel_env(pm, file, prefix, overrides)
+        inst = _Instance(prefix, pm, file, env, frame, container=container)
+        for m in pm.members:
+            if isinstance(m, ast.Part):
+                self._part(m, inst)
+            elif isinstance(m, ast.Block) and m.kind is ast.BlockKind.LINK:
+                for values, link_env in self._copies(m, env):
+                    self._link(m, inst, values, link_env)
+        for m in pm.members:  # p-model+ files put joints at p-model level (Pendulum.pm)
+            if isinstance(m, ast.Block) and m.kind is ast.BlockKind.JOINT:
+                for values, joint_env in self._copies(m, env):
+                    self._joint(m, None, inst, values, joint_env, prefix)
+        return inst
+
+    def _part(self, part: ast.Part, inst: _Instance) -> None:
+        target = self.ctx.resolution.get(part)
+        if not isinstance(target, ast.PModel):
+            return
+        target_file = self.ctx.file_of.get(id(target), inst.file)
+        copies = []
+        for values, env in self._copies(part, inst.env):
+            prefix = inst.prefix + (part.name,) + tuple(str(v) for v in values.values())
+            overrides = {i.name: (i.value, env) for i in part.instantiations}
+            local = self._pose(part.pose, env)
+            frame = inst.frame.compose(local) if inst.frame and local else None
+            sub = self._instance(prefix, target, target_file, frame, inst, overrides)
+            for clause in part.flexible:
+                sub.joint_clauses[clause.joint] = clause
+            for clause in part.fixed:
+                for link in sub.links.get(clause.link, []):
+                    self.pending_fixed.append((link, clause.target, clause.part, inst,
+                                               clause.span))
+            copies.append(sub)
+        inst.parts[part.name] = copies
+
+    def _copies(self, node: ast.Block | ast.Part, env: Env
+                ) -> Iterator[tuple[dict[str, int], Env]]:
+        """One (index values, env) per copy of an indexed block; one copy otherwise."""
+        index = node.index
+        if index is None:
+            yield {}, env
+            return
+        lo = self.ctx.evaluate(index.lower, env)
+        hi = self.ctx.evaluate(index.upper, env)
+        if lo is None or hi is None:
+            return
+        if not all(isinstance(v, int) and not isinstance(v, bool) for v in (lo, hi)):
+            self.ctx.report.report(INDEX, f"index {index.var} of {node.name} ranges over "
+                                   f"[{lo}, {hi}{']' if index.closed else ')'}, not integers",
+                                   index.span, "use integer bounds")
+            return
+        for v in range(lo, hi + 1 if index.closed else hi):  # type: ignore[operator]
+            yield {index.var: v}, env.child({index.var: v})
+
+    # ----- blocks
+    def _qname(self, base: tuple[str, ...], block: ast.Block, values: dict[str, int]
+               ) -> tuple[str, ...]:
+        return base + (block.name,) + tuple(str(v) for v in values.values())
+
+    def _definition(self, block: ast.Block) -> ast.Definition | None:
+        target = self.ctx.resolution.get(block)
+        return target if isinstance(target, ast.Definition) else None
+
+    def _members(self, block: ast.Block) -> list[Any]:
+        """The definition's members: the referenced definition's, then the local def's."""
+        out: list[Any] = []
+        definition = self._definition(block)
+        if definition is not None:
+            out.extend(definition.members)
+        for d in block.definitions:
+            out.extend(d.members)
+        return out
+
+    def _block_env(self, block: ast.Block, env: Env, qname: tuple[str, ...]) -> Env:
+        """The block's constants: its definition's, overridden by its instantiations
+        (evaluated in the container's scope)."""
+        definition = self._definition(block)
+        def_name = definition.name if definition is not None else block.name
+        overrides = {i.name: i.value for i in block.instantiations}
+        names: dict[str, _Binding | Value] = {}
+        for m in self._members(block) + list(block.declarations):
+            if isinstance(m, ast.VarDecl) and m.kind is ast.DeclKind.CONST:
+                names[m.name] = self.ctx.binding(
+                    m, None, "::".join(qname + (m.name,)), f"{def_name}::{m.name}",
+                    overrides.get(m.name), env if m.name in overrides else None)
+        block_env = env.child(names)
+        for b in names.values():
+            if isinstance(b, _Binding) and b.env is None:
+                b.env = block_env
+        return block_env
+
+    def _link(self, block: ast.Block, inst: _Instance, values: dict[str, int], env: Env
+              ) -> None:
+        qname = self._qname(inst.prefix, block, values)
+        env = self._block_env(block, env, qname)
+        local = self._pose(block.pose, env)
+        link = Link(qname, block.span, dict(values))
+        link.pose = inst.frame.compose(local) if inst.frame and local else None
+        inst.links.setdefault(block.name, []).append(link)
+        self.model.links.append(link)
+        for child in block.blocks:
+            for cvalues, cenv in self._copies(child, env):
+                if child.kind is ast.BlockKind.BODY:
+                    self._body(child, link, cvalues, cenv)
+                elif child.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR):
+                    self._device_block(child, link, None, cvalues, cenv, Pose.identity(),
+                                       qname)
+                elif child.kind is ast.BlockKind.JOINT:
+                    self._joint(child, link, inst, cvalues, cenv, qname)
+        for fixed in block.fixed:
+            self.pending_fixed.append((link, fixed.target, fixed.part, inst, fixed.span))
+        self._link_inertial(block, link, env)
+
+    def _body(self, block: ast.Block, link: Link, values: dict[str, int], env: Env) -> None:
+        qname = self._qname(link.qname, block, values)
+        env = self._block_env(block, env, qname)
+        body = Body(qname, block.span, dict(values), link=link)
+        body.pose = self._pose(block.pose, env)
+        for m in self._members(block):
+            if isinstance(m, ast.Shape):
+                body.geometry = m
+                body.size = {a.name: self.ctx.evaluate(a.value, env) for a in m.args}
+            elif isinstance(m, ast.Mesh):
+                body.geometry = m
+                body.mesh_uri = m.shape
+                body.size = {"scaling": self.ctx.evaluate(m.scaling, env)}
+            elif isinstance(m, ast.Inertial):
+                body.inertial = self._inertial(m, env, body)
+            elif isinstance(m, ast.Bounce):
+                body.surface["restitution_coefficient"] = self.ctx.evaluate(m.restitution, env)
+                body.surface["threshold"] = self.ctx.evaluate(m.threshold, env)
+            elif isinstance(m, ast.Friction):
+                for entry in m.entries:
+                    body.surface[entry.name] = self.ctx.evaluate(entry.value, env)
+            elif isinstance(m, ast.LaserRetro):
+                body.surface["laser_retro"] = self.ctx.evaluate(m.value, env)
+        link.bodies.append(body)
+        self.model.bodies.append(body)
+
+    def _inertial(self, m: ast.Inertial, env: Env, body: Body | None
+                  ) -> inertia_math.Inertial | None:
+        mass = self.ctx.evaluate(m.mass, env)
+        if not isinstance(mass, (int, float)) or isinstance(mass, bool):
+            return None
+        com = self._pose(m.pose, env) if m.pose is not None else Pose.identity()
+        if com is None:
+            return None
+        if m.inertia is not None:
+            entries = {e.name: self.ctx.evaluate(e.value, env) for e in m.inertia}
+            values = [entries.get(k) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
+            if any(not isinstance(v, (int, float)) for v in values):
+                return None
+            return inertia_math.Inertial(float(mass), com, tuple(float(v) for v in values))
+        solid = _solid(body, float(mass)) if body is not None else None
+        if solid is None:
+            return inertia_math.Inertial(float(mass), com, (0.0,) * 6)
+        return inertia_math.Inertial(float(mass), com, solid)
+
+    def _link_inertial(self, block: ast.Block, link: Link, env: Env) -> None:
+        own = [m for m in self._members(block) if isinstance(m, ast.Inertial)]
+        if own:
+            inertial = self._inertial(own[0], env, None)
+            if inertial is not None and inertial.inertia == (0.0,) * 6 and link.bodies:
+                inertial = _distribute(inertial, link.bodies) or inertial
+            link.inertial, link.inertial_source = inertial, "link"
+            return
+        parts = []
+        for body in link.bodies:
+            if body.inertial is None or body.pose is None:
+                continue
+            parts.append(replace(body.inertial, com=body.pose.compose(body.inertial.com)))
+        if parts and sum(p.mass for p in parts) > 0:
+            link.inertial, link.inertial_source = inertia_math.combine(parts), "bodies"
+
+    # ----- devices: joints, sensors, actuators
+    def _device_block(self, block: ast.Block, link: Link, joint: Joint | None,
+                      values: dict[str, int], env: Env, frame: Pose, base: tuple[str, ...]
+                      ) -> Sensor:
+        qname = self._qname(base, block, values)
+        env = self._block_env(block, env, qname)
+        cls = Sensor if block.kind is ast.BlockKind.SENSOR else Actuator
+        element = cls(qname, block.span, dict(values), link=link, joint=joint)
+        local = self._pose(block.pose, env)
+        element.pose = frame.compose(local) if local is not None else None
+        element.annotation = self._annotation(block, env)
+        element.device = self._device(block, env, qname, values)
+        definition = self._definition(block)
+        element.definition = definition.name if definition is not None else None
+        self._relations(block, element.device, env, values)
+        if isinstance(element, Actuator):
+            (joint.actuators if joint else link.actuators).append(element)
+            self.model.actuators.append(element)
+        else:
+            (joint.sensors if joint else link.sensors).append(element)
+            self.model.sensors.append(element)
+        return element
+
+    def _joint(self, block: ast.Block, link: Link | None, inst: _Instance,
+               values: dict[str, int], env: Env, base: tuple[str, ...]) -> None:
+        qname = self._qname(base, block, values)
+        env = self._block_env(block, env, qname)
+        joint = Joint(qname, block.span, dict(values), parent=link)
+        joint.local_pose = self._pose(block.pose, env)
+        joint.annotation = self._annotation(block, env)
+        joint.device = self._device(block, env, qname, values)
+        definition = self._definition(block)
+        joint.definition = definition.name if definition is not None else None
+        if joint.device is not None:
+            axis = joint.device.port("AXIS")
+            joint.axis = axis.value if axis is not None else None
+        self._relations(block, joint.device, env, values)
+        frame = joint.local_pose or Pose.identity()
+        for child in block.blocks:
+            if child.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR) and link:
+                for cvalues, cenv in self._copies(child, env):
+                    self._device_block(child, link, joint, cvalues, cenv, frame, qname)
+        connections = block.flexible
+        if connections:
+            for c in connections:
+                self.pending.append(_PendingJoint(joint, block, c.target, c.part, inst))
+        elif block.name in inst.joint_clauses and inst.container is not None:
+            clause = inst.joint_clauses[block.name]
+            self.pending.append(_PendingJoint(joint, block, clause.target, clause.part,
+                                              inst.container))
+        else:
+            self.pending.append(_PendingJoint(joint, block, None, None, inst))
+
+    def _device(self, block: ast.Block, env: Env, qname: tuple[str, ...],
+                values: dict[str, int]) -> Device | None:
+        decls = [m for m in self._members(block) + list(block.declarations)
+                 if isinstance(m, ast.VarDecl) and m.kind in DEVICE_KINDS]
+        equations = [m.expr for m in self._members(block) + list(block.equations)
+                     if isinstance(m, ast.Equation)]
+        constraints = [m.expr for m in self._members(block) if isinstance(m, ast.Constraint)]
+        if not decls and not equations:
+            return None
+        ports = []
+        for d in decls:
+            value = env[d.name] if d.kind is ast.DeclKind.CONST and d.name in env else None
+            ports.append(Port(d.name, d.kind, d.type, d.name, value,
+                              d.value if d.kind is not ast.DeclKind.CONST else None))
+        device = Device("", tuple(ports), tuple(equations), tuple(constraints))
+        self.device_names.append((device, qname))
+        self.index_values[id(device)] = values
+        return device
+
+    def _relations(self, block: ast.Block, device: Device | None, env: Env,
+                   values: dict[str, int]) -> None:
+        for rel in block.relations:
+            self.relation_queue.append((rel.expr, block, device, values))
+
+    def _annotation(self, block: ast.Block, env: Env) -> AnnotationValue | None:
+        """The block's own annotation wins over its definition's (sdf-robotool.md 1.4)."""
+        own = list(block.annotations) + [m for d in block.definitions for m in d.members
+                                         if isinstance(m, ast.Annotation)]
+        definition = self._definition(block)
+        inherited = [m for m in (definition.members if definition else ())
+                     if isinstance(m, ast.Annotation)]
+        chosen = (own or inherited or [None])[0]
+        if chosen is None:
+            return None
+        file = self.ctx.file_of.get(id(definition)) if not own and definition else None
+        return self._template_value(chosen.instance, env if file is None else Env(self.ctx, file))
+
+    def _template_value(self, inst: ast.TemplateInstance, env: Env) -> AnnotationValue:
+        found = self.ctx.scopes.lookup(env.file, inst.template, is_template)
+        template = found[0].name if found else inst.template[-1]  # type: ignore[union-attr]
+        args: list[tuple[str, Any]] = []
+        for a in inst.args:
+            if isinstance(a.value, ast.TemplateInstance):
+                args.append((a.name, self._template_value(a.value, env)))
+            elif isinstance(a.value, ex.Name) and a.value.text not in env:
+                args.append((a.name, a.value.parts))  # an element path: Rod::my_body
+            else:
+                args.append((a.name, self.ctx.evaluate(a.value, env)))
+        return AnnotationValue((template,), tuple(args), inst.span)
+
+    def _pose(self, pose: ast.Pose | None, env: Env) -> Pose | None:
+        if pose is None:
+            return Pose.identity()
+        values = []
+        for key in POSE_KEYS:
+            e = pose.get(key)
+            v = 0.0 if e is None else self.ctx.evaluate(e, env)
+            if not isinstance(v, (int, float)) or isinstance(v, bool):
+                return None
+            values.append(float(v))
+        return Pose.from_xyz_rpy(*values)
+
+    # ----- second pass: connections and names
+    def _connect(self, top: _Instance) -> None:
+        for p in self.pending:
+            proto = p.prototype
+            targets = (self._targets(p.instance, p.target, p.part) if p.target is not None
+                       else [])
+            if not targets:
+                self.model.joints.append(proto)
+                if proto.parent is not None:
+                    proto.parent.joints.append(proto)
+                continue
+            for k, child in enumerate(targets):
+                joint = proto if k == 0 else replace(proto, sensors=list(proto.sensors),
+                                                     actuators=list(proto.actuators))
+                joint.child, joint.target_copy = child, k
+                if proto.parent is not None and proto.parent.pose and child.pose \
+                        and proto.local_pose:
+                    joint.pose = child.pose.inverse().compose(
+                        proto.parent.pose.compose(proto.local_pose))
+                self.model.joints.append(joint)
+                if proto.parent is not None:
+                    proto.parent.joints.append(joint)
+        for link, target, part, inst, span in self.pending_fixed:
+            for child in self._targets(inst, target, part):
+                qname = link.qname + ("fixedJoint",) + child.qname
+                self.model.fixed.append(FixedJoint(qname, span, dict(link.index),
+                                                   parent=link, child=child))
+
+    def _targets(self, inst: _Instance, link: str, part: str | None) -> list[Link]:
+        if part is None:
+            return list(inst.links.get(link, []))
+        return [l for sub in inst.parts.get(part, []) for l in sub.links.get(link, [])]
+
+    def _name_devices(self) -> None:
+        """Mangled prefixes: the block name with its index values (``Proximity1``); where two
+        collide, the enclosing part or link names are prepended until they are unique."""
+        tokens = {id(d): _tokens(q) for d, q in self.device_names}
+        depth = {id(d): 1 for d, _ in self.device_names}
+        while True:
+            names: dict[str, list[int]] = {}
+            for d, _ in self.device_names:
+                t = tokens[id(d)]
+                names.setdefault("_".join(t[-depth[id(d)]:]), []).append(id(d))
+            clashes = [ids for ids in names.values() if len(ids) > 1]
+            grew = False
+            for ids in clashes:
+                for i in ids:
+                    if depth[i] < len(tokens[i]):
+                        depth[i] += 1
+                        grew = True
+            if not clashes or not grew:
+                break
+        renamed: dict[int, Device] = {}
+        for device, _ in self.device_names:
+            t = tokens[id(device)]
+            prefix = "_".join(t[-depth[id(device)]:])
+            renamed[id(device)] = _renamed(device, prefix,
+                                           self.index_values.get(id(device), {}))
+        for e in [*self.model.joints, *self.model.sensors, *self.model.actuators]:
+            if e.device is not None and id(e.device) in renamed:
+                e.device = renamed[id(e.device)]
+        for j in self.model.links:
+            for child in j.joints:
+                if child.device is not None and id(child.device) in renamed:
+                    child.device = renamed[id(child.device)]
+        self._rename_relations(renamed)
+
+    def _rename_relations(self, renamed: dict[int, Device]) -> None:
+        by_name: dict[str, list[Device]] = {}
+        for e in [*self.model.joints, *self.model.sensors, *self.model.actuators]:
+            if e.device is not None:
+                by_name.setdefault(e.simple_name, []).append(e.device)
+        for expr, block, device, values in self.relation_queue:
+            own = renamed.get(id(device)) if device is not None else None
+
+            def swap(node: ex.Expr, own: Device | None = own) -> ex.Expr | None:
+                if isinstance(node, ex.Member) and isinstance(node.base, ex.Name) \
+                        and len(node.base.parts) == 1:
+                    candidates = by_name.get(node.base.parts[0], [])
+                    if own is not None and own in candidates:
+                        target: Device | None = own
+                    else:
+                        target = candidates[0] if len(candidates) == 1 else None
+                    if target is not None and target.port(node.name) is not None:
+                        return ex.Name((target.port(node.name).mangled,), span=node.span)
+                if isinstance(node, ex.Name) and len(node.parts) == 1 and own is not None:
+                    port = own.port(node.parts[0])
+                    if port is not None:
+                        return ex.Name((port.mangled,), span=node.span)
+                    if node.parts[0] in values:
+                        return ex.Num(str(values[node.parts[0]]), span=node.span)
+                return None
+
+            self.model.relations.append(ex.transform(expr, swap))
+
+
+def is_index_value(component: str) -> bool:
+    """Index values are the qualified-name components that are integers (names never are)."""
+    return component.lstrip("-").isdigit()
+
+
+def _tokens(qname: tuple[str, ...]) -> list[str]:
+    """Qualified-name components with index values glued to their names, model left out:
+    ``('M', 'Core', 'Proximity', '1')`` → ``['Core', 'Proximity1']``."""
+    out: list[str] = []
+    for c in qname[1:]:
+        if is_index_value(c) and out:
+            out[-1] += c
+        else:
+            out.append(c)
+    return out
+
+
+def _renamed(device: Device, prefix: str, values: dict[str, int]) -> Device:
+    ports = tuple(replace(p, mangled=f"{prefix}_{p.name}") for p in device.ports)
+    names = {p.name: p.mangled for p in ports}
+
+    def swap(node: ex.Expr) -> ex.Expr | None:
+        if isinstance(node, ex.Name) and len(node.parts) == 1:
+            n = node.parts[0]
+            if n in names:
+                return ex.Name((names[n],), span=node.span)
+            if n in values:
+                return ex.Num(str(values[n]), span=node.span)
+        return None
+
+    return Device(prefix, ports, tuple(ex.transform(e, swap) for e in device.equations),
+                  tuple(ex.transform(e, swap) for e in device.constraints))
+
+
+def _solid(body: Body, mass: float) -> inertia_math.InertiaEntries | None:
+    """The solid inertia of a body's geometry, for a body that gives a mass and no matrix."""
+    size = body.size
+    shape = body.geometry.kind if isinstance(body.geometry, ast.Shape) else None
+    try:
+        if shape == "box":
+            return inertia_math.solid_box(mass, float(size["length"]), float(size["width"]),
+                                          float(size["height"]))
+        if shape == "cylinder":
+            return inertia_math.solid_cylinder(mass, float(size["radius"]),
+                                               float(size["length"]))
+        if shape == "sphere":
+            return inertia_math.solid_sphere(mass, float(size["radius"]))
+    except (KeyError, TypeError, ValueError):
+        return None
+    return None
+
+
+def _volume(body: Body) -> float | None:
+    size, shape = body.size, body.geometry.kind if isinstance(body.geometry, ast.Shape) else None
+    try:
+        if shape == "box":
+            return float(size["length"]) * float(size["width"]) * float(size["height"])
+        if shape == "cylinder":
+            return 3.141592653589793 * float(size["radius"]) ** 2 * float(size["length"])
+        if shape == "sphere":
+            return 4 / 3 * 3.141592653589793 * float(size["radius"]) ** 3
+    except (KeyError, TypeError, ValueError):
+        return None
+    return None
+
+
+def _distribute(own: inertia_math.Inertial, bodies: list[Body]
+                ) -> inertia_math.Inertial | None:
+    """A link that gives only a mass: spread it over its bodies by volume and combine their
+    solid inertias (the centre of mass follows the geometry)."""
+    volumes = [(_volume(b), b) for b in bodies]
+    total = sum(v for v, _ in volumes if v)
+    if total <= 0 or any(v is None or b.pose is None for v, b in volumes):
+        return None
+    parts = []
+    for v, b in volumes:
+        mass = own.mass * (v or 0.0) / total
+        solid = _solid(b, mass)
+        if solid is None or b.pose is None:
+            return None
+        parts.append(inertia_math.Inertial(mass, b.pose, solid))
+    return inertia_math.combine(parts) if parts else None
+

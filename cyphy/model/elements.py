@@ -1,0 +1,227 @@
+"""The elaborated model: what a p-model really is once parts are instantiated, indexed blocks
+replicated, references merged with their definitions, constants evaluated and poses composed.
+
+Every stage after the checks (SDF, CyPhyCircus, Flow*, the value checks) reads these classes
+instead of the syntax tree. Qualified names follow RoboTool's comments: the components joined
+by ``::`` with each index value as a component of its own (``IJFIL::Bottom::2::PJ::0``).
+Values that depend on a constant without a value are ``None`` (symbolic); the constant is
+listed in ``ElaboratedModel.missing``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Union
+
+from cyphy import expr as ex
+from cyphy.diagnostics import Span
+from cyphy.lang import ast
+from cyphy.model.evaluate import Value
+from cyphy.model.inertia import Inertial
+from cyphy.model.poses import Pose
+
+
+@dataclass(frozen=True, slots=True)
+class Port:
+    """A variable of a device instance: its declared name, kind, type and mangled name."""
+
+    name: str
+    kind: ast.DeclKind  # INPUT, OUTPUT, INOUT, LOCAL or CONST
+    type: ast.TypeRef
+    mangled: str
+    value: Value | None = None  # constants: the evaluated value, when there is one
+    initial: ex.Expr | None = None  # declared initial value (inputs, locals)
+
+
+@dataclass(frozen=True, slots=True)
+class Device:
+    """The behaviour of a joint, sensor or actuator instance: its definition's variables and
+    equations, renamed to the instance (``LMotor_das``; ``Proximity1_voltage``)."""
+
+    prefix: str
+    ports: tuple[Port, ...]
+    equations: tuple[ex.Expr, ...]
+    constraints: tuple[ex.Expr, ...] = ()
+
+    def port(self, name: str) -> Port | None:
+        for p in self.ports:
+            if p.name == name:
+                return p
+        return None
+
+    def of_kind(self, *kinds: ast.DeclKind) -> tuple[Port, ...]:
+        return tuple(p for p in self.ports if p.kind in kinds)
+
+
+@dataclass(frozen=True, slots=True)
+class AnnotationValue:
+    """An evaluated annotation: the template (qualified), and each argument's value: a
+    number, boolean, string, vector, an element path (tuple of names) or a nested
+    annotation. Defaults of the template are not filled in here (the SDF rules do that)."""
+
+    template: tuple[str, ...]
+    args: tuple[tuple[str, Union[Value, "AnnotationValue", tuple[str, ...], None]], ...]
+    span: Span = field(compare=False, repr=False, default=Span.unknown())
+
+    def get(self, name: str) -> Value | AnnotationValue | tuple[str, ...] | None:
+        for n, v in self.args:
+            if n == name:
+                return v
+        return None
+
+
+@dataclass(eq=False)
+class Element:
+    """Base of every elaborated element. ``qname`` is the tuple of name components."""
+
+    qname: tuple[str, ...]
+    span: Span
+    index: dict[str, int] = field(default_factory=dict)  # index variables bound in this copy
+
+    @property
+    def name(self) -> str:
+        """The qualified name as RoboTool writes it: ``Model::part::link::2``."""
+        return "::".join(self.qname)
+
+    @property
+    def simple_name(self) -> str:
+        return next(c for c in reversed(self.qname) if not c.lstrip("-").isdigit())
+
+
+@dataclass(eq=False)
+class Body(Element):
+    link: Link | None = None
+    pose: Pose | None = None  # relative to the link
+    geometry: ast.Shape | ast.Mesh | None = None
+    size: dict[str, Value | None] = field(default_factory=dict)  # evaluated geometry arguments
+    mesh_uri: str | None = None
+    inertial: Inertial | None = None  # as given by the body (inertia solid-filled if absent)
+    surface: dict[str, Value | None] = field(default_factory=dict)
+
+
+@dataclass(eq=False)
+class Sensor(Element):
+    link: Link | None = None
+    joint: Joint | None = None  # when the sensor is contained in a joint
+    pose: Pose | None = None  # relative to the link
+    annotation: AnnotationValue | None = None
+    device: Device | None = None
+    definition: str | None = None  # qualified name of the definition it realises
+
+
+@dataclass(eq=False)
+class Actuator(Sensor):
+    pass
+
+
+@dataclass(eq=False)
+class Joint(Element):
+    parent: Link | None = None
+    child: Link | None = None
+    local_pose: Pose | None = None  # relative to the parent link, as written
+    pose: Pose | None = None  # relative to the child link (SDF 1.6)
+    annotation: AnnotationValue | None = None
+    axis: Value | None = None  # the definition's AXIS constant, when it has one
+    device: Device | None = None
+    definition: str | None = None
+    target_copy: int = 0  # which target instance, when the target is replicated
+    sensors: list[Sensor] = field(default_factory=list)
+    actuators: list[Actuator] = field(default_factory=list)
+
+
+@dataclass(eq=False)
+class FixedJoint(Element):
+    parent: Link | None = None
+    child: Link | None = None
+
+
+@dataclass(eq=False)
+class Link(Element):
+    pose: Pose | None = None  # relative to the p-model (the model frame)
+    inertial: Inertial | None = None  # own, or combined from the bodies
+    inertial_source: str = "none"  # "link", "bodies" or "none"
+    bodies: list[Body] = field(default_factory=list)
+    sensors: list[Sensor] = field(default_factory=list)
+    actuators: list[Actuator] = field(default_factory=list)
+    joints: list[Joint] = field(default_factory=list)  # joints this link contains (parent)
+    device: Device | None = None
+
+
+ModelElement = Union[Link, Body, Joint, FixedJoint, Sensor, Actuator]
+
+
+@dataclass(eq=False)
+class ElaboratedModel:
+    name: str
+    pmodel: ast.PModel
+    links: list[Link] = field(default_factory=list)
+    bodies: list[Body] = field(default_factory=list)
+    joints: list[Joint] = field(default_factory=list)
+    fixed: list[FixedJoint] = field(default_factory=list)
+    sensors: list[Sensor] = field(default_factory=list)
+    actuators: list[Actuator] = field(default_factory=list)
+    relations: list[ex.Expr] = field(default_factory=list)  # containment relations, renamed
+    constants: dict[str, Value] = field(default_factory=dict)  # qualified name → value
+    missing: dict[str, list[Span]] = field(default_factory=dict)  # constants with no value
+
+    @property
+    def devices(self) -> list[Device]:
+        out = [e.device for e in [*self.joints, *self.sensors, *self.actuators, *self.links]
+               if e.device is not None]
+        seen: set[str] = set()
+        unique = []
+        for d in out:
+            if d.prefix not in seen:
+                seen.add(d.prefix)
+                unique.append(d)
+        return unique
+
+    def element(self, name: str) -> ModelElement | None:
+        for e in self.all_elements():
+            if e.name == name:
+                return e
+        return None
+
+    def all_elements(self) -> list[ModelElement]:
+        return [*self.links, *self.bodies, *self.joints, *self.fixed, *self.sensors,
+                *self.actuators]
+
+    def kinematic_graph(self):  # type: ignore[no-untyped-def]
+        """Links as nodes (by qualified name), joints and fixed connections as edges from
+        parent to child (a NetworkX MultiDiGraph; edge attribute ``element``)."""
+        import networkx as nx
+
+        graph = nx.MultiDiGraph()
+        for link in self.links:
+            graph.add_node(link.name, element=link)
+        for j in [*self.joints, *self.fixed]:
+            if j.parent is not None and j.child is not None:
+                graph.add_edge(j.parent.name, j.child.name, key=j.name + f"#{id(j)}",
+                               element=j)
+        return graph
+
+    def containment_graph(self):  # type: ignore[no-untyped-def]
+        """The model, its parts and blocks as a tree (NetworkX DiGraph keyed by qualified
+        name; edges from container to contained)."""
+        import networkx as nx
+
+        graph = nx.DiGraph()
+        graph.add_node(self.name)
+        for e in self.all_elements():
+            if isinstance(e, FixedJoint):
+                continue
+            parent = _container_name(e, self.name)
+            for i in range(1, len(e.qname)):
+                graph.add_edge("::".join(e.qname[:i]) or self.name, "::".join(e.qname[:i + 1]))
+            graph.add_edge(parent, e.name)
+            graph.nodes[e.name]["element"] = e
+        return graph
+
+
+def _container_name(e: ModelElement, model: str) -> str:
+    owner: Element | None = None
+    if isinstance(e, (Body, Sensor)):
+        owner = e.joint if isinstance(e, Sensor) and e.joint is not None else e.link
+    elif isinstance(e, Joint):
+        owner = e.parent
+    return owner.name if owner is not None else "::".join(e.qname[:-1]) or model
