@@ -22,6 +22,8 @@ if TYPE_CHECKING:  # the model needs NumPy and SciPy: `cyphy check` must not imp
 class CheckOptions:
     syntax_only: bool = False
     search_paths: tuple[str, ...] = ()
+    wellformedness: bool = True
+    consts: dict[str, object] = field(default_factory=dict)
 
 
 @dataclass
@@ -41,6 +43,10 @@ def check(paths: Sequence[str | Path], options: CheckOptions = CheckOptions()) -
         return result
     check_placement(ws.user_files(), report)
     result.resolution = check_scopes(ws, report)
+    if options.wellformedness:
+        from cyphy.wellformed import WFContext, check_wellformed
+
+        check_wellformed(WFContext(ws, result.resolution, report, dict(options.consts)))
     return result
 
 

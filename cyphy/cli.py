@@ -24,12 +24,15 @@ def _parser() -> argparse.ArgumentParser:
         description="Parse the model files (a folder means every model file in it), resolve "
         "names across them and the built-in physmod library, and report every problem.",
     )
-    check.add_argument("paths", nargs="+", metavar="PATH", help="model file or folder")
+    check.add_argument("paths", nargs="*", metavar="PATH", help="model file or folder")
+    check.add_argument("--list-rules", action="store_true",
+                       help="list the well-formedness conditions checked, and exit")
     check.add_argument("--syntax-only", action="store_true", help="stop after parsing")
     check.add_argument("--format", choices=("text", "json"), default="text",
                        help="diagnostic format (default: text)")
     check.add_argument("--path", action="append", default=[], metavar="DIR",
                        help="another folder of model files to resolve names against")
+    _const_options(check)
     show = sub.add_parser(
         "show",
         help="print the elaborated model",
@@ -80,11 +83,26 @@ def _show(args: argparse.Namespace) -> int:
     return result.report.exit_code
 
 
+def _list_rules() -> int:
+    from cyphy.wellformed import RULES
+
+    for r in RULES.values():
+        sys.stdout.write(f"{r.id:<7} {r.code.severity.value:<7} {r.summary}\n")
+    return 0
+
+
 def _check(args: argparse.Namespace) -> int:
     from cyphy.api import CheckOptions, check
     from cyphy.diagnostics import render_json, render_text
 
-    result = check(args.paths, CheckOptions(args.syntax_only, tuple(args.path)))
+    if args.list_rules:
+        return _list_rules()
+    if not args.paths:
+        sys.stderr.write("cyphy check: error: give at least one PATH\n")
+        return 2
+
+    result = check(args.paths, CheckOptions(args.syntax_only, tuple(args.path),
+                                            consts=_consts(args)))
     diagnostics = result.report.diagnostics
     if args.format == "json":
         sys.stdout.write(render_json(diagnostics))

@@ -1,0 +1,3 @@
+"""Parts: P1-P3."""
+
+from __future__ import annotations
