@@ -57,6 +57,8 @@ def _const_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _consts(args: argparse.Namespace) -> dict[str, object]:
+    if not args.const and not args.consts:
+        return {}
     from cyphy.model.constants import ConstantsError, parse_const_options
 
     try:

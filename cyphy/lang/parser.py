@@ -37,6 +37,9 @@ def grammar(strict: bool = False) -> Lark:
         propagate_positions=True,
         maybe_placeholders=True,
         strict=strict,
+        # Lark stores the LALR tables in a temporary file keyed by the grammar's hash: the
+        # analysis takes 0.7 s, loading the cache a few milliseconds.
+        cache=not strict,
     )
 
 

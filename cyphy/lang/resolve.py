@@ -12,8 +12,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Iterable, Iterator, Union
 
-import networkx as nx
-
 from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span
@@ -649,27 +647,34 @@ class _Checker:
 
     # ------------------------------------------------------------------ S5 part cycles
     def _part_cycles(self) -> None:
-        graph: nx.DiGraph = nx.DiGraph()
-        spans: dict[tuple[int, int], ast.Part] = {}
+        """S5: a part must not (transitively) contain its own p-model. ``graphlib`` finds a
+        cycle; its first edge is reported and removed until no cycle is left."""
+        from graphlib import CycleError, TopologicalSorter
+
+        edges: dict[tuple[int, int], ast.Part] = {}
+        names: dict[int, str] = {}
         for file in self.ws.files.values():
             for item in file.items:
                 if isinstance(item, ast.PModel):
-                    graph.add_node(id(item), name=item.name)
+                    names[id(item)] = item.name
                     for part in item.parts:
                         target = self.resolution.get(part)
                         if isinstance(target, ast.PModel):
-                            graph.add_edge(id(item), id(target))
-                            spans[(id(item), id(target))] = part
-        reported: set[int] = set()
-        for cycle in nx.simple_cycles(graph):
-            edges = list(zip(cycle, cycle[1:] + cycle[:1]))
-            part = spans[edges[0]]
-            if id(part) in reported:
-                continue
-            reported.add(id(part))
-            names = " → ".join(graph.nodes[n]["name"] for n in cycle + cycle[:1])
-            self.error(codes.S5, f"part {part.name} makes a p-model contain itself ({names})",
-                       part.span, "a part must not (transitively) contain its own p-model")
+                            edges.setdefault((id(item), id(target)), part)
+        while edges:
+            graph: dict[int, set[int]] = {}
+            for source, target in edges:
+                graph.setdefault(source, set()).add(target)
+            try:
+                TopologicalSorter(graph).prepare()
+                return
+            except CycleError as err:
+                cycle = list(reversed(err.args[1]))  # graphlib lists it against the edges
+                part = edges.pop((cycle[0], cycle[1]))
+                chain = " → ".join(names[n] for n in cycle)
+                self.error(codes.S5, f"part {part.name} makes a p-model contain itself "
+                           f"({chain})", part.span,
+                           "a part must not (transitively) contain its own p-model")
 
 
 class _MappingChecker:
