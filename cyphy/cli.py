@@ -7,6 +7,7 @@ Heavy libraries are imported by the subcommands that need them, so ``cyphy --hel
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from typing import Sequence
 
@@ -128,6 +129,13 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _show(args)
     except KeyboardInterrupt:
         return 130
+    except Exception as err:  # a bug of ours: say so plainly, without a traceback
+        sys.stderr.write(f"cyphy: internal error ({type(err).__name__}: {err}); please report "
+                         "it with the model that caused it (set CYPHY_TRACEBACK=1 for "
+                         "details)\n")
+        if os.environ.get("CYPHY_TRACEBACK"):
+            raise
+        return 70
     return 2
 
 

@@ -244,6 +244,18 @@ class _Context:
 # --------------------------------------------------------------------------- elaboration
 
 
+def top_level_pmodels(ws: Workspace) -> list[tuple[ast.PModel, ast.SourceFile]]:
+    """The p-models of the user's files that no other of them uses as a part."""
+    candidates: list[tuple[ast.PModel, ast.SourceFile]] = []
+    used: set[str] = set()
+    for f in ws.user_files():
+        for item in f.items:
+            if isinstance(item, ast.PModel) and not item.fragment:
+                candidates.append((item, f))
+                used.update(p.pmodel[-1] for p in item.parts)
+    return [c for c in candidates if c[0].name not in used]
+
+
 def choose_pmodel(ws: Workspace, name: str | None, report: Report
                   ) -> tuple[ast.PModel, ast.SourceFile] | None:
     """The p-model to elaborate: the one named, else the only one of the user's files that
@@ -283,7 +295,13 @@ def elaborate(ws: Workspace, resolution: Resolution, report: Report, model: str 
     chosen = choose_pmodel(ws, model, report)
     if chosen is None:
         return None
-    pm, file = chosen
+    return elaborate_pmodel(ws, resolution, report, *chosen, consts)
+
+
+def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: ast.PModel,
+                     file: ast.SourceFile, consts: Mapping[str, Value] | None = None
+                     ) -> ElaboratedModel:
+    """Elaborate the given p-model (as the top-level model) of ``file``."""
     ctx = _Context(ws, resolution, report, consts or {})
     return _Elaborator(ctx).run(pm, file)
 
@@ -489,7 +507,8 @@ class _Elaborator:
         own = [m for m in self._members(block) if isinstance(m, ast.Inertial)]
         if own:
             inertial = self._inertial(own[0], env, None)
-            if inertial is not None and inertial.inertia == (0.0,) * 6 and link.bodies:
+            if inertial is not None and inertial.inertia == (0.0,) * 6 and link.bodies \
+                    and inertial.mass > 0:
                 inertial = _distribute(inertial, link.bodies) or inertial
             link.inertial, link.inertial_source = inertial, "link"
             return
@@ -498,7 +517,7 @@ class _Elaborator:
             if body.inertial is None or body.pose is None:
                 continue
             parts.append(replace(body.inertial, com=body.pose.compose(body.inertial.com)))
-        if parts and sum(p.mass for p in parts) > 0:
+        if parts and all(p.mass > 0 for p in parts):  # V1 reports non-positive masses
             link.inertial, link.inertial_source = inertia_math.combine(parts), "bodies"
 
     # ----- devices: joints, sensors, actuators
@@ -784,7 +803,8 @@ def _distribute(own: inertia_math.Inertial, bodies: list[Body]
     solid inertias (the centre of mass follows the geometry)."""
     volumes = [(_volume(b), b) for b in bodies]
     total = sum(v for v, _ in volumes if v)
-    if total <= 0 or any(v is None or b.pose is None for v, b in volumes):
+    if own.mass <= 0 or total <= 0 or any(v is None or v <= 0 or b.pose is None
+                                           for v, b in volumes):
         return None
     parts = []
     for v, b in volumes:

@@ -17,7 +17,6 @@ from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 Vector3 = tuple[float, float, float]
 Matrix3 = tuple[Vector3, Vector3, Vector3]
@@ -90,6 +89,8 @@ class Pose:
         ``R = Rz(yaw)·Ry(pitch)·Rx(roll)``: roll about the fixed x axis first, then pitch about
         fixed y, then yaw about fixed z (SciPy ``"xyz"``; equivalently intrinsic ``"ZYX"``).
         """
+        from scipy.spatial.transform import Rotation  # lazily: SciPy costs 0.3 s to import
+
         rotation = Rotation.from_euler("xyz", [roll, pitch, yaw]).as_matrix()
         return cls((x, y, z), rotation)
 
@@ -133,6 +134,8 @@ class Pose:
         that the conformance check allows. Values are not passed through ``clean``: that is the
         printer's choice.
         """
+        from scipy.spatial.transform import Rotation
+
         roll, pitch, yaw = Rotation.from_matrix(self._rotation_array()).as_euler(
             "xyz", suppress_warnings=True
         )

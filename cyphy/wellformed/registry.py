@@ -70,6 +70,8 @@ class WFContext:
     report: Report
     consts: dict[str, Any] = field(default_factory=dict)
     scopes: Scopes = field(init=False)
+    cache: dict[str, Any] = field(default_factory=dict)
+    """Results shared between rules of one run (the elaborated models)."""
 
     def __post_init__(self) -> None:
         self.scopes = Scopes(self.workspace)

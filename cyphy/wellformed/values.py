@@ -1,3 +1,240 @@
-"""Value checks the paper leaves as future work: V1-V5 (on the elaborated model)."""
+"""Value checks the paper leaves as future work: V1-V5 (on the elaborated model).
+
+They need numbers, so they run on the elaborated top-level p-models (constants from the model
+and ``--const``), and each looks only at values that could be computed: an element whose
+value depends on a constant without a value is skipped, never guessed.
+"""
 
 from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from cyphy.diagnostics import Report, Severity
+from cyphy.lang import ast
+from cyphy.wellformed.registry import WFContext, rule
+
+GEOMETRY_TOL = 1e-9
+
+
+def _models(ctx: WFContext) -> list[Any]:
+    """The elaborated top-level p-models, built once per check run (cached on the context).
+    Elaboration diagnostics are not reported here: a check reports conditions, and the
+    generators report evaluation problems when they need the values."""
+    if "elaborated" not in ctx.cache:
+        from cyphy.model.elaborate import elaborate_pmodel, top_level_pmodels
+
+        ctx.cache["elaborated"] = [
+            elaborate_pmodel(ctx.workspace, ctx.resolution, Report(), pm, f, ctx.consts)
+            for pm, f in top_level_pmodels(ctx.workspace)]
+    return ctx.cache["elaborated"]
+
+
+def _number(v: object) -> float | None:
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return None
+    return float(v)
+
+
+@rule("V1", "masses are positive; inertia matrices are positive definite and satisfy the "
+      "triangle inequalities")
+def check_V1_physical_inertia(ctx: WFContext) -> None:
+    """Every mass given (link or body) is positive, and every inertia matrix given is
+    symmetric positive definite with ixx + iyy >= izz and its permutations: simulators
+    invert the tensor and reject or explode on anything else."""
+    from cyphy.model.inertia import is_physical
+
+    for m in _models(ctx):
+        for element, inertial, what in _given_inertials(m):
+            if inertial.mass <= 0:
+                ctx.error("V1", element, f"the mass of {what} {element.name} is "
+                          f"{inertial.mass:g}", "masses must be positive")
+            elif any(inertial.inertia) and not is_physical(inertial.inertia):
+                ctx.error("V1", element, f"the inertia matrix of {what} {element.name} "
+                          f"({' '.join(f'{v:g}' for v in inertial.inertia)}) is not positive "
+                          "definite or breaks a triangle inequality",
+                          "check the entries: ixx + iyy >= izz, ixx + izz >= iyy, "
+                          "iyy + izz >= ixx, all moments positive")
+
+
+def _given_inertials(m: Any) -> Iterator[tuple[Any, Any, str]]:
+    for link in m.links:
+        if link.inertial is not None and link.inertial_source == "link":
+            yield link, link.inertial, "link"
+    for body in m.bodies:
+        if body.inertial is not None:
+            yield body, body.inertial, "body"
+
+
+@rule("V2", "geometry sizes are positive; mesh files exist")
+def check_V2_geometry(ctx: WFContext) -> None:
+    """A box of zero height or a cylinder of zero radius cannot be simulated (and a zero-size
+    collision is a common slip, as in the marXbot's tracks); a mesh file must exist,
+    relative to the model's folder."""
+    for m in _models(ctx):
+        for body in m.bodies:
+            if isinstance(body.geometry, ast.Shape):
+                for name, value in body.size.items():
+                    v = _number(value)
+                    if v is not None and v <= 0:
+                        ctx.error("V2", body, f"the {body.geometry.kind} of body {body.name} "
+                                  f"has {name} = {v:g}", f"give the {body.geometry.kind} a "
+                                  f"positive {name}")
+            elif isinstance(body.geometry, ast.Mesh):
+                uri = body.mesh_uri
+                if uri and not _mesh_exists(uri, body.span.file):
+                    ctx.error("V2", body, f"the mesh '{uri}' of body {body.name} does not "
+                              "exist", "give a path relative to the model's folder, or a "
+                              "model:// URI")
+                scale = _number(body.size.get("scaling"))
+                if scale is not None and scale <= 0:
+                    ctx.error("V2", body, f"the mesh of body {body.name} is scaled by "
+                              f"{scale:g}", "give a positive scaling")
+
+
+def _mesh_exists(uri: str, model_file: str) -> bool:
+    if "://" in uri and not uri.startswith("file://"):
+        return True  # model:// and package:// URIs are resolved by the simulator
+    path = Path(uri.removeprefix("file://"))
+    return (path if path.is_absolute() else Path(model_file).parent / path).exists()
+
+
+SURFACE_RANGES = {
+    "restitution_coefficient": (0.0, 1.0),
+    "threshold": (0.0, math.inf),
+    "coefficient1": (0.0, math.inf),
+    "coefficient2": (0.0, math.inf),
+    "slip1": (0.0, math.inf),
+    "slip2": (0.0, math.inf),
+    "laser_retro": (0.0, math.inf),
+    "transparency": (0.0, 1.0),
+}
+
+
+@rule("V3", "ratios lie in [0, 1]; friction and restitution coefficients are non-negative")
+def check_V3_surface_ranges(ctx: WFContext) -> None:
+    """Restitution coefficients and transparency are ratios in [0, 1]; friction
+    coefficients, slips, thresholds and laser retro-reflection are non-negative."""
+    for m in _models(ctx):
+        for body in m.bodies:
+            for name, value in body.surface.items():
+                v, bounds = _number(value), SURFACE_RANGES.get(name)
+                if v is None or bounds is None:
+                    continue
+                lo, hi = bounds
+                if not lo <= v <= hi:
+                    where = "[0, 1]" if hi == 1.0 else "non-negative"
+                    ctx.error("V3", body, f"{name} of body {body.name} is {v:g}",
+                              f"{name} must be {where}")
+
+
+@rule("V4", "a joint's axis constant and its annotation's xyz agree; axes are non-zero",
+      Severity.WARNING)
+def check_V4_axis_agreement(ctx: WFContext) -> None:
+    """The joint's ``AXIS`` constant (the equations' axis) and the ``xyz`` of its annotation
+    (the simulator's axis) describe the same unit direction; an axis is never the zero vector.
+    Given twice, the two drift apart silently: the simulation then moves about another axis
+    than the one the proofs assume."""
+    import numpy as np
+
+    for m in _models(ctx):
+        for joint in m.joints:
+            if joint.target_copy:
+                continue
+            axis = _vector(joint.axis)
+            xyz = _vector(_annotation_xyz(joint.annotation))
+            for what, v in (("the AXIS constant", axis), ("the annotation's xyz", xyz)):
+                if v is not None and np.linalg.norm(v) < GEOMETRY_TOL:
+                    ctx.error("V4", joint, f"{what} of joint {joint.name} is the zero vector",
+                              "give a non-zero axis")
+            if axis is None or xyz is None:
+                continue
+            na, nx = np.linalg.norm(axis), np.linalg.norm(xyz)
+            if na < GEOMETRY_TOL or nx < GEOMETRY_TOL:
+                continue
+            if not np.allclose(axis / na, xyz / nx, atol=1e-9):
+                ctx.error("V4", joint, f"joint {joint.name}: AXIS {_fmt(axis)} and the "
+                          f"annotation's xyz {_fmt(xyz)} are different directions",
+                          "make instantiation AXIS and annotation axis xyz agree")
+
+
+def _annotation_xyz(annotation: Any) -> Any:
+    if annotation is None:
+        return None
+    axis = annotation.get("axis")
+    return axis.get("xyz") if hasattr(axis, "get") else None
+
+
+def _vector(v: Any) -> Any:
+    import numpy as np
+
+    if v is None or isinstance(v, (bool, str, tuple)):
+        return None
+    try:
+        array = np.asarray(v, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        return None
+    return array if array.shape == (3,) else None
+
+
+def _fmt(v: Any) -> str:
+    return "(" + ", ".join(f"{x:g}" for x in v) + ")"
+
+
+@rule("V5", "no two links, and no two bodies of a link, at the same place with the same shape",
+      Severity.WARNING)
+def check_V5_coincident(ctx: WFContext) -> None:
+    """Two links (or two bodies of one link) with the same shape at the same place after all
+    poses are composed are almost always a copy-and-paste slip (the paper's firefighter drone
+    had two rotor arms at the same coordinates, found only by eye in Gazebo)."""
+    for m in _models(ctx):
+        seen: dict[Any, Any] = {}
+        for link in m.links:
+            key = _link_key(link)
+            if key is None:
+                continue
+            if key in seen:
+                ctx.error("V5", link, f"links {seen[key].name} and {link.name} have the same "
+                          "shape at the same place", "move one of them (check the poses of "
+                          "the links and of the parts that contain them)")
+            else:
+                seen[key] = link
+        for link in m.links:
+            bodies: dict[Any, Any] = {}
+            for body in link.bodies:
+                key = _body_key(body)
+                if key is None:
+                    continue
+                if key in bodies:
+                    ctx.error("V5", body, f"bodies {bodies[key].name} and {body.name} have the"
+                              " same shape at the same place", "move one of them, or remove "
+                              "the duplicate")
+                else:
+                    bodies[key] = body
+
+
+def _rounded(values: Any) -> tuple[float, ...]:
+    return tuple(round(float(v), 9) + 0.0 for v in values)
+
+
+def _body_key(body: Any) -> Any:
+    if body.pose is None or not body.size or any(_number(v) is None and v is not None
+                                                 for v in body.size.values()):
+        return None
+    shape = body.geometry.kind if isinstance(body.geometry, ast.Shape) else body.mesh_uri
+    size = tuple(sorted((k, _number(v)) for k, v in body.size.items()))
+    return (shape, size, _rounded(body.pose.position),
+            _rounded(x for row in body.pose.rotation for x in row))
+
+
+def _link_key(link: Any) -> Any:
+    if link.pose is None or not link.bodies:
+        return None
+    bodies = [_body_key(b) for b in link.bodies]
+    if any(b is None for b in bodies):
+        return None
+    return (_rounded(link.pose.position), _rounded(x for row in link.pose.rotation for x in row),
+            tuple(sorted(bodies, key=repr)))
+
