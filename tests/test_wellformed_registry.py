@@ -1,0 +1,52 @@
+"""Every condition of wellformedness.md is implemented, registered under its id, and listed
+by `cyphy check --list-rules`."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from cyphy.cli import main
+from cyphy.wellformed import RULES
+from conftest import ROOT
+
+
+def _ids(prefix: str, n: int) -> list[str]:
+    return [f"{prefix}{i}" for i in range(1, n + 1)]
+
+
+EXPECTED = (["PM1", *_ids("L", 8), *_ids("B", 3), *_ids("J", 3), *_ids("SE", 3),
+             *_ids("AC", 3), "JSA1", *_ids("Fix", 3), *_ids("Flex", 3), *_ids("P", 3),
+             *_ids("IX", 2), "PO1", *_ids("AN", 4), *_ids("PMap", 12), *_ids("V", 5)])
+SPEC = ROOT.parent / "shared" / "spec" / "wellformedness.md"
+
+
+def test_registry_has_every_condition() -> None:
+    assert sorted(RULES) == sorted(EXPECTED)
+
+
+@pytest.mark.skipif(not SPEC.is_file(), reason="../shared/spec is absent")
+def test_expected_ids_are_the_spec_ids() -> None:
+    ids: set[str] = set()
+    for row in re.findall(r"^\| ([A-Za-z]+\d+(?:-[A-Za-z]*\d+)?)(?: \(paper\))? \|",
+                          SPEC.read_text(), re.M):
+        m = re.fullmatch(r"([A-Za-z]+)(\d+)(?:-[A-Za-z]*(\d+))?", row)
+        assert m is not None
+        first, last = int(m.group(2)), int(m.group(3) or m.group(2))
+        ids.update(f"{m.group(1)}{i}" for i in range(first, last + 1))
+    ids -= {f"S{i}" for i in range(1, 6)}  # scope and typing: the front end's codes
+    assert ids == set(EXPECTED)
+
+
+def test_every_rule_has_a_docstring_and_summary() -> None:
+    for r in RULES.values():
+        assert r.summary and r.check.__doc__, r.id
+        assert r.check.__name__.startswith(f"check_{r.id}_"), r.check.__name__
+
+
+def test_list_rules(capsys) -> None:
+    assert main(["check", "--list-rules"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in lines] == list(RULES)
+    assert lines[0].split()[:2] == ["PM1", "ERROR"]
