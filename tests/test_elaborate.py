@@ -236,3 +236,27 @@ def test_moving_a_part_moves_every_element(pose: tuple[float, ...]) -> None:
     frame = Pose.from_xyz_rpy(*pose)
     for a, b in zip(base.links, shifted.links):
         assert frame.compose(a.pose).isclose(b.pose, tol=1e-9)
+
+
+def test_fragment_is_inlined_and_holds_sensors(tmp_path: Path) -> None:
+    m = model_of(tmp_path, {"f.rsm": """\
+import physmod::sensors::IR
+fragment Kit { local link Extra { def { } } sref Probe = IR { } }
+pmodel Robot { local link Base { def { } } part kit = Kit { } }
+"""}, model="Robot")
+    assert [l.name for l in m.links] == ["Robot::Base", "Robot::Extra"]
+    assert [s.name for s in m.sensors] == ["Robot::Probe"] and m.sensors[0].link is None
+
+
+def test_require_constants_lists_every_missing_one(tmp_path: Path) -> None:
+    from cyphy.diagnostics import Report
+    from cyphy.model.elaborate import require_constants
+
+    m = model_of(tmp_path, {"n.rsm": NESTED.replace("instantiation H = 3*K", "")
+                            .replace("const K: int = 2", "const K: int local link M { "
+                                     "pose { x = K } def { } }")})
+    report = Report()
+    assert require_constants(m, report, "SDF generation") is False
+    (d,) = report.diagnostics
+    assert d.code.id == "E-CONST" and "Bottom::H, Middle::K" in d.message
+    assert "--const" in d.hint and len(d.notes) == 2

@@ -244,6 +244,20 @@ class _Context:
 # --------------------------------------------------------------------------- elaboration
 
 
+def require_constants(model: ElaboratedModel, report: Report, what: str) -> bool:
+    """For a generator: report every constant without a value at once (``E-CONST``) and
+    say whether the model can be generated."""
+    if not model.missing:
+        return True
+    names = ", ".join(model.missing)
+    first = next(iter(model.missing.values()))[0]
+    report.report(MISSING, f"{what} needs values for {len(model.missing)} constant"
+                  f"{'s' if len(model.missing) != 1 else ''} without one: {names}", first,
+                  "give them with --const NAME=VALUE (repeatable) or --consts FILE",
+                  [f"{n} is declared at {spans[0]}" for n, spans in model.missing.items()])
+    return False
+
+
 def top_level_pmodels(ws: Workspace) -> list[tuple[ast.PModel, ast.SourceFile]]:
     """The p-models of the user's files that no other of them uses as a part."""
     candidates: list[tuple[ast.PModel, ast.SourceFile]] = []
@@ -353,10 +367,16 @@ class _Elaborator:
             elif isinstance(m, ast.Block) and m.kind is ast.BlockKind.LINK:
                 for values, link_env in self._copies(m, env):
                     self._link(m, inst, values, link_env)
-        for m in pm.members:  # p-model+ files put joints at p-model level (Pendulum.pm)
-            if isinstance(m, ast.Block) and m.kind is ast.BlockKind.JOINT:
+        for m in pm.members:
+            if not isinstance(m, ast.Block):
+                continue
+            if m.kind is ast.BlockKind.JOINT:  # p-model+ files (Pendulum.pm)
                 for values, joint_env in self._copies(m, env):
                     self._joint(m, None, inst, values, joint_env, prefix)
+            elif m.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR):  # fragments
+                for values, block_env in self._copies(m, env):
+                    self._device_block(m, None, None, values, block_env,
+                                       inst.frame or Pose.identity(), prefix)
         return inst
 
     def _part(self, part: ast.Part, inst: _Instance) -> None:
@@ -366,7 +386,9 @@ class _Elaborator:
         target_file = self.ctx.file_of.get(id(target), inst.file)
         copies = []
         for values, env in self._copies(part, inst.env):
-            prefix = inst.prefix + (part.name,) + tuple(str(v) for v in values.values())
+            # A fragment is inlined: its elements belong to the container, under its names.
+            prefix = inst.prefix if target.fragment else (
+                inst.prefix + (part.name,) + tuple(str(v) for v in values.values()))
             overrides = {i.name: (i.value, env) for i in part.instantiations}
             local = self._pose(part.pose, env)
             frame = inst.frame.compose(local) if inst.frame and local else None
@@ -521,7 +543,7 @@ class _Elaborator:
             link.inertial, link.inertial_source = inertia_math.combine(parts), "bodies"
 
     # ----- devices: joints, sensors, actuators
-    def _device_block(self, block: ast.Block, link: Link, joint: Joint | None,
+    def _device_block(self, block: ast.Block, link: Link | None, joint: Joint | None,
                       values: dict[str, int], env: Env, frame: Pose, base: tuple[str, ...]
                       ) -> Sensor:
         qname = self._qname(base, block, values)
@@ -535,11 +557,14 @@ class _Elaborator:
         definition = self._definition(block)
         element.definition = definition.name if definition is not None else None
         self._relations(block, element.device, env, values)
+        owner: Joint | Link | None = joint or link
         if isinstance(element, Actuator):
-            (joint.actuators if joint else link.actuators).append(element)
+            if owner is not None:
+                owner.actuators.append(element)
             self.model.actuators.append(element)
         else:
-            (joint.sensors if joint else link.sensors).append(element)
+            if owner is not None:
+                owner.sensors.append(element)
             self.model.sensors.append(element)
         return element
 
