@@ -735,7 +735,9 @@ class _Elaborator:
         for expr, block, device, values in self.relation_queue:
             own = renamed.get(id(device)) if device is not None else None
 
-            def swap(node: ex.Expr, own: Device | None = own) -> ex.Expr | None:
+            def paths(node: ex.Expr, own: Device | None = own) -> ex.Expr | None:
+                """``Block.port`` first, so that a block named like a port of this device
+                (joint ``J``, motor constant ``J``) is still read as the block."""
                 if isinstance(node, ex.Member) and isinstance(node.base, ex.Name) \
                         and len(node.base.parts) == 1:
                     candidates = by_name.get(node.base.parts[0], [])
@@ -743,8 +745,12 @@ class _Elaborator:
                         target: Device | None = own
                     else:
                         target = candidates[0] if len(candidates) == 1 else None
-                    if target is not None and target.port(node.name) is not None:
-                        return ex.Name((target.port(node.name).mangled,), span=node.span)
+                    port = target.port(node.name) if target is not None else None
+                    if port is not None:
+                        return ex.Name((port.mangled,), span=node.span)
+                return None
+
+            def names(node: ex.Expr, own: Device | None = own) -> ex.Expr | None:
                 if isinstance(node, ex.Name) and len(node.parts) == 1 and own is not None:
                     port = own.port(node.parts[0])
                     if port is not None:
@@ -753,7 +759,15 @@ class _Elaborator:
                         return ex.Num(str(values[node.parts[0]]), span=node.span)
                 return None
 
-            self.model.relations.append(ex.transform(expr, swap))
+            mangled = {p.mangled for d in renamed.values() for p in d.ports}
+
+            def own_names(node: ex.Expr) -> ex.Expr | None:
+                if isinstance(node, ex.Name) and node.text in mangled:
+                    return None  # already a mangled port from the first pass
+                return names(node)
+
+            expr = ex.transform(ex.transform(expr, paths), own_names)
+            self.model.relations.append(expr)
 
 
 def is_index_value(component: str) -> bool:
