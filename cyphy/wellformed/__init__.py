@@ -7,8 +7,14 @@ Importing this package registers every rule; :func:`check_wellformed` runs them 
 from cyphy.wellformed.registry import RULES, WFContext, check_wellformed, rule
 
 # The rule families register themselves on import.
-from cyphy.wellformed import (  # noqa: E402,F401
-    annotations, connections, indexing, links, mappings, parts, pmodel, values,
-)
+# In the order of wellformedness.md, which is the order `--list-rules` prints.
+from cyphy.wellformed import pmodel  # noqa: E402,F401,I001
+from cyphy.wellformed import links  # noqa: E402,F401
+from cyphy.wellformed import connections  # noqa: E402,F401
+from cyphy.wellformed import parts  # noqa: E402,F401
+from cyphy.wellformed import indexing  # noqa: E402,F401
+from cyphy.wellformed import annotations  # noqa: E402,F401
+from cyphy.wellformed import mappings  # noqa: E402,F401
+from cyphy.wellformed import values  # noqa: E402,F401
 
 __all__ = ["RULES", "WFContext", "check_wellformed", "rule"]
