@@ -733,6 +733,14 @@ class _MappingChecker:
                 if isinstance(i, ast.Interface):
                     yield i
 
+    def _platform_operations(self) -> set[str]:
+        if self.platform is None:
+            return set()
+        names = {o.name for o in self.platform.operations}
+        for i in self._interfaces("provides"):
+            names.update(o.name for o in i.operations)
+        return names
+
     def _operation_params(self, name: str) -> dict[str, object] | None:
         if self.platform is None:
             return None
@@ -764,7 +772,14 @@ class _MappingChecker:
                         self._expr(s.target, scope, known)
                         self._expr(s.value, scope, known)
                     elif isinstance(s, ast.CallStatement):
-                        self._expr(s.call, scope, known)
+                        call = s.call
+                        if isinstance(call, ex.Call) and isinstance(call.func, ex.Name) and \
+                                call.func.parts[-1] in self._platform_operations():
+                            # calling a d-model operation is PMap11's business, not S1's
+                            for arg in call.args:
+                                self._expr(arg, scope, known)
+                        else:
+                            self._expr(call, scope, known)
 
     def _expr(self, e: ex.Expr, scope: Scope, known: bool) -> None:
         for root in _path_roots(e):
