@@ -46,7 +46,42 @@ def _parser() -> argparse.ArgumentParser:
     show.add_argument("--format", choices=("text", "json"), default="text")
     show.add_argument("--path", action="append", default=[], metavar="DIR",
                       help="another folder of model files to resolve names against")
+    solve = sub.add_parser(
+        "solve",
+        help="reduce the model's equations to explicit ODEs (SymPy)",
+        description="Assemble the equations of a p-model (optionally with the effect of one "
+        "mapping operation), reduce them to explicit first-order ODEs x' = f(x, u, p) and, "
+        "for linear systems with constant inputs and known constants, give the closed form.",
+    )
+    solve.add_argument("paths", nargs="+", metavar="PATH", help="model file or folder")
+    solve.add_argument("--model", metavar="NAME", help="the p-model to solve")
+    solve.add_argument("--element", action="append", default=[], metavar="QUALIFIED",
+                       help="only this element and what it contains (repeatable), e.g. "
+                       "marXbotBase::Core::LHinge::LMotor")
+    solve.add_argument("--mapping-call", metavar="CALL",
+                       help="add the effect of a mapping operation, e.g. 'move(0.1, 0)'")
+    _const_options(solve)
+    solve.add_argument("--format", choices=("text", "latex", "json"), default="text")
+    solve.add_argument("--path", action="append", default=[], metavar="DIR")
     return parser
+
+
+def _solve(args: argparse.Namespace) -> int:
+    from cyphy.api import SolveOptions, solve
+    from cyphy.backends.odes import odes_to_json, odes_to_latex, odes_to_text
+    from cyphy.diagnostics import render_text
+
+    options = SolveOptions(args.model, tuple(args.element), args.mapping_call, _consts(args),
+                           tuple(args.path))
+    result = solve(args.paths, options)
+    diagnostics = result.report.diagnostics
+    if diagnostics:
+        sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))
+    if result.reduced is None:
+        return 1
+    render = {"text": odes_to_text, "latex": odes_to_latex, "json": odes_to_json}
+    sys.stdout.write(render[args.format](result.reduced, result.closed_form))
+    return result.report.exit_code
 
 
 def _const_options(parser: argparse.ArgumentParser) -> None:
@@ -127,6 +162,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _check(args)
         if args.command == "show":
             return _show(args)
+        if args.command == "solve":
+            return _solve(args)
     except KeyboardInterrupt:
         return 130
     except Exception as err:  # a bug of ours: say so plainly, without a traceback

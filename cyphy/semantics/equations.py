@@ -1,0 +1,246 @@
+"""The equations of a p-model instance, assembled for solving (no SymPy here).
+
+All device equations (already renamed to their instances by elaboration), the containment
+relations, and optionally the effect of one mapping element (``move(0.1, 0)``: the operation
+mapping's equations with the operation's parameters bound, its locals renamed ``move_dsl``
+and element paths replaced by the ports they name). ``integral(e)`` becomes a new state
+``z`` with ``derivative(z) == e`` here, so the solver sees differential equations only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from cyphy import codes
+from cyphy import expr as ex
+from cyphy.diagnostics import Span
+from cyphy.lang import ast
+from cyphy.model.elements import Device, ElaboratedModel
+from cyphy.model.evaluate import Value
+
+
+ASSEMBLY = codes.code("E-SOLVE", codes.E, "the equations to solve cannot be assembled")
+OBSTACLE = codes.code("E-REDUCE", codes.E,
+                      "the equations cannot be reduced to explicit first-order ODEs")
+
+
+@dataclass(frozen=True)
+class Equation:
+    expr: ex.Expr  # lhs == rhs, in mangled names
+    origin: str  # what it comes from: a device prefix, "relation" or "mapping move"
+    span: Span
+
+
+@dataclass
+class System:
+    equations: list[Equation] = field(default_factory=list)
+    variables: dict[str, ast.TypeRef] = field(default_factory=dict)  # time-dependent
+    inputs: set[str] = field(default_factory=set)  # given from outside
+    parameters: dict[str, Value | None] = field(default_factory=dict)  # constants
+    parameter_types: dict[str, ast.TypeRef] = field(default_factory=dict)
+    kinds: dict[str, str] = field(default_factory=dict)  # variable → input/output/local…
+
+
+class AssemblyError(Exception):
+    def __init__(self, message: str, span: Span, hint: str) -> None:
+        super().__init__(message)
+        self.message, self.span, self.hint = message, span, hint
+
+
+def assemble(model: ElaboratedModel, elements: list[str] | None = None,
+             mapping: ast.PlatformMapping | None = None, call: ex.Call | None = None,
+             call_params: tuple[str, ...] = ()) -> System:
+    """The equations of the model (or of the named elements and what they contain)."""
+    system = System()
+    devices = _devices(model, elements)
+    for device in devices:
+        _add_device(system, device)
+    known = {p.mangled for d in devices for p in d.ports}
+    for relation in model.relations:
+        names = {n.text for n in relation.walk() if isinstance(n, ex.Name)}
+        if names <= known | set(system.parameters):
+            system.equations.append(Equation(relation, "relation", relation.span))
+    if mapping is not None and call is not None:
+        _add_mapping_call(system, model, mapping, call, call_params)
+    _integrals_to_states(system)
+    defined = _defined_by_others(system)
+    for name, kind in system.kinds.items():
+        if kind == "input" and name not in defined:
+            system.inputs.add(name)
+    return system
+
+
+def _devices(model: ElaboratedModel, elements: list[str] | None) -> list[Device]:
+    if not elements:
+        return model.devices
+    chosen: list[Device] = []
+    for e in [*model.joints, *model.sensors, *model.actuators]:
+        if e.device is None:
+            continue
+        if any(e.name == q or e.name.startswith(q + "::") for q in elements):
+            if e.device not in chosen:
+                chosen.append(e.device)
+    return chosen
+
+
+def _add_device(system: System, device: Device) -> None:
+    for p in device.ports:
+        if p.kind is ast.DeclKind.CONST:
+            system.parameters[p.mangled] = p.value
+            system.parameter_types[p.mangled] = p.type
+        else:
+            system.variables[p.mangled] = p.type
+            system.kinds[p.mangled] = p.kind.value.lower()
+    for e in device.equations:
+        system.equations.append(Equation(e, device.prefix, e.span))
+
+
+def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.PlatformMapping,
+                      call: ex.Call, params: tuple[str, ...]) -> None:
+    name = call.func.text if isinstance(call.func, ex.Name) else ""
+    op = next((o for o in mapping.operations if o.name == name), None)
+    if op is None:
+        raise AssemblyError(f"mapping {mapping.name} has no operation '{name}'", call.span,
+                            "name an operation of the mapping: " +
+                            ", ".join(o.name for o in mapping.operations))
+    if len(params) != len(call.args):
+        raise AssemblyError(f"{name} takes {len(params)} argument"
+                            f"{'s' if len(params) != 1 else ''}, not {len(call.args)}",
+                            call.span, f"call it as {name}({', '.join(params)})")
+    bound = dict(zip(params, call.args))
+    local = {d.name: f"{name}_{d.name}" for d in op.declarations
+             if d.kind is not ast.DeclKind.CONST}
+    consts = {d.name: d for d in [*mapping.declarations, *op.declarations]
+              if d.kind is ast.DeclKind.CONST}
+    for d in op.declarations:
+        if d.kind is not ast.DeclKind.CONST:
+            system.variables[local[d.name]] = d.type
+            system.kinds[local[d.name]] = "local"
+    ports = _port_index(model)
+
+    def swap(node: ex.Expr) -> ex.Expr | None:
+        steps = _steps(node)
+        if steps is not None and len(steps) > 1:
+            mangled = ports.get(_key(model, steps))
+            if mangled is not None:
+                return ex.Name((mangled,), span=node.span)
+        if isinstance(node, ex.Name) and len(node.parts) == 1:
+            n = node.parts[0]
+            if n in bound:
+                return bound[n]
+            if n in local:
+                return ex.Name((local[n],), span=node.span)
+            if n in consts and consts[n].value is not None:
+                return consts[n].value
+        return None
+
+    for eq in op.equations:
+        system.equations.append(Equation(ex.transform(eq.expr, swap), f"mapping {name}",
+                                         eq.span))
+
+
+def _port_index(model: ElaboratedModel) -> dict[tuple[str, ...], str]:
+    out: dict[tuple[str, ...], str] = {}
+    for e in [*model.joints, *model.sensors, *model.actuators]:
+        if e.device is not None:
+            for p in e.device.ports:
+                out[e.qname + (p.name,)] = p.mangled
+    return out
+
+
+def _steps(node: ex.Expr) -> list[str] | None:
+    if isinstance(node, ex.Name):
+        return list(node.parts)
+    if isinstance(node, ex.Member):
+        base = _steps(node.base)
+        return None if base is None else base + [node.name]
+    if isinstance(node, ex.Index) and len(node.args) == 1 and isinstance(node.args[0], ex.Num):
+        base = _steps(node.base)
+        return None if base is None else base + [node.args[0].text]
+    return None
+
+
+def _key(model: ElaboratedModel, steps: list[str]) -> tuple[str, ...]:
+    """Mapping paths are rooted at a link or at the p-model: ``Core::LHinge::LMotor.das``."""
+    if steps and steps[0] == model.name:
+        steps = steps[1:]
+    return (model.name, *steps)
+
+
+def _integrals_to_states(system: System) -> None:
+    """``integral(e)`` → a new state ``z`` with ``derivative(z) == e`` (``z(0) = 0``)."""
+    counter = 0
+    added: list[Equation] = []
+
+    def replace(node: ex.Expr, origin: str, span: Span) -> ex.Expr | None:
+        nonlocal counter
+        if isinstance(node, ex.Integral) and node.lower is None:
+            counter += 1
+            name = f"{origin.split()[-1]}_int{counter}"
+            system.variables[name] = ast.PrimitiveType("real")
+            system.kinds[name] = "local"
+            state = ex.Name((name,), span=node.span)
+            added.append(Equation(ex.BinOp("==", ex.Derivative(state, span=node.span),
+                                           node.operand, span=node.span), origin, span))
+            return state
+        return None
+
+    system.equations = [Equation(ex.transform(eq.expr, lambda n, o=eq.origin, s=eq.span:
+                                              replace(n, o, s)), eq.origin, eq.span)
+                        for eq in system.equations] + added
+
+
+def _defined_by_others(system: System) -> set[str]:
+    """Inputs that a relation or a mapping sets are not free inputs."""
+    out: set[str] = set()
+    for eq in system.equations:
+        if eq.origin == "relation" or eq.origin.startswith("mapping"):
+            out.update(n.text for n in eq.expr.walk() if isinstance(n, ex.Name))
+    return out
+
+
+def parse_call(text: str) -> ex.Call:
+    """``move(0.1, 0)`` as an expression (the value of ``--mapping-call``)."""
+    from cyphy.lang.parser import parse_text
+
+    result = parse_text(f"const call: real = {text}", "<--mapping-call>")
+    item: Any = result.file.items[0] if result.file and result.file.items else None
+    if result.diagnostics or item is None or not isinstance(item.value, ex.Call):
+        raise AssemblyError(f"cannot read the call '{text}'", Span.unknown("<--mapping-call>"),
+                            "write it as name(arg, …), for example move(0.1, 0)")
+    return item.value
+
+
+def mapping_operation(ws: Any, resolution: Any, model: ElaboratedModel, text: str
+                      ) -> tuple[ast.PlatformMapping, ex.Call, tuple[str, ...]]:
+    """The mapping of the model's p-model, the parsed call and the operation's parameter
+    names (from the d-model's operation signature)."""
+    from cyphy.lang.scopes import Scopes, is_interface
+
+    call = parse_call(text)
+    mappings = [(f, i) for f in ws.user_files() for i in f.items
+                if isinstance(i, ast.PlatformMapping) and i.pmodel[-1] == model.name]
+    if not mappings:
+        raise AssemblyError(f"no platform mapping of p-model {model.name} among the files",
+                            call.span, "name the mapping file (or its folder) too")
+    file, mapping = mappings[0]
+    module = resolution.get(mapping)
+    name = call.func.text if isinstance(call.func, ex.Name) else ""
+    params: tuple[str, ...] | None = None
+    platform = module.platform if isinstance(module, ast.Module) else None
+    if platform is not None:
+        sigs = list(platform.operations)
+        scopes = Scopes(ws)
+        module_file = next((f for f in ws.files.values() if module in f.items), file)
+        for use in platform.interface_uses:
+            if use.relation == "provides":
+                for i in scopes.lookup(module_file, use.interface, is_interface):
+                    sigs.extend(i.operations)
+        sig = next((s for s in sigs if s.name == name), None)
+        if sig is not None:
+            params = tuple(p.name for p in sig.params)
+    if params is None:
+        raise AssemblyError(f"the d-model provides no operation '{name}'", call.span,
+                            "call an operation of the robotic platform")
+    return mapping, call, params
