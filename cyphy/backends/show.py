@@ -3,7 +3,8 @@
 JSON keys (documented in the README): ``model``, ``links`` (``name``, ``pose``,
 ``inertial`` {``mass``, ``com``, ``inertia``, ``source``}, ``bodies``, ``sensors``,
 ``actuators``), ``joints`` (``name``, ``parent``, ``child``, ``pose`` relative to the child,
-``annotation``, ``axis``, ``device``), ``fixed`` (``name``, ``parent``, ``child``),
+``annotation``, ``axis``, ``device``), ``unconnected`` (joints without a flexible
+connection, same keys), ``fixed`` (``name``, ``parent``, ``child``),
 ``devices`` (``prefix``, ``ports`` [{``name``, ``kind``, ``mangled``, ``value``}],
 ``equations``), ``relations``, ``constants`` and ``missing``. A pose is
 ``[x, y, z, roll, pitch, yaw]`` (metres, radians), or ``null`` when it depends on a constant
@@ -107,6 +108,7 @@ def model_to_dict(m: ElaboratedModel) -> dict[str, Any]:
         "model": m.name,
         "links": [_link(link) for link in m.links],
         "joints": [_joint(j) for j in m.joints],
+        "unconnected": [_joint(j) for j in m.unconnected],
         "fixed": [{"name": f.name, "parent": f.parent.name if f.parent else None,
                    "child": f.child.name if f.child else None} for f in m.fixed],
         "devices": [_device(d) for d in m.devices],

@@ -358,9 +358,12 @@ class _Elaborator:
 
     def _instance(self, prefix: tuple[str, ...], pm: ast.PModel, file: ast.SourceFile,
                   frame: Pose | None, container: _Instance | None,
-                  overrides: dict[str, tuple[ex.Expr, Env]]) -> _Instance:
+                  overrides: dict[str, tuple[ex.Expr, Env]],
+                  clauses: tuple[ast.PartFlexible, ...] = ()) -> _Instance:
         env = self._pmodel_env(pm, file, prefix, overrides)
         inst = _Instance(prefix, pm, file, env, frame, container=container)
+        # `part p = P { joint J flexibly connected to … }`: known before P's joints are made
+        inst.joint_clauses = {c.joint: c for c in clauses}
         for m in pm.members:
             if isinstance(m, ast.Part):
                 self._part(m, inst)
@@ -392,9 +395,8 @@ class _Elaborator:
             overrides = {i.name: (i.value, env) for i in part.instantiations}
             local = self._pose(part.pose, env)
             frame = inst.frame.compose(local) if inst.frame and local else None
-            sub = self._instance(prefix, target, target_file, frame, inst, overrides)
-            for clause in part.flexible:
-                sub.joint_clauses[clause.joint] = clause
+            sub = self._instance(prefix, target, target_file, frame, inst, overrides,
+                                 part.flexible)
             for clause in part.fixed:
                 for link in sub.links.get(clause.link, []):
                     self.pending_fixed.append((link, clause.target, clause.part, inst,
@@ -666,10 +668,8 @@ class _Elaborator:
             proto = p.prototype
             targets = (self._targets(p.instance, p.target, p.part) if p.target is not None
                        else [])
-            if not targets:
-                self.model.joints.append(proto)
-                if proto.parent is not None:
-                    proto.parent.joints.append(proto)
+            if not targets:  # PMap1/Flex report it; there is nothing to join
+                self.model.unconnected.append(proto)
                 continue
             for k, child in enumerate(targets):
                 joint = proto if k == 0 else replace(proto, sensors=list(proto.sensors),
@@ -718,7 +718,8 @@ class _Elaborator:
             prefix = "_".join(t[-depth[id(device)]:])
             renamed[id(device)] = _renamed(device, prefix,
                                            self.index_values.get(id(device), {}))
-        for e in [*self.model.joints, *self.model.sensors, *self.model.actuators]:
+        for e in [*self.model.joints, *self.model.unconnected, *self.model.sensors,
+                  *self.model.actuators]:
             if e.device is not None and id(e.device) in renamed:
                 e.device = renamed[id(e.device)]
         for j in self.model.links:
@@ -729,7 +730,8 @@ class _Elaborator:
 
     def _rename_relations(self, renamed: dict[int, Device]) -> None:
         by_name: dict[str, list[Device]] = {}
-        for e in [*self.model.joints, *self.model.sensors, *self.model.actuators]:
+        for e in [*self.model.joints, *self.model.unconnected, *self.model.sensors,
+                  *self.model.actuators]:
             if e.device is not None:
                 by_name.setdefault(e.simple_name, []).append(e.device)
         for expr, block, device, values in self.relation_queue:

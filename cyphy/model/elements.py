@@ -156,7 +156,8 @@ class ElaboratedModel:
     pmodel: ast.PModel
     links: list[Link] = field(default_factory=list)
     bodies: list[Body] = field(default_factory=list)
-    joints: list[Joint] = field(default_factory=list)
+    joints: list[Joint] = field(default_factory=list)  # connected: parent and child known
+    unconnected: list[Joint] = field(default_factory=list)  # no `flexibly connected to`
     fixed: list[FixedJoint] = field(default_factory=list)
     sensors: list[Sensor] = field(default_factory=list)
     actuators: list[Actuator] = field(default_factory=list)
@@ -166,8 +167,8 @@ class ElaboratedModel:
 
     @property
     def devices(self) -> list[Device]:
-        out = [e.device for e in [*self.joints, *self.sensors, *self.actuators, *self.links]
-               if e.device is not None]
+        out = [e.device for e in [*self.joints, *self.unconnected, *self.sensors,
+                                  *self.actuators, *self.links] if e.device is not None]
         seen: set[str] = set()
         unique = []
         for d in out:

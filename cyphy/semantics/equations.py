@@ -75,7 +75,7 @@ def _devices(model: ElaboratedModel, elements: list[str] | None) -> list[Device]
     if not elements:
         return model.devices
     chosen: list[Device] = []
-    for e in [*model.joints, *model.sensors, *model.actuators]:
+    for e in [*model.joints, *model.unconnected, *model.sensors, *model.actuators]:
         if e.device is None:
             continue
         if any(e.name == q or e.name.startswith(q + "::") for q in elements):
@@ -142,7 +142,7 @@ def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.Platf
 
 def _port_index(model: ElaboratedModel) -> dict[tuple[str, ...], str]:
     out: dict[tuple[str, ...], str] = {}
-    for e in [*model.joints, *model.sensors, *model.actuators]:
+    for e in [*model.joints, *model.unconnected, *model.sensors, *model.actuators]:
         if e.device is not None:
             for p in e.device.ports:
                 out[e.qname + (p.name,)] = p.mangled
