@@ -10,7 +10,7 @@ stages read instead of resolving again.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Iterable, Iterator, Union
+from typing import Any, Iterable, Iterator, Union
 
 from cyphy import codes
 from cyphy import expr as ex
@@ -104,6 +104,7 @@ class _Checker:
         self.scopes = Scopes(ws)
         self.resolution = Resolution()
         self.file: ast.SourceFile = ast.SourceFile("<none>", ())
+        self._tables: dict[int, Any] = {}  # per-p-model name tables, built once
 
     # ------------------------------------------------------------------ driver
     def run(self) -> None:
@@ -365,7 +366,7 @@ class _Checker:
         self._unique([m for m in pm.members if isinstance(m, (ast.Block, ast.Part))], "block",
                      f"p-model {pm.name}")
         scope = Scope(names)
-        blocks = _all_blocks(pm)
+        blocks = self.all_blocks(pm)
         for d in pm.declarations:
             self._type(d.type)
             self._expr(d.value, scope)
@@ -412,20 +413,32 @@ class _Checker:
         if isinstance(target, ast.PModel):
             source = m.link if isinstance(m, ast.PartFixed) else m.joint
             kind = ast.BlockKind.LINK if isinstance(m, ast.PartFixed) else ast.BlockKind.JOINT
-            found = any(b.kind is kind and b.name == source for b in _all_blocks(target).get(
-                source, []))
+            found = any(b.kind is kind and b.name == source for b in self.all_blocks(
+                target).get(source, []))
             if not found:
-                names = [n for n, bs in _all_blocks(target).items()
+                names = [n for n, bs in self.all_blocks(target).items()
                          if any(b.kind is kind for b in bs)]
                 self.error(codes.S1, f"p-model {target.name} has no {kind.value} '{source}'",
                            m.span, did_you_mean(source, names) or
                            f"name a {kind.value} of p-model {target.name}")
         self._connection_target(m.target, m.part, pm, m.span)
 
+    def _table(self, key: Any, build: Any) -> Any:
+        if key not in self._tables:
+            self._tables[key] = build()
+        return self._tables[key]
+
+    def _links(self, pm: ast.PModel) -> set[str]:
+        return self._table(("links", id(pm)), lambda: {
+            b.name for b in pm.blocks if b.kind is ast.BlockKind.LINK})
+
+    def all_blocks(self, pm: ast.PModel) -> dict[str, list[ast.Block]]:
+        return self._table(("blocks", id(pm)), lambda: _all_blocks(pm))
+
     def _connection_target(self, link: str, part_name: str | None, pm: ast.PModel,
                            span: Span) -> None:
         if part_name is None:
-            links = {b.name for b in pm.blocks if b.kind is ast.BlockKind.LINK}
+            links = self._links(pm)
             if link not in links:
                 self.error(codes.S1, f"p-model {pm.name} has no link '{link}'", span,
                            did_you_mean(link, links) or
@@ -439,7 +452,7 @@ class _Checker:
             return
         target = self.resolution.get(part)
         if isinstance(target, ast.PModel):
-            links = {b.name for b in target.blocks if b.kind is ast.BlockKind.LINK}
+            links = self._links(target)
             if link not in links:
                 self.error(codes.S1, f"part {part_name} (p-model {target.name}) has no link "
                            f"'{link}'", span, did_you_mean(link, links) or
@@ -469,8 +482,8 @@ class _Checker:
         self._unique([d for d in block.declarations]
                      + [m for d in block.definitions for m in d.members
                         if isinstance(m, ast.VarDecl)], "variable", what)
-        # The block's definition: S4 applies to its equations.
-        block_names = {n: bs[0] for n, bs in blocks.items()}
+        block_names = self._table(("names", id(pm)), lambda: {n: bs[0] for n, bs in
+                                                               blocks.items()})
         # S4: a definition's equations see its own declarations, the index variables of
         # the enclosing blocks and package-level constants and functions, nothing else.
         visible_indices = {**_indices_of(ancestors), **index_names}
@@ -589,10 +602,9 @@ class _Checker:
     def _annotation_value(self, value: ex.Expr, scope: Scope, pm: ast.PModel | None) -> None:
         """Values are expressions over the block's constants, or element paths
         (``collision = Rod::my_body``)."""
+        blocks = self.all_blocks(pm) if pm is not None else {}
         for node in _names_in(value):
-            if len(node.parts) > 1 and pm is not None and _navigate_blocks(pm, node.parts):
-                continue
-            if len(node.parts) == 1 and pm is not None and node.parts[0] in _all_blocks(pm):
+            if pm is not None and all(p in blocks for p in node.parts):
                 continue
             self._name(node, scope, None, "")
 
@@ -867,11 +879,6 @@ def _all_blocks(node: Container) -> dict[str, list[ast.Block]]:
             out.setdefault(m.name, []).append(m)
             stack.extend(m.members)
     return out
-
-
-def _navigate_blocks(pm: ast.PModel, parts: tuple[str, ...]) -> bool:
-    blocks = _all_blocks(pm)
-    return all(p in blocks for p in parts)
 
 
 def _child(node: ast.PModel | ast.Block | ast.Part, name: str, c: _Checker

@@ -313,16 +313,20 @@ def elaborate(ws: Workspace, resolution: Resolution, report: Report, model: str 
 
 
 def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: ast.PModel,
-                     file: ast.SourceFile, consts: Mapping[str, Value] | None = None
-                     ) -> ElaboratedModel:
-    """Elaborate the given p-model (as the top-level model) of ``file``."""
+                     file: ast.SourceFile, consts: Mapping[str, Value] | None = None,
+                     equations: bool = True) -> ElaboratedModel:
+    """Elaborate the given p-model (as the top-level model) of ``file``. Without
+    ``equations`` the devices keep their ports and values but no renamed equations or
+    relations (the value checks need geometry, not behaviour, and renaming is most of the
+    work on a large model)."""
     ctx = _Context(ws, resolution, report, consts or {})
-    return _Elaborator(ctx).run(pm, file)
+    return _Elaborator(ctx, equations).run(pm, file)
 
 
 class _Elaborator:
-    def __init__(self, ctx: _Context) -> None:
+    def __init__(self, ctx: _Context, equations: bool = True) -> None:
         self.ctx = ctx
+        self.equations = equations
         self.model: ElaboratedModel
         self.pending: list[_PendingJoint] = []
         self.pending_fixed: list[tuple[Link, str, str | None, _Instance, Span]] = []
@@ -717,7 +721,8 @@ class _Elaborator:
             t = tokens[id(device)]
             prefix = "_".join(t[-depth[id(device)]:])
             renamed[id(device)] = _renamed(device, prefix,
-                                           self.index_values.get(id(device), {}))
+                                           self.index_values.get(id(device), {}),
+                                           self.equations)
         for e in [*self.model.joints, *self.model.unconnected, *self.model.sensors,
                   *self.model.actuators]:
             if e.device is not None and id(e.device) in renamed:
@@ -726,9 +731,11 @@ class _Elaborator:
             for child in j.joints:
                 if child.device is not None and id(child.device) in renamed:
                     child.device = renamed[id(child.device)]
-        self._rename_relations(renamed)
+        if self.equations:
+            self._rename_relations(renamed)
 
     def _rename_relations(self, renamed: dict[int, Device]) -> None:
+        mangled = {p.mangled for d in renamed.values() for p in d.ports}
         by_name: dict[str, list[Device]] = {}
         for e in [*self.model.joints, *self.model.unconnected, *self.model.sensors,
                   *self.model.actuators]:
@@ -761,8 +768,6 @@ class _Elaborator:
                         return ex.Num(str(values[node.parts[0]]), span=node.span)
                 return None
 
-            mangled = {p.mangled for d in renamed.values() for p in d.ports}
-
             def own_names(node: ex.Expr) -> ex.Expr | None:
                 if isinstance(node, ex.Name) and node.text in mangled:
                     return None  # already a mangled port from the first pass
@@ -789,8 +794,11 @@ def _tokens(qname: tuple[str, ...]) -> list[str]:
     return out
 
 
-def _renamed(device: Device, prefix: str, values: dict[str, int]) -> Device:
+def _renamed(device: Device, prefix: str, values: dict[str, int], equations: bool = True
+             ) -> Device:
     ports = tuple(replace(p, mangled=f"{prefix}_{p.name}") for p in device.ports)
+    if not equations:
+        return Device(prefix, ports, (), ())
     names = {p.name: p.mangled for p in ports}
 
     def swap(node: ex.Expr) -> ex.Expr | None:

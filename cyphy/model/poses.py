@@ -181,8 +181,17 @@ def _vector(values: np.ndarray) -> Vector3:
 
 
 def _is_rotation(matrix: np.ndarray) -> bool:
-    """Orthonormal with determinant +1, within the drift that repeated composition causes."""
-    return bool(
-        np.allclose(matrix @ matrix.T, np.eye(3), rtol=0.0, atol=_ORTHONORMAL_TOL)
-        and np.linalg.det(matrix) > 0.0
-    )
+    """Orthonormal with determinant +1, within the drift that repeated composition causes.
+
+    Plain arithmetic on the nine entries: ``np.allclose`` costs more than the composition it
+    guards, and every elaborated element builds poses."""
+    m = matrix.tolist()
+    for i in range(3):
+        for j in range(i, 3):
+            dot = m[i][0] * m[j][0] + m[i][1] * m[j][1] + m[i][2] * m[j][2]
+            if abs(dot - (1.0 if i == j else 0.0)) > _ORTHONORMAL_TOL:
+                return False
+    det = (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+           - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+           + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+    return det > 0.0

@@ -27,7 +27,8 @@ def _models(ctx: WFContext) -> list[Any]:
         from cyphy.model.elaborate import elaborate_pmodel, top_level_pmodels
 
         ctx.cache["elaborated"] = [
-            elaborate_pmodel(ctx.workspace, ctx.resolution, Report(), pm, f, ctx.consts)
+            elaborate_pmodel(ctx.workspace, ctx.resolution, Report(), pm, f, ctx.consts,
+                             equations=False)
             for pm, f in top_level_pmodels(ctx.workspace)]
     return ctx.cache["elaborated"]
 
