@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
 from enum import Enum
-from typing import Iterator, TypeVar, Union
+from typing import Any, Iterator, TypeVar, Union
 
 from cyphy.diagnostics import Span
 from cyphy.expr import Expr
@@ -24,8 +24,24 @@ class Node:
     span: Span = field(default=_NO_SPAN, compare=False, repr=False, kw_only=True)
 
 
+_VIEWS: dict[tuple[int, type], tuple[tuple[object, ...], tuple[Any, ...]]] = {}
+
+
 def _of(members: tuple[object, ...], cls: type[T]) -> tuple[T, ...]:
-    return tuple(m for m in members if isinstance(m, cls))
+    """The members of one kind. Remembered for long member lists (a p-model with thousands
+    of links is asked for its blocks once per block by the checks); the identity check makes
+    a reused ``id`` harmless."""
+    if len(members) < 32:
+        return tuple(m for m in members if isinstance(m, cls))
+    key = (id(members), cls)
+    hit = _VIEWS.get(key)
+    if hit is not None and hit[0] is members:
+        return hit[1]  # type: ignore[return-value]
+    result = tuple(m for m in members if isinstance(m, cls))
+    if len(_VIEWS) > 4096:
+        _VIEWS.clear()
+    _VIEWS[key] = (members, result)
+    return result
 
 
 def expressions_in(node: object) -> Iterator[Expr]:

@@ -15,11 +15,12 @@ from collections.abc import Iterator
 from cyphy.diagnostics import did_you_mean
 from cyphy.lang import ast
 from cyphy.wellformed.indexing import reported
-from cyphy.wellformed.registry import WFContext, rule
+from cyphy.wellformed.registry import per_node, WFContext, rule
 
 K = ast.BlockKind
 
 
+@per_node
 def _links(pm: ast.PModel) -> dict[str, ast.Block]:
     """The links the p-model contains (directly: a connection can only name these)."""
     return {b.name: b for b in pm.blocks if b.kind is K.LINK}
@@ -172,6 +173,7 @@ def check_Flex1_joint_flexible_target(ctx: WFContext) -> None:
                            f"the flexible connection of joint {block.name}")
 
 
+@per_node
 def _joints(pm: ast.PModel, name: str) -> list[tuple[ast.Block, ast.Block | None]]:
     """The joints called ``name`` in ``pm``, with their links."""
     return [(b, _own_link(a)) for b, a in _blocks(pm) if b.kind is K.JOINT and b.name == name]

@@ -23,7 +23,7 @@ from cyphy import expr as ex
 from cyphy.diagnostics import Severity
 from cyphy.lang import ast
 from cyphy.lang.scopes import is_definition
-from cyphy.wellformed.registry import BlockSite, WFContext, rule
+from cyphy.wellformed.registry import BlockSite, WFContext, per_node, rule
 
 K = ast.BlockKind
 _DEVICES = (K.SENSOR, K.ACTUATOR)
@@ -314,6 +314,7 @@ def check_L6_no_fixed_to_self(ctx: WFContext) -> None:
                           "or remove the connection")
 
 
+@per_node
 def _body_paths(pm: ast.PModel) -> dict[str, str]:
     """Bodies of a p-model (at any depth) by name → their qualified name."""
     out: dict[str, str] = {}
@@ -326,6 +327,7 @@ def _body_paths(pm: ast.PModel) -> dict[str, str]:
     return out
 
 
+@per_node
 def _links(pm: ast.PModel) -> set[str]:
     return {b.name for b in pm.blocks if b.kind is K.LINK}
 

@@ -121,6 +121,27 @@ class WFContext:
         return self._file_of.get(id(decl))
 
 
+def per_node(fn: Callable[..., Any]) -> Callable[..., Any]:
+    """Remember ``fn(node, *args)`` by the node's identity: tables a rule builds for a whole
+    p-model (its links, its bodies) are asked for once per block, which on a model of
+    thousands of blocks would otherwise make the checks quadratic."""
+    cache: dict[tuple[Any, ...], tuple[Any, Any]] = {}
+
+    def wrapper(node: Any, *args: Any) -> Any:
+        key = (id(node), *args)
+        hit = cache.get(key)
+        if hit is not None and hit[0] is node:
+            return hit[1]
+        if len(cache) > 4096:
+            cache.clear()
+        value = fn(node, *args)
+        cache[key] = (node, value)
+        return value
+
+    wrapper.__doc__, wrapper.__name__ = fn.__doc__, fn.__name__
+    return wrapper
+
+
 def check_wellformed(ctx: WFContext, only: set[str] | None = None) -> None:
     for r in RULES.values():
         if only is None or r.id in only:
