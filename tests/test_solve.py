@@ -152,3 +152,18 @@ def test_check_and_show_do_not_import_sympy() -> None:
             "print('SYMPY', 'sympy' in sys.modules)\n")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert "SYMPY False" in proc.stdout, proc.stderr
+
+
+def test_second_derivative_gets_an_intermediate_state(tmp_path: Path) -> None:
+    """m·x'' = F - k·x: the oscillator becomes x' = x_dot, x_dot' = (F - k·x)/m."""
+    text = """\
+actuator Spring { input F: real local x: real const m: real, k: real
+  equation m * derivative(derivative(x)) == F - k * x }
+pmodel P { local link L { def { inertial information { mass 1 } } aref S = Spring { } } }
+"""
+    r = solve_text(tmp_path, text, closed_form=False).reduced
+    assert r.states == ["S_x", "S_x_dot"] and r.obstacles == []
+    x, x_dot, f, m, k = (sympy.Symbol(n, real=True)
+                         for n in ("S_x", "S_x_dot", "S_F", "S_m", "S_k"))
+    assert r.rhs["S_x"] == x_dot
+    assert sympy.simplify(r.rhs["S_x_dot"] - (f - k * x) / m) == 0
