@@ -524,7 +524,7 @@ class _Checker:
                   ) -> None:
         """Relations label containment: their names are the block's own variables, or ports
         of blocks of the p-model written ``Block.port``."""
-        for e in _path_roots(rel.expr):
+        for e in path_roots(rel.expr):
             steps = steps_of(e)
             if steps is None:
                 continue
@@ -794,7 +794,7 @@ class _MappingChecker:
                             self._expr(call, scope, known)
 
     def _expr(self, e: ex.Expr, scope: Scope, known: bool) -> None:
-        for root in _path_roots(e):
+        for root in path_roots(e):
             steps = steps_of(root)
             if steps is None:
                 continue
@@ -849,17 +849,17 @@ def _names_in(e: ex.Expr) -> Iterator[ex.Name]:
             yield node
 
 
-def _path_roots(e: ex.Expr) -> Iterator[ex.Expr]:
+def path_roots(e: ex.Expr) -> Iterator[ex.Expr]:
     """Maximal path-shaped subexpressions (``a::b.c``, ``a[1].v``, ``f``) of ``e``."""
     if isinstance(e, (ex.Name, ex.Member, ex.Index)) and steps_of(e) is not None:
         yield e
         for node in e.walk():
             if isinstance(node, ex.Index):
                 for a in node.args:
-                    yield from _path_roots(a)
+                    yield from path_roots(a)
         return
     for child in e.children():
-        yield from _path_roots(child)
+        yield from path_roots(child)
 
 
 _MEMBER_WORD = {ast.Shape: "geometry", ast.Inertial: "inertial information",

@@ -258,15 +258,15 @@ def require_constants(model: ElaboratedModel, report: Report, what: str) -> bool
     return False
 
 
+def _pmodels(ws: Workspace) -> list[tuple[ast.PModel, ast.SourceFile]]:
+    return [(item, f) for f in ws.user_files() for item in f.items
+            if isinstance(item, ast.PModel) and not item.fragment]
+
+
 def top_level_pmodels(ws: Workspace) -> list[tuple[ast.PModel, ast.SourceFile]]:
     """The p-models of the user's files that no other of them uses as a part."""
-    candidates: list[tuple[ast.PModel, ast.SourceFile]] = []
-    used: set[str] = set()
-    for f in ws.user_files():
-        for item in f.items:
-            if isinstance(item, ast.PModel) and not item.fragment:
-                candidates.append((item, f))
-                used.update(p.pmodel[-1] for p in item.parts)
+    candidates = _pmodels(ws)
+    used = {p.pmodel[-1] for pm, _ in candidates for p in pm.parts}
     return [c for c in candidates if c[0].name not in used]
 
 
@@ -274,13 +274,7 @@ def choose_pmodel(ws: Workspace, name: str | None, report: Report
                   ) -> tuple[ast.PModel, ast.SourceFile] | None:
     """The p-model to elaborate: the one named, else the only one of the user's files that
     no other p-model uses as a part."""
-    candidates: list[tuple[ast.PModel, ast.SourceFile]] = []
-    used: set[str] = set()
-    for f in ws.user_files():
-        for item in f.items:
-            if isinstance(item, ast.PModel) and not item.fragment:
-                candidates.append((item, f))
-                used.update(p.pmodel[-1] for p in item.parts)
+    candidates = _pmodels(ws)
     if name is not None:
         chosen = [c for c in candidates if c[0].name == name or
                   "::".join(c[1].package + (c[0].name,)) == name]
@@ -290,7 +284,7 @@ def choose_pmodel(ws: Workspace, name: str | None, report: Report
                           f"the p-models are: {names}")
             return None
         return chosen[0]
-    top = [c for c in candidates if c[0].name not in used]
+    top = top_level_pmodels(ws)
     if len(top) == 1:
         return top[0]
     if not candidates:

@@ -115,7 +115,7 @@ def _frozen(data: object) -> Vec:
     return array
 
 
-def _describe(value: Value) -> str:
+def describe(value: object) -> str:
     """What a value is, for messages: ``a 3-vector``, ``the boolean true``, ``the real 2.5``."""
     if isinstance(value, bool):
         return f"the boolean {str(value).lower()}"
@@ -125,9 +125,12 @@ def _describe(value: Value) -> str:
         return f"the real {value:g}"
     if isinstance(value, str):
         return f"the string {value!r}"
-    if value.ndim == 1:
-        return f"a {value.shape[0]}-vector"
-    return f"a {value.shape[0]}x{value.shape[1]} matrix"
+    shape = getattr(value, "shape", ())
+    if len(shape) == 1:
+        return f"a {shape[0]}-vector"
+    if len(shape) == 2:
+        return f"a {shape[0]}x{shape[1]} matrix"
+    return "a value"
 
 
 def _from_env(name: str, value: object) -> Value:
@@ -160,24 +163,24 @@ def _operand(op: str, value: Value) -> Value:
     """``value`` if it may take part in arithmetic (a number or an array)."""
     if _is_number(value) or isinstance(value, np.ndarray):
         return value
-    raise ValueError(f"'{op}' needs numbers, vectors or matrices, not {_describe(value)}")
+    raise ValueError(f"'{op}' needs numbers, vectors or matrices, not {describe(value)}")
 
 
 def _scalar(what: str, value: Value) -> int | float:
     if not _is_number(value):
-        raise ValueError(f"{what} must be a number, not {_describe(value)}")
+        raise ValueError(f"{what} must be a number, not {describe(value)}")
     return value  # type: ignore[return-value]
 
 
 def _integer(what: str, value: Value) -> int:
     if isinstance(value, bool) or not isinstance(value, int):
-        raise ValueError(f"{what} must be an integer, not {_describe(value)}")
+        raise ValueError(f"{what} must be an integer, not {describe(value)}")
     return value
 
 
 def _boolean(what: str, value: Value) -> bool:
     if not isinstance(value, bool):
-        raise ValueError(f"{what} must be a boolean, not {_describe(value)}")
+        raise ValueError(f"{what} must be a boolean, not {describe(value)}")
     return value
 
 
@@ -185,7 +188,7 @@ def _boolean(what: str, value: Value) -> bool:
 
 
 def _mismatch(op: str, a: Value, b: Value) -> ValueError:
-    return ValueError(f"'{op}' cannot combine {_describe(a)} and {_describe(b)}")
+    return ValueError(f"'{op}' cannot combine {describe(a)} and {describe(b)}")
 
 
 def _add(a: Value, b: Value) -> Value:
@@ -215,14 +218,14 @@ def _mul(a: Value, b: Value) -> Value:
     assert isinstance(a, np.ndarray) and isinstance(b, np.ndarray)
     if a.ndim == 1 and b.ndim == 1:
         raise _Invalid(
-            f"'*' cannot multiply two vectors ({_describe(a)} and {_describe(b)})",
+            f"'*' cannot multiply two vectors ({describe(a)} and {describe(b)})",
             "use dot(u, v) for the scalar product or cross(u, v) for the vector product",
         )
     inner_a = a.shape[-1]
     inner_b = b.shape[0]
     if inner_a != inner_b:
         raise ValueError(
-            f"'*' cannot multiply {_describe(a)} by {_describe(b)}: {inner_a} columns against "
+            f"'*' cannot multiply {describe(a)} by {describe(b)}: {inner_a} columns against "
             f"{inner_b} rows"
         )
     return _frozen(a @ b)
@@ -251,7 +254,7 @@ def _pow(a: Value, b: Value) -> Value:
     a, b = _operand("^", a), _operand("^", b)
     if isinstance(a, np.ndarray):
         if a.ndim != 2 or a.shape[0] != a.shape[1]:
-            raise ValueError(f"only a square matrix can be raised to a power, not {_describe(a)}")
+            raise ValueError(f"only a square matrix can be raised to a power, not {describe(a)}")
         n = _integer("the exponent of a matrix", b)
         try:
             return _frozen(np.linalg.matrix_power(a, n))
@@ -277,14 +280,14 @@ def _equal(a: Value, b: Value) -> bool:
         return a.shape == b.shape and bool(np.array_equal(a, b))
     if type(a) is type(b) and isinstance(a, (bool, str)):
         return a == b
-    raise ValueError(f"cannot compare {_describe(a)} with {_describe(b)}")
+    raise ValueError(f"cannot compare {describe(a)} with {describe(b)}")
 
 
 def _ordered(op: str, test: Callable[[float, float], bool]) -> Callable[[Value, Value], bool]:
     def compare(a: Value, b: Value) -> bool:
         if isinstance(a, bool):
             raise _Invalid(
-                f"'{op}' cannot order {_describe(a)}",
+                f"'{op}' cannot order {describe(a)}",
                 "comparisons do not chain: write a < b /\\ b < c",
             )
         return test(_scalar(f"an operand of '{op}'", a), _scalar(f"an operand of '{op}'", b))
@@ -348,7 +351,7 @@ UNIT_FACTORS: Mapping[str, float] = MappingProxyType(
 
 def _number(value: Value) -> int | float:
     if not _is_number(value):
-        raise ValueError(f"expects a number, not {_describe(value)}")
+        raise ValueError(f"expects a number, not {describe(value)}")
     return value  # type: ignore[return-value]
 
 
@@ -358,25 +361,25 @@ def _real(value: Value) -> float:
 
 def _nat(value: Value) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-        raise ValueError(f"expects a natural number, not {_describe(value)}")
+        raise ValueError(f"expects a natural number, not {describe(value)}")
     return value
 
 
 def _vector(value: Value, size: int | None = None) -> Vec:
     if not isinstance(value, np.ndarray) or value.ndim != 1:
-        raise ValueError(f"expects a vector, not {_describe(value)}")
+        raise ValueError(f"expects a vector, not {describe(value)}")
     if size is not None and value.shape[0] != size:
-        raise ValueError(f"expects a {size}-vector, not {_describe(value)}")
+        raise ValueError(f"expects a {size}-vector, not {describe(value)}")
     return value
 
 
 def _matrix(value: Value, square: bool = False, size: int | None = None) -> Vec:
     if not isinstance(value, np.ndarray) or value.ndim != 2:
-        raise ValueError(f"expects a matrix, not {_describe(value)}")
+        raise ValueError(f"expects a matrix, not {describe(value)}")
     if (square or size is not None) and value.shape[0] != value.shape[1]:
-        raise ValueError(f"expects a square matrix, not {_describe(value)}")
+        raise ValueError(f"expects a square matrix, not {describe(value)}")
     if size is not None and value.shape[0] != size:
-        raise ValueError(f"expects a {size}x{size} matrix, not {_describe(value)}")
+        raise ValueError(f"expects a {size}x{size} matrix, not {describe(value)}")
     return value
 
 
@@ -466,7 +469,7 @@ def _submatrix(m: Value, i: Value, j: Value, rows: Value, cols: Value) -> Vec:
     top, left, height, width = _nat(i), _nat(j), _nat(rows), _nat(cols)
     if top + height > matrix.shape[0] or left + width > matrix.shape[1]:
         raise ValueError(
-            f"block of {height}x{width} at ({top}, {left}) does not fit in {_describe(matrix)}"
+            f"block of {height}x{width} at ({top}, {left}) does not fit in {describe(matrix)}"
         )
     return _frozen(matrix[top : top + height, left : left + width])
 
@@ -488,7 +491,7 @@ def _cross(u: Value, v: Value) -> Vec:
 def _dot(u: Value, v: Value) -> float:
     a, b = _vector(u), _vector(v)
     if a.shape != b.shape:
-        raise ValueError(f"needs vectors of one size, not {_describe(a)} and {_describe(b)}")
+        raise ValueError(f"needs vectors of one size, not {describe(a)} and {describe(b)}")
     return float(a @ b)
 
 
@@ -690,14 +693,14 @@ class _Evaluator:
         base = self.eval(node.base)
         positions = [self.eval(arg) for arg in node.args]
         if not isinstance(base, np.ndarray):
-            raise ValueError(f"only vectors and matrices can be indexed, not {_describe(base)}")
+            raise ValueError(f"only vectors and matrices can be indexed, not {describe(base)}")
         if len(positions) > base.ndim:
-            raise ValueError(f"{_describe(base)} takes at most {base.ndim} index(es)")
+            raise ValueError(f"{describe(base)} takes at most {base.ndim} index(es)")
         offsets = []
         for position, size in zip(positions, base.shape):
             i = _integer("an index", position)
             if not 1 <= i <= size:
-                raise ValueError(f"index {i} is out of range 1..{size} for {_describe(base)}")
+                raise ValueError(f"index {i} is out of range 1..{size} for {describe(base)}")
             offsets.append(i - 1)
         item = base[tuple(offsets)]
         return float(item) if np.ndim(item) == 0 else _frozen(item)
@@ -813,7 +816,7 @@ def coerce(value: Value, declared: str, span: Span = _NO_SPAN) -> Value:
         whole = isinstance(value, int) or float(value).is_integer()
         if not whole:
             raise EvalError(
-                f"an {declared} constant must be a whole number, not {_describe(value)}",
+                f"an {declared} constant must be a whole number, not {describe(value)}",
                 span,
                 "declare the constant real, or give it a whole number",
             )
@@ -824,4 +827,4 @@ def coerce(value: Value, declared: str, span: Span = _NO_SPAN) -> Value:
         return value
     if declared == "string" and isinstance(value, str):
         return value
-    raise EvalError(f"a {declared} constant cannot hold {_describe(value)}", span)
+    raise EvalError(f"a {declared} constant cannot hold {describe(value)}", span)

@@ -128,6 +128,12 @@ def type_problem(value: ex.Expr, declared: ast.TypeRef | None, lookup: Lookup) -
     return None
 
 
+def _describe_value(value: object) -> str:
+    from cyphy.model.evaluate import describe  # NumPy only when a value was computed
+
+    return describe(value)
+
+
 def describe_type(t: ast.TypeRef | None) -> str:
     if t is None:
         return "?"
@@ -153,24 +159,6 @@ def _text(e: ex.Expr | None) -> str:
     if isinstance(e, ex.Name):
         return e.text
     return "…"
-
-
-def describe_value(value: object) -> str:
-    """An evaluated value, for messages: ``the real 2.5``, ``a 3-vector``."""
-    if isinstance(value, bool):
-        return f"the boolean {str(value).lower()}"
-    if isinstance(value, int):
-        return f"the integer {value}"
-    if isinstance(value, float):
-        return f"the real {value:g}"
-    if isinstance(value, str):
-        return f"the string {value!r}"
-    shape = getattr(value, "shape", ())
-    if len(shape) == 1:
-        return f"a {shape[0]}-vector"
-    if len(shape) == 2:
-        return f"a {shape[0]}x{shape[1]} matrix"
-    return "a value"
 
 
 class ConstantEnv(Mapping[str, Any]):
@@ -337,7 +325,7 @@ def check_IX1_index_range(ctx: WFContext) -> None:
                             else "declare the constants it uses 'int' or 'nat'"
                             if isinstance(value, float) else "index bounds are integers")
                     ctx.error("IX1", bound, f"the {which} bound of index {index.var} of "
-                              f"{_what(node)} is {describe_value(value)}, not an integer", hint)
+                              f"{_what(node)} is {_describe_value(value)}, not an integer", hint)
                 break
             values.append(value)
         if len(values) != 2:
@@ -491,6 +479,6 @@ def check_PO1_pose_fields(ctx: WFContext) -> None:
                 continue
             if not reported(ctx, "S3", f.value.span):
                 ctx.error("PO1", f.value, f"pose field '{f.key}' of {what} is "
-                          f"{describe_value(value)}, not a real number",
+                          f"{_describe_value(value)}, not a real number",
                           "give a real-valued expression")
 

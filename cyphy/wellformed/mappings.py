@@ -19,7 +19,7 @@ from typing import Iterator, Union
 from cyphy import expr as ex
 from cyphy.diagnostics import Span, did_you_mean
 from cyphy.lang import ast
-from cyphy.lang.resolve import block_children, steps_of
+from cyphy.lang.resolve import block_children, path_roots, steps_of
 from cyphy.lang.scopes import is_definition, is_interface, is_node, is_pmodel, is_value
 from cyphy.wellformed.registry import WFContext, rule
 
@@ -299,7 +299,7 @@ class _Names:
 
     def refs(self, e: ex.Expr) -> Iterator[_Ref]:
         """Every name and element path ``e`` uses (index arguments included)."""
-        for root in _path_roots(e):
+        for root in path_roots(e):
             yield self.classify(root)
 
     def classify(self, e: ex.Expr) -> _Ref:
@@ -371,20 +371,6 @@ def _text(e: ex.Expr) -> str:
     if isinstance(e, ex.Num):
         return e.text
     return "…"
-
-
-def _path_roots(e: ex.Expr) -> Iterator[ex.Expr]:
-    """Maximal path-shaped subexpressions (``a::b.c``, ``a[1].v``, ``f``) of ``e``, then the
-    paths inside their index arguments."""
-    if isinstance(e, (ex.Name, ex.Member, ex.Index)) and steps_of(e) is not None:
-        yield e
-        for node in e.walk():
-            if isinstance(node, ex.Index):
-                for a in node.args:
-                    yield from _path_roots(a)
-        return
-    for child in e.children():
-        yield from _path_roots(child)
 
 
 def _pmodel_of_part(ctx: WFContext, part: ast.Part, file: ast.SourceFile
