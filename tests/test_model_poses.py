@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cyphy.model.poses import Pose, clean
@@ -263,3 +263,13 @@ def test_isclose_uses_the_tolerance() -> None:
     assert not p.isclose(pose(1.0 + 1e-8, 2.0, 3.0, 0.1, 0.2, 0.3))
     assert not p.isclose(pose(1.0, 2.0, 3.0, 0.1, 0.2, 0.3 + 1e-8))
     assert p.isclose(pose(1.0, 2.0, 3.0, 0.1, 0.2, 0.3 + 1e-8), tol=1e-7)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(-7, 7), st.floats(-7, 7), st.floats(-7, 7))
+def test_from_xyz_rpy_equals_scipy_from_euler(roll: float, pitch: float, yaw: float) -> None:
+    from scipy.spatial.transform import Rotation
+
+    expected = Rotation.from_euler("xyz", [roll, pitch, yaw]).as_matrix()
+    assert np.allclose(Pose.from_xyz_rpy(0, 0, 0, roll, pitch, yaw).rotation, expected,
+                       atol=1e-12)
