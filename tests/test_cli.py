@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+
+import pytest
 import subprocess
 import sys
 from pathlib import Path
@@ -128,3 +130,17 @@ def test_show_with_errors_exits_1(tmp_path: Path, capsys) -> None:
     model.write_text(BROKEN)
     assert main(["show", str(model)]) == 1
     assert capsys.readouterr().out == ""
+
+
+@pytest.mark.parametrize("name, text", [
+    ("c.toml", 'Kp = 2\n"IR::a" = 0.001\nAXIS = [0, 0, 1]\n'),
+    ("c.json", '{"Kp": 2, "IR::a": 0.001, "AXIS": [0, 0, 1]}'),
+])
+def test_consts_file(tmp_path: Path, capsys, name: str, text: str) -> None:
+    (tmp_path / name).write_text(text)
+    assert main(["show", str(EXAMPLES / "marxbot"), "--model", "marXbotBase", "--format",
+                 "json", "--consts", str(tmp_path / name), "--const", "Kp=3"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert "SpeedControlMotor::Kp" not in data["missing"] and "IR::a" not in data["missing"]
+    motor = next(d for d in data["devices"] if d["prefix"] == "LMotor")
+    assert {"name": "Kp", "kind": "const", "mangled": "LMotor_Kp", "value": 3} in motor["ports"]
