@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import json
-
-import pytest
 import subprocess
 import sys
 from pathlib import Path
+
+import pytest
 
 from cyphy.cli import main
 from conftest import EXAMPLES
