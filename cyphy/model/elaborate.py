@@ -328,6 +328,7 @@ class _Elaborator:
         self.pending_fixed: list[tuple[Link, str, str | None, _Instance, Span]] = []
         self.device_names: list[tuple[Device, tuple[str, ...]]] = []
         self.index_values: dict[int, dict[str, int]] = {}
+        self.literal_annotations: dict[int, tuple[ast.TemplateInstance, AnnotationValue]] = {}
         self.relation_queue: list[tuple[ex.Expr, ast.Block, Device | None,
                                         dict[str, int]]] = []
 
@@ -638,12 +639,23 @@ class _Elaborator:
         return self._template_value(chosen.instance, env if file is None else Env(self.ctx, file))
 
     def _template_value(self, inst: ast.TemplateInstance, env: Env) -> AnnotationValue:
+        """The evaluated annotation. One that names nothing (literals only, the common case)
+        is evaluated once and shared by every copy of an indexed block."""
+        literal = self.literal_annotations.get(id(inst))
+        if literal is not None and literal[0] is inst:
+            return literal[1]
+        value = self._evaluate_template(inst, env)
+        if not any(isinstance(n, ex.Name) for e in ast.expressions_in(inst) for n in e.walk()):
+            self.literal_annotations[id(inst)] = (inst, value)
+        return value
+
+    def _evaluate_template(self, inst: ast.TemplateInstance, env: Env) -> AnnotationValue:
         found = self.ctx.scopes.lookup(env.file, inst.template, is_template)
         template = found[0].name if found else inst.template[-1]  # type: ignore[union-attr]
         args: list[tuple[str, Any]] = []
         for a in inst.args:
             if isinstance(a.value, ast.TemplateInstance):
-                args.append((a.name, self._template_value(a.value, env)))
+                args.append((a.name, self._evaluate_template(a.value, env)))
             elif isinstance(a.value, ex.Name) and a.value.text not in env:
                 args.append((a.name, a.value.parts))  # an element path: Rod::my_body
             else:

@@ -586,6 +586,10 @@ def _arity_text(signature: inspect.Signature) -> str:
 # --------------------------------------------------------------------------- evaluation
 
 
+_METHOD_NAMES: dict[type, str] = {}
+"""The ``_eval_`` method of each node class, found once along its MRO."""
+
+
 class _Evaluator:
     """Evaluates one expression: ``_eval_<Class>`` per node class, found along the MRO."""
 
@@ -596,11 +600,12 @@ class _Evaluator:
     def eval(self, node: Expr) -> Value:
         """Evaluate ``node``; a ``ValueError`` or arithmetic error raised for it, but not yet
         located, becomes an :class:`EvalError` with this node's span."""
-        method = next(
-            getattr(self, "_eval_" + cls.__name__)
-            for cls in type(node).__mro__
-            if hasattr(self, "_eval_" + cls.__name__)
-        )
+        name = _METHOD_NAMES.get(type(node))
+        if name is None:
+            name = next("_eval_" + cls.__name__ for cls in type(node).__mro__
+                        if hasattr(self, "_eval_" + cls.__name__))
+            _METHOD_NAMES[type(node)] = name
+        method = getattr(self, name)
         try:
             value = method(node)
             _require_finite(value)
