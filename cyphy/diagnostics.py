@@ -12,7 +12,7 @@ import json
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
-from typing import Iterable, Iterator, Protocol
+from typing import Iterable, Iterator
 
 
 class Severity(str, Enum):
@@ -45,10 +45,6 @@ class Span:
             "end_line": self.end_line,
             "end_column": self.end_column,
         }
-
-
-class HasSpan(Protocol):
-    span: Span
 
 
 @dataclass(frozen=True, slots=True)
