@@ -8,7 +8,7 @@ new trees instead of mutating. Printers dispatch on the class name (``_print_Bin
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, replace
-from typing import Callable, Iterator
+from typing import Any, Callable, Iterator
 
 from cyphy.diagnostics import Span
 
@@ -195,10 +195,21 @@ class IfExpr(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
+_FIELDS: dict[type, tuple[Any, ...]] = {}
+
+
+def _fields(cls: type) -> tuple[Any, ...]:
+    """``dataclasses.fields`` per class, once: transforms visit every node."""
+    found = _FIELDS.get(cls)
+    if found is None:
+        found = _FIELDS[cls] = fields(cls)
+    return found
+
+
 def transform(expr: Expr, fn: Callable[[Expr], Expr | None]) -> Expr:
     """Rebuild ``expr`` bottom-up; ``fn`` may return a replacement for a node or ``None``."""
     changes: dict[str, object] = {}
-    for f in fields(expr):
+    for f in _fields(type(expr)):
         value = getattr(expr, f.name)
         if isinstance(value, Expr):
             new = transform(value, fn)

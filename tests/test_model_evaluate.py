@@ -515,3 +515,24 @@ def test_evaluate_agrees_with_python(src: str) -> None:
     value = ev(src)
     assert value == expected
     assert type(value) is type(expected)
+
+
+@settings(max_examples=300, deadline=None)
+@given(_arithmetic(), st.integers(-3, 3))
+def test_compiled_evaluation_equals_the_interpreter(src: str, j: int) -> None:
+    """``evaluate_fast`` (closures, cached per expression) gives the interpreter's value, or
+    the interpreter's very error."""
+    from cyphy.model.evaluate import evaluate_fast
+
+    expr = parse_text(f"const c: real = (({src}) + j)m * cos(j)", "t.rsm").file.items[0].value
+    env = {"j": j}
+    try:
+        expected: object = evaluate(expr, env)
+    except EvalError as err:
+        with pytest.raises(EvalError) as info:
+            evaluate_fast(expr, env)
+        assert info.value.message == err.message
+        return
+    for _ in range(2):  # compiled on the first call, cached on the second
+        value = evaluate_fast(expr, env)
+        assert value == expected and type(value) is type(expected)

@@ -11,6 +11,7 @@ after it, and a part may connect a joint of its own p-model (``joint J flexibly 
 
 from __future__ import annotations
 
+import gc
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -27,7 +28,7 @@ from cyphy.model.elements import (
     Actuator, AnnotationValue, Body, Device, ElaboratedModel, FixedJoint, Joint, Link, Port,
     Sensor,
 )
-from cyphy.model.evaluate import EvalError, UnboundName, Value, coerce, evaluate
+from cyphy.model.evaluate import EvalError, UnboundName, Value, coerce, evaluate_fast
 from cyphy.model.poses import Pose
 
 MODEL = codes.code("E-MODEL", codes.E, "the p-model to elaborate cannot be chosen")
@@ -229,7 +230,7 @@ class _Context:
         if isinstance(e, ex.Num):  # most values are literals: skip the evaluator
             return int(e.text) if e.is_integer else float(e.text)
         try:
-            return evaluate(e, env)
+            return evaluate_fast(e, env)
         except UnboundName as err:
             if self._known_missing(err.name, env):
                 return None
@@ -316,7 +317,15 @@ def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: 
     relations (the value checks need geometry, not behaviour, and renaming is most of the
     work on a large model)."""
     ctx = _Context(ws, resolution, report, consts or {})
-    return _Elaborator(ctx, equations).run(pm, file)
+    # Building tens of thousands of elements would trigger ever longer collections of the
+    # generations that hold the (live) syntax tree: pause the collector while building.
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        return _Elaborator(ctx, equations).run(pm, file)
+    finally:
+        if was_enabled:
+            gc.enable()
 
 
 class _Elaborator:
@@ -328,7 +337,8 @@ class _Elaborator:
         self.pending_fixed: list[tuple[Link, str, str | None, _Instance, Span]] = []
         self.device_names: list[tuple[Device, tuple[str, ...]]] = []
         self.index_values: dict[int, dict[str, int]] = {}
-        self.literal_annotations: dict[int, tuple[ast.TemplateInstance, AnnotationValue]] = {}
+        self.literal_annotations: dict[
+            int, tuple[ast.TemplateInstance, AnnotationValue | None]] = {}
         self.relation_queue: list[tuple[ex.Expr, ast.Block, Device | None,
                                         dict[str, int]]] = []
 
@@ -642,11 +652,15 @@ class _Elaborator:
         """The evaluated annotation. One that names nothing (literals only, the common case)
         is evaluated once and shared by every copy of an indexed block."""
         literal = self.literal_annotations.get(id(inst))
-        if literal is not None and literal[0] is inst:
+        if literal is not None and literal[0] is not inst:
+            literal = None
+        if literal is not None and literal[1] is not None:
             return literal[1]
         value = self._evaluate_template(inst, env)
-        if not any(isinstance(n, ex.Name) for e in ast.expressions_in(inst) for n in e.walk()):
-            self.literal_annotations[id(inst)] = (inst, value)
+        if literal is None:  # first sight of this annotation: is it literal only?
+            names = any(isinstance(n, ex.Name) for e in ast.expressions_in(inst)
+                        for n in e.walk())
+            self.literal_annotations[id(inst)] = (inst, None if names else value)
         return value
 
     def _evaluate_template(self, inst: ast.TemplateInstance, env: Env) -> AnnotationValue:
@@ -818,8 +832,8 @@ def _renamed(device: Device, prefix: str, values: dict[str, int], equations: boo
                 return ex.Num(str(values[n]), span=node.span)
         return None
 
-    return Device(prefix, ports, tuple(ex.transform(e, swap) for e in device.equations),
-                  tuple(ex.transform(e, swap) for e in device.constraints))
+    return Device(prefix, ports, device.equations, device.constraints,
+                  rename=lambda e: ex.transform(e, swap))
 
 
 def _solid(body: Body, mass: float) -> inertia_math.InertiaEntries | None:

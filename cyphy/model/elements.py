@@ -11,7 +11,7 @@ listed in ``ElaboratedModel.missing``.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Union
+from typing import Callable, Union
 
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
@@ -33,15 +33,42 @@ class Port:
     initial: ex.Expr | None = None  # declared initial value (inputs, locals)
 
 
-@dataclass(frozen=True, slots=True)
 class Device:
     """The behaviour of a joint, sensor or actuator instance: its definition's variables and
-    equations, renamed to the instance (``LMotor_das``; ``Proximity1_voltage``)."""
+    equations, renamed to the instance (``LMotor_das``; ``Proximity1_voltage``).
 
-    prefix: str
-    ports: tuple[Port, ...]
-    equations: tuple[ex.Expr, ...]
-    constraints: tuple[ex.Expr, ...] = ()
+    Equations are renamed when first read: elaboration makes every instance, but only some
+    commands look at behaviour (SDF generation never does)."""
+
+    __slots__ = ("prefix", "ports", "_equations", "_constraints", "_rename")
+
+    def __init__(self, prefix: str, ports: tuple[Port, ...], equations: tuple[ex.Expr, ...],
+                 constraints: tuple[ex.Expr, ...] = (),
+                 rename: Callable[[ex.Expr], ex.Expr] | None = None) -> None:
+        self.prefix = prefix
+        self.ports = ports
+        self._equations = equations
+        self._constraints = constraints
+        self._rename = rename
+
+    def _renamed(self) -> None:
+        if self._rename is not None:
+            rename, self._rename = self._rename, None
+            self._equations = tuple(rename(e) for e in self._equations)
+            self._constraints = tuple(rename(e) for e in self._constraints)
+
+    @property
+    def equations(self) -> tuple[ex.Expr, ...]:
+        self._renamed()
+        return self._equations
+
+    @property
+    def constraints(self) -> tuple[ex.Expr, ...]:
+        self._renamed()
+        return self._constraints
+
+    def __repr__(self) -> str:
+        return f"Device({self.prefix!r}, {len(self.ports)} ports)"
 
     def port(self, name: str) -> Port | None:
         for p in self.ports:

@@ -777,6 +777,67 @@ def evaluate(
         raise EvalError("the expression is too deeply nested to evaluate", expr.span) from None
 
 
+Compiled = Callable[[Mapping[str, object]], Value]
+_COMPILED: dict[int, tuple[Expr, Compiled | None]] = {}
+
+
+def _compile(node: Expr) -> Compiled | None:
+    """A closure computing ``node`` with the interpreter's own operations, for the node kinds
+    that dominate repeated evaluation (poses of indexed blocks); None for anything else."""
+    if isinstance(node, Num):
+        value: Value = int(node.text) if node.is_integer else float(node.text)
+        return lambda env: value
+    if isinstance(node, Name):
+        key = node.text
+        return lambda env: _from_env(key, env[key])
+    if isinstance(node, Quantity):
+        inner, factor = _compile(node.value), UNIT_FACTORS.get(node.unit)
+        if inner is None or factor is None:
+            return None
+        unit = node.unit
+        return lambda env: float(_scalar(unit, inner(env))) * factor
+    if isinstance(node, UnaryOp) and node.op == "-":
+        operand = _compile(node.operand)
+        if operand is None:
+            return None
+        return lambda env: -_scalar("-", operand(env))
+    if isinstance(node, BinOp) and node.op in _STRICT_OPS:
+        left, right, op = _compile(node.left), _compile(node.right), _STRICT_OPS[node.op]
+        if left is None or right is None:
+            return None
+        return lambda env: op(left(env), right(env))
+    if isinstance(node, Call) and isinstance(node.func, Name) \
+            and node.func.text in MATH_FUNCTIONS:
+        args = [_compile(a) for a in node.args]
+        if any(a is None for a in args):
+            return None
+        fn = MATH_FUNCTIONS[node.func.text]
+        return lambda env: fn(*[a(env) for a in args])  # type: ignore[misc]
+    return None
+
+
+def evaluate_fast(expr: Expr, env: Mapping[str, object]) -> Value:
+    """:func:`evaluate` with the library's functions, compiling the expression once (cached by
+    identity) for when the same expression is evaluated many times. Any failure re-runs the
+    interpreter, which raises the precise :class:`EvalError`."""
+    hit = _COMPILED.get(id(expr))
+    if hit is None or hit[0] is not expr:
+        if len(_COMPILED) > 8192:
+            _COMPILED.clear()
+        hit = (expr, _compile(expr))
+        _COMPILED[id(expr)] = hit
+    compiled = hit[1]
+    if compiled is not None:
+        try:
+            with np.errstate(over="raise", divide="raise", invalid="raise", under="ignore"):
+                value = compiled(env)
+            _require_finite(value)
+            return value
+        except Exception:  # noqa: BLE001 - the interpreter says exactly what is wrong
+            pass
+    return evaluate(expr, env)
+
+
 def free_names(expr: Expr) -> set[str]:
     """The names ``expr`` needs from ``env``: every name and path, except functions called.
 

@@ -99,7 +99,16 @@ class Pose:
             (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
             (-sp, cp * sr, cp * cr),
         )
-        return cls((x, y, z), rotation)
+        return cls._trusted((float(x), float(y), float(z)), rotation)
+
+    @classmethod
+    def _trusted(cls, position: Vector3, rotation: Matrix3) -> Pose:
+        """A pose from values this module computed itself (floats, a proper rotation): the
+        validation in ``__post_init__`` costs more than building the pose."""
+        pose = object.__new__(cls)
+        object.__setattr__(pose, "position", position)
+        object.__setattr__(pose, "rotation", rotation)
+        return pose
 
     def compose(self, inner: Pose) -> Pose:
         """``self ∘ inner`` (``T_self · T_inner``): ``inner`` is expressed in ``self``'s frame.
@@ -107,11 +116,13 @@ class Pose:
         The result expresses ``inner``'s frame in the frame ``self`` is expressed in, which is how
         a part's pose carries the poses of its links into the model frame.
         """
-        rotation = self._rotation_array()
-        return Pose(
-            rotation @ inner._position_array() + self._position_array(),
-            rotation @ inner._rotation_array(),
-        )
+        r, q = self.rotation, inner.rotation
+        p, v = self.position, inner.position
+        position = tuple(r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2] + p[i]
+                         for i in range(3))
+        rotation = tuple(tuple(r[i][0] * q[0][j] + r[i][1] * q[1][j] + r[i][2] * q[2][j]
+                               for j in range(3)) for i in range(3))
+        return Pose._trusted(position, rotation)  # type: ignore[arg-type]
 
     def __matmul__(self, inner: Pose) -> Pose:
         """``self @ inner`` is ``self.compose(inner)``, reading like the matrix product."""
