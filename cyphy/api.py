@@ -106,7 +106,7 @@ class SolveResult:
 def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -> SolveResult:
     """Assemble the model's equations (optionally with one mapping call), reduce them to
     explicit ODEs with SymPy and, where SymPy finds one, give the closed form."""
-    from cyphy.backends.reduce import closed_form, reduce_system
+    from cyphy.backends.reduce import closed_form, reduce_system, report_obstacles
     from cyphy.semantics.equations import AssemblyError, assemble, mapping_operation
 
     elaborated = elaborate(paths, ElaborateOptions(options.model, options.consts,
@@ -129,37 +129,10 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
         report.report(ASSEMBLY, err.message, err.span, err.hint)
         return result
     result.reduced = reduce_system(result.system)
-    _report_obstacles(result.reduced, report)
+    report_obstacles(result.reduced, report)
     free = [p for p in result.reduced.parameters if result.system.parameters.get(p) is None]
     if options.closed_form and not free and result.reduced.states \
             and not result.reduced.obstacles:
         inputs = {f"der_{n}": 0 for n in result.system.inputs}
         result.closed_form = closed_form(result.reduced, inputs)
     return result
-
-
-def _report_obstacles(reduced: Any, report: Report) -> None:
-    from cyphy.semantics.equations import OBSTACLE
-
-    for o in reduced.obstacles:
-        span = o.equations[0].span if o.equations else None
-        notes = [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
-        report.report(OBSTACLE, o.message, span or _unknown_span(), _OBSTACLE_HINTS[o.kind],
-                      notes)
-
-
-def _unknown_span() -> Any:
-    from cyphy.diagnostics import Span
-
-    return Span.unknown()
-
-
-_OBSTACLE_HINTS = {
-    "underdetermined": "add an equation or relation that determines it, or restrict the "
-                       "system with --element",
-    "algebraic-loop": "rewrite the equations so the loop can be solved, or give the "
-                      "constants values (--const)",
-    "unknown-function": "the function is declared without a definition: SymPy cannot invert "
-                        "it",
-    "unsupported": "only equations lhs == rhs over numbers, vectors and matrices are solved",
-}

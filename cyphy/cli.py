@@ -31,8 +31,7 @@ def _parser() -> argparse.ArgumentParser:
     check.add_argument("--syntax-only", action="store_true", help="stop after parsing")
     check.add_argument("--format", choices=("text", "json"), default="text",
                        help="diagnostic format (default: text)")
-    check.add_argument("--path", action="append", default=[], metavar="DIR",
-                       help="another folder of model files to resolve names against")
+    _path_option(check)
     _const_options(check)
     show = sub.add_parser(
         "show",
@@ -44,8 +43,7 @@ def _parser() -> argparse.ArgumentParser:
     show.add_argument("--model", metavar="NAME", help="the p-model to show")
     _const_options(show)
     show.add_argument("--format", choices=("text", "json"), default="text")
-    show.add_argument("--path", action="append", default=[], metavar="DIR",
-                      help="another folder of model files to resolve names against")
+    _path_option(show)
     solve = sub.add_parser(
         "solve",
         help="reduce the model's equations to explicit ODEs (SymPy)",
@@ -62,7 +60,7 @@ def _parser() -> argparse.ArgumentParser:
                        help="add the effect of a mapping operation, e.g. 'move(0.1, 0)'")
     _const_options(solve)
     solve.add_argument("--format", choices=("text", "latex", "json"), default="text")
-    solve.add_argument("--path", action="append", default=[], metavar="DIR")
+    _path_option(solve)
     return parser
 
 
@@ -82,6 +80,11 @@ def _solve(args: argparse.Namespace) -> int:
     render = {"text": odes_to_text, "latex": odes_to_latex, "json": odes_to_json}
     sys.stdout.write(render[args.format](result.reduced, result.closed_form))
     return result.report.exit_code
+
+
+def _path_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--path", action="append", default=[], metavar="DIR",
+                        help="another folder of model files to resolve names against")
 
 
 def _const_options(parser: argparse.ArgumentParser) -> None:

@@ -28,7 +28,8 @@ from sympy.core.function import AppliedUndef
 from cyphy import expr as ex
 from cyphy.backends.sympy import T, SympyPrinter, UnsupportedNode
 from cyphy.lang import ast
-from cyphy.semantics.equations import Equation, System
+from cyphy.diagnostics import Report, Span
+from cyphy.semantics.equations import OBSTACLE, Equation, System
 
 
 @dataclass(frozen=True)
@@ -416,6 +417,25 @@ def _scalar(v: Any) -> Any:
 def _blocks_in_order(graph: nx.DiGraph) -> list[list[str]]:
     condensed = nx.condensation(graph)
     return [sorted(condensed.nodes[n]["members"]) for n in nx.topological_sort(condensed)]
+
+
+_OBSTACLE_HINTS = {
+    "underdetermined": "add an equation or relation that determines it, or restrict the "
+                       "system with --element",
+    "algebraic-loop": "rewrite the equations so the loop can be solved, or give the "
+                      "constants values (--const)",
+    "unknown-function": "the function is declared without a definition: SymPy cannot invert "
+                        "it",
+    "unsupported": "only equations lhs == rhs over numbers, vectors and matrices are solved",
+}
+
+
+def report_obstacles(reduced: Reduced, report: Report) -> None:
+    """Each obstacle as an ``E-REDUCE`` diagnostic at its first equation."""
+    for o in reduced.obstacles:
+        span = o.equations[0].span if o.equations else Span.unknown()
+        notes = [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
+        report.report(OBSTACLE, o.message, span, _OBSTACLE_HINTS[o.kind], notes)
 
 
 def reduce_system(system: System) -> Reduced:

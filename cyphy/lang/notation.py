@@ -7,6 +7,7 @@ printing and parsing again gives an equal tree (a test checks the round trip).
 from __future__ import annotations
 
 from cyphy import expr as ex
+from cyphy.lang import ast
 
 # Binding powers as in the parser's precedence climbing (cyphy/lang/parser.py).
 _BP = {"<=>": 10, "=>": 10, "\\/": 20, "/\\": 30, "==": 50, "!=": 50, "<": 50, "<=": 50,
@@ -104,3 +105,21 @@ class NotationPrinter:
 
 def to_notation(e: ex.Expr) -> str:
     return NotationPrinter().print(e)
+
+
+def type_to_notation(t: ast.TypeRef | None) -> str:
+    """A declared type as written: ``real``, ``vector(real, 3)``, ``Seq(matrix(real, 4, 4))``."""
+    if t is None:
+        return "?"
+    if isinstance(t, ast.PrimitiveType):
+        return t.name
+    if isinstance(t, ast.NamedType):
+        return "::".join(t.name)
+    if isinstance(t, ast.VectorType):
+        size = f", {to_notation(t.size)}" if t.size is not None else ""
+        return f"vector({type_to_notation(t.element)}{size})"
+    if isinstance(t, ast.MatrixType):
+        return (f"matrix({type_to_notation(t.element)}, {to_notation(t.rows)}, "
+                f"{to_notation(t.cols)})")
+    kind = "Seq" if isinstance(t, ast.SeqType) else "Set"
+    return f"{kind}({type_to_notation(t.element)})"

@@ -38,7 +38,6 @@ class System:
     variables: dict[str, ast.TypeRef] = field(default_factory=dict)  # time-dependent
     inputs: set[str] = field(default_factory=set)  # given from outside
     parameters: dict[str, Value | None] = field(default_factory=dict)  # constants
-    parameter_types: dict[str, ast.TypeRef] = field(default_factory=dict)
     kinds: dict[str, str] = field(default_factory=dict)  # variable → input/output/local…
 
 
@@ -88,7 +87,6 @@ def _add_device(system: System, device: Device) -> None:
     for p in device.ports:
         if p.kind is ast.DeclKind.CONST:
             system.parameters[p.mangled] = p.value
-            system.parameter_types[p.mangled] = p.type
         else:
             system.variables[p.mangled] = p.type
             system.kinds[p.mangled] = p.kind.value.lower()

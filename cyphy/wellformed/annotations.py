@@ -15,9 +15,10 @@ from pathlib import Path
 from cyphy import expr as ex
 from cyphy.diagnostics import did_you_mean
 from cyphy.lang import ast
+from cyphy.lang.notation import type_to_notation
 from cyphy.lang.scopes import is_template
 from cyphy.wellformed.indexing import (
-    Lookup, describe_type, lookup_in, site_names, type_problem,
+    Lookup, lookup_in, site_names, type_problem,
 )
 from cyphy.wellformed.registry import WFContext, rule
 
@@ -211,8 +212,8 @@ def _value_problem(ctx: WFContext, param: ast.TemplateParam, owner: Template,
                     f"{got.name} {{ … }}", f"write '{param.name} = {wanted} {{ … }}'")
         return None
     if isinstance(value, ast.TemplateInstance):
-        return (f"takes a value of type {describe_type(param.type)}, not a nested template",
-                f"write '{param.name} = <{describe_type(param.type)}>'")
+        return (f"takes a value of type {type_to_notation(param.type)}, not a nested template",
+                f"write '{param.name} = <{type_to_notation(param.type)}>'")
     if isinstance(param.type, ast.NamedType) and param.type.name[-1:] == ELEMENT_PATH:
         if isinstance(value, (ex.Name, ex.Member, ex.Index, ex.Str)):
             return None
@@ -220,8 +221,8 @@ def _value_problem(ctx: WFContext, param: ast.TemplateParam, owner: Template,
                 f"write '{param.name} = Link' or '{param.name} = Link::body'")
     problem = type_problem(value, param.type, lookup)
     if problem is not None:
-        return (f"is declared {describe_type(param.type)}, but its value is {problem}",
-                f"give a value of type {describe_type(param.type)}")
+        return (f"is declared {type_to_notation(param.type)}, but its value is {problem}",
+                f"give a value of type {type_to_notation(param.type)}")
     return None
 
 

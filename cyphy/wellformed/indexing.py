@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any, Callable, Union
 from cyphy import expr as ex
 from cyphy.diagnostics import Code, Report, Severity, Span
 from cyphy.lang import ast
+from cyphy.lang.notation import type_to_notation
 from cyphy.lang.scopes import is_constant, is_value
 from cyphy.lang.typing import Kind, TypeChecker, Ty, same_shape, type_of_declared
 from cyphy.wellformed.registry import BlockSite, WFContext, rule
@@ -132,33 +133,6 @@ def _describe_value(value: object) -> str:
     from cyphy.model.evaluate import describe  # NumPy only when a value was computed
 
     return describe(value)
-
-
-def describe_type(t: ast.TypeRef | None) -> str:
-    if t is None:
-        return "?"
-    if isinstance(t, ast.PrimitiveType):
-        return t.name
-    if isinstance(t, ast.NamedType):
-        return "::".join(t.name)
-    if isinstance(t, ast.VectorType):
-        size = f", {_text(t.size)}" if t.size is not None else ""
-        return f"vector({describe_type(t.element)}{size})"
-    if isinstance(t, ast.MatrixType):
-        return f"matrix({describe_type(t.element)}, {_text(t.rows)}, {_text(t.cols)})"
-    if isinstance(t, ast.SeqType):
-        return f"Seq({describe_type(t.element)})"
-    if isinstance(t, ast.SetType):
-        return f"Set({describe_type(t.element)})"
-    return "?"
-
-
-def _text(e: ex.Expr | None) -> str:
-    if isinstance(e, ex.Num):
-        return e.text
-    if isinstance(e, ex.Name):
-        return e.text
-    return "…"
 
 
 class ConstantEnv(Mapping[str, Any]):

@@ -19,6 +19,7 @@ from typing import Iterator, Union
 from cyphy import expr as ex
 from cyphy.diagnostics import Span, did_you_mean
 from cyphy.lang import ast
+from cyphy.lang.notation import to_notation, type_to_notation
 from cyphy.lang.resolve import block_children, path_roots, steps_of
 from cyphy.lang.scopes import is_definition, is_interface, is_node, is_pmodel, is_value
 from cyphy.wellformed.registry import WFContext, rule
@@ -45,10 +46,10 @@ class _Service:
     @property
     def label(self) -> str:
         if isinstance(self.decl, ast.OperationSig):
-            params = ", ".join(f"{p.name}: {_type_text(p.type)}" for p in self.decl.params)
+            params = ", ".join(f"{p.name}: {type_to_notation(p.type)}" for p in self.decl.params)
             return f"operation {self.name}({params})"
         if isinstance(self.decl, ast.EventDecl) and self.decl.type is not None:
-            return f"event {self.name}: {_type_text(self.decl.type)}"
+            return f"event {self.name}: {type_to_notation(self.decl.type)}"
         return f"{self.kind} {self.name}"
 
 
@@ -201,22 +202,6 @@ def _service(site: _Site, member: MemberMapping) -> _Service | None:
     return site.platform.of_kind(_kind(member)).get(member.name)
 
 
-def _type_text(t: ast.TypeRef | None) -> str:
-    if t is None:
-        return "?"
-    if isinstance(t, ast.PrimitiveType):
-        return t.name
-    if isinstance(t, ast.NamedType):
-        return "::".join(t.name)
-    if isinstance(t, ast.VectorType):
-        return f"vector({_type_text(t.element)}{', …' if t.size is not None else ''})"
-    if isinstance(t, ast.MatrixType):
-        return f"matrix({_type_text(t.element)}, …)"
-    if isinstance(t, ast.SeqType):
-        return f"Seq({_type_text(t.element)})"
-    return f"Set({_type_text(t.element)})"
-
-
 def _in_user_file(ctx: WFContext, node: object) -> bool:
     span = getattr(node, "span", None)
     return span is not None and span.file in ctx.workspace.targets
@@ -304,7 +289,7 @@ class _Names:
 
     def classify(self, e: ex.Expr) -> _Ref:
         steps = steps_of(e)
-        text = _text(e)
+        text = to_notation(e)
         if not steps:
             return _Ref(UNKNOWN, text, text, e.span)
         first = steps[0][0]
@@ -358,19 +343,6 @@ class _Names:
         else:
             cat = OTHER
         return _Ref(cat, text, what, span, block, all_ports)
-
-
-def _text(e: ex.Expr) -> str:
-    if isinstance(e, ex.Name):
-        return e.text
-    if isinstance(e, ex.Member):
-        return f"{_text(e.base)}.{e.name}"
-    if isinstance(e, ex.Index):
-        args = ", ".join(_text(a) for a in e.args)
-        return f"{_text(e.base)}[{args}]"
-    if isinstance(e, ex.Num):
-        return e.text
-    return "…"
 
 
 def _pmodel_of_part(ctx: WFContext, part: ast.Part, file: ast.SourceFile
@@ -616,7 +588,7 @@ def check_PMap5_event_parameter(ctx: WFContext) -> None:
             typed = service.decl.type is not None
             if typed and member.param is None:
                 ctx.error("PMap5", member,
-                          f"event {member.name} is typed ({_type_text(service.decl.type)}) but "
+                          f"event {member.name} is typed ({type_to_notation(service.decl.type)}) but "
                           f"the mapping of {_label(member)} declares no parameter for its value",
                           f"write '{member.direction} event {member.name} ? {member.name[0]} "
                           "{ … }' and define the parameter with equations")

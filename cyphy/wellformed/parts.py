@@ -12,7 +12,8 @@ from collections.abc import Iterator
 
 from cyphy.diagnostics import Severity, did_you_mean
 from cyphy.lang import ast
-from cyphy.wellformed.indexing import describe_type, lookup_in, part_names, type_problem
+from cyphy.lang.notation import type_to_notation
+from cyphy.wellformed.indexing import lookup_in, part_names, type_problem
 from cyphy.wellformed.registry import WFContext, rule
 
 
@@ -99,4 +100,4 @@ def check_P3_declared_and_typed(ctx: WFContext) -> None:
             if problem is not None:
                 ctx.error("P3", inst.value, f"part {part.name} instantiates constant "
                           f"{inst.name} of p-model {sub.name} with {problem}",
-                          f"{inst.name} is declared {describe_type(decl.type)}")
+                          f"{inst.name} is declared {type_to_notation(decl.type)}")

@@ -191,29 +191,26 @@ def check_V5_coincident(ctx: WFContext) -> None:
     poses are composed are almost always a copy-and-paste slip (the paper's firefighter drone
     had two rotor arms at the same coordinates, found only by eye in Gazebo)."""
     for m in _models(ctx):
-        seen: dict[Any, Any] = {}
+        _coincident(ctx, m.links, _link_key, "links", "move one of them (check the poses of "
+                    "the links and of the parts that contain them)")
         for link in m.links:
-            key = _link_key(link)
-            if key is None:
-                continue
-            if key in seen:
-                ctx.error("V5", link, f"links {seen[key].name} and {link.name} have the same "
-                          "shape at the same place", "move one of them (check the poses of "
-                          "the links and of the parts that contain them)")
-            else:
-                seen[key] = link
-        for link in m.links:
-            bodies: dict[Any, Any] = {}
-            for body in link.bodies:
-                key = _body_key(body)
-                if key is None:
-                    continue
-                if key in bodies:
-                    ctx.error("V5", body, f"bodies {bodies[key].name} and {body.name} have the"
-                              " same shape at the same place", "move one of them, or remove "
-                              "the duplicate")
-                else:
-                    bodies[key] = body
+            _coincident(ctx, link.bodies, _body_key, "bodies",
+                        "move one of them, or remove the duplicate")
+
+
+def _coincident(ctx: WFContext, elements: list[Any], key_of: Any, what: str, hint: str
+                ) -> None:
+    """Report each element whose (shape, place) key an earlier one already has."""
+    seen: dict[Any, Any] = {}
+    for element in elements:
+        key = key_of(element)
+        if key is None:
+            continue
+        if key in seen:
+            ctx.error("V5", element, f"{what} {seen[key].name} and {element.name} have the "
+                      "same shape at the same place", hint)
+        else:
+            seen[key] = element
 
 
 def _rounded(values: Any) -> tuple[float, ...]:
