@@ -50,6 +50,16 @@ def check(paths: Sequence[str | Path], options: CheckOptions = CheckOptions()) -
     return result
 
 
+@dataclass
+class Generated:
+    """What a generator produced: files by relative path, in writing order. ``files`` is
+    empty when the model has errors (the report says which), so nothing gets written."""
+
+    report: Report
+    sources: dict[str, str] = field(default_factory=dict)
+    files: dict[str, str | bytes] = field(default_factory=dict)
+
+
 @dataclass(frozen=True)
 class ElaborateOptions:
     model: str | None = None

@@ -9,7 +9,10 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from typing import Sequence
+from typing import TYPE_CHECKING, Callable, Sequence
+
+if TYPE_CHECKING:
+    from cyphy.api import Generated
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -61,7 +64,56 @@ def _parser() -> argparse.ArgumentParser:
     _const_options(solve)
     solve.add_argument("--format", choices=("text", "latex", "json"), default="text")
     _path_option(solve)
+    gen = sub.add_parser(
+        "gen",
+        help="generate files for simulators and provers",
+        description="Check the model and, when it has no errors, generate the chosen artefact. "
+        "Without -o the files go beside the model, in RoboTool's folder names (sdf-gen/, "
+        "cpc-gen/, isabelle-gen/, flowstar-gen/). A model with errors writes nothing.",
+    )
+    gen.add_argument("paths", nargs="+", metavar="PATH", help="model file or folder")
+    targets = gen.add_mutually_exclusive_group(required=True)
+    for target, (_, flag_help, _) in GENERATORS.items():
+        targets.add_argument(f"--{target}", dest="target", action="store_const", const=target,
+                             help=flag_help)
+    gen.add_argument("-o", "--output", metavar="DIR", help="output folder")
+    gen.add_argument("--model", metavar="NAME", help="the p-model (or mapping) to generate for")
+    _const_options(gen)
+    _path_option(gen)
+    for _, _, add_options in GENERATORS.values():
+        add_options(gen)
     return parser
+
+
+def _gen(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from cyphy.diagnostics import render_text
+    from cyphy.outputs import OutputError, default_output_dir, write_all
+
+    run, _, _ = GENERATORS[args.target]
+    generated = run(args)
+    diagnostics = generated.report.diagnostics
+    if diagnostics:
+        sys.stderr.write(render_text(diagnostics, dict(generated.sources)))
+    if generated.report.has_errors or not generated.files:
+        sys.stderr.write(f"cyphy gen: nothing written: the model has errors\n")
+        return 1
+    out_dir = Path(args.output) if args.output else default_output_dir(args.paths, args.target)
+    try:
+        written = write_all(generated.files, out_dir)
+    except OutputError as err:
+        sys.stderr.write(f"cyphy gen: error: {err}\n")
+        return 1
+    for path in written:
+        sys.stdout.write(f"wrote {path}\n")
+    return generated.report.exit_code
+
+
+#: ``cyphy gen`` targets: flag → (generator, flag help, function adding the target's options).
+#: A generator takes the parsed arguments and returns a :class:`cyphy.api.Generated`.
+GENERATORS: dict[str, tuple[Callable[[argparse.Namespace], "Generated"], str,
+                            Callable[[argparse.ArgumentParser], None]]] = {}
 
 
 def _solve(args: argparse.Namespace) -> int:
@@ -167,6 +219,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _show(args)
         if args.command == "solve":
             return _solve(args)
+        if args.command == "gen":
+            return _gen(args)
     except KeyboardInterrupt:
         return 130
     except Exception as err:  # a bug of ours: say so plainly, without a traceback
