@@ -24,6 +24,7 @@ class CheckOptions:
     search_paths: tuple[str, ...] = ()
     wellformedness: bool = True
     consts: dict[str, object] = field(default_factory=dict)
+    neighbours_as_targets: bool = False  # check the files beside a given file too
 
 
 @dataclass
@@ -37,7 +38,8 @@ class CheckResult:
 def check(paths: Sequence[str | Path], options: CheckOptions = CheckOptions()) -> CheckResult:
     """Parse the files (or folders) and, unless ``syntax_only``, resolve names and check the
     scope conditions. Diagnostics of library files are never reported."""
-    ws, report = load_workspace(paths, options.search_paths)
+    ws, report = load_workspace(paths, options.search_paths,
+                                neighbours_as_targets=options.neighbours_as_targets)
     result = CheckResult(ws, report, sources=ws.texts)
     if options.syntax_only:
         return result

@@ -45,6 +45,8 @@ class Workspace:
     targets: list[str] = field(default_factory=list)
     """Paths of the files the user asked about (their diagnostics are reported)."""
     file_package: dict[str, ast.QName] = field(default_factory=dict)
+    named: list[str] = field(default_factory=list)
+    """Paths of the files (or the files of the folders) given on the command line."""
 
     def package_of(self, file: ast.SourceFile) -> Package:
         return self.packages[self.file_package[file.path]]
@@ -96,9 +98,14 @@ def _read(path: Path, report: Report) -> str | None:
 
 
 def load_workspace(
-    paths: Iterable[str | Path], search_paths: Iterable[str | Path] = (), report: Report | None = None
+    paths: Iterable[str | Path], search_paths: Iterable[str | Path] = (), report: Report | None = None,
+    neighbours_as_targets: bool = False,
 ) -> tuple[Workspace, Report]:
-    """Read and parse the given files or folders (and their neighbours) into a workspace."""
+    """Read and parse the given files or folders (and their neighbours) into a workspace.
+
+    With ``neighbours_as_targets`` the files beside a given file are checked as if given
+    too: generators translate a mapping together with the p-model and d-model files next
+    to it, so those must be resolved and free of errors as well."""
     report = report if report is not None else Report()
     ws = Workspace()
     targets: list[Path] = []
@@ -139,6 +146,9 @@ def load_workspace(
         ws.texts[str(p)] = text
         if result.file is not None:
             ws.files[str(p)] = result.file
+    ws.named = [str(p) for p in dict.fromkeys(targets)]
+    if neighbours_as_targets:
+        targets = targets + [p for p in neighbours if str(p) in ws.files]
     ws.targets = [str(p) for p in dict.fromkeys(targets)]
 
     user_packages = {f.package for f in ws.files.values()}

@@ -115,12 +115,12 @@ def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.Platf
         if d.kind is not ast.DeclKind.CONST:
             system.variables[local[d.name]] = d.type
             system.kinds[local[d.name]] = "local"
-    ports = _port_index(model)
+    ports = port_index(model)
 
     def swap(node: ex.Expr) -> ex.Expr | None:
-        steps = _steps(node)
+        steps = element_steps(node)
         if steps is not None and len(steps) > 1:
-            mangled = ports.get(_key(model, steps))
+            mangled = ports.get(port_key(model, steps))
             if mangled is not None:
                 return ex.Name((mangled,), span=node.span)
         if isinstance(node, ex.Name) and len(node.parts) == 1:
@@ -138,7 +138,7 @@ def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.Platf
                                          eq.span))
 
 
-def _port_index(model: ElaboratedModel) -> dict[tuple[str, ...], str]:
+def port_index(model: ElaboratedModel) -> dict[tuple[str, ...], str]:
     out: dict[tuple[str, ...], str] = {}
     for e in [*model.joints, *model.unconnected, *model.sensors, *model.actuators]:
         if e.device is not None:
@@ -147,19 +147,19 @@ def _port_index(model: ElaboratedModel) -> dict[tuple[str, ...], str]:
     return out
 
 
-def _steps(node: ex.Expr) -> list[str] | None:
+def element_steps(node: ex.Expr) -> list[str] | None:
     if isinstance(node, ex.Name):
         return list(node.parts)
     if isinstance(node, ex.Member):
-        base = _steps(node.base)
+        base = element_steps(node.base)
         return None if base is None else base + [node.name]
     if isinstance(node, ex.Index) and len(node.args) == 1 and isinstance(node.args[0], ex.Num):
-        base = _steps(node.base)
+        base = element_steps(node.base)
         return None if base is None else base + [node.args[0].text]
     return None
 
 
-def _key(model: ElaboratedModel, steps: list[str]) -> tuple[str, ...]:
+def port_key(model: ElaboratedModel, steps: list[str]) -> tuple[str, ...]:
     """Mapping paths are rooted at a link or at the p-model: ``Core::LHinge::LMotor.das``."""
     if steps and steps[0] == model.name:
         steps = steps[1:]

@@ -32,7 +32,7 @@ Container = Union[ast.PModel, ast.Block, ast.Part]
 
 
 @dataclass(frozen=True)
-class _Service:
+class Service:
     """An operation, event or variable of a robotic platform and where it is declared."""
 
     kind: str  # "operation", "event", "variable" (or "constant", only for hints)
@@ -54,21 +54,21 @@ class _Service:
 
 
 @dataclass
-class _Platform:
+class Platform:
     module: ast.Module
     platform: ast.RoboticPlatform
-    operations: dict[str, _Service] = field(default_factory=dict)
-    events: dict[str, _Service] = field(default_factory=dict)
-    variables: dict[str, _Service] = field(default_factory=dict)
+    operations: dict[str, Service] = field(default_factory=dict)
+    events: dict[str, Service] = field(default_factory=dict)
+    variables: dict[str, Service] = field(default_factory=dict)
     # Declared in the platform's interfaces but not mappable as such (an event of a provided
     # interface, an operation of a used one, a constant): only for hints.
-    others: dict[str, _Service] = field(default_factory=dict)
+    others: dict[str, Service] = field(default_factory=dict)
 
-    def of_kind(self, kind: str) -> dict[str, _Service]:
+    def of_kind(self, kind: str) -> dict[str, Service]:
         return {"operation": self.operations, "event": self.events,
                 "variable": self.variables}[kind]
 
-    def find(self, name: str) -> _Service | None:
+    def find(self, name: str) -> Service | None:
         for table in (self.operations, self.events, self.variables, self.others):
             if name in table:
                 return table[name]
@@ -92,7 +92,7 @@ class _Site:
 
     file: ast.SourceFile
     mapping: ast.PlatformMapping
-    platform: _Platform | None
+    platform: Platform | None
     pmodel: ast.PModel | None
     pmodel_file: ast.SourceFile | None
 
@@ -103,11 +103,11 @@ def _sites(ctx: WFContext) -> Iterator[_Site]:
         pm = found[0] if found else ctx.target(mapping.pmodel)
         if not isinstance(pm, ast.PModel):
             pm = None
-        yield _Site(file, mapping, _platform_of(ctx, mapping),
+        yield _Site(file, mapping, platform_of(ctx, mapping),
                     pm, ctx.file_of(pm) if pm is not None else None)
 
 
-def _platform_of(ctx: WFContext, mapping: ast.PlatformMapping) -> _Platform | None:
+def platform_of(ctx: WFContext, mapping: ast.PlatformMapping) -> Platform | None:
     module = ctx.target(mapping)
     if not isinstance(module, ast.Module):
         return None  # S1 reported the d-model
@@ -125,12 +125,12 @@ def _platform_of(ctx: WFContext, mapping: ast.PlatformMapping) -> _Platform | No
                     break
     if platform is None:
         return None
-    out = _Platform(module, platform)
+    out = Platform(module, platform)
     own = f"robotic platform {platform.name}"
     for op in platform.operations:
-        out.operations.setdefault(op.name, _Service("operation", op, own))
+        out.operations.setdefault(op.name, Service("operation", op, own))
     for ev in platform.events:
-        out.events.setdefault(ev.name, _Service("event", ev, own))
+        out.events.setdefault(ev.name, Service("event", ev, own))
     for v in platform.variables:
         _add_variable(out, v, own)
     for use in platform.interface_uses:
@@ -142,22 +142,22 @@ def _platform_of(ctx: WFContext, mapping: ast.PlatformMapping) -> _Platform | No
             _add_variable(out, v, where)
         if use.relation == "provides":
             for op in interface.operations:
-                out.operations.setdefault(op.name, _Service("operation", op, where))
+                out.operations.setdefault(op.name, Service("operation", op, where))
             for ev in interface.events:
-                out.others.setdefault(ev.name, _Service("event", ev, f"provided {where}"))
+                out.others.setdefault(ev.name, Service("event", ev, f"provided {where}"))
         elif use.relation == "uses":
             for ev in interface.events:
-                out.events.setdefault(ev.name, _Service("event", ev, where))
+                out.events.setdefault(ev.name, Service("event", ev, where))
             for op in interface.operations:
-                out.others.setdefault(op.name, _Service("operation", op, f"used {where}"))
+                out.others.setdefault(op.name, Service("operation", op, f"used {where}"))
     return out
 
 
-def _add_variable(out: _Platform, v: ast.VarDecl, where: str) -> None:
+def _add_variable(out: Platform, v: ast.VarDecl, where: str) -> None:
     if v.kind is ast.DeclKind.CONST:
-        out.others.setdefault(v.name, _Service("constant", v, where))
+        out.others.setdefault(v.name, Service("constant", v, where))
     else:
-        out.variables.setdefault(v.name, _Service("variable", v, where))
+        out.variables.setdefault(v.name, Service("variable", v, where))
 
 
 def _interface(ctx: WFContext, use: ast.InterfaceUse, file: ast.SourceFile | None
@@ -196,7 +196,7 @@ def _label(member: MemberMapping) -> str:
     return f"{_kind(member)} {member.name}"
 
 
-def _service(site: _Site, member: MemberMapping) -> _Service | None:
+def _service(site: _Site, member: MemberMapping) -> Service | None:
     if site.platform is None:
         return None
     return site.platform.of_kind(_kind(member)).get(member.name)
@@ -553,7 +553,7 @@ def check_PMap4_mapped_services_exist(ctx: WFContext) -> None:
                       f"{kind} '{member.name}' for the mapping of {_label(member)}", hint)
 
 
-def _unknown_service_hint(platform: _Platform, name: str, table: dict[str, _Service],
+def _unknown_service_hint(platform: Platform, name: str, table: dict[str, Service],
                           kind: str) -> str:
     other = platform.find(name)
     if other is None:

@@ -1,0 +1,129 @@
+"""From checked files to a CyPhyCircus program: choose the mapping, read what the rules need
+of the d-model, elaborate the p-model, and apply Rule 1 (which applies the others)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from cyphy import codes
+from cyphy import expr as ex
+from cyphy.diagnostics import Report, Span
+from cyphy.lang import ast
+from cyphy.lang.resolve import Resolution
+from cyphy.lang.scopes import is_pmodel
+from cyphy.lang.workspace import Workspace
+from cyphy.model.elaborate import elaborate_pmodel
+from cyphy.semantics import circus as c
+from cyphy.semantics.names import NameTable
+from cyphy.semantics.rules import Context, DModel, SemanticsError, Service, rule1_program
+from cyphy.semantics.values import type_of
+
+NO_MAPPING = codes.code("E-MAPPING", codes.E,
+                        "no platform mapping to give a semantics to")
+UNTRANSLATABLE = codes.code("E-SEMANTICS", codes.E,
+                            "the mapping cannot be translated to CyPhyCircus")
+
+
+@dataclass(frozen=True)
+class SemanticsOptions:
+    mapping: str | None = None  # the mapping (or its p-model) to translate
+    system_name: str | None = None  # the name of N (default: the mapping's)
+    tscale: float | None = None
+    consts: dict[str, object] | None = None
+
+
+@dataclass
+class Semantics:
+    program: c.Program
+    names: NameTable
+    mapping: ast.PlatformMapping
+
+
+def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
+                    options: SemanticsOptions = SemanticsOptions()) -> Semantics | None:
+    """The CyPhyCircus program of one platform mapping of the given files, or None with
+    the reason reported."""
+    from cyphy.wellformed.mappings import platform_of
+    from cyphy.wellformed.registry import WFContext
+
+    chosen = _choose_mapping(ws, report, options.mapping)
+    if chosen is None:
+        return None
+    file, mapping = chosen
+    wf = WFContext(ws, resolution, report)
+    found = wf.scopes.lookup(file, mapping.pmodel, is_pmodel)
+    pm = found[0] if found else None
+    pm_file = wf.file_of(pm) if pm is not None else None
+    if pm is None or pm_file is None:
+        report.report(NO_MAPPING, f"the p-model {'::'.join(mapping.pmodel)} of mapping "
+                      f"{mapping.name} is not among the files", mapping.pmodel_span,
+                      "give the p-model's file or folder too")
+        return None
+    model = elaborate_pmodel(ws, resolution, report, pm, pm_file, options.consts or {})
+    if report.has_errors:
+        return None
+    platform = platform_of(wf, mapping)
+    dmodel = _dmodel(mapping, platform)
+    from cyphy.semantics.equations import port_index
+
+    ctx = Context(model, mapping, dmodel, NameTable(),
+                  options.system_name or mapping.name, options.tscale,
+                  port_index(model))
+    try:
+        program = rule1_program(ctx)
+    except SemanticsError as err:
+        report.report(UNTRANSLATABLE, err.message, err.span, err.hint)
+        return None
+    return Semantics(program, ctx.names, mapping)
+
+
+def _choose_mapping(ws: Workspace, report: Report, wanted: str | None
+                    ) -> tuple[ast.SourceFile, ast.PlatformMapping] | None:
+    mappings = [(f, i) for f in ws.user_files() for i in f.items
+                if isinstance(i, ast.PlatformMapping)]
+    named = [(f, m) for f, m in mappings if f.path in ws.named]
+    mappings = named or mappings
+    if wanted is not None:
+        mappings = [(f, m) for f, m in mappings
+                    if wanted in (m.name, m.pmodel[-1], "::".join(m.pmodel))]
+    where = Span.unknown(ws.targets[0] if ws.targets else "<input>")
+    if not mappings:
+        report.report(NO_MAPPING, "no platform mapping" +
+                      (f" named {wanted}" if wanted else "") + " among the files", where,
+                      "give the mapping file (map M dmodel D to pmodel P {…}) and the files "
+                      "of its p-model and d-model")
+        return None
+    if len(mappings) > 1:
+        names = ", ".join(m.name for _, m in mappings)
+        report.report(NO_MAPPING, f"several platform mappings: {names}", where,
+                      "choose one with --model NAME")
+        return None
+    return mappings[0]
+
+
+def _dmodel(mapping: ast.PlatformMapping, platform: object) -> DModel:
+    """The module name, cycle restriction and service signatures; without a d-model
+    (S1 reported it) the mapping alone gives untyped services."""
+    if platform is None:
+        return DModel("::".join(mapping.dmodel))
+    module: ast.Module = platform.module  # type: ignore[attr-defined]
+    restriction = tuple(_cycle_equation(d.expr) for d in module.cycle_defs)
+    dm = DModel(module.name, restriction)
+    for name, s in platform.operations.items():  # type: ignore[attr-defined]
+        dm.operations[name] = Service(name, tuple(c.Binding(p.name, type_of(p.type))
+                                                  for p in s.decl.params))
+    for name, s in platform.events.items():  # type: ignore[attr-defined]
+        typ = s.decl.type
+        dm.events[name] = Service(name, () if typ is None else
+                                  (c.Binding(name, type_of(typ)),))
+    for name, s in platform.variables.items():  # type: ignore[attr-defined]
+        dm.variables[name] = Service(name, (c.Binding(name, type_of(s.decl.type)),))
+    return dm
+
+
+def _cycle_equation(e: ex.Expr) -> ex.Expr:
+    """``cycleDef cycle == 1`` states the restriction itself; a bare value means
+    ``cycle == value``."""
+    if isinstance(e, ex.BinOp) and e.op in ("==", "<", "<=", ">", ">=", "!="):
+        return e
+    return ex.BinOp("==", ex.Name(("cycle",)), e)

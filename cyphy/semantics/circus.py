@@ -1,0 +1,416 @@
+"""The CyPhyCircus abstract syntax: what the paper's semantic rules build and printers print.
+
+Expressions and predicates are the shared expression AST (:mod:`cyphy.expr`), with
+``Derivative`` for time derivatives; this module adds what CyPhyCircus has on top of them:
+types, declarations, schemas, processes and actions, plus the two predicate forms that the
+rules need and expressions lack (existential quantification over locals, and a conjunction
+of equations). Every node is a frozen dataclass compared by value, so a printed program read
+back by a parser can be compared with the original (the round-trip tests).
+
+Names are already mangled (``LMotor_das``); each printer applies its own lexical rules on
+top (Isabelle reserved words, ``\\_`` in LaTeX).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from typing import Iterator, Union
+
+from cyphy import expr as ex
+
+# --------------------------------------------------------------------------- types
+
+
+@dataclass(frozen=True, slots=True)
+class TBasic:
+    """A basic type: ``real``, ``nat``, ``int``, ``bool`` or a given set such as ``RSName``."""
+
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class TSeq:
+    """``seq T``: vectors and matrices (a matrix is a sequence of rows)."""
+
+    of: "Type"
+
+
+@dataclass(frozen=True, slots=True)
+class TProduct:
+    """``T1 × T2 × …``: the values an operation call carries."""
+
+    items: tuple["Type", ...]
+
+
+Type = Union[TBasic, TSeq, TProduct]
+REAL, NAT, INT, BOOL = TBasic("real"), TBasic("nat"), TBasic("int"), TBasic("bool")
+
+# --------------------------------------------------------------------------- predicates
+
+
+@dataclass(frozen=True, slots=True)
+class Binding:
+    """A typed name: a schema field, a quantified or a bound variable, a parameter."""
+
+    name: str
+    type: Type
+
+
+@dataclass(frozen=True, slots=True)
+class Exists:
+    """``∃ x1 : T1; … • P1 ∧ … ∧ Pn``; with no bound names, just the conjunction."""
+
+    bound: tuple[Binding, ...]
+    body: tuple[ex.Expr, ...]
+
+
+Predicate = Union[ex.Expr, Exists]
+
+# --------------------------------------------------------------------------- actions
+
+
+@dataclass(frozen=True, slots=True)
+class Skip:
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class Stop:
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class Dot:
+    """``c.e``: a value that selects the channel's component (the mapped name)."""
+
+    value: ex.Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Out:
+    """``c!e``."""
+
+    value: ex.Expr
+
+
+@dataclass(frozen=True, slots=True)
+class In:
+    """``c?x``: binds ``x`` in the rest of the prefix."""
+
+    name: str
+
+
+Field = Union[Dot, Out, In]
+
+
+@dataclass(frozen=True, slots=True)
+class Comm:
+    """A communication ``channel.tag!v?x``: ``tag`` is the mapped name that selects one
+    variant of a register channel (``registerRead.obstacle``), None for plain channels."""
+
+    channel: str
+    tag: str | None
+    fields: tuple[Field, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Prefix:
+    comm: Comm
+    then: "Action"
+
+
+@dataclass(frozen=True, slots=True)
+class Seq:
+    """``A1 ; A2 ; …`` (two or more)."""
+
+    items: tuple["Action", ...]
+
+
+@dataclass(frozen=True, slots=True)
+class ExtChoice:
+    items: tuple["Action", ...]
+
+
+@dataclass(frozen=True, slots=True)
+class IndexedExtChoice:
+    """``□ v : {v : T | P} • A``: one branch per value of ``v`` satisfying ``where``."""
+
+    var: Binding
+    where: Predicate
+    body: "Action"
+
+
+@dataclass(frozen=True, slots=True)
+class Interleave:
+    """``A1 ||| A2 ||| …`` (two or more), with empty name sets as in the paper."""
+
+    items: tuple["Action", ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Parallel:
+    """``A ⟦ ns1 | cs | ns2 ⟧ B``."""
+
+    left: "Action"
+    left_names: tuple[str, ...]
+    channels: tuple[str, ...]
+    right_names: tuple[str, ...]
+    right: "Action"
+
+
+@dataclass(frozen=True, slots=True)
+class Hide:
+    action: "Action"
+    channels: tuple[str, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Cond:
+    """``if c then A else B`` (the paper's Rule 4 form)."""
+
+    cond: Predicate
+    then: "Action"
+    orelse: "Action"
+
+
+@dataclass(frozen=True, slots=True)
+class Guard:
+    cond: Predicate
+    action: "Action"
+
+
+@dataclass(frozen=True, slots=True)
+class Mu:
+    """``μ X • A``, where ``A`` mentions ``X`` as ``Call(X)``."""
+
+    var: str
+    body: "Action"
+
+
+@dataclass(frozen=True, slots=True)
+class Call:
+    """A use of a named action (or of the recursion variable), with arguments."""
+
+    name: str
+    args: tuple[ex.Expr, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class Interrupt:
+    """``A △ B``."""
+
+    left: "Action"
+    right: "Action"
+
+
+@dataclass(frozen=True, slots=True)
+class InterruptCond:
+    """``A △ (c)``: ``A`` runs until the condition ``c`` holds."""
+
+    action: "Action"
+    cond: Predicate
+
+
+@dataclass(frozen=True, slots=True)
+class Wait:
+    """``Wait(n)``: ``n`` tock events, then termination."""
+
+    count: ex.Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Assign:
+    """``x1, …, xn := e1, …, en``."""
+
+    targets: tuple[str, ...]
+    values: tuple[ex.Expr, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Spec:
+    """``w : [pre, post]``: ``post`` relates the before-state to the after-state of the
+    frame ``w``; a frame name in ``post`` means its after-state value (printed primed)."""
+
+    frame: tuple[str, ...]
+    pre: Predicate
+    post: Predicate
+
+
+@dataclass(frozen=True, slots=True)
+class Evolution:
+    """``[Λ S | ∃ L • P]``: the state ``S`` evolves over time as the equations ``P`` say,
+    with the locals ``L`` existentially quantified; ``Derivative(x)`` is ``x'``."""
+
+    state: str
+    locals: tuple[Binding, ...]
+    equations: tuple[ex.Expr, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class VarBlock:
+    """``var x : T • A``."""
+
+    var: Binding
+    body: "Action"
+
+
+Action = Union[Skip, Stop, Prefix, Seq, ExtChoice, IndexedExtChoice, Interleave, Parallel,
+               Hide, Cond, Guard, Mu, Call, Interrupt, InterruptCond, Wait, Assign, Spec,
+               Evolution, VarBlock]
+
+# --------------------------------------------------------------------------- declarations
+
+
+@dataclass(frozen=True, slots=True)
+class Constant:
+    """A constant with its value (an expression) or open (None): a parameter of the model.
+    ``origin`` is the qualified RoboSim name it comes from."""
+
+    name: str
+    type: Type
+    value: ex.Expr | None
+    origin: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class AxDef:
+    """Global constants constrained by predicates (Rule 1: ``cycle``, ``tscale``)."""
+
+    constants: tuple[Binding, ...]
+    where: tuple[ex.Expr, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class ChannelVariant:
+    """One variant of a channel: its tag (the mapped name, or None) and payload types."""
+
+    tag: str | None
+    types: tuple[Type, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class ChannelDecl:
+    name: str
+    variants: tuple[ChannelVariant, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class SchemaField:
+    name: str
+    type: Type
+    visible: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class Schema:
+    name: str
+    fields: tuple[SchemaField, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class ActionDef:
+    """A named action, possibly parametrised (``MoveCall(lv, av)``)."""
+
+    name: str
+    params: tuple[Binding, ...]
+    body: Action
+
+
+@dataclass(frozen=True, slots=True)
+class BasicProcess:
+    """``process P ≙ begin … end``: constants, the state and local schemas, the named
+    actions in define-before-use order and the main action."""
+
+    name: str
+    constants: tuple[Constant, ...]
+    state: Schema
+    local: Schema
+    actions: tuple[ActionDef, ...]
+    main: Action
+
+
+@dataclass(frozen=True, slots=True)
+class OpaqueProcess:
+    """A process declared by name only (the d-model, whose semantics is out of scope)."""
+
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class PRef:
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class PParallel:
+    left: "ProcessExpr"
+    channels: tuple[str, ...]
+    right: "ProcessExpr"
+
+
+@dataclass(frozen=True, slots=True)
+class PHide:
+    process: "ProcessExpr"
+    channels: tuple[str, ...]
+
+
+ProcessExpr = Union[PRef, PParallel, PHide]
+
+
+@dataclass(frozen=True, slots=True)
+class ProcessDef:
+    name: str
+    body: ProcessExpr
+
+
+@dataclass(frozen=True, slots=True)
+class FunctionDecl:
+    """An uninterpreted function the equations apply (``ScrewAxis``), with its arity."""
+
+    name: str
+    arity: int
+
+
+@dataclass(frozen=True, slots=True)
+class Program:
+    """Rule 1: the global constants, the channels and the three processes; ``functions``
+    lists the uninterpreted functions so that printers can declare them."""
+
+    globals: AxDef
+    channels: tuple[ChannelDecl, ...]
+    dmodel: OpaqueProcess
+    pmodel: BasicProcess
+    system: ProcessDef
+    functions: tuple[FunctionDecl, ...] = ()
+
+
+Node = Union[Type, Binding, Exists, Field, Comm, Action, Constant, AxDef, ChannelVariant,
+             ChannelDecl, SchemaField, Schema, ActionDef, BasicProcess, OpaqueProcess,
+             ProcessExpr, ProcessDef, FunctionDecl, Program]
+
+
+def children(node: object) -> Iterator[object]:
+    """The direct sub-nodes of a node (CyPhyCircus nodes and expressions), in field order."""
+    for f in fields(node):  # type: ignore[arg-type]
+        value = getattr(node, f.name)
+        if isinstance(value, tuple):
+            yield from (v for v in value if not isinstance(v, str))
+        elif value is not None and not isinstance(value, (str, bool, int, float)):
+            yield value
+
+
+def walk(node: object) -> Iterator[object]:
+    """Every node below ``node`` (itself included), expressions too, depth first."""
+    stack = [node]
+    while stack:
+        current = stack.pop()
+        yield current
+        if isinstance(current, ex.Expr):
+            stack.extend(c for c in current.walk() if c is not current)
+            continue
+        stack.extend(reversed(list(children(current))))
+
+
+def names_in(node: object) -> set[str]:
+    """Every variable name mentioned by expressions below ``node``."""
+    return {n.text for n in walk(node) if isinstance(n, ex.Name)}
