@@ -24,7 +24,8 @@ class CheckOptions:
     search_paths: tuple[str, ...] = ()
     wellformedness: bool = True
     consts: dict[str, object] = field(default_factory=dict)
-    neighbours_as_targets: bool = False  # check the files beside a given file too
+    neighbours_as_targets: bool = False  # check the files the given ones use, too
+    value_checks: bool = True  # V1-V5 (geometry, inertia, meshes): what simulators need
 
 
 @dataclass
@@ -38,17 +39,19 @@ class CheckResult:
 def check(paths: Sequence[str | Path], options: CheckOptions = CheckOptions()) -> CheckResult:
     """Parse the files (or folders) and, unless ``syntax_only``, resolve names and check the
     scope conditions. Diagnostics of library files are never reported."""
-    ws, report = load_workspace(paths, options.search_paths,
-                                neighbours_as_targets=options.neighbours_as_targets)
+    ws, report = load_workspace(paths, options.search_paths)
     result = CheckResult(ws, report, sources=ws.texts)
     if options.syntax_only:
         return result
+    if options.neighbours_as_targets:
+        ws.targets = _with_dependencies(ws)
     check_placement(ws.user_files(), report)
     result.resolution = check_scopes(ws, report)
     if options.wellformedness:
-        from cyphy.wellformed import WFContext, check_wellformed
+        from cyphy.wellformed import RULES, WFContext, check_wellformed
 
-        check_wellformed(WFContext(ws, result.resolution, report, dict(options.consts)))
+        only = None if options.value_checks else {i for i in RULES if not i.startswith("V")}
+        check_wellformed(WFContext(ws, result.resolution, report, dict(options.consts)), only)
     return result
 
 
@@ -60,6 +63,23 @@ class Generated:
     report: Report
     sources: dict[str, str] = field(default_factory=dict)
     files: dict[str, str | bytes] = field(default_factory=dict)
+
+
+def _with_dependencies(ws: Workspace) -> list[str]:
+    """The given files and every (non-library) file they use, transitively: what a
+    generator translates with them, so what must be resolved and checked with them. Files
+    that merely sit in the same folder (another robot's p-model) are left out."""
+    item_file = {id(item): f.path for f in ws.files.values() for item in f.items}
+    library = {f.path for pkg in ws.packages.values() if pkg.builtin for f in pkg.files}
+    targets = list(ws.targets)
+    while True:
+        ws.targets = targets
+        resolution = check_scopes(ws, Report())
+        used = {item_file[id(d)] for d in resolution.targets.values() if id(d) in item_file}
+        new = sorted(used - set(targets) - library)
+        if not new:
+            return targets
+        targets = targets + new
 
 
 @dataclass(frozen=True)
@@ -147,4 +167,72 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
             and not result.reduced.obstacles:
         inputs = {f"der_{n}": 0 for n in result.system.inputs}
         result.closed_form = closed_form(result.reduced, inputs)
+    return result
+
+
+@dataclass(frozen=True)
+class SemanticsGenOptions:
+    """Options of the CyPhyCircus generators (``--cyphycircus``, ``--latex``)."""
+
+    mapping: str | None = None
+    system_name: str | None = None
+    tscale: float | None = None
+    consts: dict[str, object] = field(default_factory=dict)
+    search_paths: tuple[str, ...] = ()
+    pdf: bool = False
+
+
+def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = SemanticsGenOptions()
+              ) -> tuple[CheckResult, Any]:
+    """Check the files (and those beside them) and apply the paper's rules to the chosen
+    platform mapping: ``(check result, Semantics or None)``."""
+    from cyphy.semantics.build import SemanticsOptions, build_semantics
+
+    # The value checks concern geometry and inertia, which the semantics does not use.
+    checked = check(paths, CheckOptions(search_paths=options.search_paths,
+                                        consts=dict(options.consts),
+                                        neighbours_as_targets=True, value_checks=False))
+    if checked.report.has_errors or checked.resolution is None:
+        return checked, None
+    built = build_semantics(checked.workspace, checked.resolution, checked.report,
+                            SemanticsOptions(options.mapping, options.system_name,
+                                             options.tscale, dict(options.consts)))
+    return checked, built
+
+
+def generate_cyphycircus(paths: Sequence[str | Path], target: str,
+                         options: SemanticsGenOptions = SemanticsGenOptions()) -> Generated:
+    """``target`` ``"text"``: ``<N>.cpc`` (Unicode, reads like the paper's Figure 18);
+    ``"latex"``: ``<N>.tex`` with ``cyphycircus.sty`` (and ``<N>.pdf`` with ``pdf``). Both
+    with the names table ``<N>.names.json``."""
+    import json
+
+    checked, built = semantics(paths, options)
+    result = Generated(checked.report, checked.sources)
+    if built is None or checked.report.has_errors:
+        return result
+    stem = built.program.system.name
+    if target == "text":
+        from cyphy.backends.circus_text import program_to_text
+
+        result.files[f"{stem}.cpc"] = program_to_text(built.program)
+    else:
+        from cyphy.backends.circus_latex import STYLE, program_to_latex
+
+        document = program_to_latex(built.program)
+        result.files[f"{stem}.tex"] = document
+        result.files["cyphycircus.sty"] = STYLE
+        if options.pdf:
+            from cyphy.backends.pdf import PdfError, typeset
+
+            try:
+                result.files[f"{stem}.pdf"] = typeset(document, {"cyphycircus.sty": STYLE})
+            except PdfError as err:
+                from cyphy.semantics.build import NO_PDF
+
+                checked.report.report(NO_PDF, str(err), built.mapping.span, err.hint)
+                result.files.clear()
+                return result
+    table = {q: m for q, m in built.names.items()}
+    result.files[f"{stem}.names.json"] = json.dumps(table, indent=2, sort_keys=True) + "\n"
     return result

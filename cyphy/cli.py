@@ -233,5 +233,34 @@ def main(argv: Sequence[str] | None = None) -> int:
     return 2
 
 
+def _semantics_options(parser: argparse.ArgumentParser) -> None:
+    """Options of every generator built on the CyPhyCircus semantics."""
+    parser.add_argument("--tscale", type=float, metavar="SECONDS",
+                        help="fix tscale, the length of one d-model time unit "
+                        "(CyPhyCircus, LaTeX, Isabelle)")
+    parser.add_argument("--name", metavar="N",
+                        help="name of the whole system's process (default: the mapping's)")
+
+
+def _latex_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--pdf", action="store_true",
+                        help="with --latex, also typeset the document with pdflatex")
+
+
+def _gen_semantics(args: argparse.Namespace) -> "Generated":
+    from cyphy.api import SemanticsGenOptions, generate_cyphycircus
+
+    options = SemanticsGenOptions(args.model, args.name, args.tscale, _consts(args),
+                                  tuple(args.path), getattr(args, "pdf", False))
+    return generate_cyphycircus(args.paths, "text" if args.target == "cyphycircus"
+                                else "latex", options)
+
+
+GENERATORS["cyphycircus"] = (
+    _gen_semantics, "the CyPhyCircus semantics of a platform mapping, as text", _semantics_options)
+GENERATORS["latex"] = (
+    _gen_semantics, "the CyPhyCircus semantics as LaTeX for the CZT tools", _latex_options)
+
+
 if __name__ == "__main__":
     sys.exit(main())

@@ -98,14 +98,9 @@ def _read(path: Path, report: Report) -> str | None:
 
 
 def load_workspace(
-    paths: Iterable[str | Path], search_paths: Iterable[str | Path] = (), report: Report | None = None,
-    neighbours_as_targets: bool = False,
+    paths: Iterable[str | Path], search_paths: Iterable[str | Path] = (), report: Report | None = None
 ) -> tuple[Workspace, Report]:
-    """Read and parse the given files or folders (and their neighbours) into a workspace.
-
-    With ``neighbours_as_targets`` the files beside a given file are checked as if given
-    too: generators translate a mapping together with the p-model and d-model files next
-    to it, so those must be resolved and free of errors as well."""
+    """Read and parse the given files or folders (and their neighbours) into a workspace."""
     report = report if report is not None else Report()
     ws = Workspace()
     targets: list[Path] = []
@@ -147,8 +142,6 @@ def load_workspace(
         if result.file is not None:
             ws.files[str(p)] = result.file
     ws.named = [str(p) for p in dict.fromkeys(targets)]
-    if neighbours_as_targets:
-        targets = targets + [p for p in neighbours if str(p) in ws.files]
     ws.targets = [str(p) for p in dict.fromkeys(targets)]
 
     user_packages = {f.package for f in ws.files.values()}

@@ -20,6 +20,7 @@ from cyphy.semantics.values import type_of
 
 NO_MAPPING = codes.code("E-MAPPING", codes.E,
                         "no platform mapping to give a semantics to")
+NO_PDF = codes.code("E-PDF", codes.E, "the LaTeX output cannot be typeset to PDF")
 UNTRANSLATABLE = codes.code("E-SEMANTICS", codes.E,
                             "the mapping cannot be translated to CyPhyCircus")
 

@@ -13,7 +13,7 @@ top (Isabelle reserved words, ``\\_`` in LaTeX).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from typing import Iterator, Union
 
 from cyphy import expr as ex
@@ -269,7 +269,7 @@ class Constant:
     name: str
     type: Type
     value: ex.Expr | None
-    origin: str = ""
+    origin: str = field(default="", compare=False)  # not printed: the names table has it
 
 
 @dataclass(frozen=True, slots=True)
@@ -412,5 +412,7 @@ def walk(node: object) -> Iterator[object]:
 
 
 def names_in(node: object) -> set[str]:
-    """Every variable name mentioned by expressions below ``node``."""
-    return {n.text for n in walk(node) if isinstance(n, ex.Name)}
+    """Every variable name mentioned by expressions below ``node`` (not applied functions)."""
+    nodes = list(walk(node))
+    functions = {id(n.func) for n in nodes if isinstance(n, ex.Call)}
+    return {n.text for n in nodes if isinstance(n, ex.Name) and id(n) not in functions}

@@ -1,0 +1,340 @@
+"""The paper's semantic rules on the marXbot mapping, the text round trip, LaTeX and PDF."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from conftest import CORPUS, EXAMPLES, needs_corpus
+from cyphy import expr as ex
+from cyphy.api import SemanticsGenOptions, generate_cyphycircus, semantics
+from cyphy.backends.circus_reader import read_program
+from cyphy.backends.circus_text import program_to_text
+from cyphy.semantics import circus as c
+
+MAPPING = EXAMPLES / "marxbot" / "Mapping.rsm"
+
+
+def _program(path: Path, **kw: object) -> c.Program:
+    checked, built = semantics([path], SemanticsGenOptions(**kw))  # type: ignore[arg-type]
+    assert built is not None, [str(d) for d in checked.report.diagnostics]
+    return built.program
+
+
+@pytest.fixture(scope="module")
+def marxbot() -> c.Program:
+    return _program(MAPPING)
+
+
+def _actions(p: c.Program) -> dict[str, c.ActionDef]:
+    return {a.name: a for a in p.pmodel.actions}
+
+
+def _name(n: str) -> ex.Name:
+    return ex.Name((n,))
+
+
+def test_rule1_globals_channels_and_system(marxbot: c.Program) -> None:
+    g = marxbot.globals
+    assert [b.name for b in g.constants] == ["cycle", "tscale"]
+    assert ex.BinOp("==", _name("cycle"), ex.Num("1")) in g.where  # cycleDef cycle == 1
+    assert ex.BinOp(">", _name("tscale"), ex.Num("0")) in g.where
+    chans = {ch.name: ch for ch in marxbot.channels}
+    assert chans["registerRead"].variants == (c.ChannelVariant("obstacle", (c.BOOL,)),)
+    assert chans["registerWrite"].variants == (c.ChannelVariant("move", (c.REAL, c.REAL)),
+                                               c.ChannelVariant("stop", ()))
+    cs = ("registerRead", "registerWrite", "tock")
+    assert marxbot.system == c.ProcessDef("M", c.PHide(c.PParallel(
+        c.PRef("marXbotSoftware"), cs, c.PRef("marXbotBase")), cs))
+
+
+def test_tscale_option_fixes_tscale() -> None:
+    p = _program(MAPPING, tscale=0.001)
+    assert ex.BinOp("==", _name("tscale"), ex.Num("0.001")) in p.globals.where
+
+
+def test_state_schema_private_and_visible(marxbot: c.Program) -> None:
+    fields = {f.name: f.visible for f in marxbot.pmodel.state.fields}
+    assert marxbot.pmodel.state.name == "marXbotBaseState"
+    for private in ("timer", "LHinge_tau", "LHinge_pV", "LHinge_pA", "LMotor_das",
+                    "Proximity1_voltage"):
+        assert fields[private] is False, private
+    for visible in ("LMotor_T", "Proximity0_distance", "LHinge_F"):
+        assert fields[visible] is True, visible
+    local = {f.name for f in marxbot.pmodel.local.fields}
+    assert marxbot.pmodel.local.name == "marXbotBaseLocal"
+    assert {"LHinge_theta", "move_dsl", "move_dsr"} <= local
+    assert not local & set(fields)
+
+
+def test_constants_with_values_and_open(marxbot: c.Program) -> None:
+    consts = {k.name: k for k in marxbot.pmodel.constants}
+    assert consts["move_axisLength"].value == ex.Num("0.06")  # 0.06m in SI
+    assert consts["LMotor_J"].value is None  # open: a parameter of the model
+    assert consts["LHinge_AXIS"].value == ex.Seq((ex.Num("0.0"), ex.Num("1.0"), ex.Num("0.0")))
+
+
+def test_init_and_input_event(marxbot: c.Program) -> None:
+    acts = _actions(marxbot)
+    assert acts["Init"].body == c.Assign(("timer", "LMotor_das", "RMotor_das"),
+                                         (ex.Num("0"),) * 3)
+    obstacle = acts["ObstacleToDModel"].body
+    assert isinstance(obstacle, c.Cond)
+    assert obstacle.cond == ex.BinOp(">=", _name("Proximity1_voltage"), ex.Num("3.0"))
+    assert obstacle.then == c.Prefix(c.Comm("registerRead", "obstacle", (c.Out(ex.Bool(True)),)),
+                                     c.Skip())
+    assert obstacle.orelse == c.Prefix(
+        c.Comm("registerRead", "obstacle", (c.Out(ex.Bool(False)),)), c.Skip())
+    assert acts["SendToDModel"].body == c.Call("ObstacleToDModel")  # one mapping: no |||
+
+
+def test_operations_and_receive(marxbot: c.Program) -> None:
+    acts = _actions(marxbot)
+    move = acts["MoveCall"]
+    assert [p.name for p in move.params] == ["lv", "av"]
+    spec = move.body
+    assert isinstance(spec, c.Spec) and spec.frame == ("LMotor_das", "RMotor_das")
+    assert spec.pre == ex.Bool(True)
+    assert isinstance(spec.post, c.Exists)
+    assert [b.name for b in spec.post.bound] == ["move_dsl", "move_dsr"]
+    assert len(spec.post.body) == 4
+    assert spec.post.body[0] == ex.BinOp("==", _name("LMotor_das"), _name("move_dsl"))
+    assert acts["MoveFromDModel"].body == c.Prefix(
+        c.Comm("registerWrite", "move", (c.In("lv"), c.In("av"))),
+        c.Call("MoveCall", (_name("lv"), _name("av"))))
+    assert acts["StopFromDModel"].body == c.Prefix(c.Comm("registerWrite", "stop", ()),
+                                                   c.Call("StopCall"))
+    assert acts["ReceiveFromDModel"].body == c.Interleave(
+        (c.Call("MoveFromDModel"), c.Call("StopFromDModel")))
+
+
+def test_evolve_has_every_equation_once_and_timer(marxbot: c.Program) -> None:
+    from cyphy.api import ElaborateOptions, elaborate
+
+    model = elaborate([EXAMPLES / "marxbot"], ElaborateOptions("marXbotBase")).model
+    assert model is not None
+    expected = [e for d in model.devices for e in d.equations] + list(model.relations)
+    evolution = _actions(marxbot)["Evolve"].body
+    assert isinstance(evolution, c.Evolution)
+    assert evolution.state == "marXbotBaseState" and evolution.locals == "marXbotBaseLocal"
+    eqs = list(evolution.equations)
+    assert eqs[-1] == ex.BinOp("==", ex.Derivative(_name("timer")), ex.Num("1"))
+    assert sorted(map(repr, eqs[:-1])) == sorted(map(repr, expected))
+    declared = {f.name for f in marxbot.pmodel.state.fields} | \
+        {f.name for f in marxbot.pmodel.local.fields} | \
+        {k.name for k in marxbot.pmodel.constants}
+    assert c.names_in(evolution) <= declared
+
+
+def test_main_action(marxbot: c.Program) -> None:
+    timer, cycle = _name("timer"), _name("cycle")
+    assert marxbot.pmodel.main == c.Seq((c.Call("Init"), c.Mu("X", c.Seq((
+        c.Call("SendToDModel"), c.Interrupt(c.Call("ReceiveFromDModel"), c.Wait(cycle)),
+        c.Assign(("timer",), (ex.Num("0"),)),
+        c.InterruptCond(c.Call("Evolve"), ex.BinOp(">=", timer, ex.BinOp(
+            "*", cycle, _name("tscale")))),
+        c.Call("X"))))))
+
+
+def test_names_unique_and_defined_before_use(marxbot: c.Program) -> None:
+    names = [a.name for a in marxbot.pmodel.actions]
+    assert len(names) == len(set(names))
+    seen: set[str] = set()
+    for a in marxbot.pmodel.actions:
+        calls = {n.name for n in c.walk(a.body) if isinstance(n, c.Call)}
+        assert calls <= seen, (a.name, calls - seen)
+        seen.add(a.name)
+    globals_ = [f.name for f in marxbot.pmodel.state.fields + marxbot.pmodel.local.fields] + \
+        [k.name for k in marxbot.pmodel.constants]
+    assert len(globals_) == len(set(globals_))
+
+
+def test_text_round_trip(marxbot: c.Program) -> None:
+    text = program_to_text(marxbot)
+    assert "Evolve ≙ [Λ marXbotBaseState | ∃ marXbotBaseLocal •" in text
+    assert "timer' = 1" in text
+    assert read_program(text) == marxbot
+
+
+@needs_corpus
+def test_corpus_marxbot_mapping() -> None:
+    p = _program(CORPUS / "marXbot" / "Mapping.pm")
+    acts = _actions(p)
+    assert list(acts) == ["Init", "ObstacleToDModel", "SendToDModel", "MoveCall",
+                          "MoveFromDModel", "StopCall", "StopFromDModel",
+                          "ReceiveFromDModel", "Evolve"]
+    assert read_program(program_to_text(p)) == p
+
+
+# --------------------------------------------------------------------------- generated mappings
+
+SOFTWARE = """package gen
+interface OpsI {{
+{ops}
+}}
+interface EvI {{
+{events}
+}}
+module Soft {{
+  cycleDef cycle == 1
+  robotic platform Plat {{
+    provides OpsI
+    uses EvI
+  }}
+}}
+"""
+
+MAPPING_TEXT = """package genmap
+import marXbotBase::*
+import gen::*
+map G dmodel Soft to pmodel marXbotBase {{
+{body}
+}}
+"""
+
+_PORTS = ["Core::LHinge::LMotor.das", "Core::RHinge::RMotor.das"]
+
+
+@st.composite
+def mappings(draw: st.DrawFn) -> tuple[str, str, int, int]:
+    n_ops = draw(st.integers(0, 3))
+    n_events = draw(st.integers(0, 3))
+    ops, events, body = [], [], []
+    for i in range(n_ops):
+        params = [f"p{i}_{k}" for k in range(draw(st.integers(0, 2)))]
+        ops.append(f"  op{i}({', '.join(p + ': real' for p in params)})")
+        lines = [f"  operation op{i} {{", "    var w: real"]
+        for port in draw(st.lists(st.sampled_from(_PORTS), min_size=1, max_size=2,
+                                  unique=True)):
+            coeff = draw(st.integers(1, 5))
+            rhs = " + ".join([f"{coeff}*w", *params]) if params else f"{coeff}*w"
+            lines.append(f"    equation {port} == {rhs}")
+        lines.append(f"    equation w == {draw(st.integers(0, 9))}")
+        body += lines + ["  }"]
+    for i in range(n_events):
+        typed = draw(st.booleans())
+        events.append(f"  event ev{i}" + (": real" if typed else ""))
+        sensor = draw(st.integers(0, 23))
+        threshold = draw(st.integers(1, 5))
+        lines = [f"  input event ev{i}" + (" ? v" if typed else "") + " {",
+                 f"    predicate Core::Proximity[{sensor}].voltage >= {threshold}.0"]
+        if typed:
+            lines.append(f"    equation v == 2*Core::Proximity[{sensor}].voltage")
+        body += lines + ["  }"]
+    return (SOFTWARE.format(ops="\n".join(ops), events="\n".join(events)),
+            MAPPING_TEXT.format(body="\n".join(body)), n_ops, n_events)
+
+
+@settings(max_examples=15, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(mappings())
+def test_rules_on_generated_mappings(tmp_path_factory: pytest.TempPathFactory,
+                                     case: tuple[str, str, int, int]) -> None:
+    software, mapping, n_ops, n_events = case
+    folder = tmp_path_factory.mktemp("gen")
+    for f in ("Treel.rsm", "marXbotBase.rsm"):
+        shutil.copy(EXAMPLES / "marxbot" / f, folder / f)
+    (folder / "Soft.rsm").write_text(software)
+    (folder / "Map.rsm").write_text(mapping)
+    p = _program(folder / "Map.rsm")
+    acts = _actions(p)
+    send = acts["SendToDModel"].body
+    branches = [a for a in acts if a.endswith("ToDModel") and a != "SendToDModel"]
+    assert len(branches) == n_events
+    if n_events == 0:
+        assert send == c.Skip()
+    elif n_events == 1:
+        assert send == c.Call(branches[0])
+    else:
+        assert send == c.Interleave(tuple(c.Call(b) for b in branches))
+    for i, b in enumerate(branches):
+        cond = acts[b].body
+        assert b == f"Ev{i}ToDModel" and isinstance(cond, c.Cond)
+        typed = f"event ev{i}: real" in software
+        assert isinstance(cond.then, c.IndexedExtChoice) == typed  # Rule 5
+        if typed:
+            assert cond.then.body.comm.fields[-1] == c.Out(_name(cond.then.var.name))
+            assert isinstance(cond.then.where, c.Exists) and len(cond.then.where.body) == 1
+    receive = acts["ReceiveFromDModel"].body
+    assert (receive == c.Skip()) == (n_ops == 0)
+    declared = {f.name for f in p.pmodel.state.fields} | \
+        {f.name for f in p.pmodel.local.fields} | {k.name for k in p.pmodel.constants} | \
+        {"cycle", "tscale"}
+    for a in p.pmodel.actions:
+        bound = {b.name for b in a.params} | {n.name for n in c.walk(a.body) if isinstance(n, c.In)}
+        bound |= {b.name for n in c.walk(a.body) if isinstance(n, c.Exists) for b in n.bound}
+        bound |= {n.var.name for n in c.walk(a.body) if isinstance(n, c.IndexedExtChoice)}
+        assert c.names_in(a.body) <= declared | bound, a.name
+    names = [x.name for x in p.pmodel.actions]
+    assert len(names) == len(set(names))
+    assert read_program(program_to_text(p)) == p
+
+
+# --------------------------------------------------------------------------- files
+
+def _gen(tmp_path: Path, *flags: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "cyphy", "gen", str(MAPPING), *flags,
+                           "-o", str(tmp_path)], capture_output=True, text=True)
+
+
+def test_gen_cyphycircus_files_deterministic(tmp_path: Path) -> None:
+    first = generate_cyphycircus([MAPPING], "text")
+    second = generate_cyphycircus([MAPPING], "text")
+    assert set(first.files) == {"M.cpc", "M.names.json"}
+    assert first.files == second.files
+    run = _gen(tmp_path, "--cyphycircus")
+    assert run.returncode == 0, run.stderr
+    assert (tmp_path / "M.cpc").read_text(encoding="utf-8") == first.files["M.cpc"]
+    import json
+
+    table = json.loads((tmp_path / "M.names.json").read_text())
+    assert table["marXbotBase::Core::LHinge::LMotor.das"] == "LMotor_das"
+    assert table["M::move::dsl"] == "move_dsl"
+
+
+def test_gen_refuses_model_with_errors(tmp_path: Path) -> None:
+    bad = tmp_path / "bad"
+    shutil.copytree(EXAMPLES / "marxbot", bad)
+    text = (bad / "Mapping.rsm").read_text().replace("Core::LHinge::LMotor.das == dsl",
+                                                       "Core::LHinge::LMotr.das == dsl")
+    (bad / "Mapping.rsm").write_text(text)
+    out = tmp_path / "out"
+    run = subprocess.run([sys.executable, "-m", "cyphy", "gen", str(bad / "Mapping.rsm"),
+                          "--cyphycircus", "-o", str(out)], capture_output=True, text=True)
+    assert run.returncode == 1
+    assert "LMotr" in run.stderr and "Traceback" not in run.stderr
+    assert not out.exists()
+
+
+def test_latex_uses_czt_macros() -> None:
+    tex = generate_cyphycircus([MAPPING], "latex").files["M.tex"]
+    for macro in ("\\circprocess marXbotBase \\circdef \\circbegin", "\\circstate",
+                  "\\begin{schema}{marXbotBaseState}", "\\mathbf{visible}\\; LMotor\\_T",
+                  "\\Lambda marXbotBaseState", "\\derivative{timer} = 1", "\\circmu X",
+                  "\\circinterrupt", "\\interleave", "\\prefixcolon", "\\circend",
+                  "registerRead\\_obstacle!\\true \\then \\Skip"):
+        assert macro in tex, macro
+    assert tex.count("\\circtoolsoff") == tex.count("\\circtoolson")
+    body = tex.replace("\\_", "")
+    assert "_" not in body.split("\\begin{document}")[1].replace("%%Z", "")
+
+
+@pytest.mark.skipif(shutil.which("pdflatex") is None, reason="pdflatex is not installed")
+def test_latex_pdf(tmp_path: Path) -> None:
+    run = _gen(tmp_path, "--latex", "--pdf")
+    assert run.returncode == 0, run.stderr
+    pdf = (tmp_path / "M.pdf").read_bytes()
+    assert pdf.startswith(b"%PDF")
+    import re
+
+    pages = re.findall(rb"/Type\s*/Page\b", pdf)
+    assert len(pages) >= 2  # the semantics of the marXbot takes more than one page
+    second = _gen(tmp_path / "again", "--latex", "--pdf")
+    assert second.returncode == 0
+    assert (tmp_path / "again" / "M.pdf").read_bytes() == pdf  # reproducible
