@@ -135,7 +135,8 @@ def _sdf_options(gen: argparse.ArgumentParser) -> None:
                        help="pose of the model in the world (metres, radians; default zeros)")
     group.add_argument("--short-names", action="store_true",
                        help="RoboTool's coded names (1-Wheel, 1--wheel) instead of readable ones")
-    group.add_argument("--target", choices=("gazebo", "coppeliasim"), default="gazebo",
+    group.add_argument("--target", dest="sdf_target", choices=("gazebo", "coppeliasim"),
+                       default="gazebo",
                        help="coppeliasim: RoboTool's CoppeliaSim conventions (coded names, "
                        "sensor poses turned by Ry(pi/2))")
     group.add_argument("--gazebo-model", metavar="DIR",
@@ -151,7 +152,7 @@ def _sdf_run(args: argparse.Namespace) -> "Generated":
             raise SystemExit(2)
         args.output = args.gazebo_model
     options = SdfGenOptions(args.model, _consts(args), tuple(args.path), tuple(args.pose),
-                            args.short_names, args.target, args.gazebo_model is not None)
+                            args.short_names, args.sdf_target, args.gazebo_model is not None)
     return generate_sdf(args.paths, options)
 
 

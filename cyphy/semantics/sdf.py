@@ -50,6 +50,8 @@ NO_ACTUATOR = codes.code("W-SDF-ACTUATOR", codes.W,
                          "an actuator annotation with no SDF element valid where it sits")
 NO_CHILD = codes.code("W-SDF-UNCONNECTED", codes.W,
                       "a joint without a flexible connection: not written to SDF")
+NO_INERTIA = codes.code("W-SDF-INERTIA", codes.W,
+                        "a link with a mass but no inertia and no body to derive one from")
 LOOP = codes.code("W-SDF-LOOP", codes.W,
                   "two links connected both by a joint and by a fixed connection")
 NOT_TREE = codes.code("W-SDF-TREE", codes.W,
@@ -263,7 +265,7 @@ def link_rule(t: _Translation, link: Link) -> list:  # type: ignore[type-arg]
     (Rule 4), a collision and a visual per body (Rule 3), its sensors and its actuators."""
     node = Node("link", {"name": t.names.link(link)})
     node.add("pose", link.pose)
-    node.children.append(inertial_rule(link))
+    node.children.append(inertial_rule(t, link))
     for body in link.bodies:
         node.children.extend(body_rule(t, body))
     for sensor in link.sensors:
@@ -273,14 +275,20 @@ def link_rule(t: _Translation, link: Link) -> list:  # type: ignore[type-arg]
     return [Comment(f"link {link.name}"), node]
 
 
-def inertial_rule(link: Link) -> Node:
+def inertial_rule(t: _Translation, link: Link) -> Node:
     """Rule 4: the link's own inertial if it has one; otherwise the combination of its bodies'
     (mass, centre of mass, inertia by rotation and the parallel-axis theorem), which
     elaboration computes. A link with no mass anywhere (warning L4) gets ``DEFAULT_MASS``
-    spread over its bodies by volume, or SDF's default (1 kg, unit inertia) without bodies."""
+    spread over its bodies by volume, or SDF's default (1 kg, unit inertia) without bodies.
+    A mass with no inertia and no body geometry gets SDF's unit inertia and a warning."""
     inertial = link.inertial
     if inertial is None:
         inertial = _default_inertial(link)
+    elif inertial.inertia == (0.0,) * 6:
+        t.report.report(NO_INERTIA, f"link {link.name} gives a mass but no inertia matrix and "
+                        "has no body to compute one from: SDF gets the unit inertia",
+                        link.span, "add `inertia matrix { … }` or a body with a geometry")
+        inertial = Inertial(inertial.mass, inertial.com, (1.0, 0.0, 0.0, 1.0, 0.0, 1.0))
     node = Node("inertial")
     node.add("pose", inertial.com)
     node.add("mass", inertial.mass)
