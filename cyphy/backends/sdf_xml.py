@@ -3,8 +3,9 @@
 The rules (:mod:`cyphy.semantics.sdf`) give values as Python objects; this module prints them:
 
 * numbers with Python's shortest round-trip ``repr``, after removing float noise: a value
-  within a few ulps of a 15-digit decimal prints as that decimal (a computed
-  ``0.30000000000000004`` prints ``0.3``), a value within 1e-12 of an integer as that integer,
+  within 8 ulps of a 15-digit decimal prints as that decimal (a computed
+  ``0.30000000000000004`` or ``0.41 - 0.43 = -0.020000000000000018`` prints ``0.3``,
+  ``-0.02``, while π/2 keeps its digits), a value within 1e-12 of an integer as that integer,
   and ``-0.0`` as ``0``; integers as integers; booleans ``true``/``false``;
 * vectors with single spaces (``0 1 0``), never RoboTool's ``010``;
 * poses as ``x y z roll pitch yaw`` with ``R = Rz(yaw)·Ry(pitch)·Rx(roll)``, roll and yaw in
@@ -41,9 +42,9 @@ def number(value: float | int | bool) -> str:
     nearest = round(v)
     if abs(v - nearest) <= 1e-12 * max(1.0, abs(v)):
         v = float(nearest)
-    else:
+    elif len(repr(v)) > 17:  # 16-17 significant digits: noise after a short decimal?
         short = float(f"{v:.15g}")
-        if abs(short - v) <= 4 * math.ulp(v):
+        if abs(short - v) <= 8 * math.ulp(v):
             v = short
     if v == 0.0:
         return "0"
