@@ -236,3 +236,61 @@ def generate_cyphycircus(paths: Sequence[str | Path], target: str,
     table = {q: m for q, m in built.names.items()}
     result.files[f"{stem}.names.json"] = json.dumps(table, indent=2, sort_keys=True) + "\n"
     return result
+
+
+@dataclass(frozen=True)
+class SdfGenOptions:
+    model: str | None = None
+    consts: dict[str, object] = field(default_factory=dict)
+    search_paths: tuple[str, ...] = ()
+    pose: tuple[float, float, float, float, float, float] = (0.0,) * 6
+    short_names: bool = False
+    target: str = "gazebo"  # or "coppeliasim"
+    gazebo_model: bool = False  # files model.sdf and model.config instead of <Model>.sdf
+
+
+def generate_sdf(paths: Sequence[str | Path], options: SdfGenOptions = SdfGenOptions()
+                 ) -> Generated:
+    """SDF 1.6 for one p-model (``cyphy gen --sdf``): ``<Model>.sdf`` and the name table
+    ``<Model>.names.json``, or, for a Gazebo model folder, ``model.sdf``, ``model.config``
+    and the table. No files when the model has errors or constants without values."""
+    from cyphy.backends.sdf_xml import model_config, names_json, to_xml
+    from cyphy.model.elaborate import choose_pmodel, elaborate_pmodel, require_constants
+    from cyphy.semantics.sdf import SdfOptions, translate, unvalued
+
+    checked = check(paths, CheckOptions(search_paths=options.search_paths,
+                                        consts=dict(options.consts)))
+    generated = Generated(checked.report, checked.sources)
+    if checked.report.has_errors or checked.resolution is None:
+        return generated
+    chosen = choose_pmodel(checked.workspace, options.model, checked.report)
+    if chosen is None:
+        return generated
+    model = elaborate_pmodel(checked.workspace, checked.resolution, checked.report, *chosen,
+                             options.consts, equations=False)  # type: ignore[arg-type]
+    if unvalued(model):  # only constants that SDF needs must have values
+        needed = {n: spans for n, spans in model.missing.items()
+                  if not _device_constant(model, n)} or model.missing
+        model.missing = needed
+        require_constants(model, checked.report, "SDF generation")
+    if checked.report.has_errors:
+        return generated
+    document = translate(model, checked.workspace, checked.report,
+                         SdfOptions(options.pose, options.short_names, options.target))
+    text = to_xml(document.root)
+    if options.gazebo_model:
+        generated.files = {"model.sdf": text, "model.config": model_config(model.name),
+                           f"{model.name}.names.json": names_json(document.names)}
+    else:
+        generated.files = {f"{model.name}.sdf": text,
+                           f"{model.name}.names.json": names_json(document.names)}
+    return generated
+
+
+def _device_constant(model: "ElaboratedModel", name: str) -> bool:
+    """Whether a missing constant (``IR::a``) is a constant of a device's definition: the
+    equations need it, SDF only if an annotation uses it."""
+    definition, _, const = name.rpartition("::")
+    return any(e.definition == definition and e.device is not None
+               and e.device.port(const) is not None
+               for e in [*model.joints, *model.sensors, *model.actuators])

@@ -116,6 +116,50 @@ GENERATORS: dict[str, tuple[Callable[[argparse.Namespace], "Generated"], str,
                             Callable[[argparse.ArgumentParser], None]]] = {}
 
 
+def _sdf_pose(text: str) -> tuple[float, float, float, float, float, float]:
+    parts = text.split(",")
+    try:
+        values = tuple(float(p) for p in parts)
+    except ValueError:
+        values = ()
+    if len(values) != 6:
+        raise argparse.ArgumentTypeError(f"expected six numbers x,y,z,roll,pitch,yaw, not "
+                                         f"{text!r}")
+    return values  # type: ignore[return-value]
+
+
+def _sdf_options(gen: argparse.ArgumentParser) -> None:
+    group = gen.add_argument_group("--sdf options")
+    group.add_argument("--pose", type=_sdf_pose, default=(0.0,) * 6,
+                       metavar="x,y,z,roll,pitch,yaw",
+                       help="pose of the model in the world (metres, radians; default zeros)")
+    group.add_argument("--short-names", action="store_true",
+                       help="RoboTool's coded names (1-Wheel, 1--wheel) instead of readable ones")
+    group.add_argument("--target", dest="sdf_target", choices=("gazebo", "coppeliasim"),
+                       default="gazebo",
+                       help="coppeliasim: RoboTool's CoppeliaSim conventions (coded names, "
+                       "sensor poses turned by Ry(pi/2))")
+    group.add_argument("--gazebo-model", metavar="DIR",
+                       help="write a Gazebo model folder DIR (model.config, model.sdf)")
+
+
+def _sdf_run(args: argparse.Namespace) -> "Generated":
+    from cyphy.api import SdfGenOptions, generate_sdf
+
+    if args.gazebo_model is not None:
+        if args.output is not None:
+            sys.stderr.write("cyphy gen: error: give either -o or --gazebo-model\n")
+            raise SystemExit(2)
+        args.output = args.gazebo_model
+    options = SdfGenOptions(args.model, _consts(args), tuple(args.path), tuple(args.pose),
+                            args.short_names, args.sdf_target, args.gazebo_model is not None)
+    return generate_sdf(args.paths, options)
+
+
+GENERATORS["sdf"] = (_sdf_run, "SDF 1.6 for Gazebo and other simulators (the paper's "
+                     "section 5)", _sdf_options)
+
+
 def _solve(args: argparse.Namespace) -> int:
     from cyphy.api import SolveOptions, solve
     from cyphy.backends.odes import odes_to_json, odes_to_latex, odes_to_text

@@ -646,7 +646,10 @@ class _Elaborator:
         if chosen is None:
             return None
         file = self.ctx.file_of.get(id(definition)) if not own and definition else None
-        return self._template_value(chosen.instance, env if file is None else Env(self.ctx, file))
+        # An inherited annotation sees the block's constants (the definition's, as the
+        # reference instantiates them), then the names of the definition's file.
+        return self._template_value(chosen.instance,
+                                    env if file is None else Env(self.ctx, file, env))
 
     def _template_value(self, inst: ast.TemplateInstance, env: Env) -> AnnotationValue:
         """The evaluated annotation. One that names nothing (literals only, the common case)
