@@ -24,6 +24,8 @@ class CheckOptions:
     search_paths: tuple[str, ...] = ()
     wellformedness: bool = True
     consts: dict[str, object] = field(default_factory=dict)
+    consistency: bool = False  # also C1-C5 on the platform mappings (imports Z3)
+    z3_timeout_ms: int | None = None  # per Z3 query; None: the checks' default
 
 
 @dataclass
@@ -47,7 +49,17 @@ def check(paths: Sequence[str | Path], options: CheckOptions = CheckOptions()) -
         from cyphy.wellformed import WFContext, check_wellformed
 
         check_wellformed(WFContext(ws, result.resolution, report, dict(options.consts)))
+    if options.consistency:
+        _check_consistency(ws, result.resolution, report, options)
     return result
+
+
+def _check_consistency(ws: Workspace, resolution: Resolution, report: Report,
+                       options: CheckOptions) -> None:
+    from cyphy.semantics.consistency import DEFAULT_TIMEOUT_MS, check_consistency
+
+    check_consistency(ws, resolution, report, options.consts,
+                      options.z3_timeout_ms or DEFAULT_TIMEOUT_MS)
 
 
 @dataclass
