@@ -6,7 +6,9 @@ even between integer-typed variables, and powers with small natural exponents be
 (which Z3's nonlinear real arithmetic handles). Functions Z3 has no theory for (``sin``,
 ``sqrt``, user functions) become uninterpreted functions and are listed in
 ``uninterpreted``: a satisfiable answer that relies on them may not hold for the real
-function, an unsatisfiable one does. What a name denotes is the caller's business: the
+function, an unsatisfiable one does. Z3's division is total (``x/0`` is some number), the
+notation's is not: every divisor that is not a literal is listed in ``divisors`` so that the
+caller can require it to be non-zero. What a name denotes is the caller's business: the
 printer asks its ``symbol`` callback.
 """
 
@@ -60,10 +62,18 @@ class Z3Printer:
     def __init__(self, symbol: Callable[[str, ex.Expr], Any]) -> None:
         self.symbol = symbol  # (name as written, the node) → a Z3 term
         self.uninterpreted: set[str] = set()
+        self.divisors: list[Any] = []
         self._functions: dict[tuple[str, int], Any] = {}
 
     def doprint(self, e: ex.Expr) -> Any:
         return self._print(e)
+
+    def defined(self, e: ex.Expr) -> Any:
+        """``e`` where it is defined: its divisors non-zero (a boolean ``e`` only)."""
+        start = len(self.divisors)
+        term = self._print(e)
+        guards = [d != 0 for d in self.divisors[start:]]
+        return z3.And(*guards, term) if guards else term
 
     def _print(self, e: ex.Expr) -> Any:
         for cls in type(e).__mro__:
@@ -115,6 +125,8 @@ class Z3Printer:
         if e.op == "*":
             return a * b
         if e.op == "/":
+            if not z3.is_rational_value(b):
+                self.divisors.append(_real(b))
             return _real(a) / _real(b)
         if e.op == "%":
             if z3.is_int(a) and z3.is_int(b):

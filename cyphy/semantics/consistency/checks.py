@@ -48,6 +48,7 @@ class _Outcome:
     model: Any = None
     core: list[Fact] = field(default_factory=list)
     reason: str = ""
+    uninterpreted: bool = False  # unknown because a witness relies on them
 
 
 def _assignment(model: Any, terms: Mapping[str, Any], shown: Any = str) -> str:
@@ -94,8 +95,8 @@ class _Checks:
         if result == z3.sat:
             names = sorted(set(uninterpreted))
             if names:
-                return _Outcome("unknown", reason=f"the answer relies on {', '.join(names)}, "
-                                "which Z3 treats as uninterpreted functions")
+                return _Outcome("unknown", reason=f"a witness relies on {', '.join(names)}, "
+                                "which Z3 treats as uninterpreted", uninterpreted=True)
             return _Outcome("sat", model=s.model())
         if result == z3.unsat:
             core = {str(c) for c in s.unsat_core()}
@@ -103,10 +104,15 @@ class _Checks:
         return _Outcome("unknown", reason=s.reason_unknown())
 
     def unknown(self, enc: Encoding, what: str, outcome: _Outcome) -> None:
+        if outcome.uninterpreted:
+            hint = "Z3 knows nothing of these functions: it can show that a check passes, " \
+                "not that it fails; state the relation without them, or check by hand"
+        else:
+            hint = f"raise --z3-timeout (milliseconds, now {self.timeout_ms}) or make the " \
+                "terms linear"
         self.report.report(UNKNOWN, f"Z3 could not decide {what} for the {enc.label} "
                            f"({outcome.reason}); the check neither passed nor failed",
-                           enc.member.span, "raise --z3-timeout (milliseconds, now "
-                           f"{self.timeout_ms}) or make the terms linear")
+                           enc.member.span, hint)
 
     def core(self, enc: Encoding, fixed: Mapping[str, Any], model: Any,
              facts: list[Fact], extra: Iterable[Any] = ()) -> list[str]:

@@ -121,15 +121,17 @@ class Encoder:
                           if d.kind is not ast.DeclKind.CONST}
         symbols = _Symbols(self, enc, member, params, {**mapping_locals, **found.locals})
         printer = Z3Printer(symbols)
+        written = [to_notation(eq.expr) for eq in member.equations] + [
+            f"{to_notation(s.target)} = {to_notation(s.value)}" for a in member.actions
+            for s in a.statements if isinstance(s, ast.Assign)]
         try:
-            for eq in found.equations:
-                enc.equations.append(Fact(printer.doprint(eq.expr), eq.span,
-                                          to_notation(eq.expr)))
-            for pred in found.predicates:
-                for part in _conjuncts(pred.expr):
-                    enc.predicate.append(Fact(printer.doprint(part),
+            for eq, text in zip(found.equations, written):
+                enc.equations.append(Fact(printer.defined(eq.expr), eq.span, text))
+            for pred, original in zip(found.predicates, member.predicates):
+                for part, text in zip(_conjuncts(pred.expr), _conjuncts(original.expr)):
+                    enc.predicate.append(Fact(printer.defined(part),
                                               part.span if part.span.line else pred.span,
-                                              to_notation(part)))
+                                              to_notation(text)))
                 used = {n.text for n in pred.expr.walk() if isinstance(n, ex.Name)}
                 enc.predicate_locals = [symbols.table[n] for n in sorted(used)
                                         if n in symbols.locals and n in symbols.table]
@@ -169,7 +171,7 @@ class Encoder:
 
         printer = Z3Printer(symbol)
         try:
-            facts = [Fact(printer.doprint(e), e.span, f"{device.prefix}: {to_notation(e)}")
+            facts = [Fact(printer.defined(e), e.span, f"{device.prefix}: {to_notation(e)}")
                      for e in device.equations]
         except UnsupportedNode as err:
             enc.range_notes.append(f"the equations of sensor {device.prefix} were not used for "
