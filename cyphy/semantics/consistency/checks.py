@@ -314,6 +314,11 @@ def check_consistency(ws: Workspace, resolution: Resolution, report: Report,
         encodings = []
         for member, service in members:
             enc = encoder.encode(member, service)
+            if enc.problem is not None and enc.unknown_name:
+                report.report(CANNOT, f"the consistency of the {enc.label} cannot be checked: "
+                              f"{enc.problem}", enc.problem_span or member.span,
+                              "name a port as 'Link::Block.port' (see cyphy show)")
+                continue
             if enc.problem is not None:
                 report.report(UNKNOWN, f"the consistency of the {enc.label} was not checked: "
                               f"{enc.problem}", enc.problem_span or member.span,

@@ -68,6 +68,7 @@ class Encoding:
     uninterpreted: set[str] = field(default_factory=set)
     problem: str | None = None  # why it cannot be encoded (then nothing else is meaningful)
     problem_span: Span | None = None
+    unknown_name: bool = False  # the problem is a name that denotes nothing: an error
 
     @property
     def name(self) -> str:
@@ -94,6 +95,10 @@ def _conjuncts(e: ex.Expr) -> list[ex.Expr]:
     if isinstance(e, ex.BinOp) and e.op == "/\\":
         return _conjuncts(e.left) + _conjuncts(e.right)
     return [e]
+
+
+class UnknownName(UnsupportedNode):
+    """A name that denotes nothing (a misspelt port the earlier checks let through)."""
 
 
 class Encoder:
@@ -137,6 +142,7 @@ class Encoder:
                                         if n in symbols.locals and n in symbols.table]
         except UnsupportedNode as err:
             enc.problem, enc.problem_span = str(err), err.node.span
+            enc.unknown_name = isinstance(err, UnknownName)
             return enc
         for mangled in sorted(enc.reads):
             self._sensor_range(enc, mangled, symbols)
@@ -277,7 +283,11 @@ class _Symbols:
                 return Z3Printer(self).doprint(decl.value)
             finally:
                 self._expanding.discard(name)
-        term, _ = _constant(f"{enc.name}:{name}", decl.type if decl else None, node)
+        if decl is None:
+            raise UnknownName(node, f"{to_notation(node)} is neither a port of p-model "
+                              f"{self.encoder.model.name}, nor a parameter, local or constant "
+                              f"of the {enc.label}")
+        term, _ = _constant(f"{enc.name}:{name}", decl.type, node)
         enc.given[name] = term
         enc.free_constants.append(name)
         return term
