@@ -214,6 +214,10 @@ def _check(args: argparse.Namespace) -> int:
     if not args.paths:
         sys.stderr.write("cyphy check: error: give at least one PATH\n")
         return 2
+    if args.syntax_only and args.consistency:
+        sys.stderr.write("cyphy check: error: --consistency needs names resolved: drop "
+                         "--syntax-only\n")
+        return 2
 
     result = check(args.paths, CheckOptions(args.syntax_only, tuple(args.path),
                                             consts=_consts(args),

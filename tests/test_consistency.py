@@ -27,7 +27,7 @@ MAPPINGS = Path(__file__).parent / "mappings"
 WHEEL, AXIS = Fraction("0.025025"), Fraction("0.06")  # the marXbot's mapping constants
 
 
-def _consistency(path: Path, *extra: str) -> list[dict]:
+def _consistency(path: Path) -> list[dict]:
     result = check([str(path)], CheckOptions(consistency=True))
     return [d.to_json() for d in result.report.diagnostics if d.code.id != "L4"]
 
@@ -170,12 +170,13 @@ def test_uninterpreted_function_is_unknown_never_a_pass() -> None:
     assert not {"C1", "C2"} & set(_codes(diags))
 
 
-def test_z3_timeout_option_and_usage_errors(capsys) -> None:
-    assert main(["check", "--consistency", "--z3-timeout", "2000",
-                 str(MAPPINGS / "Good.rsm")]) == 0
+def test_z3_timeout_option_and_usage_errors() -> None:
+    good = str(MAPPINGS / "Good.rsm")
+    assert main(["check", "--consistency", "--z3-timeout", "2000", good]) == 0
     with pytest.raises(SystemExit) as exit_:
-        main(["check", "--consistency", "--z3-timeout", "0", str(MAPPINGS / "Good.rsm")])
+        main(["check", "--consistency", "--z3-timeout", "0", good])
     assert exit_.value.code == 2
+    assert main(["check", "--consistency", "--syntax-only", good]) == 2
 
 
 def test_no_mapping_is_reported() -> None:

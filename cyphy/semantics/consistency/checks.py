@@ -114,8 +114,8 @@ class _Checks:
                            f"({outcome.reason}); the check neither passed nor failed",
                            enc.member.span, hint)
 
-    def core(self, enc: Encoding, fixed: Mapping[str, Any], model: Any,
-             facts: list[Fact], extra: Iterable[Any] = ()) -> list[str]:
+    def core(self, fixed: Mapping[str, Any], model: Any, facts: list[Fact],
+             extra: Iterable[Any] = ()) -> list[str]:
         """The facts that contradict each other once the witness's values are fixed."""
         pins = [t == model.eval(t, model_completion=True) for t in fixed.values()]
         out = self.solve([*pins, *extra], facts)
@@ -137,7 +137,7 @@ class _Checks:
             self.unknown(enc, "C1 (existence)", out)
         elif out.status == "sat":
             given = {**enc.given, **enc.reads}
-            notes = self.core(enc, given, out.model, enc.equations, enc.unknown_facts)
+            notes = self.core(given, out.model, enc.equations, enc.unknown_facts)
             where = f"for {_call(enc, out.model)}" if given else "at all"
             self.report.report(
                 C1, f"the equations of the {enc.label} have no solution {where}",
@@ -191,7 +191,7 @@ class _Checks:
             self.unknown(enc, "C3 (a value for the event)", out)
         elif out.status == "sat":
             state = {enc.shown(n): t for n, t in enc.reads.items()} | enc.given
-            notes = self.core(enc, state, out.model, enc.equations, enc.unknown_facts)
+            notes = self.core(state, out.model, enc.equations, enc.unknown_facts)
             when = f" when {_assignment(out.model, state)}" if state else ""
             self.report.report(
                 C3, f"the {enc.label} has no value to communicate{when}: "

@@ -62,7 +62,6 @@ class Encoding:
     predicate_locals: list[Any] = field(default_factory=list)
     range: list[Fact] = field(default_factory=list)  # sensor equations of the reads
     range_notes: list[str] = field(default_factory=list)
-    range_unknowns: list[Any] = field(default_factory=list)  # the sensors' inputs, locals
     written: dict[str, str] = field(default_factory=dict)  # mangled port → path as written
     free_constants: list[str] = field(default_factory=list)
     uninterpreted: set[str] = field(default_factory=set)
@@ -170,9 +169,8 @@ class Encoder:
             p = own.get(base)
             if p is not None and p.kind is ast.DeclKind.CONST:
                 return _value(p.value, node)
-            if name not in table:
+            if name not in table:  # the sensor's inputs and locals: any value
                 table[name] = z3.Real(f"{enc.name}:{name}")
-                enc.range_unknowns.append(table[name])
             return table[name]
 
         printer = Z3Printer(symbol)
