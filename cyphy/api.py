@@ -26,6 +26,8 @@ class CheckOptions:
     consts: dict[str, object] = field(default_factory=dict)
     neighbours_as_targets: bool = False  # check the files the given ones use, too
     value_checks: bool = True  # V1-V5 (geometry, inertia, meshes): what simulators need
+    consistency: bool = False  # also C1-C5 on the platform mappings (imports Z3)
+    z3_timeout_ms: int | None = None  # per Z3 query; None: the checks' default
 
 
 @dataclass
@@ -52,7 +54,17 @@ def check(paths: Sequence[str | Path], options: CheckOptions = CheckOptions()) -
 
         only = None if options.value_checks else {i for i in RULES if not i.startswith("V")}
         check_wellformed(WFContext(ws, result.resolution, report, dict(options.consts)), only)
+    if options.consistency:
+        _check_consistency(ws, result.resolution, report, options)
     return result
+
+
+def _check_consistency(ws: Workspace, resolution: Resolution, report: Report,
+                       options: CheckOptions) -> None:
+    from cyphy.semantics.consistency import DEFAULT_TIMEOUT_MS, check_consistency
+
+    check_consistency(ws, resolution, report, options.consts,
+                      options.z3_timeout_ms or DEFAULT_TIMEOUT_MS)
 
 
 @dataclass

@@ -36,6 +36,7 @@ def _parser() -> argparse.ArgumentParser:
                        help="diagnostic format (default: text)")
     _path_option(check)
     _const_options(check)
+    _consistency_options(check)
     show = sub.add_parser(
         "show",
         help="print the elaborated model",
@@ -220,6 +221,26 @@ def _show(args: argparse.Namespace) -> int:
     return result.report.exit_code
 
 
+def _consistency_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--consistency", action="store_true",
+                        help="also check what the platform mappings' equations mean, with Z3 "
+                        "(C1-C5: solutions exist and are unique, typed events have values, "
+                        "predicates can hold and fail, no conflicting writers)")
+    parser.add_argument("--z3-timeout", type=_positive_int, metavar="MS",
+                        help="time limit of each Z3 query in milliseconds (default 10000); "
+                        "a query that runs out is reported as C-UNKNOWN")
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: '{text}'") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be positive: {value}")
+    return value
+
+
 def _list_rules() -> int:
     from cyphy.wellformed import RULES
 
@@ -237,9 +258,15 @@ def _check(args: argparse.Namespace) -> int:
     if not args.paths:
         sys.stderr.write("cyphy check: error: give at least one PATH\n")
         return 2
+    if args.syntax_only and args.consistency:
+        sys.stderr.write("cyphy check: error: --consistency needs names resolved: drop "
+                         "--syntax-only\n")
+        return 2
 
     result = check(args.paths, CheckOptions(args.syntax_only, tuple(args.path),
-                                            consts=_consts(args)))
+                                            consts=_consts(args),
+                                            consistency=args.consistency,
+                                            z3_timeout_ms=args.z3_timeout))
     diagnostics = result.report.diagnostics
     if args.format == "json":
         sys.stdout.write(render_json(diagnostics))

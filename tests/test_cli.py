@@ -93,6 +93,21 @@ def test_check_does_not_import_sympy_or_z3() -> None:
     assert "HEAVY []" in proc.stdout, proc.stdout + proc.stderr
 
 
+def test_only_consistency_imports_z3() -> None:
+    """Z3 is imported by ``check --consistency`` alone (and SymPy not even then)."""
+    mapping = str(EXAMPLES / "marxbot" / "Mapping.rsm")
+    for argv, expected in ((["check", mapping], "[]"),
+                           (["check", "--consistency", mapping], "['z3']")):
+        code = (
+            "import sys\n"
+            "from cyphy.cli import main\n"
+            f"main({argv!r})\n"
+            "print('HEAVY', sorted(m for m in ('sympy', 'z3') if m in sys.modules))\n"
+        )
+        proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+        assert f"HEAVY {expected}" in proc.stdout, proc.stdout + proc.stderr
+
+
 def test_faulty_example_reports_each_mistake(capsys) -> None:
     assert main(["check", "--format", "json", str(EXAMPLES / "faulty")]) == 1
     diags = json.loads(capsys.readouterr().out)

@@ -16,6 +16,7 @@ from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
+from cyphy.lang.notation import to_notation
 from cyphy.model.elements import Device, ElaboratedModel
 from cyphy.model.evaluate import Value
 
@@ -107,14 +108,40 @@ def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.Platf
                             f"{'s' if len(params) != 1 else ''}, not {len(call.args)}",
                             call.span, f"call it as {name}({', '.join(params)})")
     bound = dict(zip(params, call.args))
-    local = {d.name: f"{name}_{d.name}" for d in op.declarations
+    found = member_equations(model, mapping, op, bound)
+    for local, type_ in found.locals.items():
+        system.variables[local] = type_
+        system.kinds[local] = "local"
+    system.equations.extend(found.equations)
+
+
+@dataclass
+class MemberEquations:
+    """One mapping element's equations in the p-model's names (see :func:`member_equations`)."""
+
+    equations: list[Equation] = field(default_factory=list)  # equations, then actions
+    predicates: list[Equation] = field(default_factory=list)
+    locals: dict[str, ast.TypeRef] = field(default_factory=dict)  # renamed local → type
+    ports: dict[str, str] = field(default_factory=dict)  # mangled port → path as written
+
+
+def member_equations(model: ElaboratedModel, mapping: ast.PlatformMapping,
+                     member: ast.OperationMapping | ast.EventMapping | ast.VariableMapping,
+                     bound: dict[str, ex.Expr]) -> MemberEquations:
+    """The equations (and predicates) of one operation, event or variable mapping with the
+    names in ``bound`` (its parameters) replaced, its locals renamed ``move_dsl`` and element
+    paths replaced by the ports they name (``Core::LHinge::LMotor.das`` → ``LMotor_das``).
+    Assignments of actions become equations ``target == value``, later ones reading what
+    earlier ones assigned."""
+    name = member.name
+    out = MemberEquations()
+    local = {d.name: f"{name}_{d.name}" for d in member.declarations
              if d.kind is not ast.DeclKind.CONST}
-    consts = {d.name: d for d in [*mapping.declarations, *op.declarations]
+    consts = {d.name: d for d in [*mapping.declarations, *member.declarations]
               if d.kind is ast.DeclKind.CONST}
-    for d in op.declarations:
+    for d in member.declarations:
         if d.kind is not ast.DeclKind.CONST:
-            system.variables[local[d.name]] = d.type
-            system.kinds[local[d.name]] = "local"
+            out.locals[local[d.name]] = d.type
     ports = port_index(model)
 
     def swap(node: ex.Expr) -> ex.Expr | None:
@@ -122,6 +149,7 @@ def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.Platf
         if steps is not None and len(steps) > 1:
             mangled = ports.get(port_key(model, steps))
             if mangled is not None:
+                out.ports.setdefault(mangled, to_notation(node))
                 return ex.Name((mangled,), span=node.span)
         if isinstance(node, ex.Name) and len(node.parts) == 1:
             n = node.parts[0]
@@ -133,9 +161,21 @@ def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.Platf
                 return consts[n].value
         return None
 
-    for eq in op.equations:
-        system.equations.append(Equation(ex.transform(eq.expr, swap), f"mapping {name}",
-                                         eq.span))
+    origin = f"mapping {name}"
+    for eq in member.equations:
+        out.equations.append(Equation(ex.transform(eq.expr, swap), origin, eq.span))
+    for p in member.predicates:
+        out.predicates.append(Equation(ex.transform(p.expr, swap), origin, p.span))
+    assigned: dict[ex.Expr, ex.Expr] = {}
+    for action in member.actions:
+        for s in action.statements:
+            if isinstance(s, ast.Assign):
+                target = ex.transform(s.target, swap)
+                value = ex.transform(ex.transform(s.value, swap), assigned.get)
+                assigned[target] = value
+                out.equations.append(Equation(ex.BinOp("==", target, value, span=s.span),
+                                              origin, s.span))
+    return out
 
 
 def port_index(model: ElaboratedModel) -> dict[tuple[str, ...], str]:

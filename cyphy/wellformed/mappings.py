@@ -202,6 +202,17 @@ def _service(site: _Site, member: MemberMapping) -> Service | None:
     return site.platform.of_kind(_kind(member)).get(member.name)
 
 
+def mapped_services(ctx: WFContext) -> Iterator[tuple[_Site, MemberMapping, ast.OperationSig |
+                                                       ast.EventDecl | ast.VarDecl | None]]:
+    """Every member of every platform mapping with the declaration of the service it maps
+    (None when it maps none: PMap4): what the semantic checks of
+    :mod:`cyphy.semantics.consistency` need to type the parameters."""
+    for site in _sites(ctx):
+        for member in _members(site.mapping):
+            service = _service(site, member)
+            yield site, member, service.decl if service is not None else None
+
+
 def _in_user_file(ctx: WFContext, node: object) -> bool:
     span = getattr(node, "span", None)
     return span is not None and span.file in ctx.workspace.targets
