@@ -115,6 +115,16 @@ def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.Platf
         if d.kind is not ast.DeclKind.CONST:
             system.variables[local[d.name]] = d.type
             system.kinds[local[d.name]] = "local"
+    swap = _swapper(model, bound, local, consts)
+    for eq in op.equations:
+        system.equations.append(Equation(ex.transform(eq.expr, swap), f"mapping {name}",
+                                         eq.span))
+
+
+def _swapper(model: ElaboratedModel, bound: dict[str, ex.Expr], local: dict[str, str],
+             consts: dict[str, ast.VarDecl]) -> Any:
+    """Mapping names → model names: element paths to mangled ports, parameters to the
+    call's arguments, locals to ``<member>_<name>``, constants to their values."""
     ports = _port_index(model)
 
     def swap(node: ex.Expr) -> ex.Expr | None:
@@ -133,9 +143,23 @@ def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.Platf
                 return consts[n].value
         return None
 
-    for eq in op.equations:
-        system.equations.append(Equation(ex.transform(eq.expr, swap), f"mapping {name}",
-                                         eq.span))
+    return swap
+
+
+def input_event_predicate(model: ElaboratedModel, mapping: ast.PlatformMapping,
+                          event: ast.EventMapping) -> ex.Expr | None:
+    """The conjunction of an input event mapping's predicates in mangled names (Rule 4's
+    ``pred``), or None when the mapping gives no predicate."""
+    consts = {d.name: d for d in [*mapping.declarations, *event.declarations]
+              if d.kind is ast.DeclKind.CONST}
+    swap = _swapper(model, {}, {}, consts)
+    preds = [ex.transform(p.expr, swap) for p in event.predicates]
+    if not preds:
+        return None
+    out = preds[0]
+    for p in preds[1:]:
+        out = ex.BinOp("/\\", out, p, span=p.span)
+    return out
 
 
 def _port_index(model: ElaboratedModel) -> dict[tuple[str, ...], str]:
