@@ -35,7 +35,8 @@ def _expr(e: ex.Expr, params: dict[str, float]) -> Any:
 
 
 def interpret(text: str, point: dict[str, float], samples: np.ndarray) -> dict[str, np.ndarray]:
-    """Values of every state variable at the sample times (the automaton's global time)."""
+    """Values of every state variable at the sample times (the automaton's global time),
+    from ``point`` (the middle of the model's initial box where it says nothing)."""
     model: FlowModel = parse_model(text)
     params = {k: float(v) for k, v in model.params.items()}
     variables = model.variables
@@ -70,7 +71,9 @@ def interpret(text: str, point: dict[str, float], samples: np.ndarray) -> dict[s
         return True
 
     mode = model.initial_mode
-    x = np.array([point[v] for v in variables], dtype=float)
+    start = {v: (float(lo) + float(hi)) / 2 for v, (lo, hi) in model.init.items()}
+    start.update(point)  # variables the model leaves out of init start at 0 (spec §4.7)
+    x = np.array([start.get(v, 0.0) for v in variables], dtype=float)
     now, count = 0.0, 0
     out = {v: np.full(len(samples), np.nan) for v in variables}
     while now < horizon - 1e-12:
