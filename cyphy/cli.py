@@ -83,6 +83,7 @@ def _parser() -> argparse.ArgumentParser:
     _path_option(gen)
     for _, _, add_options in GENERATORS.values():
         add_options(gen)
+    _add_reach(sub)
     return parser
 
 
@@ -159,6 +160,79 @@ def _sdf_run(args: argparse.Namespace) -> "Generated":
 
 GENERATORS["sdf"] = (_sdf_run, "SDF 1.6 for Gazebo and other simulators (the paper's "
                      "section 5)", _sdf_options)
+def _flowstar_gen(args: argparse.Namespace) -> "Generated":
+    from cyphy.flowstar.commands import generate
+
+    return generate(args.paths, args.scenario, args.model, tuple(args.path), _consts(args))[0]
+
+
+def _scenario_option(parser: argparse.ArgumentParser) -> None:
+    if not any("--scenario" in a.option_strings for a in parser._actions):
+        parser.add_argument("--scenario", metavar="FILE",
+                            help="(--flowstar) the controller scenario, a TOML file")
+
+
+GENERATORS["flowstar"] = (_flowstar_gen, "a Flow* 2.1.0 hybrid automaton of the model under "
+                          "a controller scenario (needs --scenario)", _scenario_option)
+
+
+def _add_reach(sub: argparse._SubParsersAction) -> None:
+    reach = sub.add_parser(
+        "reach",
+        help="check a scenario's unsafe set with Flow*: SAFE, UNSAFE or UNKNOWN",
+        description="Export the model under the scenario as for `gen --flowstar`, run Flow* "
+        "on it and print one line: SAFE, UNSAFE or UNKNOWN with the reason, Flow*'s time "
+        "and the model's path. Exit status: 0 SAFE, 1 UNSAFE, 3 UNKNOWN, 2 errors.",
+    )
+    reach.add_argument("paths", nargs="+", metavar="PATH", help="model file or folder")
+    reach.add_argument("--scenario", metavar="FILE", required=True,
+                       help="the controller scenario (TOML)")
+    reach.add_argument("--flowstar-bin", metavar="PATH",
+                       help="the Flow* executable (default: flowstar on PATH)")
+    reach.add_argument("--timeout", type=float, metavar="SECONDS",
+                       help="give up (UNKNOWN) when Flow* runs longer")
+    reach.add_argument("-o", "--output", metavar="DIR",
+                       help="where the model is written (default: flowstar-gen/ beside it)")
+    reach.add_argument("--model", metavar="NAME", help="the p-model")
+    _const_options(reach)
+    _path_option(reach)
+
+
+def _reach(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from cyphy.diagnostics import render_text
+    from cyphy.flowstar.commands import generate
+    from cyphy.flowstar.verdict import FlowstarMissing, find_flowstar, run
+    from cyphy.outputs import OutputError, default_output_dir, write_all
+
+    try:
+        binary = find_flowstar(args.flowstar_bin)
+    except FlowstarMissing as err:
+        sys.stderr.write(f"cyphy reach: error: {err}\n")
+        return 2
+    generated, jumps = generate(args.paths, args.scenario, args.model, tuple(args.path),
+                                _consts(args))
+    if generated.report.diagnostics:
+        sys.stderr.write(render_text(generated.report.diagnostics, dict(generated.sources)))
+    if generated.report.has_errors or not generated.files:
+        sys.stderr.write("cyphy reach: nothing checked: the model or scenario has errors\n")
+        return 2
+    out_dir = Path(args.output) if args.output else default_output_dir(args.paths, "flowstar")
+    try:
+        model = write_all(generated.files, out_dir)[0]
+    except OutputError as err:
+        sys.stderr.write(f"cyphy reach: error: {err}\n")
+        return 2
+    try:
+        outcome = run(model, binary, args.timeout, jumps)
+    except FlowstarMissing as err:
+        sys.stderr.write(f"cyphy reach: error: {err}\n")
+        return 2
+    seconds = "?" if outcome.seconds is None else f"{outcome.seconds:g} s"
+    line = f"{outcome.verdict}: {outcome.reason} (Flow* time {seconds}; model {model})\n"
+    (sys.stderr if outcome.verdict == "ERROR" else sys.stdout).write(line)
+    return outcome.exit_code
 
 
 def _solve(args: argparse.Namespace) -> int:
@@ -292,6 +366,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _solve(args)
         if args.command == "gen":
             return _gen(args)
+        if args.command == "reach":
+            return _reach(args)
     except KeyboardInterrupt:
         return 130
     except Exception as err:  # a bug of ours: say so plainly, without a traceback

@@ -178,6 +178,19 @@ def member_equations(model: ElaboratedModel, mapping: ast.PlatformMapping,
     return out
 
 
+def input_event_predicate(model: ElaboratedModel, mapping: ast.PlatformMapping,
+                          event: ast.EventMapping) -> ex.Expr | None:
+    """The conjunction of an input event mapping's predicates in mangled names (Rule 4's
+    ``pred``), or None when the mapping gives no predicate."""
+    preds = [p.expr for p in member_equations(model, mapping, event, {}).predicates]
+    if not preds:
+        return None
+    out = preds[0]
+    for p in preds[1:]:
+        out = ex.BinOp("/\\", out, p, span=p.span)
+    return out
+
+
 def port_index(model: ElaboratedModel) -> dict[tuple[str, ...], str]:
     out: dict[tuple[str, ...], str] = {}
     for e in [*model.joints, *model.unconnected, *model.sensors, *model.actuators]:

@@ -1,0 +1,39 @@
+"""``cyphy gen --flowstar`` and ``cyphy reach``: library functions the CLI calls (no printing
+here, no exits)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Sequence
+
+from cyphy.api import Generated
+from cyphy.diagnostics import Report, Span
+from cyphy.flowstar.scenario import SCENARIO, load_scenario
+
+
+def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str | None = None,
+             search_paths: tuple[str, ...] = (), consts: dict[str, object] | None = None
+             ) -> tuple[Generated, int | None]:
+    """The Flow* model of the p-model under the scenario, as ``NAME.model`` (NAME from the
+    scenario's file name), and the number of jumps the horizon needs (None on errors)."""
+    from cyphy.flowstar.export import build_problem, output_name, render
+
+    report = Report()
+    if scenario_path is None:
+        report.report(SCENARIO, "the Flow* export needs a scenario", Span.unknown("<command>"),
+                      "give --scenario FILE (see the README's scenario format)")
+        return Generated(report), None
+    scenario = load_scenario(scenario_path, report)
+    if scenario is None:
+        text = Path(scenario_path).read_text(encoding="utf-8", errors="replace") \
+            if Path(scenario_path).is_file() else ""
+        return Generated(report, {scenario_path: text}), None
+    if model is not None:
+        scenario.model = model
+    scenario.consts.update(consts or {})
+    problem, sources = build_problem(paths, scenario, report, search_paths)
+    if problem is None or report.has_errors:
+        return Generated(report, sources), None
+    name = output_name(scenario_path)
+    return Generated(report, sources, {f"{name}.model": render(problem, name)}), \
+        problem.required_jumps
