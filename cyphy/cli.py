@@ -116,6 +116,38 @@ GENERATORS: dict[str, tuple[Callable[[argparse.Namespace], "Generated"], str,
                             Callable[[argparse.ArgumentParser], None]]] = {}
 
 
+def _semantics_options(parser: argparse.ArgumentParser) -> None:
+    """Options of the CyPhyCircus semantics that every semantic generator shares (added
+    once, whichever generator asks first)."""
+    if "--tscale" in parser._option_string_actions:
+        return
+    parser.add_argument("--tscale", type=float, metavar="X",
+                        help="fix tscale, the length of a d-model time unit in seconds")
+    parser.add_argument("--name", metavar="N",
+                        help="the name of the whole system (default: the mapping's)")
+
+
+def _isabelle_options(parser: argparse.ArgumentParser) -> None:
+    _semantics_options(parser)
+    parser.add_argument("--isabelle-dialect", choices=("utp", "axiomatic"), default="utp",
+                        help="utp: Isabelle/UTP (utp-main 2020) with a closure lemma per "
+                        "action (default); axiomatic: the Ax_CyPhyCircus syntax, no lemmas")
+    parser.add_argument("--isabelle-namesets", action="store_true",
+                        help="write interleavings whose branches update disjoint variables "
+                        "with that name-set partition, so their updates are kept")
+
+
+def _isabelle(args: argparse.Namespace) -> "Generated":
+    from cyphy.api import IsabelleGenOptions, generate_isabelle
+
+    return generate_isabelle(args.paths, IsabelleGenOptions(
+        args.model, args.name, args.tscale, _consts(args), tuple(args.path),
+        args.isabelle_dialect, args.isabelle_namesets))
+
+
+GENERATORS["isabelle"] = (_isabelle, "an Isabelle/UTP session of the CyPhyCircus semantics "
+                          "of a platform mapping (isabelle-gen/)", _isabelle_options)
+
 def _solve(args: argparse.Namespace) -> int:
     from cyphy.api import SolveOptions, solve
     from cyphy.backends.odes import odes_to_json, odes_to_latex, odes_to_text
