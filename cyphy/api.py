@@ -152,14 +152,13 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
 
 @dataclass(frozen=True)
 class IsabelleGenOptions:
-    """``cyphy gen --isabelle``: which mapping, the semantics' parameters and the dialect."""
+    """``cyphy gen --isabelle``: which mapping, the semantics' parameters, the name sets."""
 
     mapping: str | None = None  # the mapping (or its p-model) to translate
     system_name: str | None = None  # the name of the whole system (default: the mapping's)
     tscale: float | None = None
     consts: dict[str, object] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
-    dialect: str = "utp"  # "utp" (utp-main 2020, closure lemmas) or "axiomatic"
     namesets: bool = False  # keep interleaved updates with a name-set partition
 
 
@@ -188,7 +187,7 @@ def generate_isabelle(paths: Sequence[str | Path],
     span = semantics.mapping.span
     try:
         session = generate_session(semantics.program, semantics.names,
-                                   IsabelleOptions(options.dialect, options.namesets),
+                                   IsabelleOptions(options.namesets),
                                    options.system_name)
     except IsabelleError as err:
         report.report(UNTRANSLATABLE, str(err), span,

@@ -129,9 +129,6 @@ def _semantics_options(parser: argparse.ArgumentParser) -> None:
 
 def _isabelle_options(parser: argparse.ArgumentParser) -> None:
     _semantics_options(parser)
-    parser.add_argument("--isabelle-dialect", choices=("utp", "axiomatic"), default="utp",
-                        help="utp: Isabelle/UTP (utp-main 2020) with a closure lemma per "
-                        "action (default); axiomatic: the Ax_CyPhyCircus syntax, no lemmas")
     parser.add_argument("--isabelle-namesets", action="store_true",
                         help="write interleavings whose branches update disjoint variables "
                         "with that name-set partition, so their updates are kept")
@@ -142,7 +139,7 @@ def _isabelle(args: argparse.Namespace) -> "Generated":
 
     return generate_isabelle(args.paths, IsabelleGenOptions(
         args.model, args.name, args.tscale, _consts(args), tuple(args.path),
-        args.isabelle_dialect, args.isabelle_namesets))
+        args.isabelle_namesets))
 
 
 GENERATORS["isabelle"] = (_isabelle, "an Isabelle/UTP session of the CyPhyCircus semantics "

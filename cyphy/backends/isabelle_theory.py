@@ -21,7 +21,8 @@ from cyphy.backends.isabelle import (HOL_FUNCTIONS, IsabellePrinter, Symbols, Un
 from cyphy.backends.isabelle_names import IsabelleNames, clean
 from cyphy.semantics import circus as c
 from cyphy.semantics.names import NameTable
-from cyphy.semantics.namesets import LossyInterleaving, find_lossy_interleavings, with_namesets
+from cyphy.semantics.namesets import (LossyInterleaving, action_nodes, find_lossy_interleavings,
+                                      with_namesets)
 
 UNTRANSLATABLE = codes.code("E-ISABELLE", codes.E,
                             "the CyPhyCircus program has no Isabelle/UTP counterpart")
@@ -29,12 +30,10 @@ LOSSY_INTERLEAVING = codes.code("W-INTERLEAVE", codes.W,
                                 "an interleaving with empty name sets discards state updates")
 
 PRELUDE = "CyPhyCircus_Prelude"
-DIALECTS = ("utp", "axiomatic")
 
 
 @dataclass(frozen=True)
 class IsabelleOptions:
-    dialect: str = "utp"  # "utp" (utp-main 2020, closure lemmas) or "axiomatic"
     namesets: bool = False  # keep updates of interleavings through a name-set partition
 
 
@@ -79,6 +78,14 @@ def _environment() -> Any:
                        trim_blocks=True, lstrip_blocks=True, autoescape=False)
 
 
+@lru_cache(maxsize=1)
+def _prelude() -> str:
+    """The prelude theory: fixed text, shipped as is (no template)."""
+    from importlib.resources import files
+
+    return (files("cyphy") / "isabelle_templates" / f"{PRELUDE}.thy").read_text("utf-8")
+
+
 def definition_order(actions: tuple[c.ActionDef, ...]) -> list[c.ActionDef]:
     """The actions in define-before-use order: the given order where it already is one (the
     rules build bottom-up), otherwise each moved after what it calls; a cycle is an error
@@ -107,7 +114,7 @@ def definition_order(actions: tuple[c.ActionDef, ...]) -> list[c.ActionDef]:
 def calls(action: object) -> list[str]:
     """The named actions ``action`` calls, in order of appearance, each once."""
     out: dict[str, None] = {}
-    for node in c.walk(action):
+    for node in action_nodes(action):  # type: ignore[arg-type]
         if isinstance(node, c.Call):
             out.setdefault(node.name, None)
     return list(out)
@@ -131,11 +138,28 @@ def _constant_order(constants: tuple[c.Constant, ...]) -> list[c.Constant]:
 
 
 def _given_sets(program: c.Program) -> list[str]:
-    basic = {"real", "nat", "int", "bool"}
+    """The named types that are not HOL's (``typedecl``s), from every declaration."""
+    pm = program.pmodel
+    types: list[c.Type] = [b.type for b in program.globals.constants]
+    types += [k.type for k in pm.constants]
+    types += [t for ch in program.channels for v in ch.variants for t in v.types]
+    types += [f.type for f in (*pm.state.fields, *pm.local.fields)]
+    for d in pm.actions:
+        types += [p.type for p in d.params]
+        for node in action_nodes(d.body):
+            if isinstance(node, c.IndexedExtChoice):
+                types.append(node.var.type)
+            if isinstance(node, c.VarBlock):
+                types.append(node.var.type)
     found: dict[str, None] = {}
-    for node in c.walk(program):
-        if isinstance(node, c.TBasic) and node.name not in basic:
-            found.setdefault(node.name, None)
+    while types:
+        t = types.pop(0)
+        if isinstance(t, c.TBasic) and t.name not in ("real", "nat", "int", "bool"):
+            found.setdefault(t.name, None)
+        elif isinstance(t, c.TSeq):
+            types.append(t.of)
+        elif isinstance(t, c.TProduct):
+            types.extend(t.items)
     return list(found)
 
 
@@ -205,20 +229,13 @@ def generate_session(program: c.Program, table: NameTable,
                      system_name: str | None = None) -> IsabelleSession:
     """The session folder's files for ``program``; raises :class:`IsabelleError` when a
     construct has no Isabelle/UTP counterpart."""
-    if options.dialect not in DIALECTS:
-        raise IsabelleError(f"unknown Isabelle dialect {options.dialect!r}")
     lossy = find_lossy_interleavings(program.pmodel)
     pm = program.pmodel
     applied = options.namesets and any(f.partition for f in lossy)
     if options.namesets:
         pm = with_namesets(pm)
     symbols = symbols_of(program)
-    if options.dialect == "axiomatic":
-        from cyphy.backends.isabelle_axiomatic import AxiomaticPrinter
-
-        printer: IsabellePrinter = AxiomaticPrinter(symbols)
-    else:
-        printer = IsabellePrinter(symbols)
+    printer = IsabellePrinter(symbols)
     names = symbols.names
     theory = f"{clean(pm.name)}_CyPhyCircus"
     prefix = clean(pm.name)
@@ -231,17 +248,15 @@ def generate_session(program: c.Program, table: NameTable,
                    pmodel=pm.name, chan_type=names[f"{prefix}_chan"],
                    action_type=names[f"{prefix}_action"])
     env = _environment()
-    template = "theory_axiomatic.thy.j2" if options.dialect == "axiomatic" else "theory.thy.j2"
     files = {
         "ROOT": env.get_template("ROOT.j2").render(session=f"{prefix}_CyPhy", theory=theory,
-                                                    prelude=PRELUDE, dialect=options.dialect),
+                                                    prelude=PRELUDE),
+        f"{PRELUDE}.thy": _prelude(),
+        f"{theory}.thy": env.get_template("theory.thy.j2").render(**context),
+        "README": env.get_template("README.j2").render(
+            session=f"{prefix}_CyPhy", theory=theory, prelude=PRELUDE,
+            mapping=program.system.name, pmodel=pm.name),
     }
-    if options.dialect == "utp":
-        files[f"{PRELUDE}.thy"] = env.get_template(f"{PRELUDE}.thy").render()
-    files[f"{theory}.thy"] = env.get_template(template).render(**context)
-    files["README"] = env.get_template("README.j2").render(
-        session=f"{prefix}_CyPhy", theory=theory, prelude=PRELUDE, dialect=options.dialect,
-        mapping=program.system.name, pmodel=pm.name)
     files["names.tsv"] = _names_table(table, names, symbols)
     defs = {d.name: d for d in pm.actions}
     defs["MainAction"] = c.ActionDef("MainAction", (), pm.main)
@@ -253,8 +268,7 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
                     applied: bool) -> dict[str, Any]:
     names = printer.symbols.names
     globals_ = program.globals
-    with printer._in_mode("hol"):
-        axioms = [printer._print(w) for w in globals_.where]
+    axioms = [printer.doprint(w, "hol") for w in globals_.where]
     constants = []
     for k in _constant_order(pm.constants):
         value = None if k.value is None else printer.doprint(k.value, "hol")
@@ -289,7 +303,7 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
             body = printer.action(d.body)
         ptypes = [printer.type(p.type) for p in d.params]
         multi_input = any(isinstance(n, c.Comm) and sum(isinstance(f, c.In) for f in n.fields)
-                          > 1 for n in c.walk(d.body))
+                          > 1 for n in action_nodes(d.body))
         definitions.append(Definition(
             name=names[d.name], params=params,
             type=" \\<Rightarrow> ".join([*ptypes, action_type]), body=body,

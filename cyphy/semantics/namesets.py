@@ -13,7 +13,7 @@ a partition exists; :func:`with_namesets` replaces each interleaving that has on
 from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
-from typing import Callable
+from typing import Callable, Iterator
 
 from cyphy.semantics import circus as c
 
@@ -68,6 +68,27 @@ def map_action(action: c.Action, fn: Callable[[c.Action], c.Action | None]) -> c
     return rebuilt if found is None else found
 
 
+def action_nodes(action: c.Action) -> Iterator[object]:
+    """Every action node below ``action`` (itself included) and the communications of its
+    prefixes, depth first, without descending into expressions (cheap on big evolutions)."""
+    stack: list[object] = [action]
+    while stack:
+        node = stack.pop()
+        yield node
+        if isinstance(node, c.Prefix):
+            yield node.comm
+        stack.extend(reversed(list(_action_children(node))))
+
+
+def _action_children(node: object) -> Iterator[c.Action]:
+    for f in fields(node):  # type: ignore[arg-type]
+        value = getattr(node, f.name)
+        if isinstance(value, _ACTION_TYPES):
+            yield value
+        elif isinstance(value, tuple) and value and isinstance(value[0], _ACTION_TYPES):
+            yield from value
+
+
 def writes(action: c.Action, defs: dict[str, c.ActionDef]) -> frozenset[str]:
     """The state variables ``action`` may update (assignments, specification frames,
     evolutions, through named actions; an interleaving's updates are discarded)."""
@@ -90,8 +111,7 @@ def writes(action: c.Action, defs: dict[str, c.ActionDef]) -> frozenset[str]:
         elif isinstance(node, c.Call) and node.name in defs and node.name not in seen:
             seen.add(node.name)
             stack.append(defs[node.name].body)
-        if isinstance(node, _ACTION_TYPES):
-            stack.extend(v for v in c.children(node) if isinstance(v, _ACTION_TYPES))
+        stack.extend(_action_children(node))
     return frozenset(out)
 
 
@@ -105,7 +125,7 @@ def find_lossy_interleavings(process: c.BasicProcess) -> list[LossyInterleaving]
     defs = {d.name: d for d in process.actions}
     found: list[LossyInterleaving] = []
     for d in process.actions:
-        for node in c.walk(d.body):
+        for node in action_nodes(d.body):
             if isinstance(node, c.Interleave):
                 w = tuple(writes(i, defs) for i in node.items)
                 if any(w):
