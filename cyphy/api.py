@@ -306,3 +306,62 @@ def _device_constant(model: "ElaboratedModel", name: str) -> bool:
     return any(e.definition == definition and e.device is not None
                and e.device.port(const) is not None
                for e in [*model.joints, *model.sensors, *model.actuators])
+class IsabelleGenOptions:
+    """``cyphy gen --isabelle``: which mapping, the semantics' parameters, the name sets."""
+
+    mapping: str | None = None  # the mapping (or its p-model) to translate
+    system_name: str | None = None  # the name of the whole system (default: the mapping's)
+    tscale: float | None = None
+    consts: dict[str, object] = field(default_factory=dict)
+    search_paths: tuple[str, ...] = ()
+    namesets: bool = False  # keep interleaved updates with a name-set partition
+
+
+def generate_isabelle(paths: Sequence[str | Path],
+                      options: IsabelleGenOptions = IsabelleGenOptions()) -> Generated:
+    """The Isabelle session of one platform mapping: ``ROOT``, the prelude, the theory, a
+    README and the names table. Files are empty when the model has errors. Interleavings
+    that discard state updates are reported as warnings (W-INTERLEAVE)."""
+    from cyphy.backends.isabelle_theory import (LOSSY_INTERLEAVING, UNTRANSLATABLE,
+                                                IsabelleError, IsabelleOptions,
+                                                generate_session)
+    from cyphy.semantics.build import SemanticsOptions, build_semantics
+
+    checked = check(paths, CheckOptions(search_paths=options.search_paths,
+                                        consts=dict(options.consts),
+                                        neighbours_as_targets=True))
+    generated = Generated(checked.report, dict(checked.sources))
+    report = checked.report
+    if report.has_errors or checked.resolution is None:
+        return generated
+    semantics = build_semantics(checked.workspace, checked.resolution, report,
+                                SemanticsOptions(options.mapping, options.system_name,
+                                                 options.tscale, dict(options.consts)))
+    if semantics is None or report.has_errors:
+        return generated
+    span = semantics.mapping.span
+    try:
+        session = generate_session(semantics.program, semantics.names,
+                                   IsabelleOptions(options.namesets),
+                                   options.system_name)
+    except IsabelleError as err:
+        report.report(UNTRANSLATABLE, str(err), span,
+                      "this construct cannot be written in Isabelle/UTP yet; the text and "
+                      "LaTeX printers (--cyphycircus, --latex) show it")
+        return generated
+    for found in session.lossy:
+        if session.namesets_applied and found.partition:
+            continue
+        branches = " ||| ".join(found.branches)
+        updated = ", ".join(sorted(found.updated))
+        if not options.namesets:
+            hint = ("this follows the paper; --isabelle-namesets writes the interleaving with "
+                    "a name-set partition where the branches update disjoint variables")
+        else:
+            hint = ("--isabelle-namesets cannot help here: no name-set partition exists, "
+                    f"the branches all may update {', '.join(sorted(found.overlap))}")
+        report.report(LOSSY_INTERLEAVING,
+                      f"{found.action} ≙ {branches} interleaves with empty name sets: the "
+                      f"updates of {updated} are discarded when it ends", span, hint)
+    generated.files = session.files
+    return generated

@@ -234,6 +234,34 @@ def _reach(args: argparse.Namespace) -> int:
     (sys.stderr if outcome.verdict == "ERROR" else sys.stdout).write(line)
     return outcome.exit_code
 
+def _semantics_options(parser: argparse.ArgumentParser) -> None:
+    """Options of the CyPhyCircus semantics that every semantic generator shares (added
+    once, whichever generator asks first)."""
+    if "--tscale" in parser._option_string_actions:
+        return
+    parser.add_argument("--tscale", type=float, metavar="X",
+                        help="fix tscale, the length of a d-model time unit in seconds")
+    parser.add_argument("--name", metavar="N",
+                        help="the name of the whole system (default: the mapping's)")
+
+
+def _isabelle_options(parser: argparse.ArgumentParser) -> None:
+    _semantics_options(parser)
+    parser.add_argument("--isabelle-namesets", action="store_true",
+                        help="write interleavings whose branches update disjoint variables "
+                        "with that name-set partition, so their updates are kept")
+
+
+def _isabelle(args: argparse.Namespace) -> "Generated":
+    from cyphy.api import IsabelleGenOptions, generate_isabelle
+
+    return generate_isabelle(args.paths, IsabelleGenOptions(
+        args.model, args.name, args.tscale, _consts(args), tuple(args.path),
+        args.isabelle_namesets))
+
+
+GENERATORS["isabelle"] = (_isabelle, "an Isabelle/UTP session of the CyPhyCircus semantics "
+                          "of a platform mapping (isabelle-gen/)", _isabelle_options)
 
 def _solve(args: argparse.Namespace) -> int:
     from cyphy.api import SolveOptions, solve
@@ -380,16 +408,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     return 2
 
 
-def _semantics_options(parser: argparse.ArgumentParser) -> None:
-    """Options of every generator built on the CyPhyCircus semantics."""
-    parser.add_argument("--tscale", type=float, metavar="SECONDS",
-                        help="fix tscale, the length of one d-model time unit "
-                        "(CyPhyCircus, LaTeX, Isabelle)")
-    parser.add_argument("--name", metavar="N",
-                        help="name of the whole system's process (default: the mapping's)")
-
-
 def _latex_options(parser: argparse.ArgumentParser) -> None:
+    _semantics_options(parser)
     parser.add_argument("--pdf", action="store_true",
                         help="with --latex, also typeset the document with pdflatex")
 

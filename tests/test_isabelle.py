@@ -1,0 +1,397 @@
+"""``cyphy gen --isabelle``: the session's files checked statically (Isabelle is not available
+here): lexing, theory name, ASCII, define-before-use, one closure lemma after each action
+definition, identifiers, and every definition body read back into the action AST that was
+printed (round trip), for the marXbot and for Hypothesis-generated mappings."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from conftest import EXAMPLES
+from cyphy import api
+from cyphy.backends.isabelle_names import RESERVED, IsabelleNames, is_identifier
+from cyphy.backends.isabelle_theory import IsabelleOptions, calls, generate_session
+from cyphy.cli import main
+from cyphy.semantics import circus as c
+from cyphy.semantics.build import build_semantics
+from isabelle_reader import parser, read_action, read_definitions
+
+MARXBOT = EXAMPLES / "marxbot" / "Mapping.rsm"
+MARXBOT_ACTIONS = ["Init", "ObstacleToDModel", "SendToDModel", "MoveCall", "MoveFromDModel",
+                   "StopCall", "StopFromDModel", "ReceiveFromDModel", "Evolve", "MainAction"]
+
+
+def semantics(paths: list[Path]):  # type: ignore[no-untyped-def]
+    checked = api.check(paths, api.CheckOptions(neighbours_as_targets=True))
+    assert not checked.report.has_errors, checked.report.diagnostics
+    sem = build_semantics(checked.workspace, checked.resolution, checked.report)
+    assert sem is not None, checked.report.diagnostics
+    return sem
+
+
+@pytest.fixture(scope="module")
+def marxbot():  # type: ignore[no-untyped-def]
+    return semantics([MARXBOT])
+
+
+@pytest.fixture(scope="module")
+def marxbot_session(marxbot):  # type: ignore[no-untyped-def]
+    return generate_session(marxbot.program, marxbot.names)
+
+
+# ---------------------------------------------------------------- the static checks
+
+
+def lex_errors(text: str) -> list[str]:
+    """Error tokens of Pygments' Isabelle lexer and of isar-tools' outer-syntax lexer."""
+    from pygments.lexers import IsabelleLexer
+    from pygments.token import Error
+
+    errors = [v for t, v in IsabelleLexer().get_tokens(text) if t in Error]
+    try:
+        from isar_tools.source.lexer import Kind, tokenize
+    except ImportError:  # pragma: no cover - isar-tools is a pinned test dependency
+        return errors
+    return errors + [t.text for t in tokenize(text) if t.kind is Kind.ERROR]
+
+
+def theory_header(text: str) -> tuple[str, list[str]]:
+    m = re.search(r"^theory (\S+)\n  imports ((?:\S+ ?)+)\nbegin\n", text, re.M)
+    assert m is not None
+    assert text.rstrip().endswith("\nend")
+    return m.group(1), m.group(2).split()
+
+
+def term_identifiers(term: str) -> set[str]:
+    """The identifiers of a printed term (not the symbols' names inside ``\\<…>``)."""
+    without_symbols = re.sub(r"\\<[^>]*>", " ", term)
+    return set(re.findall(r"(?<![\w.])[A-Za-z][A-Za-z0-9_]*", without_symbols))
+
+
+KEYWORDS_OF_TERMS = {"Skip", "Stop", "MuC", "InterruptCondC", "WaitC", "EvolveC", "DerC",
+                     "IntegralC", "true", "false", "True", "False", "UNIV", "set", "list",
+                     "real", "nat", "int", "bool", "uop", "bop", "trop", "mod", "powr",
+                     "sin", "cos", "tan", "sqrt", "exp", "ln", "abs", "arctan"}
+
+
+def check_session(session, program: c.Program) -> None:  # type: ignore[no-untyped-def]
+    """Every static property the issue asks of a generated session."""
+    theories = {p: t for p, t in session.files.items() if p.endswith(".thy")}
+    assert set(session.files) >= {"ROOT", "README", "names.tsv"}
+    for path, text in session.files.items():
+        text.encode("ascii")  # pure ASCII
+        assert "sorry" not in text and "oops" not in text
+    for path, text in theories.items():
+        assert lex_errors(text) == [], path
+        name, _ = theory_header(text)
+        assert name == Path(path).stem and is_identifier(name)
+    assert len({p.lower() for p in theories}) == len(theories)
+    text = theories[f"{session.theory_name}.thy"]
+    assert theory_header(text)[1] == ["CyPhyCircus_Prelude"]
+    assert f"theories\n    CyPhyCircus_Prelude\n    {session.theory_name}\n" in session.files["ROOT"]
+
+    definitions = read_definitions(text)
+    # Exactly one [closure] lemma right after each action definition, same parameters.
+    assert len(definitions) == text.count("\ndefinition") - len(
+        [k for k in program.pmodel.constants if k.value is not None])
+    assert text.count("[closure]") == len(definitions)
+    names = [d[0] for d in definitions]
+    assert names == [session.names[a] for a in session.actions]
+    for name, params, _, lemma, stated in definitions:
+        assert lemma == f"{name}_NCSP"
+        assert stated.split() == [name, *params]
+
+    # Define before use, on the AST: every call is to an action defined earlier (or to the
+    # recursion variable of an enclosing MuC).
+    defined: set[str] = set()
+    for name, action in session.actions.items():
+        mu_vars = {n.var for n in c.walk(action.body) if isinstance(n, c.Mu)}
+        params = {p.name for p in action.params}
+        for callee in calls(action.body):
+            assert callee in defined or callee in mu_vars or callee in params, (name, callee)
+        defined.add(name)
+
+    # Identifiers: the restricted form, no keyword, globals pairwise distinct, binders
+    # distinct from every global.
+    idents = session.names.identifiers()
+    assert len(idents) == len(session.names.items())
+    for ident in idents:
+        assert is_identifier(ident) and ident not in RESERVED, ident
+    from isar_tools.source.keywords import BUILTIN_COMMANDS
+
+    for name, params, body, _, _ in definitions:
+        for ident in term_identifiers(body) | set(params):
+            if ident in KEYWORDS_OF_TERMS:
+                continue
+            assert is_identifier(ident) and ident not in RESERVED, ident
+            assert ident not in BUILTIN_COMMANDS, ident
+    for ident in idents:
+        assert ident not in BUILTIN_COMMANDS, ident
+
+    # Round trip: each definition body reads back into the action it was printed from.
+    pm = program.pmodel
+    local = pm.local.name if pm.local.fields else None
+    for name, params, body, _, _ in definitions:
+        original = session.actions[session.names.inverse()[name]]
+        assert read_action(body, params, session.symbols, pm.state.name, local) == \
+            original.body, name
+
+
+# ---------------------------------------------------------------- marXbot
+
+
+def test_marxbot_session_passes_every_static_check(marxbot, marxbot_session) -> None:
+    check_session(marxbot_session, marxbot.program)
+
+
+def test_marxbot_theory_order(marxbot_session) -> None:
+    text = marxbot_session.files["marXbotBase_CyPhyCircus.thy"]
+    landmarks = ["axiomatization\n  cycle :: nat and\n  tscale :: real\nwhere",
+                 "definition LHinge_AXIS :: \"real list\"", "consts LMotor_b :: real",
+                 "datatype marXbotBase_chan =", "alphabet marXbotBaseVisible =",
+                 "alphabet marXbotBaseState = marXbotBaseVisible +",
+                 "type_synonym marXbotBase_action"]
+    landmarks += [f"definition {a} ::" for a in MARXBOT_ACTIONS]
+    positions = [text.index(m) for m in landmarks]
+    assert positions == sorted(positions)
+    assert [d[0] for d in read_definitions(text)] == MARXBOT_ACTIONS
+
+
+def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:
+    text = marxbot_session.files["marXbotBase_CyPhyCircus.thy"]
+    assert '"Init = ((timer, LMotor_das, RMotor_das) :=\\<^sub>C (0, 0, 0))"' in text
+    assert ("registerRead_obstacle!(true) \\<^bold>\\<rightarrow> Skip) \\<triangleleft> "
+            "(&Proximity1_voltage \\<ge>\\<^sub>u \\<guillemotleft>3.0\\<guillemotright>)") in text
+    assert ('"MoveCall lv av = ({LMotor_das, RMotor_das}\\<^sub>v:[true, (\\<^bold>\\<exists> '
+            'move_dsl::real \\<bullet> \\<^bold>\\<exists> move_dsr::real') in text
+    assert "(registerWrite_move?(lv)?(av) \\<^bold>\\<rightarrow> (MoveCall lv av))" in text
+    assert "by (simp add: MoveFromDModel_def closure prod.case_eq_if)" in text
+    assert '"ReceiveFromDModel = (MoveFromDModel ||| StopFromDModel)"' in text
+    assert "($timer\\<acute> =\\<^sub>u 1)" in text
+    assert ("(InterruptCondC Evolve (&timer \\<ge>\\<^sub>u \\<guillemotleft>((real cycle) * "
+            "tscale)\\<guillemotright>))") in text
+    assert "(WaitC tock cycle)" in text
+    assert "| registerWrite_move \"real \\<times> real\"" in text
+    assert 'globals_3: "(cycle = 1)"' in text
+    # transpose is a HOL constant: the library function is declared under another name
+    assert "transpose_v :: \"'a1 \\<Rightarrow> 'r\"" in text
+
+
+def test_marxbot_caveat_is_a_warning_and_a_comment(tmp_path: Path) -> None:
+    generated = api.generate_isabelle([MARXBOT])
+    warnings = [d for d in generated.report.diagnostics if d.code.id == "W-INTERLEAVE"]
+    assert len(warnings) == 1 and not generated.report.has_errors
+    assert "ReceiveFromDModel" in warnings[0].message
+    assert "LMotor_das, RMotor_das are discarded" in warnings[0].message
+    assert "--isabelle-namesets" in warnings[0].hint
+    text = generated.files["marXbotBase_CyPhyCircus.thy"]
+    assert "(* Caveat: MoveFromDModel ||| StopFromDModel interleaves with empty name" in text
+    # no partition exists: both operations write both motors
+    chosen = api.generate_isabelle([MARXBOT], api.IsabelleGenOptions(namesets=True))
+    [warning] = [d for d in chosen.report.diagnostics if d.code.id == "W-INTERLEAVE"]
+    assert "no name-set partition exists" in warning.hint
+    assert '"ReceiveFromDModel = (MoveFromDModel ||| StopFromDModel)"' in \
+        chosen.files["marXbotBase_CyPhyCircus.thy"]
+
+
+def test_marxbot_generation_is_deterministic() -> None:
+    first = api.generate_isabelle([MARXBOT]).files
+    assert api.generate_isabelle([MARXBOT]).files == first
+
+
+def test_names_table(marxbot_session) -> None:
+    rows = [r.split("\t") for r in marxbot_session.files["names.tsv"].splitlines()]
+    assert rows[0] == ["qualified", "cyphycircus", "isabelle"]
+    table = {r[0]: (r[1], r[2]) for r in rows[1:]}
+    assert table["marXbotBase::Core::LHinge::LMotor.das"] == ("LMotor_das", "LMotor_das")
+    assert table["M::move::dsl"] == ("move_dsl", "move_dsl")
+
+
+def test_cli_writes_the_session(tmp_path: Path, capsys) -> None:
+    out = tmp_path / "isa"
+    assert main(["gen", "--isabelle", str(MARXBOT), "-o", str(out), "--tscale", "0.01"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == [
+        "CyPhyCircus_Prelude.thy", "README", "ROOT", "marXbotBase_CyPhyCircus.thy",
+        "names.tsv"]
+    assert '"(tscale = 0.01)"' in (out / "marXbotBase_CyPhyCircus.thy").read_text()
+    assert "W-INTERLEAVE" in capsys.readouterr().err
+    readme = (out / "README").read_text()
+    assert "isabelle build -d <utp-main> -D ." in readme
+
+
+def test_cli_writes_nothing_for_a_broken_model(tmp_path: Path) -> None:
+    for name in ("Treel.rsm", "marXbotBase.rsm", "marXbotSoftware.rsm"):
+        (tmp_path / name).write_text((EXAMPLES / "marxbot" / name).read_text())
+    (tmp_path / "Mapping.rsm").write_text(
+        MARXBOT.read_text().replace("Core::LHinge::LMotor.das == dsl", "Core::Nope.das == dsl"))
+    out = tmp_path / "isa"
+    assert main(["gen", "--isabelle", str(tmp_path / "Mapping.rsm"), "-o", str(out)]) == 1
+    assert not out.exists()
+
+
+def test_prelude_is_the_shipped_text(marxbot_session) -> None:
+    prelude = marxbot_session.files["CyPhyCircus_Prelude.thy"]
+    for fact in ("EvolveC_NCSP [closure]", "InterruptC_NCSP [closure]",
+                 "InterruptCondC_NCSP [closure]", "MuC_NCSP [closure]", "WaitC_NCSP [closure]"):
+        assert fact in prelude
+    assert lex_errors(prelude) == []
+    assert theory_header(prelude) == ("CyPhyCircus_Prelude", ['"UTP-Circus.utp_circus"'])
+
+
+# ---------------------------------------------------------------- names
+
+
+def test_reserved_words_get_a_suffix() -> None:
+    names = IsabelleNames()
+    assert names.add("end") == "end_v"
+    assert names.add("transpose") == "transpose_v"
+    assert names.add("end_v") == "end_v_v"
+    assert names.add("Skip") == "Skip_v"
+    assert names.add("LMotor_das") == "LMotor_das"
+    assert names.add("a__b_") == "a_b"
+    assert names.add("1x") == "n1x"
+    assert len(set(names.inverse())) == 7
+
+
+def test_round_trip_grammar_is_conflict_free() -> None:
+    assert parser() is not None  # built with strict=True: no LALR or terminal conflicts
+
+
+# ---------------------------------------------------------------- generated mappings
+
+SOFTWARE = """\
+package soft
+interface MovesI {{ {ops} }}
+interface SeesI {{ {events} }}
+module Soft {{
+  cycleDef cycle == 1
+  robotic platform Platform {{ provides MovesI uses SeesI{outputs} }}
+}}
+"""
+
+ROBOT = """\
+package robot
+import physmod::joints::Revolute
+import physmod::actuators::SpeedControlMotor
+import physmod::actuators::LED
+import physmod::sensors::IR
+pmodel Robot {
+  local link Base {
+    def { inertial information { mass 1.0 } }
+    local body B { def { box(length = 0.1, width = 0.1, height = 0.1) } }
+    jref J = Revolute {
+      instantiation AXIS = (|0,0,1|)
+      flexibly connected to Arm
+      aref M = SpeedControlMotor { relation M.T == J.tau }
+    }
+    aref Lamp = LED { }
+  }
+  local link Arm {
+    pose { x = 0.5 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
+    def { inertial information { mass 0.5 } }
+    local body B { def { box(length = 0.1, width = 0.1, height = 0.1) } }
+    sref S = IR { index i : [0,4) }
+  }
+}
+"""
+
+# Names that are Isabelle or UTP words but fine in RoboSim: they must be mangled.
+PARAM_NAMES = ["lv", "av", "x", "fst", "card", "theory", "lemma", "wait", "ok", "hd"]
+OP_NAMES = ["move", "stop", "turn", "card", "halt"]
+EVENT_NAMES = ["obstacle", "distance", "bump", "fst", "light"]
+
+
+def expressions(leaves: list[str]) -> st.SearchStrategy[str]:
+    atoms = st.sampled_from(leaves) | st.sampled_from(["0", "2", "0.5", "3.25"])
+    return st.recursive(
+        atoms,
+        lambda sub: st.builds(lambda a, op, b: f"({a} {op} {b})", sub,
+                              st.sampled_from(["+", "-", "*", "/"]), sub)
+        | st.builds(lambda a: f"-{a}", sub),
+        max_leaves=5)
+
+
+@st.composite
+def mappings(draw) -> tuple[str, str]:  # type: ignore[no-untyped-def]
+    """A d-model (platform with operations and input events) and its mapping as text."""
+    op_names = draw(st.lists(st.sampled_from(OP_NAMES), min_size=0, max_size=3, unique=True))
+    ev_names = draw(st.lists(st.sampled_from(EVENT_NAMES), min_size=0, max_size=3,
+                             unique=True))
+    ev_names = [e for e in ev_names if e not in op_names]
+    ops, events, members = [], [], []
+    for op in op_names:
+        params = draw(st.lists(st.sampled_from(PARAM_NAMES), max_size=2, unique=True))
+        ops.append(f"{op}({', '.join(f'{p}: real' for p in params)})")
+        local = draw(st.booleans())
+        const = draw(st.booleans())
+        leaves = [*params, *(["w"] if local else []), *(["k"] if const else [])] or ["1"]
+        decls = (" var w: real" if local else "") + (" const k: real = 0.25" if const else "")
+        eqs = [f"equation Base::J::M.das == {draw(expressions(leaves))}"]
+        if local:
+            eqs.append(f"equation w == {draw(expressions([*params, '1']))}")
+        members.append(f"  operation {op} {{{decls} {' '.join(eqs)} }}\n")
+    for ev in ev_names:
+        typed = draw(st.booleans())
+        index = draw(st.integers(0, 3))
+        events.append(f"event {ev}" + (": real" if typed else ""))
+        pred = f"Arm::S[{index}].voltage {draw(st.sampled_from(['>=', '<', '>']))} " \
+               f"{draw(st.sampled_from(['3.0', '1', '0.5']))}"
+        if typed:
+            value = draw(expressions([f"Arm::S[{index}].voltage", "2"]))
+            members.append(f"  input event {ev} ? d {{ predicate {pred} "
+                           f"equation d == {value} }}\n")
+        else:
+            members.append(f"  input event {ev} {{ predicate {pred} }}\n")
+    lamp = draw(st.booleans())
+    outputs = " event lamp: boolean" if lamp else ""
+    if lamp:
+        members.append("  output event lamp ? on { action Base::Lamp.on = on }\n")
+    software = SOFTWARE.format(ops=" ".join(ops), events=" ".join(events), outputs=outputs)
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               + "".join(members) + "}\n")
+    return software, mapping
+
+
+def write_model(folder: Path, software: str, mapping: str) -> list[Path]:
+    files = {"sw.rsm": software, "robot.rsm": ROBOT, "map.rsm": mapping}
+    for name, text in files.items():
+        (folder / name).write_text(text, encoding="utf-8")
+    return [folder / name for name in files]
+
+
+@settings(max_examples=40, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(model=mappings(), namesets=st.booleans())
+def test_generated_mappings_pass_every_static_check(tmp_path_factory, model, namesets) -> None:
+    folder = tmp_path_factory.mktemp("mapping")
+    sem = semantics(write_model(folder, *model))
+    session = generate_session(sem.program, sem.names, IsabelleOptions(namesets=namesets))
+    check_session(session, sem.program)
+
+
+def test_namesets_partition_keeps_disjoint_updates(tmp_path: Path) -> None:
+    software = SOFTWARE.format(ops="move(lv: real)", events="event bump",
+                               outputs=" event lamp: boolean")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               "  operation move { equation Base::J::M.das == lv }\n"
+               "  input event bump { predicate Arm::S[0].voltage > 1 }\n"
+               "  output event lamp ? on { action Base::Lamp.on = on }\n}\n")
+    paths = write_model(tmp_path, software, mapping)
+    paper = api.generate_isabelle(paths)
+    assert [d.code.id for d in paper.report.diagnostics] == ["W-INTERLEAVE"]
+    assert '"ReceiveFromDModel = (MoveFromDModel ||| LampFromDModel)"' in \
+        paper.files["Robot_CyPhyCircus.thy"]
+    chosen = api.generate_isabelle(paths, api.IsabelleGenOptions(namesets=True))
+    assert chosen.report.diagnostics == []
+    text = chosen.files["Robot_CyPhyCircus.thy"]
+    assert ('"ReceiveFromDModel = (MoveFromDModel \\<lbrakk>{M_das}\\<^sub>v\\<parallel>'
+            '{Lamp_on}\\<^sub>v\\<rbrakk> LampFromDModel)"') in text
+    assert "name-set partition that keeps their updates" in text
+    sem = semantics(paths)
+    check_session(generate_session(sem.program, sem.names, IsabelleOptions(namesets=True)),
+                  sem.program)
