@@ -306,6 +306,9 @@ def _device_constant(model: "ElaboratedModel", name: str) -> bool:
     return any(e.definition == definition and e.device is not None
                and e.device.port(const) is not None
                for e in [*model.joints, *model.sensors, *model.actuators])
+
+
+@dataclass(frozen=True)
 class IsabelleGenOptions:
     """``cyphy gen --isabelle``: which mapping, the semantics' parameters, the name sets."""
 
