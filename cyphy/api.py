@@ -184,19 +184,21 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
 
 @dataclass(frozen=True)
 class SemanticsGenOptions:
-    """Options of the CyPhyCircus generators (``--cyphycircus``, ``--latex``)."""
+    """Options of the generators built on the CyPhyCircus semantics (``--cyphycircus``,
+    ``--latex``, ``--isabelle``)."""
 
-    mapping: str | None = None
-    system_name: str | None = None
+    mapping: str | None = None  # the mapping (or its p-model) to translate
+    system_name: str | None = None  # the name of the whole system (default: the mapping's)
     tscale: float | None = None
     consts: dict[str, object] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
-    pdf: bool = False
+    pdf: bool = False  # --latex: also typeset with pdflatex
+    namesets: bool = False  # --isabelle: keep interleaved updates with a name-set partition
 
 
 def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = SemanticsGenOptions()
               ) -> tuple[CheckResult, Any]:
-    """Check the files (and those beside them) and apply the paper's rules to the chosen
+    """Check the files (and the files they use) and apply the paper's rules to the chosen
     platform mapping: ``(check result, Semantics or None)``."""
     from cyphy.semantics.build import SemanticsOptions, build_semantics
 
@@ -308,43 +310,23 @@ def _device_constant(model: "ElaboratedModel", name: str) -> bool:
                for e in [*model.joints, *model.sensors, *model.actuators])
 
 
-@dataclass(frozen=True)
-class IsabelleGenOptions:
-    """``cyphy gen --isabelle``: which mapping, the semantics' parameters, the name sets."""
-
-    mapping: str | None = None  # the mapping (or its p-model) to translate
-    system_name: str | None = None  # the name of the whole system (default: the mapping's)
-    tscale: float | None = None
-    consts: dict[str, object] = field(default_factory=dict)
-    search_paths: tuple[str, ...] = ()
-    namesets: bool = False  # keep interleaved updates with a name-set partition
-
-
 def generate_isabelle(paths: Sequence[str | Path],
-                      options: IsabelleGenOptions = IsabelleGenOptions()) -> Generated:
+                      options: SemanticsGenOptions = SemanticsGenOptions()) -> Generated:
     """The Isabelle session of one platform mapping: ``ROOT``, the prelude, the theory, a
     README and the names table. Files are empty when the model has errors. Interleavings
     that discard state updates are reported as warnings (W-INTERLEAVE)."""
     from cyphy.backends.isabelle_theory import (LOSSY_INTERLEAVING, UNTRANSLATABLE,
                                                 IsabelleError, IsabelleOptions,
                                                 generate_session)
-    from cyphy.semantics.build import SemanticsOptions, build_semantics
 
-    checked = check(paths, CheckOptions(search_paths=options.search_paths,
-                                        consts=dict(options.consts),
-                                        neighbours_as_targets=True))
+    checked, built = semantics(paths, options)
     generated = Generated(checked.report, dict(checked.sources))
     report = checked.report
-    if report.has_errors or checked.resolution is None:
+    if built is None or report.has_errors:
         return generated
-    semantics = build_semantics(checked.workspace, checked.resolution, report,
-                                SemanticsOptions(options.mapping, options.system_name,
-                                                 options.tscale, dict(options.consts)))
-    if semantics is None or report.has_errors:
-        return generated
-    span = semantics.mapping.span
+    span = built.mapping.span
     try:
-        session = generate_session(semantics.program, semantics.names,
+        session = generate_session(built.program, built.names,
                                    IsabelleOptions(options.namesets),
                                    options.system_name)
     except IsabelleError as err:

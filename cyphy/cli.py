@@ -12,7 +12,7 @@ import sys
 from typing import TYPE_CHECKING, Callable, Sequence
 
 if TYPE_CHECKING:
-    from cyphy.api import Generated
+    from cyphy.api import Generated, SemanticsGenOptions
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -253,11 +253,19 @@ def _isabelle_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _isabelle(args: argparse.Namespace) -> "Generated":
-    from cyphy.api import IsabelleGenOptions, generate_isabelle
+    from cyphy.api import generate_isabelle
 
-    return generate_isabelle(args.paths, IsabelleGenOptions(
-        args.model, args.name, args.tscale, _consts(args), tuple(args.path),
-        args.isabelle_namesets))
+    return generate_isabelle(args.paths, _semantics_gen_options(args))
+
+
+def _semantics_gen_options(args: argparse.Namespace) -> "SemanticsGenOptions":
+    """The options of every generator built on the semantics, from the parsed arguments
+    (``--pdf`` and ``--isabelle-namesets`` are each added by their own target)."""
+    from cyphy.api import SemanticsGenOptions
+
+    return SemanticsGenOptions(args.model, args.name, args.tscale, _consts(args),
+                               tuple(args.path), pdf=getattr(args, "pdf", False),
+                               namesets=getattr(args, "isabelle_namesets", False))
 
 
 GENERATORS["isabelle"] = (_isabelle, "an Isabelle/UTP session of the CyPhyCircus semantics "
@@ -415,12 +423,10 @@ def _latex_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _gen_semantics(args: argparse.Namespace) -> "Generated":
-    from cyphy.api import SemanticsGenOptions, generate_cyphycircus
+    from cyphy.api import generate_cyphycircus
 
-    options = SemanticsGenOptions(args.model, args.name, args.tscale, _consts(args),
-                                  tuple(args.path), getattr(args, "pdf", False))
     return generate_cyphycircus(args.paths, "text" if args.target == "cyphycircus"
-                                else "latex", options)
+                                else "latex", _semantics_gen_options(args))
 
 
 GENERATORS["cyphycircus"] = (

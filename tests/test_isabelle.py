@@ -192,7 +192,7 @@ def test_marxbot_caveat_is_a_warning_and_a_comment(tmp_path: Path) -> None:
     text = generated.files["marXbotBase_CyPhyCircus.thy"]
     assert "(* Caveat: MoveFromDModel ||| StopFromDModel interleaves with empty name" in text
     # no partition exists: both operations write both motors
-    chosen = api.generate_isabelle([MARXBOT], api.IsabelleGenOptions(namesets=True))
+    chosen = api.generate_isabelle([MARXBOT], api.SemanticsGenOptions(namesets=True))
     [warning] = [d for d in chosen.report.diagnostics if d.code.id == "W-INTERLEAVE"]
     assert "no name-set partition exists" in warning.hint
     assert '"ReceiveFromDModel = (MoveFromDModel ||| StopFromDModel)"' in \
@@ -386,7 +386,7 @@ def test_namesets_partition_keeps_disjoint_updates(tmp_path: Path) -> None:
     assert [d.code.id for d in paper.report.diagnostics] == ["W-INTERLEAVE"]
     assert '"ReceiveFromDModel = (MoveFromDModel ||| LampFromDModel)"' in \
         paper.files["Robot_CyPhyCircus.thy"]
-    chosen = api.generate_isabelle(paths, api.IsabelleGenOptions(namesets=True))
+    chosen = api.generate_isabelle(paths, api.SemanticsGenOptions(namesets=True))
     assert chosen.report.diagnostics == []
     text = chosen.files["Robot_CyPhyCircus.thy"]
     assert ('"ReceiveFromDModel = (MoveFromDModel \\<lbrakk>{M_das}\\<^sub>v\\<parallel>'
