@@ -233,6 +233,14 @@ def _transform_item(item: object, fn: Callable[[Expr], Expr | None]) -> object:
     return item
 
 
+def conjunction(items: list[Expr]) -> Expr:
+    """``a /\\ b /\\ …`` (left-nested, as the parser builds it) of one or more predicates."""
+    out = items[0]
+    for item in items[1:]:
+        out = BinOp("/\\", out, item, span=getattr(item, "span", _NO_SPAN))
+    return out
+
+
 def path_of(expr: Expr) -> tuple[str, ...] | None:
     """The element path an expression denotes, or None when it is not a plain path.
 

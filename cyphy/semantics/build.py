@@ -17,6 +17,8 @@ from cyphy.semantics import circus as c
 from cyphy.semantics.names import NameTable
 from cyphy.semantics.rules import Context, DModel, SemanticsError, Service, rule1_program
 from cyphy.semantics.values import type_of
+from cyphy.wellformed.mappings import Platform, platform_of
+from cyphy.wellformed.registry import WFContext
 
 NO_MAPPING = codes.code("E-MAPPING", codes.E,
                         "no platform mapping to give a semantics to")
@@ -44,9 +46,6 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
                     options: SemanticsOptions = SemanticsOptions()) -> Semantics | None:
     """The CyPhyCircus program of one platform mapping of the given files, or None with
     the reason reported."""
-    from cyphy.wellformed.mappings import platform_of
-    from cyphy.wellformed.registry import WFContext
-
     chosen = _choose_mapping(ws, report, options.mapping)
     if chosen is None:
         return None
@@ -102,22 +101,22 @@ def _choose_mapping(ws: Workspace, report: Report, wanted: str | None
     return mappings[0]
 
 
-def _dmodel(mapping: ast.PlatformMapping, platform: object) -> DModel:
+def _dmodel(mapping: ast.PlatformMapping, platform: Platform | None) -> DModel:
     """The module name, cycle restriction and service signatures; without a d-model
     (S1 reported it) the mapping alone gives untyped services."""
     if platform is None:
         return DModel("::".join(mapping.dmodel))
-    module: ast.Module = platform.module  # type: ignore[attr-defined]
-    restriction = tuple(_cycle_equation(d.expr) for d in module.cycle_defs)
-    dm = DModel(module.name, restriction)
-    for name, s in platform.operations.items():  # type: ignore[attr-defined]
+    restriction = tuple(_cycle_equation(d.expr) for d in platform.module.cycle_defs)
+    dm = DModel(platform.module.name, restriction)
+    for name, s in platform.operations.items():
+        params = s.decl.params if isinstance(s.decl, ast.OperationSig) else ()
         dm.operations[name] = Service(name, tuple(c.Binding(p.name, type_of(p.type))
-                                                  for p in s.decl.params))
-    for name, s in platform.events.items():  # type: ignore[attr-defined]
+                                                  for p in params))
+    for name, s in platform.events.items():
         typ = s.decl.type
         dm.events[name] = Service(name, () if typ is None else
                                   (c.Binding(name, type_of(typ)),))
-    for name, s in platform.variables.items():  # type: ignore[attr-defined]
+    for name, s in platform.variables.items():
         dm.variables[name] = Service(name, (c.Binding(name, type_of(s.decl.type)),))
     return dm
 

@@ -238,11 +238,12 @@ class Spec:
 
 @dataclass(frozen=True, slots=True)
 class Evolution:
-    """``[Λ S | ∃ L • P]``: the state ``S`` evolves over time as the equations ``P`` say,
-    with the locals ``L`` existentially quantified; ``Derivative(x)`` is ``x'``."""
+    """``[Λ S | ∃ L • P]``: the state schema ``S`` evolves over time as the equations ``P``
+    say, with the fields of the local schema ``L`` existentially quantified (None: no
+    locals); ``Derivative(x)`` is ``x'``."""
 
     state: str
-    locals: tuple[Binding, ...]
+    locals: str | None
     equations: tuple[ex.Expr, ...]
 
 

@@ -9,8 +9,8 @@ and element paths replaced by the ports they name). ``integral(e)`` becomes a ne
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass, field, replace
+from typing import Any, Callable
 
 from cyphy import codes
 from cyphy import expr as ex
@@ -142,24 +142,10 @@ def member_equations(model: ElaboratedModel, mapping: ast.PlatformMapping,
     for d in member.declarations:
         if d.kind is not ast.DeclKind.CONST:
             out.locals[local[d.name]] = d.type
-    ports = port_index(model)
-
-    def swap(node: ex.Expr) -> ex.Expr | None:
-        steps = element_steps(node)
-        if steps is not None and len(steps) > 1:
-            mangled = ports.get(port_key(model, steps))
-            if mangled is not None:
-                out.ports.setdefault(mangled, to_notation(node))
-                return ex.Name((mangled,), span=node.span)
-        if isinstance(node, ex.Name) and len(node.parts) == 1:
-            n = node.parts[0]
-            if n in bound:
-                return bound[n]
-            if n in local:
-                return ex.Name((local[n],), span=node.span)
-            if n in consts and consts[n].value is not None:
-                return consts[n].value
-        return None
+    scoped: dict[str, ex.Expr] = {n: ex.Name((m,)) for n, m in local.items()}
+    scoped.update({n: d.value for n, d in consts.items() if d.value is not None})
+    scoped.update(bound)
+    swap = mapping_renamer(model, port_index(model), scoped, out.ports)
 
     origin = f"mapping {name}"
     for eq in member.equations:
@@ -178,6 +164,32 @@ def member_equations(model: ElaboratedModel, mapping: ast.PlatformMapping,
     return out
 
 
+def mapping_renamer(model: ElaboratedModel, ports: dict[tuple[str, ...], str],
+                    scoped: dict[str, ex.Expr], seen: dict[str, str] | None = None
+                    ) -> Callable[[ex.Expr], ex.Expr | None]:
+    """The replacement function (for :func:`cyphy.expr.transform`) that puts a mapping
+    expression in the model's names: element paths become the ports they name
+    (``Core::LHinge::LMotor.das`` → ``LMotor_das``, recorded in ``seen`` with the path as
+    written) and plain names in ``scoped`` (parameters, locals, constants) their
+    replacement."""
+
+    def swap(node: ex.Expr) -> ex.Expr | None:
+        steps = element_steps(node)
+        if steps is not None and len(steps) > 1:
+            mangled = ports.get(port_key(model, steps))
+            if mangled is not None:
+                if seen is not None:
+                    seen.setdefault(mangled, to_notation(node))
+                return ex.Name((mangled,), span=node.span)
+        if isinstance(node, ex.Name) and len(node.parts) == 1:
+            found = scoped.get(node.parts[0])
+            if found is not None:
+                return replace(found, span=node.span) if isinstance(found, ex.Name) else found
+        return None
+
+    return swap
+
+
 def input_event_predicate(model: ElaboratedModel, mapping: ast.PlatformMapping,
                           event: ast.EventMapping) -> ex.Expr | None:
     """The conjunction of an input event mapping's predicates in mangled names (Rule 4's
@@ -185,10 +197,7 @@ def input_event_predicate(model: ElaboratedModel, mapping: ast.PlatformMapping,
     preds = [p.expr for p in member_equations(model, mapping, event, {}).predicates]
     if not preds:
         return None
-    out = preds[0]
-    for p in preds[1:]:
-        out = ex.BinOp("/\\", out, p, span=p.span)
-    return out
+    return ex.conjunction(preds)
 
 
 def port_index(model: ElaboratedModel) -> dict[tuple[str, ...], str]:

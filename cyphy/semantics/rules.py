@@ -138,7 +138,7 @@ def rule2_pmodel_process(ctx: Context) -> c.BasicProcess:
     local = local_schema(ctx)
     actions: list[c.ActionDef] = [init_action(ctx, state)]
     actions.extend(rule3_send_to_dmodel(ctx))
-    actions.extend(receive_from_dmodel(ctx, local))
+    actions.extend(receive_from_dmodel(ctx))
     actions.append(evolve(ctx, state, local))
     timer = ex.Name((TIMER,))
     cycle_length = ex.BinOp("*", ex.Name(("cycle",)), ex.Name(("tscale",)))
@@ -260,7 +260,7 @@ def rule4_input_event(ctx: Context, m: ast.EventMapping) -> c.ActionDef:
     """Rule 4: ``<Event>ToDModel ≙ if pred then Then(m) else registerRead.e!false → Skip``
     with the mapping's predicates (conjoined) translated."""
     preds = [translate(ctx, m, p.expr) for p in m.predicates]
-    cond = _conjunction(preds) if preds else ex.Bool(True)
+    cond = ex.conjunction(preds) if preds else ex.Bool(True)
     otherwise = c.Prefix(c.Comm("registerRead", m.name, (c.Out(ex.Bool(False)),)), c.Skip())
     return c.ActionDef(f"{capitalised(m.name)}ToDModel", (),
                        c.Cond(cond, rule5_then_branch(ctx, m), otherwise))
@@ -285,7 +285,7 @@ def rule5_then_branch(ctx: Context, m: ast.EventMapping) -> c.Action:
 # --------------------------------------------------------------------------- outputs
 
 
-def receive_from_dmodel(ctx: Context, local: c.Schema) -> list[c.ActionDef]:
+def receive_from_dmodel(ctx: Context) -> list[c.ActionDef]:
     """Rule 2's ``ReceiveFromDModel``: the interleaving of one action per output event,
     operation and variable mapping (``MoveFromDModel ||| StopFromDModel``), ``Skip`` if
     there are none."""
@@ -380,26 +380,14 @@ def translate(ctx: Context, owner: ast.OperationMapping | ast.EventMapping
     """A mapping expression in CyPhyCircus names: element paths become the ports they
     name (``Core::LHinge::LMotor.das`` → ``LMotor_das``), locals and constants of the
     element get their mangled names, quantities their SI values; parameters stay."""
-    from cyphy.semantics.equations import element_steps, port_key
+    from cyphy.semantics.equations import mapping_renamer
 
-    scoped = {d.name: ctx.names.lookup(f"{ctx.mapping.name}::{owner.name}::{d.name}")
-              for d in owner.declarations}
-    scoped.update({d.name: ctx.names.lookup(f"{ctx.mapping.name}::{d.name}")
-                   for d in ctx.mapping.declarations if d.name not in scoped})
-
-    def swap(node: ex.Expr) -> ex.Expr | None:
-        steps = element_steps(node)
-        if steps is not None and len(steps) > 1:
-            mangled = ctx.ports.get(port_key(ctx.model, steps))
-            if mangled is not None:
-                return ex.Name((mangled,), span=node.span)
-        if isinstance(node, ex.Name) and len(node.parts) == 1:
-            renamed = scoped.get(node.parts[0])
-            if renamed is not None:
-                return ex.Name((renamed,), span=node.span)
-        return None
-
-    return si_units(ex.transform(e, swap))
+    names = {d.name: f"{ctx.mapping.name}::{d.name}" for d in ctx.mapping.declarations}
+    names.update({d.name: f"{ctx.mapping.name}::{owner.name}::{d.name}"
+                  for d in owner.declarations})
+    scoped: dict[str, ex.Expr] = {n: ex.Name((m,)) for n, q in names.items()
+                                  if (m := ctx.names.get(q)) is not None}
+    return si_units(ex.transform(e, mapping_renamer(ctx.model, ctx.ports, scoped)))
 
 
 # --------------------------------------------------------------------------- helpers
@@ -443,13 +431,6 @@ def _locals_bindings(ctx: Context, m: ast.OperationMapping | ast.EventMapping
 
 def _determined_by_relations(model: ElaboratedModel) -> set[str]:
     return {n.text for r in model.relations for n in r.walk() if isinstance(n, ex.Name)}
-
-
-def _conjunction(preds: list[ex.Expr]) -> ex.Expr:
-    out = preds[0]
-    for p in preds[1:]:
-        out = ex.BinOp("/\\", out, p)
-    return out
 
 
 def _order(ctx: Context):  # type: ignore[no-untyped-def]
