@@ -14,19 +14,11 @@ beside the document) defines every macro, so ``pdflatex`` typesets the file with
 
 from __future__ import annotations
 
-from typing import Callable
-
 from cyphy import expr as ex
+from cyphy.backends.circus_actions import ATOMIC, INTERLEAVE, PREFIX, ActionPrinter
+from cyphy.lang.notation import ATOM, NotationPrinter
 from cyphy.semantics import circus as c
 
-_BP = {"<=>": 10, "=>": 10, "\\/": 20, "/\\": 30, "==": 50, "!=": 50, "<": 50, "<=": 50,
-       ">": 50, ">=": 50, "+": 60, "-": 60, "cat": 60, "*": 70, "/": 70, "%": 70, "^": 90}
-_RIGHT = {"<=>", "=>", "^"}
-_ATOM = 100
-_AND = 30
-_OPS = {"<=>": "\\iff", "=>": "\\implies", "\\/": "\\lor", "/\\": "\\land", "==": "=",
-        "!=": "\\neq", "<": "<", "<=": "\\leq", ">": ">", ">=": "\\geq", "+": "+", "-": "-",
-        "cat": "\\cat", "*": "*", "/": "\\realdiv", "%": "\\mod", "^": "\\rpow"}
 _TYPES = {"real": "\\real", "nat": "\\nat", "int": "\\num", "bool": "\\boolean"}
 
 
@@ -39,67 +31,49 @@ def channel_name(channel: str, tag: str | None) -> str:
     return name(channel if tag is None else f"{channel}_{tag}")
 
 
-class LatexExpression:
+class LatexExpression(NotationPrinter):
     """Expressions in Z LaTeX; ``primed`` names are after-state values (``x'``)."""
+
+    operators = {"<=>": "\\iff", "=>": "\\implies", "\\/": "\\lor", "/\\": "\\land",
+                 "==": "=", "!=": "\\neq", "<": "<", "<=": "\\leq", ">": ">", ">=": "\\geq",
+                 "+": "+", "-": "-", "cat": "\\cat", "*": "*", "/": "\\realdiv", "%": "\\mod",
+                 "^": "\\rpow"}
+    prefixes = {"not": "\\lnot ", "-": "\\negate "}
 
     def __init__(self, primed: frozenset[str] = frozenset()) -> None:
         self.primed = primed
 
-    def print(self, e: ex.Expr) -> str:
-        return self._print(e)[0]
-
-    def wrap(self, e: ex.Expr, min_bp: int) -> str:
-        text, bp = self._print(e)
-        return f"({text})" if bp < min_bp else text
-
-    def _print(self, e: ex.Expr) -> tuple[str, int]:
-        method: Callable[[ex.Expr], tuple[str, int]] = getattr(self, "_print_" + type(e).__name__)
-        return method(e)
-
     def _print_Num(self, e: ex.Num) -> tuple[str, int]:
-        return e.text.replace(".", "\\decimalpoint "), _ATOM
+        return e.text.replace(".", "\\decimalpoint "), ATOM
 
     def _print_Bool(self, e: ex.Bool) -> tuple[str, int]:
-        return ("\\true" if e.value else "\\false"), _ATOM
+        return ("\\true" if e.value else "\\false"), ATOM
 
     def _print_Str(self, e: ex.Str) -> tuple[str, int]:
-        return "\\mbox{``" + e.value.replace("\\", "") + "''}", _ATOM
+        return "\\mbox{``" + e.value.replace("\\", "") + "''}", ATOM
 
     def _print_Name(self, e: ex.Name) -> tuple[str, int]:
-        return name(e.text) + ("'" if e.text in self.primed else ""), _ATOM
-
-    def _print_BinOp(self, e: ex.BinOp) -> tuple[str, int]:
-        bp = _BP[e.op]
-        left_min, right_min = (bp + 1, bp) if e.op in _RIGHT else (bp, bp + 1)
-        return f"{self.wrap(e.left, left_min)} {_OPS[e.op]} {self.wrap(e.right, right_min)}", bp
-
-    def _print_UnaryOp(self, e: ex.UnaryOp) -> tuple[str, int]:
-        if e.op == "not":
-            return f"\\lnot {self.wrap(e.operand, 40)}", 40
-        return f"\\negate {self.wrap(e.operand, 80)}", 80
-
-    def _print_Call(self, e: ex.Call) -> tuple[str, int]:
-        return f"{self.wrap(e.func, _ATOM)}({', '.join(self.print(a) for a in e.args)})", _ATOM
+        return name(e.text) + ("'" if e.text in self.primed else ""), ATOM
 
     def _print_Index(self, e: ex.Index) -> tuple[str, int]:
-        return f"{self.wrap(e.base, _ATOM)}({', '.join(self.print(a) for a in e.args)})", _ATOM
+        return f"{self.wrap(e.base, ATOM)}({', '.join(self.print(a) for a in e.args)})", ATOM
 
     def _print_Member(self, e: ex.Member) -> tuple[str, int]:
-        return f"{self.wrap(e.base, _ATOM)}.{name(e.name)}", _ATOM
+        return f"{self.wrap(e.base, ATOM)}.{name(e.name)}", ATOM
 
     def _print_Derivative(self, e: ex.Derivative) -> tuple[str, int]:
-        return f"\\derivative{{{self.print(e.operand)}}}", _ATOM
+        return f"\\derivative{{{self.print(e.operand)}}}", ATOM
 
     def _print_Integral(self, e: ex.Integral) -> tuple[str, int]:
         bounds = [b for b in (e.lower, e.upper) if b is not None]
-        return f"\\integral({', '.join(self.print(a) for a in (e.operand, *bounds))})", _ATOM
+        return f"\\integral({', '.join(self.print(a) for a in (e.operand, *bounds))})", ATOM
 
     def _print_Seq(self, e: ex.Seq) -> tuple[str, int]:
-        return "\\langle " + ", ".join(self.print(i) for i in e.items) + " \\rangle", _ATOM
+        return "\\langle " + ", ".join(self.print(i) for i in e.items) + " \\rangle", ATOM
 
     def _print_IfExpr(self, e: ex.IfExpr) -> tuple[str, int]:
         return (f"(\\IF {self.print(e.cond)} \\THEN {self.print(e.then)} "
-                f"\\ELSE {self.print(e.orelse)})"), _ATOM
+                f"\\ELSE {self.print(e.orelse)})"), ATOM
 
 
 def latex_type(t: c.Type) -> str:
@@ -111,132 +85,74 @@ def latex_type(t: c.Type) -> str:
     return " \\cross ".join(latex_type(i) for i in t.items)
 
 
-def _bindings(bs: tuple[c.Binding, ...]) -> str:
-    return "; ".join(f"{name(b.name)} : {latex_type(b.type)}" for b in bs)
-
-
-_HIDE, _INTERLEAVE, _CHOICE, _INTERRUPT, _SEQ, _PREFIX, _ATOMIC = 10, 20, 30, 40, 50, 60, 100
 _CYPHY_ONLY = (c.Evolution, c.InterruptCond, c.Interrupt)
+_BREAK = " \\\\\n\t1 "  # a line break in a CZT paragraph, indented
 
 
-class CircusLatex:
+class CircusLatex(ActionPrinter):
     """A whole program as a LaTeX document (``document``) or its CZT paragraphs."""
 
+    expressions = LatexExpression
+    SKIP, STOP = "\\Skip", "\\Stop"
+    THEN, SEQ, CHOICE = " \\then ", " \\circseq" + _BREAK, " \\extchoice "
+    INTERLEAVE, INTERRUPT = " \\interleave ", " \\circinterrupt "
+    MU, SPOT, VAR = "\\circmu ", " \\circspot ", "\\circvar "
+    AND = _BREAK + "\\land "
+
+    def name(self, text: str) -> str:
+        return name(text)
+
+    def type(self, t: c.Type) -> str:
+        return latex_type(t)
+
+    def channel(self, channel: str, tag: str | None) -> str:
+        return channel_name(channel, tag)
+
+    def exists(self, bindings: str, body: str) -> str:
+        return f"(\\exists {bindings} @ {body})"
+
+    def guard(self, cond: str, action: str) -> str:
+        return f"\\lcircguard {cond} \\rcircguard \\circguard {action}"
+
+    def chanset(self, channels: tuple[str, ...]) -> str:
+        return f"\\circhide \\lchanset {', '.join(name(n) for n in channels)} \\rchanset"
+
     def predicate(self, p: c.Predicate, primed: frozenset[str] = frozenset()) -> str:
-        printer = LatexExpression(primed)
-        if not isinstance(p, c.Exists):
-            if isinstance(p, ex.Bool):
-                return "true" if p.value else "false"
-            return printer.print(p)
-        body = " \\\\\n\t1 \\land ".join(printer.wrap(e, _AND + 1) for e in p.body) or "true"
-        return f"(\\exists {_bindings(p.bound)} @ {body})" if p.bound else body
-
-    def action(self, a: c.Action) -> str:
-        return self._action(a)[0]
-
-    def _action(self, a: c.Action) -> tuple[str, int]:
-        method: Callable[[c.Action], tuple[str, int]] = getattr(self, "_a_" + type(a).__name__)
-        return method(a)
-
-    def _wrap(self, a: c.Action, min_bp: int) -> str:
-        text, bp = self._action(a)
-        return f"({text})" if bp < min_bp else text
-
-    def _a_Skip(self, a: c.Skip) -> tuple[str, int]:
-        return "\\Skip", _ATOMIC
-
-    def _a_Stop(self, a: c.Stop) -> tuple[str, int]:
-        return "\\Stop", _ATOMIC
-
-    def comm(self, m: c.Comm) -> str:
-        out = channel_name(m.channel, m.tag)
-        for f in m.fields:
-            if isinstance(f, c.In):
-                out += f"?{name(f.name)}"
-            else:
-                out += ("!" if isinstance(f, c.Out) else ".") + \
-                    LatexExpression().wrap(f.value, _ATOM)
-        return out
-
-    def _a_Prefix(self, a: c.Prefix) -> tuple[str, int]:
-        return f"{self.comm(a.comm)} \\then {self._wrap(a.then, _PREFIX)}", _PREFIX
-
-    def _a_Seq(self, a: c.Seq) -> tuple[str, int]:
-        return " \\circseq \\\\\n\t1 ".join(self._wrap(i, _SEQ + 1) for i in a.items), _SEQ
-
-    def _a_ExtChoice(self, a: c.ExtChoice) -> tuple[str, int]:
-        return " \\extchoice ".join(self._wrap(i, _CHOICE + 1) for i in a.items), _CHOICE
-
-    def _a_Interleave(self, a: c.Interleave) -> tuple[str, int]:
-        return " \\interleave ".join(self._wrap(i, _INTERLEAVE + 1) for i in a.items), \
-            _INTERLEAVE
+        """A predicate that is a boolean literal is ``true``/``false`` (Z's predicates), not
+        the values ``\\true``/``\\false``."""
+        if isinstance(p, ex.Bool):
+            return "true" if p.value else "false"
+        return super().predicate(p, primed)
 
     def _a_IndexedExtChoice(self, a: c.IndexedExtChoice) -> tuple[str, int]:
         v = name(a.var.name)
         return (f"\\Extchoice {v} : \\{{ {v} : {latex_type(a.var.type)} | "
-                f"{self.predicate(a.where)} \\}} \\circspot {self._wrap(a.body, _PREFIX)}"), \
-            _ATOMIC - 1
+                f"{self.predicate(a.where)} \\}} \\circspot {self._wrap(a.body, PREFIX)}"), \
+            ATOMIC - 1
 
     def _a_Parallel(self, a: c.Parallel) -> tuple[str, int]:
         ns1 = ", ".join(name(n) for n in a.left_names)
         ns2 = ", ".join(name(n) for n in a.right_names)
         cs = ", ".join(name(n) for n in a.channels)
-        return (f"{self._wrap(a.left, _ATOMIC)} \\lpar \\{{{ns1}\\}} | \\lchanset {cs} "
-                f"\\rchanset | \\{{{ns2}\\}} \\rpar {self._wrap(a.right, _ATOMIC)}"), _INTERLEAVE
-
-    def _a_Hide(self, a: c.Hide) -> tuple[str, int]:
-        cs = ", ".join(name(n) for n in a.channels)
-        return f"{self._wrap(a.action, _HIDE + 1)} \\circhide \\lchanset {cs} \\rchanset", _HIDE
+        return (f"{self._wrap(a.left, ATOMIC)} \\lpar \\{{{ns1}\\}} | \\lchanset {cs} "
+                f"\\rchanset | \\{{{ns2}\\}} \\rpar {self._wrap(a.right, ATOMIC)}"), INTERLEAVE
 
     def _a_Cond(self, a: c.Cond) -> tuple[str, int]:
         cond = self.predicate(a.cond)
-        return (f"\\circif {cond} \\circthen {self._wrap(a.then, _PREFIX)} \\\\\n\t1 "
-                f"\\circelse \\lnot ({cond}) \\circthen {self._wrap(a.orelse, _PREFIX)} "
-                f"\\circfi"), _ATOMIC
-
-    def _a_Guard(self, a: c.Guard) -> tuple[str, int]:
-        return (f"\\lcircguard {self.predicate(a.cond)} \\rcircguard \\circguard "
-                f"{self._wrap(a.action, _PREFIX)}"), _PREFIX
-
-    def _a_Mu(self, a: c.Mu) -> tuple[str, int]:
-        return f"\\circmu {name(a.var)} \\circspot {self._wrap(a.body, _ATOMIC)}", _ATOMIC - 1
-
-    def _a_Call(self, a: c.Call) -> tuple[str, int]:
-        if not a.args:
-            return name(a.name), _ATOMIC
-        args = ", ".join(LatexExpression().print(x) for x in a.args)
-        return f"{name(a.name)}({args})", _ATOMIC
-
-    def _a_Interrupt(self, a: c.Interrupt) -> tuple[str, int]:
-        return (f"{self._wrap(a.left, _INTERRUPT + 1)} \\circinterrupt "
-                f"{self._wrap(a.right, _INTERRUPT + 1)}"), _INTERRUPT
-
-    def _a_InterruptCond(self, a: c.InterruptCond) -> tuple[str, int]:
-        return (f"{self._wrap(a.action, _INTERRUPT + 1)} \\circinterrupt "
-                f"({self.predicate(a.cond)})"), _INTERRUPT
-
-    def _a_Wait(self, a: c.Wait) -> tuple[str, int]:
-        return f"Wait({LatexExpression().print(a.count)})", _ATOMIC
-
-    def _a_Assign(self, a: c.Assign) -> tuple[str, int]:
-        values = ", ".join(LatexExpression().print(v) for v in a.values)
-        return f"{', '.join(name(t) for t in a.targets)} := {values}", _PREFIX
+        return (f"\\circif {cond} \\circthen {self._wrap(a.then, PREFIX)}{_BREAK}"
+                f"\\circelse \\lnot ({cond}) \\circthen {self._wrap(a.orelse, PREFIX)} "
+                f"\\circfi"), ATOMIC
 
     def _a_Spec(self, a: c.Spec) -> tuple[str, int]:
         frame = ", ".join(name(n) for n in a.frame)
-        return (f"{frame} \\prefixcolon [{self.predicate(a.pre)}, \\\\\n\t1 "
-                f"{self.predicate(a.post, frozenset(a.frame))}]"), _ATOMIC
+        return (f"{frame} \\prefixcolon [{self.predicate(a.pre)},{_BREAK}"
+                f"{self.predicate(a.post, frozenset(a.frame))}]"), ATOMIC
 
     def _a_Evolution(self, a: c.Evolution) -> tuple[str, int]:
-        printer = LatexExpression()
-        body = " \\\\\n\t1 \\land ".join(printer.wrap(e, _AND + 1) for e in a.equations)
+        body = self.conjunction(a.equations)
         if a.locals is not None:
             body = f"\\exists {name(a.locals)} @ {body}"
-        return f"\\lschexpract [\\Lambda {name(a.state)} | {body}] \\rschexpract", _ATOMIC
-
-    def _a_VarBlock(self, a: c.VarBlock) -> tuple[str, int]:
-        return (f"\\circvar {name(a.var.name)} : {latex_type(a.var.type)} \\circspot "
-                f"{self._wrap(a.body, _ATOMIC)}"), _ATOMIC - 1
+        return f"\\lschexpract [\\Lambda {name(a.state)} | {body}] \\rschexpract", ATOMIC
 
     # ----- the document
     def document(self, p: c.Program) -> str:
@@ -308,7 +224,7 @@ class CircusLatex:
             text = self.action(body)
             head = "\\circspot " if d is None else f"{name(d.name)} \\circdef "
             if d is not None and d.params:
-                head += f"{_bindings(d.params)} \\circspot "
+                head += f"{self.bindings(d.params)} \\circspot "
             cyphy_only = any(isinstance(n, _CYPHY_ONLY) for n in c.walk(body))
             block = ["\\begin{circusaction}", f"  {head}{text}", "\\end{circusaction}"]
             out += (["\\circtoolsoff", *block, "\\circtoolson"] if cyphy_only else block) + [""]
