@@ -247,7 +247,7 @@ def generate_cyphycircus(paths: Sequence[str | Path], target: str,
                 checked.report.report(NO_PDF, str(err), built.mapping.span, err.hint)
                 result.files.clear()
                 return result
-    table = {q: m for q, m in built.names.items()}
+    table = dict(built.names.items())
     result.files[f"{stem}.names.json"] = json.dumps(table, indent=2, sort_keys=True) + "\n"
     return result
 

@@ -288,18 +288,6 @@ def test_rules_on_generated_mappings(tmp_path_factory: pytest.TempPathFactory,
     assert read_program(program_to_text(p)) == p
 
 
-@needs_corpus
-def test_corpus_marxbot_isabelle_shares_the_semantics_checks() -> None:
-    """The corpus p-model has a zero-height box (V2): irrelevant to the semantics, so the
-    Isabelle generator, like --cyphycircus, does not refuse it."""
-    from cyphy.api import generate_isabelle
-
-    generated = generate_isabelle([CORPUS / "marXbot" / "Mapping.pm"])
-    assert not generated.report.has_errors
-    theory = generated.files["marXbotBase_CyPhyCircus.thy"]
-    assert "definition MoveCall" in theory
-
-
 # --------------------------------------------------------------------------- files
 
 def _gen(tmp_path: Path, *flags: str) -> subprocess.CompletedProcess[str]:

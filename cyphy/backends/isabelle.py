@@ -29,7 +29,8 @@ from decimal import Decimal
 from typing import Any, Iterator
 
 from cyphy import expr as ex
-from cyphy.backends.isabelle_names import RESERVED, IsabelleNames, clean
+from cyphy.backends.isabelle_names import RESERVED, IsabelleNames
+from cyphy.semantics.names import identifier
 from cyphy.semantics import circus as c
 
 LIFT_OPEN, LIFT_CLOSE = "\\<guillemotleft>", "\\<guillemotright>"
@@ -60,7 +61,7 @@ _BASIC_TYPES = {"real": "real", "nat": "nat", "int": "int", "bool": "bool"}
 def bound_identifier(name: str, globals_: set[str]) -> str:
     """The identifier of a bound name: free of reserved words and of every global name
     (``_b``, then ``_b2``, … appended), so no binder shadows a constant or a state field."""
-    base = clean(name)
+    base = identifier(name)
     ident, n = base, 1
     while ident in RESERVED or ident in globals_:
         ident = f"{base}_b" if n == 1 else f"{base}_b{n}"

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import re
 
+from cyphy.semantics.names import identifier
+
 _IDENT = re.compile(r"[A-Za-z](?:[A-Za-z0-9]|_(?=[A-Za-z0-9]))*")
 
 #: Outer keywords of theory headers and specifications (Pure and HOL).
@@ -59,13 +61,6 @@ def is_identifier(text: str) -> bool:
     return _IDENT.fullmatch(text) is not None
 
 
-def clean(name: str) -> str:
-    """``name`` in the restricted identifier form: other characters become ``_``, runs of
-    ``_`` collapse, edge ``_`` go, and a leading non-letter gets an ``n``."""
-    out = re.sub(r"_+", "_", re.sub(r"[^A-Za-z0-9_]", "_", name)).strip("_") or "x"
-    return out if out[0].isalpha() else "n" + out
-
-
 class IsabelleNames:
     """A bijection between CyPhyCircus names and Isabelle identifiers, avoiding the reserved
     words and every name already handed out (``_v``, then ``_v2``, … appended)."""
@@ -80,7 +75,7 @@ class IsabelleNames:
         found = self._to.get(name)
         if found is not None:
             return found
-        base = clean(name)
+        base = identifier(name)
         candidate, n = base, 1
         while candidate in RESERVED or candidate in self._from or candidate in self._taken:
             candidate = f"{base}_v" if n == 1 else f"{base}_v{n}"

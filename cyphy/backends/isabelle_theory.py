@@ -18,7 +18,8 @@ from typing import Any
 from cyphy import codes
 from cyphy.backends.isabelle import (HOL_FUNCTIONS, IsabellePrinter, Symbols, UnsupportedNode,
                                      bound_identifier)
-from cyphy.backends.isabelle_names import IsabelleNames, clean
+from cyphy.backends.isabelle_names import IsabelleNames
+from cyphy.semantics.names import identifier
 from cyphy.semantics import circus as c
 from cyphy.semantics.names import NameTable
 from cyphy.semantics.namesets import (LossyInterleaving, action_nodes, find_lossy_interleavings,
@@ -169,7 +170,7 @@ def symbols_of(program: c.Program) -> Symbols:
     identifiers, and the ``_v`` suffixes where a reserved word is hit, are deterministic."""
     pm = program.pmodel
     names = IsabelleNames()
-    prefix = clean(pm.name)
+    prefix = identifier(pm.name)
     for t in (f"{prefix}_chan", f"{prefix}_action", f"{prefix}Visible", pm.state.name):
         names.add(t)
     given = _given_sets(program)
@@ -237,8 +238,8 @@ def generate_session(program: c.Program, table: NameTable,
     symbols = symbols_of(program)
     printer = IsabellePrinter(symbols)
     names = symbols.names
-    theory = f"{clean(pm.name)}_CyPhyCircus"
-    prefix = clean(pm.name)
+    theory = f"{identifier(pm.name)}_CyPhyCircus"
+    prefix = identifier(pm.name)
     try:
         context = _theory_context(program, pm, printer, lossy, options, applied)
     except UnsupportedNode as err:
@@ -297,7 +298,7 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
                for f in pm.state.fields if not f.visible]
     caveats = {f.action: _caveat(f, applied and f.partition) for f in lossy}
     definitions = []
-    action_type = names[f"{clean(pm.name)}_action"]
+    action_type = names[f"{identifier(pm.name)}_action"]
     for d in [*definition_order(pm.actions), c.ActionDef("MainAction", (), pm.main)]:
         with printer.binding([p.name for p in d.params]) as params:
             body = printer.action(d.body)
@@ -316,7 +317,7 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
         "axioms": axioms, "constants": constants, "functions": functions,
         "given_sets": [names[g] for g in printer.symbols.given_sets],
         "constructors": constructors, "visible": visible, "private": private,
-        "visible_name": names[f"{clean(pm.name)}Visible"], "state_name": names[pm.state.name],
+        "visible_name": names[f"{identifier(pm.name)}Visible"], "state_name": names[pm.state.name],
         "definitions": definitions, "namesets": options.namesets,
     }
 
