@@ -106,6 +106,12 @@ class _Translation:
         self.bodies_by_name: dict[tuple[str, ...], list[Body]] = {}
         for b in model.bodies:
             self.bodies_by_name.setdefault(b.qname[-1 - len(b.index):], []).append(b)
+        self.copies: dict[tuple[tuple[str, ...], int], int] = {}
+        self.joined: dict[frozenset[int], Joint] = {}
+        for j in model.joints:
+            key = (j.qname, id(j.parent))
+            self.copies[key] = self.copies.get(key, 0) + 1
+            self.joined.setdefault(frozenset((id(j.parent), id(j.child))), j)
         self.links_by_name: dict[tuple[str, ...], list[Link]] = {}
         for link in model.links:
             self.links_by_name.setdefault(link.qname[-1 - len(link.index):], []).append(link)
@@ -192,11 +198,10 @@ def fixed_rule(t: _Translation, fixed: FixedJoint) -> list[Node | Comment]:
     node.add("pose", Pose.identity())
     node.add("parent", parent)
     node.add("child", child)
-    both = [j for j in t.model.joints if {id(j.parent), id(j.child)}
-            == {id(fixed.parent), id(fixed.child)}]
-    if both:
+    both = t.joined.get(frozenset((id(fixed.parent), id(fixed.child))))
+    if both is not None:
         t.report.report(LOOP, f"links {fixed.parent.name} and {fixed.child.name} are connected "
-                        f"by joint {both[0].name} and by a fixed connection", fixed.span,
+                        f"by joint {both.name} and by a fixed connection", fixed.span,
                         "keep either the joint or the fixed connection")
     return [Comment(f"fixed joint {qualified} from {fixed.parent.name} to {fixed.child.name}"),
             node]
@@ -376,8 +381,7 @@ def joint_rule(t: _Translation, joint: Joint) -> list:  # type: ignore[type-arg]
     (or, for a ``Physics`` annotation, the joint's ``<physics>``)."""
     assert joint.parent is not None and joint.child is not None
     parent, child = t.names.link(joint.parent), t.names.link(joint.child)
-    copies = sum(1 for j in t.model.joints if j.qname == joint.qname
-                 and j.parent is joint.parent)
+    copies = t.copies[(joint.qname, id(joint.parent))]
     suffix = "__to__" + "__".join(glued(joint.child.qname[1:])) if copies > 1 else ""
     annotation = joint.annotation
     template = annotation.template[-1] if annotation is not None else None
