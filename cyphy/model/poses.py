@@ -78,7 +78,7 @@ class Pose:
     @classmethod
     def identity(cls) -> Pose:
         """The pose of a frame in itself (the default when a RoboSim element gives no pose)."""
-        return cls((0.0, 0.0, 0.0), ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
+        return cls._trusted((0.0, 0.0, 0.0), ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
 
     @classmethod
     def from_xyz_rpy(

@@ -28,7 +28,7 @@ def _models(ctx: WFContext) -> list[Any]:
 
         ctx.cache["elaborated"] = [
             elaborate_pmodel(ctx.workspace, ctx.resolution, Report(), pm, f, ctx.consts,
-                             equations=False)
+                             devices=False)
             for pm, f in top_level_pmodels(ctx.workspace)]
     return ctx.cache["elaborated"]
 
