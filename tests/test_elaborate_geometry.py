@@ -1,6 +1,6 @@
 """Elaboration without devices (what the value checks V1-V5 read) gives the same links, bodies
 and joints as the full elaboration; annotations are evaluated once per copy where they need
-to be, and shared where they are literal."""
+to be, and shared where they are literal; V4's plain-float comparison is NumPy's."""
 
 from __future__ import annotations
 
@@ -10,6 +10,8 @@ from typing import Any
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from cyphy import api
 from cyphy.diagnostics import Report
@@ -120,3 +122,16 @@ def test_indexed_annotations_per_copy_or_shared(tmp_path: Path, devices: bool) -
     assert xyz == [(0.0, 1.0, 0.0), (1.0, 1.0, 0.0), (2.0, 1.0, 0.0)]
     assert all(j.annotation is fixed[0].annotation for j in fixed)
     assert all(tuple(np.asarray(j.axis).tolist()) == (0.0, 1.0, 0.0) for j in blades)
+
+
+_COMPONENT = st.one_of(st.floats(-2, 2, allow_nan=False),
+                       st.sampled_from([0.0, 1.0, -1.0, 1e-10, 1 + 1e-6, float("nan")]))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(_COMPONENT, min_size=3, max_size=3), st.lists(_COMPONENT, min_size=3, max_size=3))
+def test_v4_allclose_is_numpys(a: list[float], b: list[float]) -> None:
+    """V4 compares directions in plain floats; it must agree with ``numpy.allclose``."""
+    from cyphy.wellformed.values import _allclose
+
+    assert _allclose(a, b) == bool(np.allclose(a, b, atol=1e-9))
