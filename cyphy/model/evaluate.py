@@ -770,8 +770,7 @@ def evaluate(
     Evaluation recurses, so nesting deeper than a few hundred levels raises ``EvalError`` too;
     constant expressions are far shallower.
     """
-    table = dict(MATH_FUNCTIONS)
-    table.update(functions or {})
+    table = {**MATH_FUNCTIONS, **functions} if functions else MATH_FUNCTIONS
     evaluator = _Evaluator(env, table)
     try:
         with np.errstate(over="raise", divide="raise", invalid="raise", under="ignore"):
