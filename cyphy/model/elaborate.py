@@ -148,6 +148,7 @@ class _Context:
         self.used_consts: set[str] = set()
         self.missing: dict[str, list[Span]] = {}
         self.constants: dict[str, Value] = {}
+        self.literals: dict[ex.Expr, Value] = {}
         self._globals: dict[tuple[str, str], _Binding | None] = {}
         self.file_of: dict[int, ast.SourceFile] = {}
         for f in ws.files.values():
@@ -229,6 +230,18 @@ class _Context:
             return None
         if isinstance(e, ex.Num):  # most values are literals: skip the evaluator
             return int(e.text) if e.is_integer else float(e.text)
+        if isinstance(e, (ex.Vector, ex.Matrix)) and _numbers_only(e):
+            # A literal axis or matrix is written once per joint of a model, thousands of
+            # times over: one value (read-only) per distinct literal.
+            known = self.literals.get(e)
+            if known is None:
+                known = self._evaluate(e, env)
+                if known is not None:
+                    self.literals[e] = known
+            return known
+        return self._evaluate(e, env)
+
+    def _evaluate(self, e: ex.Expr, env: Env) -> Value | None:
         try:
             return evaluate_fast(e, env)
         except UnboundName as err:
@@ -811,6 +824,10 @@ class _Elaborator:
 
             expr = ex.transform(ex.transform(expr, paths), own_names)
             self.model.relations.append(expr)
+
+
+def _numbers_only(e: ex.Vector | ex.Matrix) -> bool:
+    return all(isinstance(item, ex.Num) for row in e.rows for item in row)
 
 
 def is_index_value(component: str) -> bool:
