@@ -149,6 +149,7 @@ class _Context:
         self.missing: dict[str, list[Span]] = {}
         self.constants: dict[str, Value] = {}
         self.literals: dict[ex.Expr, Value] = {}
+        self._templates: dict[tuple[str, ast.QName], str] = {}
         self._globals: dict[tuple[str, str], _Binding | None] = {}
         self.file_of: dict[int, ast.SourceFile] = {}
         for f in ws.files.values():
@@ -176,6 +177,15 @@ class _Context:
                 binding = _Binding(decl, decl.value, env, qualified, qualified)
             self._globals[key] = binding
         return self._globals[key]
+
+    def template_name(self, file: ast.SourceFile, name: ast.QName) -> str:
+        """The name of the template ``name`` denotes from ``file`` (looked up once: every
+        joint of a model names the same few templates)."""
+        key = (file.path, name)
+        if key not in self._templates:
+            found = self.scopes.lookup(file, name, is_template)
+            self._templates[key] = found[0].name if found else name[-1]  # type: ignore[union-attr]
+        return self._templates[key]
 
     def value_of(self, b: _Binding) -> Value | None:
         if b.state == "done":
@@ -693,8 +703,7 @@ class _Elaborator:
         return first if literal else self._evaluate_template(inst, env)
 
     def _evaluate_template(self, inst: ast.TemplateInstance, env: Env) -> AnnotationValue:
-        found = self.ctx.scopes.lookup(env.file, inst.template, is_template)
-        template = found[0].name if found else inst.template[-1]  # type: ignore[union-attr]
+        template = self.ctx.template_name(env.file, inst.template)
         args: list[tuple[str, Any]] = []
         for a in inst.args:
             if isinstance(a.value, ast.TemplateInstance):

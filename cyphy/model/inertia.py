@@ -82,7 +82,7 @@ def combine(parts: Sequence[Inertial]) -> Inertial:
         _tensor_in_frame(part) + _parallel_axis(part.mass, offset)
         for part, offset in zip(parts, centres - centre)
     )
-    return Inertial(total, Pose(centre, Pose.identity().rotation), entries(combined))
+    return Inertial(total, Pose.at(centre), entries(combined))
 
 
 def tensor(inertia: Sequence[float]) -> np.ndarray:
