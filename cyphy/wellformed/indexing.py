@@ -422,28 +422,30 @@ def check_IX2_index_scope(ctx: WFContext) -> None:
 # --------------------------------------------------------------------------- PO1
 
 
-def _poses(ctx: WFContext) -> Iterator[tuple[ast.SourceFile, str, ast.Pose, Names]]:
+def _poses(ctx: WFContext) -> Iterator[tuple[ast.SourceFile, str, ast.Pose,
+                                             Callable[[], Names]]]:
     """Every pose of the user's files (of blocks, parts and inertial information), with what it
-    belongs to and the names visible in it."""
+    belongs to and the names visible in it (asked for only when a value is not a literal)."""
     for site in ctx.blocks():
         what = f"{site.block.kind.value} {site.block.name}"
+        names = (lambda site=site: site_names(ctx, site))
         for pose in site.block.poses:
-            yield site.file, what, pose, site_names(ctx, site)
+            yield site.file, what, pose, names
         for d in site.block.definitions:
             for m in d.members:
                 if isinstance(m, ast.Inertial) and m.pose is not None:
-                    yield (site.file, f"the inertial information of {what}", m.pose,
-                           site_names(ctx, site))
+                    yield site.file, f"the inertial information of {what}", m.pose, names
     for file, pm in ctx.pmodels():
         for part in pm.parts:
             for pose in part.poses:
-                yield file, f"part {part.name}", pose, part_names(pm, part)
+                yield (file, f"part {part.name}", pose,
+                       lambda pm=pm, part=part: part_names(pm, part))
     for file, definition in ctx.definitions():
-        names = {m.name: m for m in definition.members if isinstance(m, ast.VarDecl)}
+        declared = {m.name: m for m in definition.members if isinstance(m, ast.VarDecl)}
         for m in definition.members:
             if isinstance(m, ast.Inertial) and m.pose is not None:
                 yield (file, f"the inertial information of {definition.kind.value} definition "
-                       f"{definition.name}", m.pose, names)
+                       f"{definition.name}", m.pose, lambda declared=declared: declared)
 
 
 @rule("PO1", "a pose gives each coordinate at most once, as a real constant")
@@ -453,7 +455,7 @@ def check_PO1_pose_fields(ctx: WFContext) -> None:
     variables, never the block's inputs, outputs or locals, and evaluates (once every constant
     has a value) to a number, not a boolean, string, vector or matrix. Values that S3 already
     reports as not numbers are not reported again."""
-    for file, what, pose, names in _poses(ctx):
+    for file, what, pose, names_here in _poses(ctx):
         seen: dict[str, ast.PoseField] = {}
         for f in pose.fields:
             if f.key in seen:
@@ -465,6 +467,7 @@ def check_PO1_pose_fields(ctx: WFContext) -> None:
                 seen[f.key] = f
             if isinstance(f.value, ex.Num):
                 continue  # a literal number, the common case: nothing to look up
+            names = names_here()
             variables = list(variables_used(f.value, names))
             if variables:
                 name, decl = variables[0]
