@@ -1,12 +1,25 @@
 """Well-formedness benchmark: every condition on the synthetic 10,000-link model.
 
-Target (issue 4): all checks in under 3 s, measured as the time of ``cyphy check`` with the
-conditions minus the time without them (parsing and name resolution are the front end's).
-Run: ``python benchmarks/bench_wellformed.py [N]``.
+Target (issue 4): all checks in under 3 s. The file is parsed and resolved once (the front
+end, timed for information); then every condition (``check_wellformed``, what ``cyphy check``
+adds to the front end) runs on that workspace ``--runs`` times, each run with a fresh context
+(nothing is shared between runs), and the median is compared with the target. Timing the
+conditions directly, rather than ``check`` with them minus ``check`` without them, keeps the
+front end's noise (a minute of parsing on a loaded machine) out of a number of a few seconds.
+``check_wellformed`` pauses the garbage collector; the young collection it defers (of what
+the run built) is timed with the run.
+One more run times each rule, in registry order on one context (the value checks share one
+elaboration, which the first of them pays), and the slowest are printed.
+
+Run: ``python benchmarks/bench_wellformed.py [N] [--runs R]``.
 """
 
 from __future__ import annotations
 
+import argparse
+import gc
+import os
+import statistics
 import sys
 import tempfile
 import time
@@ -17,28 +30,49 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from cyphy import api  # noqa: E402
+from cyphy.diagnostics import Report  # noqa: E402
+from cyphy.wellformed import RULES, WFContext, check_wellformed  # noqa: E402
 from synthetic import chain_model, write_model  # noqa: E402
 
 TARGET_S = 3.0
 
 
 def main() -> int:
-    n = int(sys.argv[1]) if len(sys.argv) > 1 else 10_000
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("links", nargs="?", type=int, default=10_000)
+    parser.add_argument("--runs", type=int, default=3)
+    args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
-        path = write_model(Path(tmp), chain_model(n))
-        api.check([path])  # warm-up (grammar, library)
+        path = write_model(Path(tmp), chain_model(args.links))
         start = time.perf_counter()
         front = api.check([path], api.CheckOptions(wellformedness=False))
         front_s = time.perf_counter() - start
+    assert not front.report.has_errors and front.resolution is not None
+    times, diagnostics = [], 0
+    for _ in range(args.runs):
+        report = Report()
         start = time.perf_counter()
-        full = api.check([path])
-        full_s = time.perf_counter() - start
-    rules = full_s - front_s
-    print(f"{n} links: front end {front_s:.2f} s, with every condition {full_s:.2f} s, "
-          f"conditions alone {rules:.2f} s (target < {TARGET_S:.0f} s); "
-          f"{len(full.report.diagnostics)} diagnostics")
-    assert not front.report.has_errors
-    return 0 if rules < TARGET_S else 1
+        check_wellformed(WFContext(front.workspace, front.resolution, report))
+        gc.collect(0)  # the collection the run defers (the rules pause the collector)
+        times.append(time.perf_counter() - start)
+        diagnostics = len(report.diagnostics)
+    ctx = WFContext(front.workspace, front.resolution, Report())
+    per_rule = {}
+    gc.disable()  # as check_wellformed does
+    for rule in RULES.values():
+        start = time.perf_counter()
+        rule.check(ctx)
+        per_rule[rule.id] = time.perf_counter() - start
+    gc.enable()
+    median = statistics.median(times)
+    slowest = sorted(per_rule.items(), key=lambda kv: -kv[1])[:6]
+    print(f"{args.links} links: front end (parse + resolve) {front_s:.2f} s; every condition: "
+          f"median {median:.2f} s, min {min(times):.2f} s over {len(times)} runs "
+          f"(target < {TARGET_S:.0f} s); {diagnostics} diagnostics; load average "
+          f"{os.getloadavg()[0]:.1f}")
+    print(f"one run rule by rule: {sum(per_rule.values()):.2f} s; slowest: "
+          + ", ".join(f"{k} {v:.2f} s" for k, v in slowest))
+    return 0 if median < TARGET_S else 1
 
 
 if __name__ == "__main__":

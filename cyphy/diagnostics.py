@@ -100,6 +100,11 @@ class Report:
     ) -> None:
         self._items.append(Diagnostic(code, message, span, hint, tuple(notes)))
 
+    def reported_since(self, start: int) -> list[Diagnostic]:
+        """The diagnostics from the ``start``-th reported on, as reported (not sorted, not
+        de-duplicated): for indexes kept up to date as a report grows."""
+        return self._items[start:]
+
     @property
     def diagnostics(self) -> list[Diagnostic]:
         seen: set[tuple[object, ...]] = set()

@@ -50,7 +50,7 @@ class Num(Expr):
 
     @property
     def is_integer(self) -> bool:
-        return all(c.isdigit() for c in self.text)
+        return self.text.isdigit()
 
 
 @dataclass(frozen=True, slots=True)

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cyphy.model.inertia import (
@@ -193,3 +193,18 @@ def test_is_physical_rejects(inertia) -> None:
 
 def test_is_physical_takes_a_symmetric_tensor_too() -> None:
     assert is_physical(tensor(solid_box(1.0, 1.0, 2.0, 3.0)))
+
+
+_MOMENT = st.one_of(st.floats(-1, 10, allow_nan=False, allow_infinity=False),
+                    st.sampled_from([0.0, -0.0, 1.0, 2.0, 3.0, 1e-12]))  # values are finite
+
+
+@settings(max_examples=300, deadline=None)
+@given(_MOMENT, _MOMENT, _MOMENT)
+def test_diagonal_shortcut_agrees_with_eigenvalues(ixx: float, iyy: float, izz: float) -> None:
+    """Six entries with zero products take a shortcut (the moments are the diagonal); an
+    array of the same entries goes through the eigenvalues: the answers agree."""
+    entries = (ixx, 0.0, 0.0, iyy, 0.0, izz)
+    assert is_physical(entries) == is_physical(np.array(entries))
+    plate = (1.0, 0.0, 0.0, 2.0, 0.0, 3.0)  # A + B = C exactly: a flat plate, physical
+    assert is_physical(plate) and is_physical(np.array(plate))

@@ -405,14 +405,27 @@ class _Members:
 
     __slots__ = ()
     members: tuple[object, ...]
+    _views: dict[type, tuple[Any, ...]] | None
+
+    def _view(self, cls: type[T]) -> tuple[T, ...]:
+        """The members of one kind, remembered on the node: the checks ask every block of a
+        model of thousands for its poses, blocks, declarations… several times over."""
+        views = self._views
+        if views is None:
+            views = {}
+            object.__setattr__(self, "_views", views)
+        found = views.get(cls)
+        if found is None:
+            found = views[cls] = tuple(m for m in self.members if isinstance(m, cls))
+        return found
 
     @property
     def blocks(self) -> tuple[Block, ...]:
-        return _of(self.members, Block)
+        return self._view(Block)
 
     @property
     def poses(self) -> tuple[Pose, ...]:
-        return _of(self.members, Pose)
+        return self._view(Pose)
 
     @property
     def pose(self) -> Pose | None:
@@ -421,7 +434,7 @@ class _Members:
 
     @property
     def indices(self) -> tuple[IndexDecl, ...]:
-        return _of(self.members, IndexDecl)
+        return self._view(IndexDecl)
 
     @property
     def index(self) -> IndexDecl | None:
@@ -430,23 +443,23 @@ class _Members:
 
     @property
     def declarations(self) -> tuple[VarDecl, ...]:
-        return _of(self.members, VarDecl)
+        return self._view(VarDecl)
 
     @property
     def equations(self) -> tuple[Equation, ...]:
-        return _of(self.members, Equation)
+        return self._view(Equation)
 
     @property
     def instantiations(self) -> tuple[Instantiation, ...]:
-        return _of(self.members, Instantiation)
+        return self._view(Instantiation)
 
     @property
     def annotations(self) -> tuple[Annotation, ...]:
-        return _of(self.members, Annotation)
+        return self._view(Annotation)
 
     @property
     def relations(self) -> tuple[Relation, ...]:
-        return _of(self.members, Relation)
+        return self._view(Relation)
 
 
 @dataclass(frozen=True, slots=True)
@@ -458,6 +471,8 @@ class Block(_Members, Node):
     name: str
     ref: QName | None
     members: tuple[object, ...]
+    _views: dict[type, tuple[Any, ...]] | None = field(
+        default=None, init=False, repr=False, compare=False)
 
     @property
     def is_local(self) -> bool:
@@ -465,7 +480,7 @@ class Block(_Members, Node):
 
     @property
     def definitions(self) -> tuple[DefBlock, ...]:
-        return _of(self.members, DefBlock)
+        return self._view(DefBlock)
 
     @property
     def definition(self) -> DefBlock | None:
@@ -474,11 +489,11 @@ class Block(_Members, Node):
 
     @property
     def fixed(self) -> tuple[FixedConnection, ...]:
-        return _of(self.members, FixedConnection)
+        return self._view(FixedConnection)
 
     @property
     def flexible(self) -> tuple[FlexibleConnection, ...]:
-        return _of(self.members, FlexibleConnection)
+        return self._view(FlexibleConnection)
 
 
 @dataclass(frozen=True, slots=True)
@@ -504,14 +519,16 @@ class Part(_Members, Node):
     name: str
     pmodel: QName
     members: tuple[object, ...]
+    _views: dict[type, tuple[Any, ...]] | None = field(
+        default=None, init=False, repr=False, compare=False)
 
     @property
     def fixed(self) -> tuple[PartFixed, ...]:
-        return _of(self.members, PartFixed)
+        return self._view(PartFixed)
 
     @property
     def flexible(self) -> tuple[PartFlexible, ...]:
-        return _of(self.members, PartFlexible)
+        return self._view(PartFlexible)
 
 
 @dataclass(frozen=True, slots=True)
@@ -540,10 +557,12 @@ class PModel(_Members, Node):
     name: str
     members: tuple[object, ...]
     fragment: bool = False
+    _views: dict[type, tuple[Any, ...]] | None = field(
+        default=None, init=False, repr=False, compare=False)
 
     @property
     def parts(self) -> tuple[Part, ...]:
-        return _of(self.members, Part)
+        return self._view(Part)
 
 
 # --------------------------------------------------------------------------- mappings

@@ -148,6 +148,8 @@ class _Context:
         self.used_consts: set[str] = set()
         self.missing: dict[str, list[Span]] = {}
         self.constants: dict[str, Value] = {}
+        self.literals: dict[ex.Expr, Value] = {}
+        self._templates: dict[tuple[str, ast.QName], str] = {}
         self._globals: dict[tuple[str, str], _Binding | None] = {}
         self.file_of: dict[int, ast.SourceFile] = {}
         for f in ws.files.values():
@@ -175,6 +177,15 @@ class _Context:
                 binding = _Binding(decl, decl.value, env, qualified, qualified)
             self._globals[key] = binding
         return self._globals[key]
+
+    def template_name(self, file: ast.SourceFile, name: ast.QName) -> str:
+        """The name of the template ``name`` denotes from ``file`` (looked up once: every
+        joint of a model names the same few templates)."""
+        key = (file.path, name)
+        if key not in self._templates:
+            found = self.scopes.lookup(file, name, is_template)
+            self._templates[key] = found[0].name if found else name[-1]  # type: ignore[union-attr]
+        return self._templates[key]
 
     def value_of(self, b: _Binding) -> Value | None:
         if b.state == "done":
@@ -229,6 +240,18 @@ class _Context:
             return None
         if isinstance(e, ex.Num):  # most values are literals: skip the evaluator
             return int(e.text) if e.is_integer else float(e.text)
+        if isinstance(e, (ex.Vector, ex.Matrix)) and _numbers_only(e):
+            # A literal axis or matrix is written once per joint of a model, thousands of
+            # times over: one value (read-only) per distinct literal.
+            known = self.literals.get(e)
+            if known is None:
+                known = self._evaluate(e, env)
+                if known is not None:
+                    self.literals[e] = known
+            return known
+        return self._evaluate(e, env)
+
+    def _evaluate(self, e: ex.Expr, env: Env) -> Value | None:
         try:
             return evaluate_fast(e, env)
         except UnboundName as err:
@@ -311,34 +334,35 @@ def elaborate(ws: Workspace, resolution: Resolution, report: Report, model: str 
 
 def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: ast.PModel,
                      file: ast.SourceFile, consts: Mapping[str, Value] | None = None,
-                     equations: bool = True) -> ElaboratedModel:
+                     devices: bool = True) -> ElaboratedModel:
     """Elaborate the given p-model (as the top-level model) of ``file``. Without
-    ``equations`` the devices keep their ports and values but no renamed equations or
-    relations (the value checks need geometry, not behaviour, and renaming is most of the
-    work on a large model)."""
+    ``devices`` the model has links, bodies, joints (with their axes and annotations) and
+    their values, but no sensors, actuators, devices, equations or relations: the value
+    checks need geometry, not behaviour, and devices are most of the work on a large
+    model."""
     ctx = _Context(ws, resolution, report, consts or {})
     # Building tens of thousands of elements would trigger ever longer collections of the
     # generations that hold the (live) syntax tree: pause the collector while building.
     was_enabled = gc.isenabled()
     gc.disable()
     try:
-        return _Elaborator(ctx, equations).run(pm, file)
+        return _Elaborator(ctx, devices).run(pm, file)
     finally:
         if was_enabled:
             gc.enable()
 
 
 class _Elaborator:
-    def __init__(self, ctx: _Context, equations: bool = True) -> None:
+    def __init__(self, ctx: _Context, devices: bool = True) -> None:
         self.ctx = ctx
-        self.equations = equations
+        self.devices = devices
         self.model: ElaboratedModel
         self.pending: list[_PendingJoint] = []
         self.pending_fixed: list[tuple[Link, str, str | None, _Instance, Span]] = []
         self.device_names: list[tuple[Device, tuple[str, ...]]] = []
         self.index_values: dict[int, dict[str, int]] = {}
-        self.literal_annotations: dict[
-            int, tuple[ast.TemplateInstance, AnnotationValue | None]] = {}
+        self.literal_annotations: dict[  # instance, first value, literal only (None: unknown)
+            int, tuple[ast.TemplateInstance, AnnotationValue, bool | None]] = {}
         self.relation_queue: list[tuple[ex.Expr, ast.Block, Device | None,
                                         dict[str, int]]] = []
 
@@ -346,7 +370,8 @@ class _Elaborator:
         self.model = ElaboratedModel(pm.name, pm)
         top = self._instance((pm.name,), pm, file, Pose.identity(), None, {})
         self._connect(top)
-        self._name_devices()
+        if self.devices:
+            self._name_devices()
         self.model.constants = dict(sorted(self.ctx.constants.items()))
         self.model.missing = dict(sorted(self.ctx.missing.items()))
         return self.model
@@ -387,7 +412,8 @@ class _Elaborator:
             if m.kind is ast.BlockKind.JOINT:  # p-model+ files (Pendulum.pm)
                 for values, joint_env in self._copies(m, env):
                     self._joint(m, None, inst, values, joint_env, prefix)
-            elif m.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR):  # fragments
+            elif m.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR) \
+                    and self.devices:  # fragments
                 for values, block_env in self._copies(m, env):
                     self._device_block(m, None, None, values, block_env,
                                        inst.frame or Pose.identity(), prefix)
@@ -484,7 +510,8 @@ class _Elaborator:
             for cvalues, cenv in self._copies(child, env):
                 if child.kind is ast.BlockKind.BODY:
                     self._body(child, link, cvalues, cenv)
-                elif child.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR):
+                elif child.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR) \
+                        and self.devices:
                     self._device_block(child, link, None, cvalues, cenv, Pose.identity(),
                                        qname)
                 elif child.kind is ast.BlockKind.JOINT:
@@ -588,16 +615,15 @@ class _Elaborator:
         joint = Joint(qname, block.span, dict(values), parent=link)
         joint.local_pose = self._pose(block.pose, env)
         joint.annotation = self._annotation(block, env)
-        joint.device = self._device(block, env, qname, values)
+        joint.device = self._device(block, env, qname, values) if self.devices else None
         definition = self._definition(block)
         joint.definition = definition.name if definition is not None else None
-        if joint.device is not None:
-            axis = joint.device.port("AXIS")
-            joint.axis = axis.value if axis is not None else None
+        joint.axis = self._axis(block, env)
         self._relations(block, joint.device, env, values)
         frame = joint.local_pose or Pose.identity()
         for child in block.blocks:
-            if child.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR) and link:
+            if child.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR) and link \
+                    and self.devices:
                 for cvalues, cenv in self._copies(child, env):
                     self._device_block(child, link, joint, cvalues, cenv, frame, qname)
         connections = block.flexible
@@ -611,10 +637,23 @@ class _Elaborator:
         else:
             self.pending.append(_PendingJoint(joint, block, None, None, inst))
 
+    def _port_declarations(self, block: ast.Block) -> list[ast.VarDecl]:
+        return [m for m in self._members(block) + list(block.declarations)
+                if isinstance(m, ast.VarDecl) and m.kind in DEVICE_KINDS]
+
+    def _port_value(self, d: ast.VarDecl, env: Env) -> Value | None:
+        return env[d.name] if d.kind is ast.DeclKind.CONST and d.name in env else None
+
+    def _axis(self, block: ast.Block, env: Env) -> Value | None:
+        """The value of the joint's ``AXIS`` constant (its device's ``AXIS`` port), if any."""
+        for d in self._port_declarations(block):
+            if d.name == "AXIS":
+                return self._port_value(d, env)
+        return None
+
     def _device(self, block: ast.Block, env: Env, qname: tuple[str, ...],
                 values: dict[str, int]) -> Device | None:
-        decls = [m for m in self._members(block) + list(block.declarations)
-                 if isinstance(m, ast.VarDecl) and m.kind in DEVICE_KINDS]
+        decls = self._port_declarations(block)
         equations = [m.expr for m in self._members(block) + list(block.equations)
                      if isinstance(m, ast.Equation)]
         constraints = [m.expr for m in self._members(block) if isinstance(m, ast.Constraint)]
@@ -622,8 +661,7 @@ class _Elaborator:
             return None
         ports = []
         for d in decls:
-            value = env[d.name] if d.kind is ast.DeclKind.CONST and d.name in env else None
-            ports.append(Port(d.name, d.kind, d.type, d.name, value,
+            ports.append(Port(d.name, d.kind, d.type, d.name, self._port_value(d, env),
                               d.value if d.kind is not ast.DeclKind.CONST else None))
         device = Device("", tuple(ports), tuple(equations), tuple(constraints))
         self.device_names.append((device, qname))
@@ -653,22 +691,22 @@ class _Elaborator:
 
     def _template_value(self, inst: ast.TemplateInstance, env: Env) -> AnnotationValue:
         """The evaluated annotation. One that names nothing (literals only, the common case)
-        is evaluated once and shared by every copy of an indexed block."""
-        literal = self.literal_annotations.get(id(inst))
-        if literal is not None and literal[0] is not inst:
-            literal = None
-        if literal is not None and literal[1] is not None:
-            return literal[1]
-        value = self._evaluate_template(inst, env)
-        if literal is None:  # first sight of this annotation: is it literal only?
-            names = any(isinstance(n, ex.Name) for e in ast.expressions_in(inst)
-                        for n in e.walk())
-            self.literal_annotations[id(inst)] = (inst, None if names else value)
-        return value
+        is evaluated once and shared by every copy of an indexed block. Whether it names
+        nothing is asked when it is met a second time: most annotations are met once."""
+        seen = self.literal_annotations.get(id(inst))
+        if seen is None or seen[0] is not inst:  # first sight
+            value = self._evaluate_template(inst, env)
+            self.literal_annotations[id(inst)] = (inst, value, None)
+            return value
+        _, first, literal = seen
+        if literal is None:  # second sight: is it literal only?
+            literal = not any(isinstance(n, ex.Name) for e in ast.expressions_in(inst)
+                              for n in e.walk())
+            self.literal_annotations[id(inst)] = (inst, first, literal)
+        return first if literal else self._evaluate_template(inst, env)
 
     def _evaluate_template(self, inst: ast.TemplateInstance, env: Env) -> AnnotationValue:
-        found = self.ctx.scopes.lookup(env.file, inst.template, is_template)
-        template = found[0].name if found else inst.template[-1]  # type: ignore[union-attr]
+        template = self.ctx.template_name(env.file, inst.template)
         args: list[tuple[str, Any]] = []
         for a in inst.args:
             if isinstance(a.value, ast.TemplateInstance):
@@ -746,8 +784,7 @@ class _Elaborator:
             t = tokens[id(device)]
             prefix = "_".join(t[-depth[id(device)]:])
             renamed[id(device)] = _renamed(device, prefix,
-                                           self.index_values.get(id(device), {}),
-                                           self.equations)
+                                           self.index_values.get(id(device), {}))
         for e in [*self.model.joints, *self.model.unconnected, *self.model.sensors,
                   *self.model.actuators]:
             if e.device is not None and id(e.device) in renamed:
@@ -756,8 +793,7 @@ class _Elaborator:
             for child in j.joints:
                 if child.device is not None and id(child.device) in renamed:
                     child.device = renamed[id(child.device)]
-        if self.equations:
-            self._rename_relations(renamed)
+        self._rename_relations(renamed)
 
     def _rename_relations(self, renamed: dict[int, Device]) -> None:
         mangled = {p.mangled for d in renamed.values() for p in d.ports}
@@ -802,6 +838,10 @@ class _Elaborator:
             self.model.relations.append(expr)
 
 
+def _numbers_only(e: ex.Vector | ex.Matrix) -> bool:
+    return all(isinstance(item, ex.Num) for row in e.rows for item in row)
+
+
 def is_index_value(component: str) -> bool:
     """Index values are the qualified-name components that are integers (names never are)."""
     return component.lstrip("-").isdigit()
@@ -819,11 +859,8 @@ def _tokens(qname: tuple[str, ...]) -> list[str]:
     return out
 
 
-def _renamed(device: Device, prefix: str, values: dict[str, int], equations: bool = True
-             ) -> Device:
+def _renamed(device: Device, prefix: str, values: dict[str, int]) -> Device:
     ports = tuple(replace(p, mangled=f"{prefix}_{p.name}") for p in device.ports)
-    if not equations:
-        return Device(prefix, ports, (), ())
     names = {p.name: p.mangled for p in ports}
 
     def swap(node: ex.Expr) -> ex.Expr | None:

@@ -33,6 +33,7 @@ This module must stay cheap to import: NumPy yes, SymPy no.
 
 from __future__ import annotations
 
+import functools
 import inspect
 import math
 import numbers
@@ -561,8 +562,10 @@ is a constant, and whether it is the library's exact π or a model's own ``3.141
 caller's choice, made when it builds ``env``."""
 
 
+@functools.cache
 def _arity(fn: Callable[..., Value]) -> inspect.Signature | None:
-    """The signature to check argument counts against, or None for a callable without one."""
+    """The signature to check argument counts against, or None for a callable without one.
+    Remembered: ``inspect.signature`` costs more than most calls it guards."""
     try:
         return inspect.signature(fn)
     except (TypeError, ValueError):
@@ -767,8 +770,7 @@ def evaluate(
     Evaluation recurses, so nesting deeper than a few hundred levels raises ``EvalError`` too;
     constant expressions are far shallower.
     """
-    table = dict(MATH_FUNCTIONS)
-    table.update(functions or {})
+    table = {**MATH_FUNCTIONS, **functions} if functions else MATH_FUNCTIONS
     evaluator = _Evaluator(env, table)
     try:
         with np.errstate(over="raise", divide="raise", invalid="raise", under="ignore"):

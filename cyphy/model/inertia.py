@@ -10,6 +10,7 @@ the convention of SDF's ``<inertia>`` and URDF, which lets them be printed as th
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -81,7 +82,7 @@ def combine(parts: Sequence[Inertial]) -> Inertial:
         _tensor_in_frame(part) + _parallel_axis(part.mass, offset)
         for part, offset in zip(parts, centres - centre)
     )
-    return Inertial(total, Pose(centre, Pose.identity().rotation), entries(combined))
+    return Inertial(total, Pose.at(centre), entries(combined))
 
 
 def tensor(inertia: Sequence[float]) -> np.ndarray:
@@ -110,6 +111,13 @@ def is_physical(inertia: Sequence[float] | np.ndarray, tol: float = PHYSICAL_TOL
     ``tol`` times the largest entry. The principal inequality implies the one on the diagonal
     (``ixx + iyy ≥ izz``) in every axes, so the diagonal needs no separate check.
     """
+    if isinstance(inertia, tuple) and len(inertia) == 6 and inertia[1] == inertia[2] \
+            == inertia[4] == 0.0 and all(math.isfinite(v) for v in inertia):
+        # Diagonal (the solid formulas, most models): the moments are the diagonal itself.
+        # Worth the shortcut: the check runs once per link, and NumPy's cost is per call.
+        a, b, c = sorted((float(inertia[0]), float(inertia[3]), float(inertia[5])))
+        slack = tol * max(abs(a), abs(c), np.finfo(float).tiny)
+        return a > 0.0 and a + b >= c - slack
     matrix = tensor(inertia) if np.shape(inertia) == (6,) else np.asarray(inertia, dtype=float)
     slack = tol * max(float(np.abs(matrix).max()), np.finfo(float).tiny)
     if matrix.shape != (3, 3) or not np.allclose(matrix, matrix.T, rtol=0.0, atol=slack):

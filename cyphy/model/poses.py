@@ -78,7 +78,13 @@ class Pose:
     @classmethod
     def identity(cls) -> Pose:
         """The pose of a frame in itself (the default when a RoboSim element gives no pose)."""
-        return cls((0.0, 0.0, 0.0), ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
+        return cls.at((0.0, 0.0, 0.0))
+
+    @classmethod
+    def at(cls, position: Sequence[float]) -> Pose:
+        """The pose at ``position`` with no rotation (a centre of mass in the frame's axes)."""
+        x, y, z = (float(v) for v in position)
+        return cls._trusted((x, y, z), ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
 
     @classmethod
     def from_xyz_rpy(

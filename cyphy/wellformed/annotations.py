@@ -58,11 +58,19 @@ def _chain(ctx: WFContext, t: Template) -> list[Template]:
 
 
 def _params(ctx: WFContext, t: Template) -> dict[str, tuple[ast.TemplateParam, Template]]:
-    """The parameters of ``t``, inherited ones included (the nearest declaration wins)."""
+    """The parameters of ``t``, inherited ones included (the nearest declaration wins).
+    Remembered per template for the run: every annotation of a model asks (do not change
+    the returned dict)."""
+    memo: dict[int, tuple[Template, dict[str, tuple[ast.TemplateParam, Template]]]] = \
+        ctx.cache.setdefault("template params", {})
+    hit = memo.get(id(t))
+    if hit is not None and hit[0] is t:
+        return hit[1]
     params: dict[str, tuple[ast.TemplateParam, Template]] = {}
     for c in _chain(ctx, t):
         for p in c.params:
             params.setdefault(p.name, (p, c))
+    memo[id(t)] = (t, params)
     return params
 
 
@@ -93,10 +101,19 @@ def _nested_only(ctx: WFContext) -> dict[int, tuple[Template, Template, str]]:
 # --------------------------------------------------------------------------- annotations
 
 
-def _annotations(ctx: WFContext) -> Iterator[tuple[ast.SourceFile, str, ast.Annotation,
-                                                   Lookup]]:
+Annotated = tuple[ast.SourceFile, str, ast.Annotation, Lookup]
+
+
+def _annotations(ctx: WFContext) -> list[Annotated]:
     """Every annotation of the user's files, with the block it annotates and a lookup for the
-    names its values may use (the block's constants, the p-model's, the package's)."""
+    names its values may use (the block's constants, the p-model's, the package's). Found
+    once per run, for AN1-AN3."""
+    if "annotations" not in ctx.cache:
+        ctx.cache["annotations"] = list(_find_annotations(ctx))
+    return ctx.cache["annotations"]
+
+
+def _find_annotations(ctx: WFContext) -> Iterator[Annotated]:
     for site in ctx.blocks():
         block = site.block
         members = list(block.annotations) + [m for d in block.definitions for m in d.members

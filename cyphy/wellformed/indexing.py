@@ -37,11 +37,24 @@ _VARIABLE_WORD = {ast.DeclKind.INPUT: "an input", ast.DeclKind.OUTPUT: "an outpu
 
 def reported(ctx: WFContext, code_id: str, span: Span) -> bool:
     """Whether a diagnostic ``code_id`` was already reported inside ``span`` (S1 for a
-    connection target, S3 for a value): one problem gets one diagnostic."""
-    for d in ctx.report.diagnostics:
-        if d.code.id == code_id and _within(d.span, span):
-            return True
-    return False
+    connection target, S3 for a value): one problem gets one diagnostic. The spans reported
+    are indexed by code and file, and the index follows the report as it grows, so that a
+    model with many diagnostics is not scanned once per question."""
+    index: _ReportIndex = ctx.cache.setdefault("reported", _ReportIndex())
+    return any(_within(inner, span) for inner in index.spans(ctx.report, code_id, span.file))
+
+
+class _ReportIndex:
+    def __init__(self) -> None:
+        self.seen = 0
+        self.by_code_file: dict[tuple[str, str], list[Span]] = {}
+
+    def spans(self, report: Report, code_id: str, file: str) -> list[Span]:
+        new = report.reported_since(self.seen)
+        self.seen += len(new)
+        for d in new:
+            self.by_code_file.setdefault((d.code.id, d.span.file), []).append(d.span)
+        return self.by_code_file.get((code_id, file), [])
 
 
 def _within(inner: Span, outer: Span) -> bool:
@@ -81,11 +94,22 @@ def inner_names(ctx: WFContext, outer: Names, block: ast.Block) -> Names:
 
 
 def site_names(ctx: WFContext, site: BlockSite, inside: bool = True) -> Names:
-    """The names visible in a block (``inside``) or where its index range is written."""
-    names = pmodel_names(site.pmodel)
-    for a in site.ancestors:
-        names = inner_names(ctx, names, a)
-    return inner_names(ctx, names, site.block) if inside else names
+    """The names visible in a block (``inside``) or where its index range is written.
+
+    Several rules ask for the names of every block, so the names inside each block are
+    built once per run and shared: the returned dict must not be changed."""
+    memo: dict[int, tuple[object, Names]] = ctx.cache.setdefault("names inside", {})
+
+    def remembered(node: ast.PModel | ast.Block, make: Callable[[], Names]) -> Names:
+        hit = memo.get(id(node))
+        if hit is None or hit[0] is not node:
+            hit = memo[id(node)] = (node, make())
+        return hit[1]
+
+    names = remembered(site.pmodel, lambda: pmodel_names(site.pmodel))
+    for block in (*site.ancestors, site.block) if inside else site.ancestors:
+        names = remembered(block, lambda outer=names, b=block: inner_names(ctx, outer, b))
+    return names
 
 
 def part_names(pm: ast.PModel, part: ast.Part) -> Names:
@@ -398,12 +422,13 @@ def check_IX2_index_scope(ctx: WFContext) -> None:
 # --------------------------------------------------------------------------- PO1
 
 
-def _poses(ctx: WFContext) -> Iterator[tuple[ast.SourceFile, str, ast.Pose, Names]]:
+def _poses(ctx: WFContext) -> Iterator[tuple[ast.SourceFile, str, ast.Pose,
+                                             Callable[[], Names]]]:
     """Every pose of the user's files (of blocks, parts and inertial information), with what it
-    belongs to and the names visible in it."""
+    belongs to and the names visible in it (asked for only when a value is not a literal)."""
     for site in ctx.blocks():
-        names = site_names(ctx, site)
         what = f"{site.block.kind.value} {site.block.name}"
+        names = (lambda site=site: site_names(ctx, site))
         for pose in site.block.poses:
             yield site.file, what, pose, names
         for d in site.block.definitions:
@@ -413,13 +438,14 @@ def _poses(ctx: WFContext) -> Iterator[tuple[ast.SourceFile, str, ast.Pose, Name
     for file, pm in ctx.pmodels():
         for part in pm.parts:
             for pose in part.poses:
-                yield file, f"part {part.name}", pose, part_names(pm, part)
+                yield (file, f"part {part.name}", pose,
+                       lambda pm=pm, part=part: part_names(pm, part))
     for file, definition in ctx.definitions():
-        names = {m.name: m for m in definition.members if isinstance(m, ast.VarDecl)}
+        declared = {m.name: m for m in definition.members if isinstance(m, ast.VarDecl)}
         for m in definition.members:
             if isinstance(m, ast.Inertial) and m.pose is not None:
                 yield (file, f"the inertial information of {definition.kind.value} definition "
-                       f"{definition.name}", m.pose, names)
+                       f"{definition.name}", m.pose, lambda declared=declared: declared)
 
 
 @rule("PO1", "a pose gives each coordinate at most once, as a real constant")
@@ -429,7 +455,7 @@ def check_PO1_pose_fields(ctx: WFContext) -> None:
     variables, never the block's inputs, outputs or locals, and evaluates (once every constant
     has a value) to a number, not a boolean, string, vector or matrix. Values that S3 already
     reports as not numbers are not reported again."""
-    for file, what, pose, names in _poses(ctx):
+    for file, what, pose, names_here in _poses(ctx):
         seen: dict[str, ast.PoseField] = {}
         for f in pose.fields:
             if f.key in seen:
@@ -439,6 +465,9 @@ def check_PO1_pose_fields(ctx: WFContext) -> None:
                 continue
             if f.key in POSE_KEYS:
                 seen[f.key] = f
+            if isinstance(f.value, ex.Num):
+                continue  # a literal number, the common case: nothing to look up
+            names = names_here()
             variables = list(variables_used(f.value, names))
             if variables:
                 name, decl = variables[0]

@@ -17,8 +17,6 @@ B") and also L7, whose message says what ``B`` is and where it sits.
 
 from __future__ import annotations
 
-from typing import Iterator
-
 from cyphy import expr as ex
 from cyphy.diagnostics import Severity
 from cyphy.lang import ast
@@ -31,10 +29,6 @@ _HOLD_NOTHING = (K.BODY, K.SENSOR, K.ACTUATOR)
 
 
 # --------------------------------------------------------------------------- helpers
-
-
-def _sites(ctx: WFContext, kind: K) -> Iterator[BlockSite]:
-    return (s for s in ctx.blocks() if s.block.kind is kind)
 
 
 def _child(site: BlockSite, child: ast.Block) -> str:
@@ -78,7 +72,7 @@ def _bodies(ctx: WFContext, link: ast.Block) -> list[tuple[ast.Block, tuple[obje
 
 
 def _reference_kind(ctx: WFContext, rule_id: str, kind: K) -> None:
-    for site in _sites(ctx, kind):
+    for site in ctx.blocks_of(kind):
         block = site.block
         if block.is_local:
             continue
@@ -143,7 +137,7 @@ _DEF_EXAMPLE = {
 
 
 def _local_definition(ctx: WFContext, rule_id: str, kind: K) -> None:
-    for site in _sites(ctx, kind):
+    for site in ctx.blocks_of(kind):
         block = site.block
         if block.is_local and not block.definitions:
             ctx.error(rule_id, block,
@@ -197,7 +191,7 @@ def check_AC2_local_actuator_has_definition(ctx: WFContext) -> None:
 
 
 def _anonymous_definition(ctx: WFContext, rule_id: str, kind: K) -> None:
-    for site in _sites(ctx, kind):
+    for site in ctx.blocks_of(kind):
         block = site.block
         if not block.is_local:
             continue
@@ -273,7 +267,7 @@ def check_L4_link_has_inertial(ctx: WFContext) -> None:
     or ``bref``). Otherwise SDF would get invented defaults for its mass and inertia. Links
     whose definition or a body's is unknown (an unresolved or ill-kinded reference) are
     skipped."""
-    for site in _sites(ctx, K.LINK):
+    for site in ctx.blocks_of(K.LINK):
         own = _definition_members(ctx, site.block)
         if own is None or _inertial(own) is not None:
             continue
@@ -293,7 +287,7 @@ def check_L5_no_links_in_links(ctx: WFContext) -> None:
     fixed connections. Links are composed by connecting them (``fixed to``, joints), never by
     nesting. (A part written inside a link is already a placement error, ``E-MEMBER``, since
     a part is not a block; this rule reports the links.)"""
-    for site in _sites(ctx, K.LINK):
+    for site in ctx.blocks_of(K.LINK):
         for child in site.block.blocks:
             if child.kind is K.LINK:
                 ctx.error("L5", child, f"link {_child(site, child)} is inside link "
@@ -306,7 +300,7 @@ def check_L5_no_links_in_links(ctx: WFContext) -> None:
 def check_L6_no_fixed_to_self(ctx: WFContext) -> None:
     """A link has no fixed connection to itself: ``fixed to L`` inside link ``L`` (with no
     ``in P``, which would name link ``L`` of part ``P``, another link)."""
-    for site in _sites(ctx, K.LINK):
+    for site in ctx.blocks_of(K.LINK):
         for fixed in site.block.fixed:
             if fixed.part is None and fixed.target == site.block.name:
                 ctx.error("L6", fixed, f"link {site.qualified} is fixed to itself",
@@ -399,7 +393,7 @@ def check_L8_single_inertial(ctx: WFContext) -> None:
     """If a link definition gives an inertial (in the link's ``def`` or in the link definition
     its ``lref`` names), none of the bodies of that link gives one (in its ``def`` or its
     ``bref``'s body definition): the link's mass would be stated twice."""
-    for site in _sites(ctx, K.LINK):
+    for site in ctx.blocks_of(K.LINK):
         own = _definition_members(ctx, site.block)
         if own is None or _inertial(own) is None:
             continue

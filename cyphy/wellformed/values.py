@@ -8,7 +8,7 @@ value depends on a constant without a value is skipped, never guessed.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -28,7 +28,7 @@ def _models(ctx: WFContext) -> list[Any]:
 
         ctx.cache["elaborated"] = [
             elaborate_pmodel(ctx.workspace, ctx.resolution, Report(), pm, f, ctx.consts,
-                             equations=False)
+                             devices=False)
             for pm, f in top_level_pmodels(ctx.workspace)]
     return ctx.cache["elaborated"]
 
@@ -138,8 +138,6 @@ def check_V4_axis_agreement(ctx: WFContext) -> None:
     (the simulator's axis) describe the same unit direction; an axis is never the zero vector.
     Given twice, the two drift apart silently: the simulation then moves about another axis
     than the one the proofs assume."""
-    import numpy as np
-
     for m in _models(ctx):
         for joint in m.joints:
             if joint.target_copy:
@@ -147,15 +145,15 @@ def check_V4_axis_agreement(ctx: WFContext) -> None:
             axis = _vector(joint.axis)
             xyz = _vector(_annotation_xyz(joint.annotation))
             for what, v in (("the AXIS constant", axis), ("the annotation's xyz", xyz)):
-                if v is not None and np.linalg.norm(v) < GEOMETRY_TOL:
+                if v is not None and math.hypot(*v) < GEOMETRY_TOL:
                     ctx.error("V4", joint, f"{what} of joint {joint.name} is the zero vector",
                               "give a non-zero axis")
             if axis is None or xyz is None:
                 continue
-            na, nx = np.linalg.norm(axis), np.linalg.norm(xyz)
+            na, nx = math.hypot(*axis), math.hypot(*xyz)
             if na < GEOMETRY_TOL or nx < GEOMETRY_TOL:
                 continue
-            if not np.allclose(axis / na, xyz / nx, atol=1e-9):
+            if not _allclose([a / na for a in axis], [x / nx for x in xyz]):
                 ctx.error("V4", joint, f"joint {joint.name}: AXIS {_fmt(axis)} and the "
                           f"annotation's xyz {_fmt(xyz)} are different directions",
                           "make instantiation AXIS and annotation axis xyz agree")
@@ -168,7 +166,9 @@ def _annotation_xyz(annotation: Any) -> Any:
     return axis.get("xyz") if hasattr(axis, "get") else None
 
 
-def _vector(v: Any) -> Any:
+def _vector(v: Any) -> tuple[float, float, float] | None:
+    """``v`` as three floats, or None when it is not a 3-vector. Plain floats, not an array:
+    the check does a few operations per joint, where NumPy's per-call cost dominates."""
     import numpy as np
 
     if v is None or isinstance(v, (bool, str, tuple)):
@@ -177,7 +177,12 @@ def _vector(v: Any) -> Any:
         array = np.asarray(v, dtype=float).reshape(-1)
     except (TypeError, ValueError):
         return None
-    return array if array.shape == (3,) else None
+    return tuple(array.tolist()) if array.shape == (3,) else None  # type: ignore[return-value]
+
+
+def _allclose(a: list[float], b: list[float], rtol: float = 1e-5, atol: float = 1e-9) -> bool:
+    """``numpy.allclose(a, b, rtol, atol)`` for short vectors."""
+    return all(abs(x - y) <= atol + rtol * abs(y) for x, y in zip(a, b))
 
 
 def _fmt(v: Any) -> str:
@@ -191,15 +196,18 @@ def check_V5_coincident(ctx: WFContext) -> None:
     poses are composed are almost always a copy-and-paste slip (the paper's firefighter drone
     had two rotor arms at the same coordinates, found only by eye in Gazebo)."""
     for m in _models(ctx):
-        _coincident(ctx, m.links, _link_key, "links", "move one of them (check the poses of "
-                    "the links and of the parts that contain them)")
+        body_keys = {id(b): _body_key(b) for b in m.bodies}  # each body's key, once
+        _coincident(ctx, m.links, lambda link: _link_key(link, body_keys), "links",
+                    "move one of them (check the poses of the links and of the parts that "
+                    "contain them)")
         for link in m.links:
-            _coincident(ctx, link.bodies, _body_key, "bodies",
-                        "move one of them, or remove the duplicate")
+            if len(link.bodies) > 1:
+                _coincident(ctx, link.bodies, lambda body: body_keys[id(body)], "bodies",
+                            "move one of them, or remove the duplicate")
 
 
-def _coincident(ctx: WFContext, elements: list[Any], key_of: Any, what: str, hint: str
-                ) -> None:
+def _coincident(ctx: WFContext, elements: list[Any], key_of: Callable[[Any], Any], what: str,
+                hint: str) -> None:
     """Report each element whose (shape, place) key an earlier one already has."""
     seen: dict[Any, Any] = {}
     for element in elements:
@@ -227,12 +235,12 @@ def _body_key(body: Any) -> Any:
             _rounded(x for row in body.pose.rotation for x in row))
 
 
-def _link_key(link: Any) -> Any:
+def _link_key(link: Any, body_keys: dict[int, Any]) -> Any:
     if link.pose is None or not link.bodies:
         return None
-    bodies = [_body_key(b) for b in link.bodies]
+    bodies = [body_keys[id(b)] for b in link.bodies]
     if any(b is None for b in bodies):
         return None
     return (_rounded(link.pose.position), _rounded(x for row in link.pose.rotation for x in row),
-            tuple(sorted(bodies, key=repr)))
+            tuple(sorted(bodies, key=repr)) if len(bodies) > 1 else tuple(bodies))
 
