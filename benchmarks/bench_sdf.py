@@ -51,12 +51,10 @@ def _timer(files: list[Path], model: str | None):  # type: ignore[no-untyped-def
     assert chosen is not None
 
     def elaborate_and_sdf() -> str:
-        m = elaborate_pmodel(checked.workspace, checked.resolution, Report(), *chosen,
-                             equations=False)
+        m = elaborate_pmodel(checked.workspace, checked.resolution, Report(), *chosen)
         return to_xml(translate(m, checked.workspace, Report()).root)
 
-    elaborated = elaborate_pmodel(checked.workspace, checked.resolution, Report(), *chosen,
-                                  equations=False)
+    elaborated = elaborate_pmodel(checked.workspace, checked.resolution, Report(), *chosen)
 
     def sdf_only() -> str:
         return to_xml(translate(elaborated, checked.workspace, Report()).root)

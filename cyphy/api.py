@@ -281,7 +281,7 @@ def generate_sdf(paths: Sequence[str | Path], options: SdfGenOptions = SdfGenOpt
     if chosen is None:
         return generated
     model = elaborate_pmodel(checked.workspace, checked.resolution, checked.report, *chosen,
-                             options.consts, equations=False)  # type: ignore[arg-type]
+                             options.consts)  # type: ignore[arg-type]
     if unvalued(model):  # only constants that SDF needs must have values
         needed = {n: spans for n, spans in model.missing.items()
                   if not _device_constant(model, n)} or model.missing
