@@ -52,11 +52,9 @@ def lex_errors(text: str) -> list[str]:
     from pygments.lexers import IsabelleLexer
     from pygments.token import Error
 
+    from isar_tools.source.lexer import Kind, tokenize  # pinned test dependency
+
     errors = [v for t, v in IsabelleLexer().get_tokens(text) if t in Error]
-    try:
-        from isar_tools.source.lexer import Kind, tokenize
-    except ImportError:  # pragma: no cover - isar-tools is a pinned test dependency
-        return errors
     return errors + [t.text for t in tokenize(text) if t.kind is Kind.ERROR]
 
 

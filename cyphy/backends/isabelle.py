@@ -272,9 +272,6 @@ class IsabellePrinter:
             body = joiner.join(self._print(x) for x in p.body) or "true"
         return f"({binders}{body})"
 
-    def predicate(self, p: c.Predicate) -> str:
-        return self.doprint(p, "uexpr")
-
     # ------------------------------------------------------------------ types
 
     def type(self, t: c.Type) -> str:

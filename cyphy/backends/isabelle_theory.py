@@ -11,7 +11,7 @@ in ``cyphy/isabelle_templates/`` hold the layout; every term comes from
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
@@ -49,7 +49,6 @@ class Definition:
     lemma: str
     simp_extra: str
     caveat: str = ""
-    uses: list[str] = field(default_factory=list)
 
 
 @dataclass
@@ -310,7 +309,7 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
             type=" \\<Rightarrow> ".join([*ptypes, action_type]), body=body,
             lemma=f"{names[d.name]}_NCSP",
             simp_extra=" prod.case_eq_if" if multi_input else "",
-            caveat=caveats.get(d.name, ""), uses=calls(d.body)))
+            caveat=caveats.get(d.name, "")))
     return {
         "cycle_constants": [{"name": names[b.name], "type": printer.type(b.type)}
                             for b in globals_.constants],
