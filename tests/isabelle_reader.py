@@ -150,6 +150,8 @@ class ToCircus(Transformer):
     def exists(self, *items) -> c.Exists:
         bound = tuple(i for i in items if isinstance(i, c.Binding))
         body = tuple(i for i in items if not isinstance(i, c.Binding))
+        if body == (ex.Bool(True),):  # the printer's text for the empty conjunction
+            body = ()
         return c.Exists(bound, body)
 
     def binder(self, ident, typ) -> c.Binding:

@@ -273,6 +273,20 @@ def test_rules_on_generated_mappings(tmp_path_factory: pytest.TempPathFactory,
         if typed:
             assert cond.then.body.comm.fields[-1] == c.Out(_name(cond.then.var.name))
             assert isinstance(cond.then.where, c.Exists) and len(cond.then.where.body) == 1
+            # Rule 4's else-branch of a typed event leaves the value open (ours).
+            assert isinstance(cond.orelse, c.IndexedExtChoice)
+            assert cond.orelse.where == c.Exists((), ())
+            assert cond.orelse.body.comm.fields == (c.Out(ex.Bool(False)),
+                                                    c.Out(_name(cond.orelse.var.name)))
+        else:
+            assert cond.orelse == c.Prefix(c.Comm("registerRead", f"ev{i}",
+                                                  (c.Out(ex.Bool(False)),)), c.Skip())
+    # Every communication carries as many values as its channel variant has types.
+    arity = {(ch.name, v.tag): len(v.types) for ch in p.channels for v in ch.variants}
+    for a in p.pmodel.actions:
+        for n in c.walk(a.body):
+            if isinstance(n, c.Comm):
+                assert len(n.fields) == arity[(n.channel, n.tag)], (a.name, n)
     receive = acts["ReceiveFromDModel"].body
     assert (receive == c.Skip()) == (n_ops == 0)
     declared = {f.name for f in p.pmodel.state.fields} | \

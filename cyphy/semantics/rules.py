@@ -257,29 +257,54 @@ def rule3_send_to_dmodel(ctx: Context) -> list[c.ActionDef]:
 
 
 def rule4_input_event(ctx: Context, m: ast.EventMapping) -> c.ActionDef:
-    """Rule 4: ``<Event>ToDModel ≙ if pred then Then(m) else registerRead.e!false → Skip``
-    with the mapping's predicates (conjoined) translated."""
+    """Rule 4: ``<Event>ToDModel ≙ if pred then Then(m) else Else(m)`` with the mapping's
+    predicates (conjoined) translated.
+
+    The paper's else-branch is ``registerRead.e!false → Skip``. For a typed event the
+    channel carries ``bool × T``, so that communication would be ill-typed; ours (the spec
+    is silent) offers every value, ``□ p : {p : T | true} • registerRead.e!false!p → Skip``:
+    the value of an event that did not occur is left unconstrained, and no default value
+    has to be invented for given sets."""
     preds = [translate(ctx, m, p.expr) for p in m.predicates]
     cond = ex.conjunction(preds) if preds else ex.Bool(True)
-    otherwise = c.Prefix(c.Comm("registerRead", m.name, (c.Out(ex.Bool(False)),)), c.Skip())
     return c.ActionDef(f"{capitalised(m.name)}ToDModel", (),
-                       c.Cond(cond, rule5_then_branch(ctx, m), otherwise))
+                       c.Cond(cond, rule5_then_branch(ctx, m), _not_occurred(ctx, m)))
+
+
+def _event_value(ctx: Context, m: ast.EventMapping) -> c.Binding | None:
+    """The bound variable that carries a typed event's value (``None`` if untyped)."""
+    service = ctx.dmodel.events.get(m.name, Service(m.name))
+    if not service.params:
+        return None
+    return c.Binding(m.param or service.params[0].name, service.params[0].type)
+
+
+def _register_read(m: ast.EventMapping, occurred: bool, value: c.Binding | None) -> c.Action:
+    """``registerRead.e!occurred[!p] → Skip``."""
+    fields = (c.Out(ex.Bool(occurred)),)
+    if value is not None:
+        fields += (c.Out(ex.Name((value.name,))),)
+    return c.Prefix(c.Comm("registerRead", m.name, fields), c.Skip())
+
+
+def _not_occurred(ctx: Context, m: ast.EventMapping) -> c.Action:
+    """Rule 4's else-branch: ``registerRead.e!false``, with any value if typed."""
+    value = _event_value(ctx, m)
+    if value is None:
+        return _register_read(m, False, None)
+    return c.IndexedExtChoice(value, c.Exists((), ()),  # true
+                              _register_read(m, False, value))
 
 
 def rule5_then_branch(ctx: Context, m: ast.EventMapping) -> c.Action:
     """Rule 5: an untyped event communicates ``registerRead.e!true``; a typed one offers
     an external choice over the values ``{p | ∃ locals • equations}``."""
-    occurred = c.Out(ex.Bool(True))
-    service = ctx.dmodel.events.get(m.name, Service(m.name))
-    if not service.params:
-        return c.Prefix(c.Comm("registerRead", m.name, (occurred,)), c.Skip())
-    param = m.param or service.params[0].name
-    var = c.Binding(param, service.params[0].type)
+    value = _event_value(ctx, m)
+    if value is None:
+        return _register_read(m, True, None)
     where = c.Exists(_locals_bindings(ctx, m),
                      tuple(translate(ctx, m, e.expr) for e in m.equations))
-    offer = c.Prefix(c.Comm("registerRead", m.name, (occurred, c.Out(ex.Name((param,))))),
-                     c.Skip())
-    return c.IndexedExtChoice(var, where, offer)
+    return c.IndexedExtChoice(value, where, _register_read(m, True, value))
 
 
 # --------------------------------------------------------------------------- outputs
