@@ -2,9 +2,15 @@
 
 from __future__ import annotations
 
+import os
+import tempfile
 from pathlib import Path
 
 import pytest
+
+# The tests (and the cyphy processes they start) use a parse cache of their own, not the
+# user's: what they find there is then only what this run put there.
+os.environ["CYPHY_CACHE_DIR"] = tempfile.mkdtemp(prefix="cyphy-test-cache-")
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"

@@ -16,7 +16,7 @@ from typing import Iterable, Iterator
 from cyphy import codes
 from cyphy.diagnostics import Report, Span
 from cyphy.lang import ast
-from cyphy.lang.parser import parse_text
+from cyphy.lang import parse_cache
 
 MODEL_SUFFIXES = (".pm", ".rst", ".rsm")
 LIBRARY_ROOT = Path(__file__).parent / "library"
@@ -136,11 +136,11 @@ def load_workspace(
         text = _read(p, report)
         if text is None:
             continue
-        result = parse_text(text, str(p))
-        report.extend(result.diagnostics)
+        file, diagnostics = parse_cache.parse(text, str(p))
+        report.extend(diagnostics)
         ws.texts[str(p)] = text
-        if result.file is not None:
-            ws.files[str(p)] = result.file
+        if file is not None:
+            ws.files[str(p)] = file
     ws.named = [str(p) for p in dict.fromkeys(targets)]
     ws.targets = [str(p) for p in dict.fromkeys(targets)]
 
@@ -163,9 +163,9 @@ def _library() -> tuple[tuple[str, str, ast.SourceFile], ...]:
     out = []
     for p in library_files():
         text = p.read_text(encoding="utf-8")
-        result = parse_text(text, str(p))
-        if result.file is not None:  # the shipped library always parses (a test checks)
-            out.append((str(p), text, result.file))
+        file, _ = parse_cache.parse(text, str(p))
+        if file is not None:  # the shipped library always parses (a test checks)
+            out.append((str(p), text, file))
     return tuple(out)
 
 

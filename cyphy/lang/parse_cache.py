@@ -1,0 +1,120 @@
+"""A persistent cache of parsed files: a command does not parse again what it parsed before.
+
+Parsing dominates a short command: building Lark's lexers and parsing the seven files of the
+built-in library take about 300 ms, unpickling their syntax trees about 12 ms (and Lark is then
+not even imported). So every successful parse is stored, as mypy and pytest keep theirs:
+
+* one entry per file path (spans name the path), holding the SHA-256 of the text it was parsed
+  from; an entry whose hash differs from the current text is a miss and is overwritten, so the
+  cache holds at most one tree per file;
+* entries live in a folder named for a fingerprint of the sources that decide the tree (the
+  grammar, the parser, the syntax-tree and expression classes, diagnostics and codes), so a
+  changed cyphy never meets an old tree; folders of other fingerprints untouched for a week
+  are removed when a new entry is written;
+* files with syntax errors are not stored (their diagnostics are cheap to recompute);
+* the cache is only ever an optimisation: an unreadable, corrupt or unwritable cache is
+  ignored, silently, and the file is parsed.
+
+Location: ``$CYPHY_CACHE_DIR``, else ``$XDG_CACHE_HOME/cyphy``, else ``~/.cache/cyphy``.
+``CYPHY_NO_CACHE=1`` turns it off. Entries are pickles, read only from the user's own cache
+folder.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import pickle
+import shutil
+import tempfile
+import time
+from functools import lru_cache
+from pathlib import Path
+
+from cyphy.diagnostics import Diagnostic
+from cyphy.lang import ast
+
+Parsed = tuple[ast.SourceFile | None, tuple[Diagnostic, ...]]
+
+_PACKAGE = Path(__file__).resolve().parent.parent
+_SOURCES = ("lang/robosim.lark", "lang/parser.py", "lang/ast.py", "expr.py", "diagnostics.py",
+            "codes.py")
+_STALE_AFTER_S = 7 * 24 * 3600
+
+
+@lru_cache(maxsize=1)
+def fingerprint() -> str:
+    """A hash of the sources that decide what a parse returns (and of the pickle protocol)."""
+    h = hashlib.sha256(str(pickle.HIGHEST_PROTOCOL).encode())
+    for name in _SOURCES:
+        h.update((_PACKAGE / name).read_bytes())
+    return h.hexdigest()[:20]
+
+
+def cache_root() -> Path | None:
+    """The cache folder, or None when caching is turned off."""
+    if os.environ.get("CYPHY_NO_CACHE"):
+        return None
+    configured = os.environ.get("CYPHY_CACHE_DIR")
+    if configured:
+        return Path(configured)
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    return (Path(xdg) if xdg else Path.home() / ".cache") / "cyphy"
+
+
+def parse(text: str, path: str) -> Parsed:
+    """The syntax tree and diagnostics of ``text`` read from ``path``, from the cache when
+    this exact text was parsed at this path before."""
+    root = cache_root()
+    if root is None:
+        return _parse(text, path)
+    folder = root / f"parse-{fingerprint()}"
+    entry = folder / (hashlib.sha256(path.encode()).hexdigest()[:32] + ".pickle")
+    digest = hashlib.sha256(text.encode()).digest()
+    try:
+        with entry.open("rb") as f:
+            stored_digest, parsed = pickle.load(f)
+        if stored_digest == digest:
+            return parsed
+    except Exception:  # missing, corrupt or from an incompatible run: parse instead
+        pass
+    parsed = _parse(text, path)
+    if parsed[0] is not None:
+        _store(folder, entry, (digest, parsed))
+    return parsed
+
+
+def _parse(text: str, path: str) -> Parsed:
+    from cyphy.lang.parser import parse_text  # Lark is imported only when something is parsed
+
+    result = parse_text(text, path)
+    return result.file, result.diagnostics
+
+
+def _store(folder: Path, entry: Path, value: object) -> None:
+    """Write one entry atomically (a concurrent reader sees the old entry or the new one)."""
+    try:
+        if not folder.is_dir():
+            folder.mkdir(parents=True, exist_ok=True)
+            _remove_stale(folder)
+        fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
+        try:
+            with os.fdopen(fd, "wb") as f:
+                pickle.dump(value, f, protocol=pickle.HIGHEST_PROTOCOL)
+            os.replace(tmp, entry)
+        except BaseException:
+            os.unlink(tmp)
+            raise
+    except (OSError, pickle.PicklingError):
+        pass
+
+
+def _remove_stale(current: Path) -> None:
+    """Remove the folders of other fingerprints that nobody has written to for a week."""
+    limit = time.time() - _STALE_AFTER_S
+    for other in current.parent.glob("parse-*"):
+        try:
+            if other != current and other.stat().st_mtime < limit:
+                shutil.rmtree(other, ignore_errors=True)
+        except OSError:
+            pass

@@ -1,0 +1,122 @@
+"""The persistent parse cache: hits give the same tree without parsing, anything odd about the
+cache falls back to parsing, and a warm run does not even import Lark."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import EXAMPLES, ROOT
+from cyphy import api
+from cyphy.lang import parse_cache
+from cyphy.lang.parser import parse_text
+
+GOOD = "package p\npmodel M {\n\tlocal link L { def { } }\n}\n"
+BAD = "package p\npmodel M {\n\tlocal link { }\n}\n"
+
+
+@pytest.fixture
+def cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    folder = tmp_path / "cache"
+    monkeypatch.setenv("CYPHY_CACHE_DIR", str(folder))
+    monkeypatch.delenv("CYPHY_NO_CACHE", raising=False)
+    return folder
+
+
+def entries(folder: Path) -> list[Path]:
+    return sorted(folder.glob("parse-*/*.pickle"))
+
+
+def no_parsing(monkeypatch: pytest.MonkeyPatch) -> None:
+    def fail(text: str, path: str) -> parse_cache.Parsed:
+        raise AssertionError(f"{path} was parsed, not read from the cache")
+
+    monkeypatch.setattr(parse_cache, "_parse", fail)
+
+
+def test_a_hit_returns_the_parsed_tree_without_parsing(cache: Path,
+                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    first = parse_cache.parse(GOOD, "m.rsm")
+    expected = parse_text(GOOD, "m.rsm")
+    assert first == (expected.file, expected.diagnostics)
+    assert len(entries(cache)) == 1 and entries(cache)[0].parent.name == \
+        f"parse-{parse_cache.fingerprint()}"
+    no_parsing(monkeypatch)
+    assert parse_cache.parse(GOOD, "m.rsm") == first
+
+
+def test_changed_text_or_other_path_is_parsed_again(cache: Path) -> None:
+    parse_cache.parse(GOOD, "m.rsm")
+    changed = GOOD.replace("link L", "link K")
+    file, _ = parse_cache.parse(changed, "m.rsm")
+    assert file is not None and "K" in repr(file) and " L " not in changed
+    assert len(entries(cache)) == 1  # one entry per path, overwritten
+    other, _ = parse_cache.parse(GOOD, "n.rsm")
+    assert other is not None and other.path == "n.rsm"  # spans name their own file
+    assert len(entries(cache)) == 2
+
+
+def test_files_with_syntax_errors_are_not_stored(cache: Path) -> None:
+    file, diagnostics = parse_cache.parse(BAD, "bad.rsm")
+    assert file is None and diagnostics[0].code.id == "E-SYNTAX"
+    assert entries(cache) == []
+
+
+def test_a_corrupt_entry_is_parsed_again_and_replaced(cache: Path) -> None:
+    parse_cache.parse(GOOD, "m.rsm")
+    (entry,) = entries(cache)
+    entry.write_bytes(b"not a pickle")
+    file, _ = parse_cache.parse(GOOD, "m.rsm")
+    assert file == parse_text(GOOD, "m.rsm").file
+    assert entry.read_bytes() != b"not a pickle"
+
+
+def test_an_unusable_cache_folder_is_ignored(tmp_path: Path,
+                                             monkeypatch: pytest.MonkeyPatch) -> None:
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    monkeypatch.setenv("CYPHY_CACHE_DIR", str(blocker))  # a file, not a folder
+    file, _ = parse_cache.parse(GOOD, "m.rsm")
+    assert file == parse_text(GOOD, "m.rsm").file
+
+
+def test_no_cache_writes_nothing(cache: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("CYPHY_NO_CACHE", "1")
+    assert parse_cache.parse(GOOD, "m.rsm")[0] is not None
+    assert not cache.exists()
+
+
+def test_stale_fingerprint_folders_are_removed(cache: Path) -> None:
+    old, recent = cache / "parse-old", cache / "parse-recent"
+    for folder in (old, recent):
+        folder.mkdir(parents=True)
+    os.utime(old, (0, 0))
+    parse_cache.parse(GOOD, "m.rsm")
+    assert not old.exists() and recent.exists()
+
+
+def test_a_cached_workspace_checks_like_a_parsed_one(cache: Path,
+                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    mapping = EXAMPLES / "marxbot" / "Mapping.rsm"
+    monkeypatch.setenv("CYPHY_NO_CACHE", "1")
+    plain = api.check([mapping], api.CheckOptions())
+    monkeypatch.delenv("CYPHY_NO_CACHE")
+    api.check([mapping], api.CheckOptions())  # fills the cache
+    no_parsing(monkeypatch)
+    cached = api.check([mapping], api.CheckOptions())
+    assert cached.workspace.files == plain.workspace.files
+    assert cached.report.diagnostics == plain.report.diagnostics
+
+
+def test_a_warm_run_does_not_import_lark(cache: Path) -> None:
+    model = str(EXAMPLES / "marxbot" / "marXbotBase.rsm")
+    script = ("import sys; from cyphy.cli import main; code = main(['check', %r]); "
+              "print(code, 'lark' in sys.modules)" % model)
+    env = {**os.environ, "CYPHY_CACHE_DIR": str(cache)}
+    runs = [subprocess.run([sys.executable, "-c", script], cwd=ROOT, env=env,
+                           capture_output=True, text=True) for _ in range(2)]
+    assert [r.stdout.splitlines()[-1] for r in runs] == ["0 True", "0 False"], runs
