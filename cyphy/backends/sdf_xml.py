@@ -24,6 +24,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from cyphy import collector
 from cyphy.model.poses import Pose
 from cyphy.semantics.sdf_tree import Comment, Node, Text
 
@@ -105,10 +106,11 @@ def _element(node: Node) -> ET.Element:
 
 def to_xml(root: Node) -> str:
     """The document as text: an XML declaration, then the tree indented by two spaces."""
-    tree = _element(root)
-    ET.indent(tree, space="  ")
-    return "<?xml version='1.0' encoding='utf-8'?>\n" + ET.tostring(
-        tree, encoding="unicode") + "\n"
+    with collector.paused():  # an element per node, all live until written
+        tree = _element(root)
+        ET.indent(tree, space="  ")
+        return "<?xml version='1.0' encoding='utf-8'?>\n" + ET.tostring(
+            tree, encoding="unicode") + "\n"
 
 
 def names_json(names: dict[str, str]) -> str:

@@ -11,12 +11,11 @@ after it, and a part may connect a joint of its own p-model (``joint J flexibly 
 
 from __future__ import annotations
 
-import gc
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from cyphy import codes
+from cyphy import codes, collector
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span
 from cyphy.lang import ast
@@ -341,15 +340,8 @@ def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: 
     checks need geometry, not behaviour, and devices are most of the work on a large
     model."""
     ctx = _Context(ws, resolution, report, consts or {})
-    # Building tens of thousands of elements would trigger ever longer collections of the
-    # generations that hold the (live) syntax tree: pause the collector while building.
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
+    with collector.paused():  # see cyphy/collector.py
         return _Elaborator(ctx, devices).run(pm, file)
-    finally:
-        if was_enabled:
-            gc.enable()
 
 
 class _Elaborator:

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from cyphy import codes
+from cyphy import codes, collector
 from cyphy.diagnostics import Report
 from cyphy.lang.workspace import Workspace
 from cyphy.model.elements import (
@@ -159,7 +159,8 @@ def translate(model: ElaboratedModel, ws: Workspace, report: Report,
     """The SDF document of an elaborated p-model whose constants all have values."""
     t = _Translation(model, ws, report, options)
     root = Node("sdf", {"version": "1.6"})
-    root.children.append(pmodel_rule(t))
+    with collector.paused():  # a tree as large as the model, all of it live
+        root.children.append(pmodel_rule(t))
     return SdfDocument(root, t.names.table)
 
 

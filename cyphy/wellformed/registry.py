@@ -8,11 +8,10 @@ hint)``. Rules never print, raise or exit (``style.md`` 8-10). The summary is th
 
 from __future__ import annotations
 
-import gc
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator
 
-from cyphy import codes
+from cyphy import codes, collector
 from cyphy.diagnostics import Code, Report, Severity, Span
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
@@ -162,12 +161,7 @@ def check_wellformed(ctx: WFContext, only: set[str] | None = None) -> None:
     elaboration: the rules build tables that live until the end of the run, and on a large
     model the collections those would trigger traverse the whole syntax tree (seconds at
     10,000 links) and find no garbage. What the run leaves is collected, young, after it."""
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
+    with collector.paused():
         for r in RULES.values():
             if only is None or r.id in only:
                 r.check(ctx)
-    finally:
-        if was_enabled:
-            gc.enable()
