@@ -231,3 +231,14 @@ def test_generated_mappings_lex_cleanly(tmp_path_factory, model) -> None:
     printed = odes(text, "Evolve_v")
     assert {"M_av", "M_i", "M_int1", "M_theta", "M_T", "timer"} <= set(printed)
     assert printed["M_theta"] == "M_av"
+
+
+def test_sympy_results_convert_back_to_expressions() -> None:
+    from cyphy.backends.sympy import to_expr, to_sympy
+
+    a, b, x = (sympy.Symbol(n, real=True) for n in "abx")
+    f = sympy.Function("ScrewAxis")
+    for value in (a * b / x - sympy.Rational(3, 2) * a / x + b / 10, -a, sympy.Float(0.5) * a,
+                  sympy.sqrt(a) + sympy.sin(b) ** 2 - 1 / a ** 2, a ** sympy.Rational(3, 2),
+                  sympy.exp(-a) * sympy.cos(x), f(a, b) - 2, sympy.Integer(-3)):
+        assert sympy.simplify(to_sympy(to_expr(value)) - value) == 0, value

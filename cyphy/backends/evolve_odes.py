@@ -31,6 +31,7 @@ from cyphy import expr as ex
 from cyphy.backends.reduce import Reduced, reduce_system
 from cyphy.backends.sympy import T, NotAnExpression, to_expr
 from cyphy.diagnostics import Report, Span, did_you_mean
+from cyphy.lang import ast
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics import circus as c
 from cyphy.semantics.equations import System, assemble
@@ -58,7 +59,6 @@ class ExplicitOde:
 class EvolveOdes:
     odes: list[ExplicitOde] = field(default_factory=list)
     added: list[str] = field(default_factory=list)  # evolving variables no schema field holds
-    reduced: Reduced | None = None
 
 
 def explicit_odes(model: ElaboratedModel, evolution: c.Evolution, state_fields: set[str],
@@ -101,7 +101,7 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
               for name in [*reduced.states, *reduced.outputs]}
     vector_fields = {n for n in system.variables if n in state_fields
                      and not _scalar(system, n)}
-    out = EvolveOdes(reduced=reduced)
+    out = EvolveOdes()
     rhs: dict[str, Any] = {}
     failed = False
 
@@ -161,8 +161,6 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
 
 
 def _scalar(system: System, name: str) -> bool:
-    from cyphy.lang import ast
-
     t = system.variables.get(name)
     return not isinstance(t, (ast.VectorType, ast.MatrixType))
 

@@ -185,15 +185,13 @@ def to_expr(value: Any) -> ex.Expr:
         terms = v.as_ordered_terms()
         out = to_expr(terms[0])
         for term in terms[1:]:
-            coeff, rest = term.as_coeff_Mul()
-            if coeff.is_negative:
+            if term.as_coeff_Mul()[0].is_negative:
                 out = ex.BinOp("-", out, to_expr(-term))
             else:
                 out = ex.BinOp("+", out, to_expr(term))
         return out
     if isinstance(v, sympy.Mul):
-        coeff, rest = v.as_coeff_Mul()
-        if coeff.is_negative:
+        if v.as_coeff_Mul()[0].is_negative:
             return ex.UnaryOp("-", to_expr(-v))
         numerator, denominator = [], []
         for factor in v.as_ordered_factors():
