@@ -194,6 +194,8 @@ class SemanticsGenOptions:
     search_paths: tuple[str, ...] = ()
     pdf: bool = False  # --latex: also typeset with pdflatex
     namesets: bool = False  # --isabelle: keep interleaved updates with a name-set partition
+    dialect: str = "utp"  # --isabelle: "utp" (utp-main 2020) or "axiomatic" (Ax_CyPhyCircus)
+    elements: tuple[str, ...] = ()  # --isabelle axiomatic: the elements Evolve's ODE covers
 
 
 def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = SemanticsGenOptions()
@@ -326,9 +328,14 @@ def generate_isabelle(paths: Sequence[str | Path],
         return generated
     span = built.mapping.span
     try:
-        session = generate_session(built.program, built.names,
-                                   IsabelleOptions(options.namesets),
-                                   options.system_name)
+        if options.dialect == "axiomatic":
+            session = _axiomatic_session(built, options, report)
+            if session is None:
+                return generated
+        else:
+            session = generate_session(built.program, built.names,
+                                       IsabelleOptions(options.namesets),
+                                       options.system_name)
     except IsabelleError as err:
         report.report(UNTRANSLATABLE, str(err), span,
                       "this construct cannot be written in Isabelle/UTP yet; the text and "
@@ -350,3 +357,27 @@ def generate_isabelle(paths: Sequence[str | Path],
                       f"updates of {updated} are discarded when it ends", span, hint)
     generated.files = session.files
     return generated
+
+
+def _axiomatic_session(built: Any, options: SemanticsGenOptions, report: Report) -> Any:
+    """The Ax_CyPhyCircus session, with Evolve reduced to explicit ODEs (SymPy); None when
+    the equations cannot be reduced (E-ISABELLE-ODE reported)."""
+    from cyphy.backends.isabelle_ax_theory import generate_ax_session
+    from cyphy.backends.isabelle_theory import IsabelleOptions
+    from cyphy.semantics import circus as c
+    from cyphy.semantics.namesets import action_nodes
+
+    pm = built.program.pmodel
+    evolutions = [n for d in pm.actions for n in action_nodes(d.body)
+                  if isinstance(n, c.Evolution)]
+    odes = None
+    if evolutions:
+        from cyphy.backends.evolve_odes import explicit_odes
+
+        odes = explicit_odes(built.model, evolutions[0], {f.name for f in pm.state.fields},
+                             options.elements, report, built.mapping.span)
+        if odes is None:
+            return None
+    return generate_ax_session(built.program, built.names, odes,
+                               IsabelleOptions(options.namesets), options.system_name,
+                               options.elements)

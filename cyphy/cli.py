@@ -101,7 +101,8 @@ def _gen(args: argparse.Namespace) -> int:
     if generated.report.has_errors or not generated.files:
         sys.stderr.write(f"cyphy gen: nothing written: the model has errors\n")
         return 1
-    out_dir = Path(args.output) if args.output else default_output_dir(args.paths, args.target)
+    folder = getattr(args, "default_folder", args.target)  # a generator may choose another
+    out_dir = Path(args.output) if args.output else default_output_dir(args.paths, folder)
     try:
         written = write_all(generated.files, out_dir)
     except OutputError as err:
@@ -250,12 +251,28 @@ def _isabelle_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--isabelle-namesets", action="store_true",
                         help="write interleavings whose branches update disjoint variables "
                         "with that name-set partition, so their updates are kept")
+    parser.add_argument("--isabelle-dialect", choices=("utp", "axiomatic"), default="utp",
+                        help="utp: utp-main's 2020 Circus with closure lemmas (default); "
+                        "axiomatic: Ax_CyPhyCircus, Evolve as explicit ODEs (SymPy), into "
+                        "isabelle-ax-gen/")
+    parser.add_argument("--isabelle-element", action="append", default=[],
+                        metavar="QUALIFIED",
+                        help="with --isabelle-dialect axiomatic: reduce only the equations "
+                        "of this element and what it contains (repeatable), as `cyphy solve "
+                        "--element`")
 
 
 def _isabelle(args: argparse.Namespace) -> "Generated":
+    from dataclasses import replace
+
     from cyphy.api import generate_isabelle
 
-    return generate_isabelle(args.paths, _semantics_gen_options(args))
+    options = _semantics_gen_options(args)
+    if args.isabelle_dialect == "axiomatic":
+        args.default_folder = "isabelle-axiomatic"  # beside isabelle-gen/, never mixed in
+        options = replace(options, dialect="axiomatic",
+                          elements=tuple(args.isabelle_element))
+    return generate_isabelle(args.paths, options)
 
 
 def _semantics_gen_options(args: argparse.Namespace) -> "SemanticsGenOptions":

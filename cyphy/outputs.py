@@ -20,6 +20,7 @@ DEFAULT_FOLDERS = {
     "cyphycircus": "cpc-gen",
     "latex": "cpc-gen",
     "isabelle": "isabelle-gen",
+    "isabelle-axiomatic": "isabelle-ax-gen",
     "flowstar": "flowstar-gen",
 }
 

@@ -147,7 +147,7 @@ class IsabellePrinter:
         printing of a subterm; each gets an identifier free of every global one."""
         scope = dict(self._bound[-1])
         idents = []
-        globals_ = self.symbols.names.identifiers()
+        globals_ = self._globals()
         for name in names:
             ident = bound_identifier(name, globals_)
             scope[name] = ident
@@ -157,6 +157,10 @@ class IsabellePrinter:
             yield idents
         finally:
             self._bound.pop()
+
+    def _globals(self) -> set[str]:
+        """The identifiers a bound name must not take (it would shadow them)."""
+        return self.symbols.names.identifiers()
 
     def _bound_ident(self, name: str) -> str | None:
         return self._bound[-1].get(name)

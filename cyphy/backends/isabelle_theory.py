@@ -163,12 +163,13 @@ def _given_sets(program: c.Program) -> list[str]:
     return list(found)
 
 
-def symbols_of(program: c.Program) -> Symbols:
+def symbols_of(program: c.Program, taken: frozenset[str] = frozenset()) -> Symbols:
     """Every global name of the program with its Isabelle identifier, registered in a
     fixed order (types, constants, functions, channels, state, actions) so that the
-    identifiers, and the ``_v`` suffixes where a reserved word is hit, are deterministic."""
+    identifiers, and the ``_v`` suffixes where a reserved word is hit, are deterministic;
+    ``taken``: identifiers the dialect reserves besides the common ones."""
     pm = program.pmodel
-    names = IsabelleNames()
+    names = IsabelleNames(taken)
     prefix = identifier(pm.name)
     for t in (f"{prefix}_chan", f"{prefix}_action", f"{prefix}Visible", pm.state.name):
         names.add(t)
@@ -265,7 +266,9 @@ def generate_session(program: c.Program, table: NameTable,
 
 def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePrinter,
                     lossy: list[LossyInterleaving], options: IsabelleOptions,
-                    applied: bool) -> dict[str, Any]:
+                    applied: bool, action_type: str | None = None) -> dict[str, Any]:
+    """What the theory templates lay out; ``action_type`` is the type of an action
+    (default: the session's type synonym)."""
     names = printer.symbols.names
     globals_ = program.globals
     axioms = [printer.doprint(w, "hol") for w in globals_.where]
@@ -281,7 +284,7 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
             continue
         tvars = [f"'a{i}" for i in range(1, f.arity + 1)] + ["'r"]
         functions.append({"name": ident, "type": " \\<Rightarrow> ".join(tvars)})
-    constructors = []
+    constructors, channels = [], []
     for ch in program.channels:
         variants = ch.variants or (c.ChannelVariant(None, ()),)
         for v in variants:
@@ -289,15 +292,15 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
             payload = ""
             if v.types:
                 payload = " \\<times> ".join(printer.type(t) for t in v.types)
-                payload = f' "{payload}"'
-            constructors.append(ident + payload)
+            channels.append({"name": ident, "type": _quoted(payload or "unit")})
+            constructors.append(ident + (f' "{payload}"' if payload else ""))
     visible = [{"name": names[f.name], "type": _quoted(printer.type(f.type))}
                for f in pm.state.fields if f.visible]
     private = [{"name": names[f.name], "type": _quoted(printer.type(f.type))}
                for f in pm.state.fields if not f.visible]
     caveats = {f.action: _caveat(f, applied and f.partition) for f in lossy}
     definitions = []
-    action_type = names[f"{identifier(pm.name)}_action"]
+    action_type = action_type or names[f"{identifier(pm.name)}_action"]
     for d in [*definition_order(pm.actions), c.ActionDef("MainAction", (), pm.main)]:
         with printer.binding([p.name for p in d.params]) as params:
             body = printer.action(d.body)
@@ -315,7 +318,8 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
                             for b in globals_.constants],
         "axioms": axioms, "constants": constants, "functions": functions,
         "given_sets": [names[g] for g in printer.symbols.given_sets],
-        "constructors": constructors, "visible": visible, "private": private,
+        "constructors": constructors, "channels": channels, "visible": visible,
+        "private": private,
         "visible_name": names[f"{identifier(pm.name)}Visible"], "state_name": names[pm.state.name],
         "definitions": definitions, "namesets": options.namesets,
     }

@@ -152,3 +152,74 @@ class SympyPrinter:
 
 def to_sympy(e: ex.Expr, **settings: Any) -> Any:
     return SympyPrinter(**settings).doprint(e)
+
+
+#: SymPy functions back to the names of the expression AST's library functions.
+_FUNCTION_NAMES = {sympy.sin: "sin", sympy.cos: "cos", sympy.tan: "tan", sympy.asin: "asin",
+                   sympy.acos: "acos", sympy.atan: "atan", sympy.atan2: "atan2",
+                   sympy.exp: "exp", sympy.log: "log", sympy.Abs: "abs", sympy.sign: "sgn"}
+
+
+class NotAnExpression(Exception):
+    """A SymPy value the expression AST has no counterpart for (matrices, relations…)."""
+
+
+def to_expr(value: Any) -> ex.Expr:
+    """A scalar SymPy expression as the shared expression AST, so that every printer can
+    print what SymPy computed (the explicit ODEs of :mod:`cyphy.backends.reduce`). Sums and
+    products in SymPy's canonical order (deterministic), a product's negative powers as one
+    division, rationals as ``p / q``, square roots as ``sqrt``."""
+    v = sympy.sympify(value)
+    if isinstance(v, sympy.Integer):
+        n = ex.Num(str(abs(int(v))))
+        return ex.UnaryOp("-", n) if v < 0 else n
+    if isinstance(v, sympy.Rational):
+        frac = ex.BinOp("/", ex.Num(str(abs(v.p))), ex.Num(str(v.q)))
+        return ex.UnaryOp("-", frac) if v < 0 else frac
+    if isinstance(v, sympy.Float):
+        text = repr(float(abs(v)))
+        return ex.UnaryOp("-", ex.Num(text)) if v < 0 else ex.Num(text)
+    if isinstance(v, sympy.Symbol):
+        return ex.Name((v.name,))
+    if isinstance(v, sympy.Add):
+        terms = v.as_ordered_terms()
+        out = to_expr(terms[0])
+        for term in terms[1:]:
+            if term.as_coeff_Mul()[0].is_negative:
+                out = ex.BinOp("-", out, to_expr(-term))
+            else:
+                out = ex.BinOp("+", out, to_expr(term))
+        return out
+    if isinstance(v, sympy.Mul):
+        if v.as_coeff_Mul()[0].is_negative:
+            return ex.UnaryOp("-", to_expr(-v))
+        numerator, denominator = [], []
+        for factor in v.as_ordered_factors():
+            if isinstance(factor, sympy.Rational) and not isinstance(factor, sympy.Integer):
+                if factor.p != 1:
+                    numerator.append(sympy.Integer(factor.p))
+                denominator.append(sympy.Integer(factor.q))
+            elif isinstance(factor, sympy.Pow) and factor.exp.is_negative:
+                denominator.append(factor.base ** -factor.exp)
+            else:
+                numerator.append(factor)
+        top = _product(numerator) if numerator else ex.Num("1")
+        return ex.BinOp("/", top, _product(denominator)) if denominator else top
+    if isinstance(v, sympy.Pow):
+        if v.exp == sympy.Rational(1, 2):
+            return ex.Call(ex.Name(("sqrt",)), (to_expr(v.base),))
+        if v.exp.is_negative:
+            return ex.BinOp("/", ex.Num("1"), to_expr(v.base ** -v.exp))
+        return ex.BinOp("^", to_expr(v.base), to_expr(v.exp))
+    if isinstance(v, sympy.Function):
+        name = _FUNCTION_NAMES.get(v.func, getattr(v.func, "__name__", None))
+        if isinstance(v, sympy.core.function.AppliedUndef) or v.func in _FUNCTION_NAMES:
+            return ex.Call(ex.Name((str(name),)), tuple(to_expr(a) for a in v.args))
+    raise NotAnExpression(f"{v} ({type(v).__name__}) has no counterpart in the expressions")
+
+
+def _product(factors: list[Any]) -> ex.Expr:
+    out = to_expr(factors[0])
+    for f in factors[1:]:
+        out = ex.BinOp("*", out, to_expr(f))
+    return out

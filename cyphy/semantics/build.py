@@ -13,6 +13,7 @@ from cyphy.lang.resolve import Resolution
 from cyphy.lang.scopes import is_pmodel
 from cyphy.lang.workspace import Workspace
 from cyphy.model.elaborate import elaborate_pmodel
+from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics import circus as c
 from cyphy.semantics.names import NameTable
 from cyphy.semantics.rules import Context, DModel, SemanticsError, Service, rule1_program
@@ -40,6 +41,7 @@ class Semantics:
     program: c.Program
     names: NameTable
     mapping: ast.PlatformMapping
+    model: ElaboratedModel | None = None  # what Evolve's equations come from (for solving)
 
 
 def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
@@ -74,7 +76,7 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
     except SemanticsError as err:
         report.report(UNTRANSLATABLE, err.message, err.span, err.hint)
         return None
-    return Semantics(program, ctx.names, mapping)
+    return Semantics(program, ctx.names, mapping, model)
 
 
 def _choose_mapping(ws: Workspace, report: Report, wanted: str | None

@@ -1,0 +1,161 @@
+"""CyPhyCircus actions in the syntax of isabelle-utp/Ax_CyPhyCircus (the axiomatic dialect).
+
+The same action AST as :class:`cyphy.backends.isabelle.IsabellePrinter` prints for utp-main's
+2020 Circus, in the notation that Ax_CyPhyCircus binds to its axiomatised ``cyphyaction``
+operators through IsaCircus's generic syntax (``../shared/spec/isabelle.md`` sections 1.3 and
+2.5): ``c\\<^bold>!(e) \\<rightarrow> P``, ``c\\<^bold>?x \\<rightarrow> P``, ``(b) \\<^bold>& P``,
+``P \\<lhd> b \\<rhd> Q``, ``\\<interleave>``, ``\\<triangle>``, ``\\<triangle>\\<^sub>p (b)``,
+``\\<mu> X. P``, ``x := e``, ``(x, y):[p, q]`` and the evolution ``[\\<Lambda> x` = f, …]``.
+
+Only what differs is overridden. Expressions are plain HOL terms throughout (the dialect's
+syntax translations lift them over the state: a state variable is written by its lens name,
+as in the Ranger examples), so the printer stays in the parent's ``hol`` mode. The evolution
+is printed from the explicit ODEs of :mod:`cyphy.backends.evolve_odes`, given to the printer:
+the AST's DAE form has no counterpart in this dialect.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from cyphy import expr as ex
+from cyphy.backends.evolve_odes import ExplicitOde
+from cyphy.backends.isabelle import IsabellePrinter, Symbols, UnsupportedNode
+from cyphy.semantics import circus as c
+
+#: Constants and syntax words of Ax_CyPhyCircus, IsaCircus_Syntax and Abstract_Prog_Syntax
+#: that a generated name must not take (``Evolve`` is the operator the evolution uses).
+AX_RESERVED = frozenset("""
+cyphyaction cyphyprocess cSpec cAssigns cSeq cCond cAlternList cVarBlock cStop cChaos cGuard
+cAssume cInputPrefix cOutputPrefix cSyncPrefix cExtChoice cExtChoiceIdx cRename cHide
+cParallelAct cParallel cInterrupt cEvolve cInterruptCond cTimeout cSkip Spec Guard Assume
+InputPrefix OutputPrefix SyncPrefix ExtChoice ExtChoiceIdx Rename Hide ParallelAct Parallel
+Interrupt Replicate Evolve Timeout InterruptCond ucond useq uassigns uskip utest uwhile uuntil
+repeat until swap elseif old channel chantype expr subst_id
+""".split())
+
+
+class AxiomaticPrinter(IsabellePrinter):
+    """The Ax_CyPhyCircus notation; ``odes`` are Evolve's explicit ODEs (None: an
+    evolution cannot be printed)."""
+
+    def __init__(self, symbols: Symbols, odes: list[ExplicitOde] | None = None,
+                 **settings: Any) -> None:
+        super().__init__(symbols, **settings)
+        self.odes = odes
+
+    def _globals(self) -> set[str]:
+        return super()._globals() | AX_RESERVED
+
+    def action(self, a: c.Action) -> str:
+        with self._in_mode("hol", coerce_nat=True):
+            return self._print(a)
+
+    # ------------------------------------------------------------------ expressions
+
+    def _print_Derivative(self, e: ex.Derivative) -> str:
+        raise UnsupportedNode(e, "a derivative outside the evolution")
+
+    def _print_Integral(self, e: ex.Integral) -> str:
+        raise UnsupportedNode(e, "an integral outside the evolution")
+
+    def _print_Exists(self, p: c.Exists) -> str:
+        """``(\\<exists> x::T. P1 \\<and> … \\<and> Pn)``: HOL's quantifier, one binder
+        per name, the conjuncts flat inside."""
+        with self.binding([b.name for b in p.bound]) as idents:
+            binders = "".join(f"\\<exists> {i}::{self.type(b.type)}. "
+                              for i, b in zip(idents, p.bound))
+            joiner = " \\<and>\n      " if len(p.body) > 2 else " \\<and> "
+            body = joiner.join(self._print(x) for x in p.body) or "True"
+        return f"({binders}{body})"
+
+    # ------------------------------------------------------------------ actions
+
+    def _print_Prefix(self, a: c.Prefix) -> str:
+        comm = a.comm
+        ctor = self._constructor(comm)
+        inputs = [f.name for f in comm.fields if isinstance(f, c.In)]
+        values = [f.value for f in comm.fields if not isinstance(f, c.In)]
+        if inputs and values:
+            raise UnsupportedNode(comm, "inputs and outputs in one communication")
+        if inputs:
+            with self.binding(inputs) as idents:
+                bound = idents[0] if len(idents) == 1 else f"({', '.join(idents)})"
+                return f"({ctor}\\<^bold>?{bound} \\<rightarrow> {self._print(a.then)})"
+        if values:
+            kinds = {type(f) for f in comm.fields}
+            if len(kinds) != 1:
+                raise UnsupportedNode(comm, "dots and outputs in one communication")
+            mark = "\\<^bold>!" if kinds == {c.Out} else "\\<^bold>."
+            event = f"{ctor}{mark}({', '.join(self._print(v) for v in values)})"
+        else:
+            event = ctor
+        return f"({event} \\<rightarrow> {self._print(a.then)})"
+
+    def _print_Interleave(self, a: c.Interleave) -> str:
+        return self._chain(a.items, "\\<interleave>")
+
+    def _print_IndexedExtChoice(self, a: c.IndexedExtChoice) -> str:
+        with self.binding([a.var.name]) as (ident,):
+            where = self._print(a.where)
+            body = self._print(a.body)
+        universe = f"(UNIV :: {self.type(a.var.type)} set)"
+        return f"(\\<box> {ident}\\<in>{universe}. ({where} \\<^bold>& {body}))"
+
+    def _print_Parallel(self, a: c.Parallel) -> str:
+        if a.channels:
+            raise UnsupportedNode(a, "synchronisation on channels inside an action")
+        left, right = self._print(a.left), self._print(a.right)
+        return (f"({left} \\<lbrakk>{self._lens(a.left_names)} | {{}} | "
+                f"{self._lens(a.right_names)}\\<rbrakk> {right})")
+
+    def _lens(self, names: tuple[str, ...]) -> str:
+        """A name set as the lens of its variables: ``\\<^bold>0`` when empty."""
+        if not names:
+            return "\\<^bold>0"
+        idents = [self.symbols.names[n] for n in names]
+        return idents[0] if len(idents) == 1 else "(" + " +\\<^sub>L ".join(idents) + ")"
+
+    def _print_Cond(self, a: c.Cond) -> str:
+        return (f"({self._print(a.then)} \\<lhd> {self._print(a.cond)} \\<rhd> "
+                f"{self._print(a.orelse)})")
+
+    def _print_Guard(self, a: c.Guard) -> str:
+        return f"({self._print(a.cond)} \\<^bold>& {self._print(a.action)})"
+
+    def _print_Mu(self, a: c.Mu) -> str:
+        with self.binding([a.var]) as (ident,):
+            return f"(\\<mu> {ident}. {self._print(a.body)})"
+
+    def _print_Interrupt(self, a: c.Interrupt) -> str:
+        return f"({self._print(a.left)} \\<triangle> {self._print(a.right)})"
+
+    def _print_InterruptCond(self, a: c.InterruptCond) -> str:
+        return f"({self._print(a.action)} \\<triangle>\\<^sub>p {self._print(a.cond)})"
+
+    def _print_Wait(self, a: c.Wait) -> str:
+        with self._in_mode("hol", coerce_nat=False):
+            count = self._print(a.count)
+        return f"({self.symbols.names['WaitT']} {count})"
+
+    def _print_Assign(self, a: c.Assign) -> str:
+        targets = [self.symbols.names[t] for t in a.targets]
+        values = [self._print(v) for v in a.values]
+        if len(targets) == 1:
+            return f"({targets[0]} := {values[0]})"
+        return f"(({', '.join(targets)}) := ({', '.join(values)}))"
+
+    def _print_Spec(self, a: c.Spec) -> str:
+        if not a.frame:
+            raise UnsupportedNode(a, "a specification statement with an empty frame")
+        idents = [self.symbols.names[n] for n in a.frame]
+        frame = idents[0] if len(idents) == 1 else f"({', '.join(idents)})"
+        return f"({frame}:[{self._print(a.pre)}, {self._print(a.post)}])"
+
+    def _print_Evolution(self, a: c.Evolution) -> str:
+        if self.odes is None:
+            raise UnsupportedNode(a, "the evolution has no explicit ODEs")
+        sep = ",\n      " if len(self.odes) > 2 else ", "
+        odes = sep.join(f"{self.symbols.names[o.variable]}` = {self._print(o.rhs)}"
+                        for o in self.odes)
+        return f"[\\<Lambda> {odes}]"

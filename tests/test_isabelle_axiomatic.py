@@ -1,0 +1,244 @@
+"""``cyphy gen --isabelle --isabelle-dialect axiomatic``: the Ax_CyPhyCircus session checked
+statically (Isabelle is not available here): lexing, ASCII, theory name, no closure lemmas,
+define-before-use, the expected actions, and Evolve's explicit ODEs against ``cyphy solve``;
+a model whose equations cannot be reduced gets E-ISABELLE-ODE and no files."""
+
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+import sympy
+from hypothesis import HealthCheck, given, settings
+
+from conftest import EXAMPLES
+from cyphy import api
+from cyphy.backends.isabelle_names import RESERVED, is_identifier
+from cyphy.cli import main
+from test_isabelle import MARXBOT, MARXBOT_ACTIONS, lex_errors, mappings, theory_header, \
+    write_model
+
+ELEMENTS = ("marXbotBase::Core::LHinge::LMotor", "marXbotBase::Core::RHinge::RMotor",
+            "marXbotBase::Core::Proximity::1")
+THEORY = "marXbotBase_AxCyPhyCircus.thy"
+IMPORT = '"Axiomatic_CyPhyCircus.Ax_CyPhyCircus"'
+DEFINITION = re.compile(r'^definition (\w+) :: "([^"]*)" where\n  "([^"]*)"', re.M)
+ODE = re.compile(r"(\w+)` = (.*?)(?=,\n\s+\w+` = |\]$)", re.S)
+
+
+def axiomatic(paths: list[Path], elements: tuple[str, ...] = ELEMENTS, **more) -> api.Generated:
+    return api.generate_isabelle(paths, api.SemanticsGenOptions(
+        dialect="axiomatic", elements=elements, **more))
+
+
+@pytest.fixture(scope="module")
+def marxbot() -> api.Generated:
+    generated = axiomatic([MARXBOT])
+    assert not generated.report.has_errors, generated.report.diagnostics
+    return generated
+
+
+def definitions(text: str) -> list[tuple[str, str, str]]:
+    return DEFINITION.findall(text)
+
+
+def odes(text: str, evolve: str) -> dict[str, str]:
+    """``variable -> printed right-hand side`` of the evolution ``[\\<Lambda> …]``."""
+    [body] = [b for n, _, b in definitions(text) if n == evolve]
+    m = re.fullmatch(rf"{evolve} = \[\\<Lambda> (.*)\]", body, re.S)
+    assert m is not None, body
+    return dict(ODE.findall(m.group(1) + "]"))
+
+
+def hol_to_sympy(term: str) -> sympy.Expr:
+    """A printed HOL arithmetic term (+ - * / ^, names, decimals) as SymPy, names real."""
+    names = set(re.findall(r"[A-Za-z]\w*", term))
+    return sympy.sympify(term.replace("^", "**"),
+                         locals={n: sympy.Symbol(n, real=True) for n in names})
+
+
+def check_static(files: dict[str, str], theory: str) -> str:
+    """The static properties of an axiomatic session; returns the theory text."""
+    assert set(files) == {"ROOT", "README", "names.tsv", theory}
+    for text in files.values():
+        text.encode("ascii")
+        assert "sorry" not in text and "oops" not in text
+    text = files[theory]
+    assert lex_errors(text) == []
+    name, imports = theory_header(text)
+    assert name == Path(theory).stem and is_identifier(name)
+    assert imports == [IMPORT]
+    assert "\nlemma" not in text and "[closure]" not in text and "NCSP" not in text
+    assert f'= "Axiomatic_CyPhyCircus" +' in files["ROOT"] and f"    {name}\n" in files["ROOT"]
+    assert "\nconsts\n  cycle :: nat\n  tscale :: real\n" in text
+    # define before use: every action a body mentions is defined above it (or is WaitT)
+    defined = {"WaitT"} if "\nprimrec WaitT ::" in text else set()
+    actions = {n for n, _, _ in definitions(text)}
+    for n, typ, body in definitions(text):
+        assert typ.endswith(") cyphyaction"), typ
+        used = set(re.findall(r"(?<![\w`])[A-Za-z]\w*", re.sub(r"\\<[^>]*>", " ", body)))
+        assert (used & actions) - {n} <= defined, (n, (used & actions) - defined)
+        defined.add(n)
+        for ident in used:
+            assert ident not in RESERVED or ident in {"True", "False", "Skip", "Stop", "real",
+                                                       "nat", "bool", "UNIV", "set", "sin",
+                                                       "cos", "sqrt", "exp", "abs"}, ident
+    return text
+
+
+# ---------------------------------------------------------------- marXbot
+
+
+def test_marxbot_passes_the_static_checks(marxbot) -> None:
+    text = check_static(marxbot.files, THEORY)
+    names = dict(line.split("\t")[1:] for line in marxbot.files["names.tsv"].splitlines()[1:]
+                 if line.count("\t") == 2)
+    expected = [{"Evolve": "Evolve_v"}.get(a, a) for a in MARXBOT_ACTIONS]
+    assert [n for n, _, _ in definitions(text)] == expected
+    assert "chantype marXbotBase_chan =\n  tock :: unit\n  registerRead_obstacle :: bool\n" \
+        "  registerWrite_move :: \"real \\<times> real\"\n  registerWrite_stop :: unit\n" in text
+    assert names.get("LMotor_das") == "LMotor_das"
+
+
+def test_marxbot_terms_use_the_axiomatic_notation(marxbot) -> None:
+    text = marxbot.files[THEORY]
+    bodies = {n: b for n, _, b in definitions(text)}
+    assert bodies["Init"] == "Init = ((timer, LMotor_das, RMotor_das) := (0, 0, 0))"
+    assert bodies["ObstacleToDModel"] == (
+        "ObstacleToDModel = ((registerRead_obstacle\\<^bold>!(True) \\<rightarrow> Skip) \\<lhd> "
+        "(Proximity1_voltage \\<ge> 3.0) \\<rhd> (registerRead_obstacle\\<^bold>!(False) "
+        "\\<rightarrow> Skip))")
+    assert bodies["MoveFromDModel"] == \
+        "MoveFromDModel = (registerWrite_move\\<^bold>?(lv, av) \\<rightarrow> (MoveCall lv av))"
+    assert bodies["MoveCall"].startswith(
+        "MoveCall lv av = ((LMotor_das, RMotor_das):[True, (\\<exists> move_dsl::real. "
+        "\\<exists> move_dsr::real. (LMotor_das = move_dsl)")
+    assert bodies["ReceiveFromDModel"] == \
+        "ReceiveFromDModel = (MoveFromDModel \\<interleave> StopFromDModel)"
+    assert bodies["MainAction"] == (
+        "MainAction = (Init ;; (\\<mu> X. (SendToDModel ;; ((ReceiveFromDModel \\<triangle> "
+        "(WaitT cycle)) ;; ((timer := 0) ;; ((Evolve_v \\<triangle>\\<^sub>p (timer \\<ge> "
+        "((real cycle) * tscale))) ;; X))))))")
+    assert '"WaitT 0 = Skip" |\n  "WaitT (Suc n) = (tock \\<rightarrow> WaitT n)"' in text
+    assert "axiomatization where\n  globals_1: \"(cycle > 0)\" and" in text
+
+
+def test_marxbot_evolve_is_the_reduction_of_cyphy_solve(marxbot) -> None:
+    printed = odes(marxbot.files[THEORY], "Evolve_v")
+    solved = api.solve([EXAMPLES / "marxbot"], api.SolveOptions(
+        model="marXbotBase", elements=ELEMENTS, closed_form=False))
+    reduced = solved.reduced
+    assert reduced is not None and not reduced.obstacles
+    zero = {s: 0 for n, s in reduced.symbols.items() if n.startswith("der_")}
+    for state in reduced.states:  # one ODE per state, the same right-hand side
+        assert sympy.simplify(hol_to_sympy(printed[state])
+                              - reduced.rhs[state].xreplace(zero)) == 0, state
+    assert set(reduced.states) == {"LMotor_av", "LMotor_i", "LMotor_int1", "LMotor_theta",
+                                   "RMotor_av", "RMotor_i", "RMotor_int2", "RMotor_theta"}
+    # the outputs that are state fields follow the states (chain rule), timer' = 1
+    sym = {s: sympy.Symbol(s, real=True) for s in reduced.states}
+    for output in ("LMotor_T", "RMotor_T", "Proximity1_voltage"):
+        g = reduced.outputs[output]
+        expected = sum(sympy.diff(g, sym[s]) * reduced.rhs[s].xreplace(zero)
+                       for s in reduced.states)
+        assert sympy.simplify(hol_to_sympy(printed[output]) - expected) == 0, output
+    assert printed["Proximity1_voltage"] == "0"  # its input, the distance, is held
+    assert printed["timer"] == "1"
+    assert set(printed) == set(reduced.states) | {"LMotor_T", "RMotor_T", "Proximity1_voltage",
+                                                  "timer"}
+    # the locals and integrals that evolve are state fields now
+    text = marxbot.files[THEORY]
+    private = text[text.index("alphabet marXbotBaseState"):text.index("section \\<open>Actions")]
+    for state in reduced.states:
+        assert f"\n  {state} :: real\n" in private
+
+
+def test_marxbot_with_constants_prints_numbers(tmp_path: Path) -> None:
+    generated = axiomatic([MARXBOT], consts={"SpeedControlMotor::Kd": 0.0,
+                                             "SpeedControlMotor::J": 0.01})
+    printed = odes(generated.files[THEORY], "Evolve_v")
+    assert "LMotor_Kd" not in printed["LMotor_i"] and "LMotor_J" not in printed["LMotor_av"]
+    assert sympy.simplify(hol_to_sympy(printed["LMotor_av"]) - hol_to_sympy(
+        "100 * LMotor_Kt * LMotor_i - 100 * LMotor_av * LMotor_b")) == 0
+
+
+def test_generation_is_deterministic(marxbot) -> None:
+    assert axiomatic([MARXBOT]).files == marxbot.files
+
+
+def test_the_default_dialect_is_unchanged() -> None:
+    default = api.generate_isabelle([MARXBOT])
+    utp = api.generate_isabelle([MARXBOT], api.SemanticsGenOptions(dialect="utp",
+                                                                   elements=ELEMENTS))
+    assert default.files == utp.files and "CyPhyCircus_Prelude.thy" in default.files
+
+
+# ---------------------------------------------------------------- refusals
+
+
+def test_equations_that_cannot_be_reduced_are_refused() -> None:
+    generated = axiomatic([MARXBOT], elements=())  # the hinges leave the motion open
+    errors = [d for d in generated.report.diagnostics if d.code.id == "E-ISABELLE-ODE"]
+    assert errors and generated.files == {}
+    assert all("cannot be reduced to explicit ODEs" in d.message for d in errors)
+    assert any("LHinge_fA" in d.message for d in errors)
+    assert all(d.span.file.endswith("joints.rsm") for d in errors)  # the offending equation
+    assert all("--isabelle-dialect utp" in d.hint for d in errors)
+
+
+def test_an_unknown_element_is_refused() -> None:
+    generated = axiomatic([MARXBOT], elements=("marXbotBase::Core::LHinge::LMotr",))
+    [error] = [d for d in generated.report.diagnostics if d.code.id == "E-ISABELLE-ODE"]
+    assert "names no element" in error.message and "LMotor" in error.hint
+    assert generated.files == {}
+
+
+def test_cli_writes_the_session_beside_the_model(tmp_path: Path, capsys) -> None:
+    for path in (EXAMPLES / "marxbot").glob("*.rsm"):
+        shutil.copy(path, tmp_path / path.name)
+    args = ["gen", "--isabelle", "--isabelle-dialect", "axiomatic", str(tmp_path / "Mapping.rsm")]
+    for e in ELEMENTS:
+        args += ["--isabelle-element", e]
+    assert main(args) == 0
+    out = tmp_path / "isabelle-ax-gen"
+    assert sorted(p.name for p in out.iterdir()) == sorted(["README", "ROOT", "names.tsv", THEORY])
+    assert not (tmp_path / "isabelle-gen").exists()
+    readme = (out / "README").read_text()
+    assert "CyPhyCircus_Toolkit" in readme and "not in any public repository" in readme
+    # not reducible: the error, and nothing written
+    other = tmp_path / "other"
+    assert main(args[:5] + ["-o", str(other)]) == 1
+    assert "E-ISABELLE-ODE" in capsys.readouterr().err
+    assert not other.exists()
+
+
+# ---------------------------------------------------------------- generated mappings
+
+ROBOT_ELEMENTS = ("Robot::Base::J::M", "Robot::Arm::S")
+
+
+@settings(max_examples=25, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(model=mappings())
+def test_generated_mappings_lex_cleanly(tmp_path_factory, model) -> None:
+    folder = tmp_path_factory.mktemp("mapping")
+    paths = write_model(folder, *model)
+    generated = axiomatic(paths, elements=ROBOT_ELEMENTS)
+    assert not generated.report.has_errors, generated.report.diagnostics
+    text = check_static(generated.files, "Robot_AxCyPhyCircus.thy")
+    printed = odes(text, "Evolve_v")
+    assert {"M_av", "M_i", "M_int1", "M_theta", "M_T", "timer"} <= set(printed)
+    assert printed["M_theta"] == "M_av"
+
+
+def test_sympy_results_convert_back_to_expressions() -> None:
+    from cyphy.backends.sympy import to_expr, to_sympy
+
+    a, b, x = (sympy.Symbol(n, real=True) for n in "abx")
+    f = sympy.Function("ScrewAxis")
+    for value in (a * b / x - sympy.Rational(3, 2) * a / x + b / 10, -a, sympy.Float(0.5) * a,
+                  sympy.sqrt(a) + sympy.sin(b) ** 2 - 1 / a ** 2, a ** sympy.Rational(3, 2),
+                  sympy.exp(-a) * sympy.cos(x), f(a, b) - 2, sympy.Integer(-3)):
+        assert sympy.simplify(to_sympy(to_expr(value)) - value) == 0, value
