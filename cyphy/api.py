@@ -263,6 +263,7 @@ class SdfGenOptions:
     short_names: bool = False
     target: str = "gazebo"  # or "coppeliasim"
     gazebo_model: bool = False  # files model.sdf and model.config instead of <Model>.sdf
+    split_trees: bool = False  # a <world> with one <model> per tree of links
 
 
 def generate_sdf(paths: Sequence[str | Path], options: SdfGenOptions = SdfGenOptions()
@@ -292,7 +293,8 @@ def generate_sdf(paths: Sequence[str | Path], options: SdfGenOptions = SdfGenOpt
     if checked.report.has_errors:
         return generated
     document = translate(model, checked.workspace, checked.report,
-                         SdfOptions(options.pose, options.short_names, options.target))
+                         SdfOptions(options.pose, options.short_names, options.target,
+                                    options.split_trees))
     text = to_xml(document.root)
     if options.gazebo_model:
         generated.files = {"model.sdf": text, "model.config": model_config(model.name),

@@ -144,6 +144,9 @@ def _sdf_options(gen: argparse.ArgumentParser) -> None:
                        "sensor poses turned by Ry(pi/2))")
     group.add_argument("--gazebo-model", metavar="DIR",
                        help="write a Gazebo model folder DIR (model.config, model.sdf)")
+    group.add_argument("--split-trees", action="store_true",
+                       help="links that form several trees: a <world> with one <model> per "
+                       "tree, which PyBullet loads (it refuses a model with several roots)")
 
 
 def _sdf_run(args: argparse.Namespace) -> "Generated":
@@ -153,9 +156,14 @@ def _sdf_run(args: argparse.Namespace) -> "Generated":
         if args.output is not None:
             sys.stderr.write("cyphy gen: error: give either -o or --gazebo-model\n")
             raise SystemExit(2)
+        if args.split_trees:
+            sys.stderr.write("cyphy gen: error: a Gazebo model folder holds one model: "
+                             "--split-trees writes a world\n")
+            raise SystemExit(2)
         args.output = args.gazebo_model
     options = SdfGenOptions(args.model, _consts(args), tuple(args.path), tuple(args.pose),
-                            args.short_names, args.sdf_target, args.gazebo_model is not None)
+                            args.short_names, args.sdf_target, args.gazebo_model is not None,
+                            args.split_trees)
     return generate_sdf(args.paths, options)
 
 

@@ -442,3 +442,73 @@ def test_examples_pass_both_checks(example, tmp_path, sdf_checker, pybullet_load
     joints = root.findall("model/joint")
     assert sorted(j.get("type") for j in joints) == ["prismatic", "prismatic", "revolute"]
     valid(sdf_checker, pybullet_loader, sdfs[0], 3)
+
+
+# --------------------------------------------------------------------------- trees of links
+
+FOREST = """
+    pmodel F {
+    \tlocal link A {
+    \t\tdef { inertial information { mass 1 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+    \t\tlocal joint J { def { annotation Revolute { axis = Axis { xyz = (|0,0,1|) limit = Limit { lower = -1 upper = 1 } } } } flexibly connected to B }
+    \t}
+    \tlocal link B {
+    \t\tpose { x = 0 y = 0 z = 0.5 roll = 0 pitch = 0 yaw = 0 }
+    \t\tdef { inertial information { mass 1 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+    \t}
+    \tlocal link C {
+    \t\tpose { x = 1 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
+    \t\tdef { inertial information { mass 2 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+    \t}
+    }
+"""
+
+
+def test_a_forest_is_one_model_with_a_warning(tmp_path) -> None:
+    result, sdf = generate(tmp_path, FOREST)
+    (tree,) = [d for d in result.report.diagnostics if d.code.id == "W-SDF-TREE"]
+    assert "2 links have no parent joint (F::A, F::C)" in tree.message
+    assert "--split-trees" in (tree.hint or "")
+    assert [m.get("name") for m in ET.fromstring(sdf.split("\n", 1)[1]).iter("model")] == ["F"]
+
+
+def test_split_trees_writes_a_world_of_one_model_per_tree(tmp_path, sdf_checker,
+                                                           pybullet_loader) -> None:
+    result, sdf = generate(tmp_path, FOREST, split_trees=True)
+    assert "W-SDF-TREE" not in codes(result)
+    world = ET.fromstring(sdf.split("\n", 1)[1]).find("world")
+    assert world is not None and world.get("name") == "F"
+    models = {m.get("name"): m for m in world.findall("model")}
+    assert list(models) == ["F__A", "F__C"]
+    assert [link.get("name") for link in models["F__A"].findall("link")] == ["A", "B"]
+    assert [j.get("name") for j in models["F__A"].findall("joint")] == ["A__J"]
+    assert [link.get("name") for link in models["F__C"].findall("link")] == ["C"]
+    assert models["F__C"].find("joint") is None
+    for m in models.values():  # each tree keeps the model's own elements and pose
+        assert m.findtext("self_collide") == "true" and m.findtext("pose") == "0 0 0 0 0 0"
+    assert models["F__C"].find("link/pose").text == "1 0 0 0 0 0"
+    assert json.loads(result.files["F.names.json"])["F__C"] == "F"
+    valid(sdf_checker, pybullet_loader, tmp_path / "out.sdf", 1)
+
+
+def test_split_trees_leaves_one_tree_as_it_was(tmp_path) -> None:
+    joint = "local joint J { def { annotation Revolute { axis = Axis { xyz = (|1,0,0|) } } } flexibly connected to U }"
+    _, plain = generate(tmp_path, TWO_LINKS.replace("JOINT", joint))
+    _, split = generate(tmp_path, TWO_LINKS.replace("JOINT", joint), split_trees=True)
+    assert split == plain
+
+
+def test_links_joined_in_a_cycle_are_not_a_tree(tmp_path) -> None:
+    cycle = FOREST.replace("\t\tpose { x = 0 y = 0 z = 0.5", "\t\tlocal joint K { def { annotation Revolute { axis = Axis { xyz = (|0,0,1|) limit = Limit { lower = -1 upper = 1 } } } } flexibly connected to A }\n\t\tpose { x = 0 y = 0 z = 0.5")
+    result, _ = generate(tmp_path, cycle, split_trees=True)
+    (tree,) = [d for d in result.report.diagnostics if d.code.id == "W-SDF-TREE"]
+    assert "2 links are joined in a cycle that no root reaches (F::A, F::B)" in tree.message
+    assert "no parent joint" not in tree.message  # C is a tree of its own once split
+
+
+def test_split_trees_and_gazebo_model_exclude_each_other(tmp_path, capsys) -> None:
+    model = EXAMPLES / "manipulator"
+    with pytest.raises(SystemExit) as exit_:
+        main(["gen", str(model), "--sdf", "--split-trees", "--gazebo-model", str(tmp_path / "g")])
+    assert exit_.value.code == 2 and "--split-trees writes a world" in capsys.readouterr().err
+    assert not (tmp_path / "g").exists()

@@ -82,6 +82,7 @@ class SdfOptions:
     pose: tuple[float, float, float, float, float, float] = (0.0,) * 6
     short_names: bool = False
     target: str = "gazebo"  # or "coppeliasim": RoboTool's conventions (coded names, Ry(π/2))
+    split_trees: bool = False  # a <world> with one <model> per tree of links, for PyBullet
 
 
 @dataclass
@@ -167,25 +168,63 @@ def translate(model: ElaboratedModel, ws: Workspace, report: Report,
 def pmodel_rule(t: _Translation) -> Node:
     """Rule 1: the p-model is a ``<model>`` named after it, with ``self_collide`` and the
     model pose chosen by the user, holding its links (in the order of Rule 6), one joint per
-    joint instance (Rule 5) and one ``fixed`` joint per fixed connection instance."""
+    joint instance (Rule 5) and one ``fixed`` joint per fixed connection instance.
+
+    With ``split_trees`` (ours), a model whose links form several trees becomes a ``<world>``
+    named after it holding one such ``<model>`` per tree: a tree-based simulator (PyBullet)
+    loads each as a body, where it refuses a model with several root links, and libsdformat
+    12 accepts a world of models where it refuses several models at the top."""
     model = t.model
-    node = Node("model", {"name": model.name})
-    node.comment(f"p-model {model.name}")
-    node.add("self_collide", True)
-    node.add("pose", t.options.pose)
+    pieces: list[tuple[Link | None, list[Node | Comment]]] = []
     for link in parts_rule(model):
-        node.children.extend(link_rule(t, link))
+        pieces.append((link, link_rule(t, link)))
     for joint in model.unconnected:
-        node.comment(f"joint {joint.name} has no flexible connection: it has no SDF joint")
+        pieces.append((None, [Comment(f"joint {joint.name} has no flexible connection: it "
+                                      "has no SDF joint")]))
         t.report.report(NO_CHILD, f"joint {joint.name} is not connected to a link, so SDF "
                         "has no joint for it", joint.span,
                         "add `flexibly connected to LINK` to the joint")
     for joint in model.joints:
-        node.children.extend(joint_rule(t, joint))
+        pieces.append((joint.parent, joint_rule(t, joint)))
     for fixed in model.fixed:
-        node.children.extend(fixed_rule(t, fixed))
-    _check_tree(t)
+        pieces.append((fixed.parent, fixed_rule(t, fixed)))
+    trees = _trees(model) if t.options.split_trees else []
+    _check_tree(t, split=len(trees) > 1)
+    if len(trees) <= 1:
+        return _model_node(t, model.name, f"p-model {model.name}",
+                           [n for _, nodes in pieces for n in nodes])
+    tree_of = {id(link): i for i, links in enumerate(trees) for link in links}
+    world = Node("world", {"name": model.name})
+    world.comment(f"p-model {model.name}: one model per tree of links (split trees)")
+    for i, links in enumerate(trees):
+        name = t.names.tree(model.name, links[0])
+        members = [n for owner, nodes in pieces
+                   if tree_of.get(id(owner), 0) == i for n in nodes]
+        world.children.append(_model_node(
+            t, name, f"links of p-model {model.name} connected to {links[0].name}", members))
+    return world
+
+
+def _model_node(t: _Translation, name: str, comment: str,
+                children: list[Node | Comment]) -> Node:
+    node = Node("model", {"name": name})
+    node.comment(comment)
+    node.add("self_collide", True)
+    node.add("pose", t.options.pose)
+    node.children.extend(children)
     return node
+
+
+def _trees(model: ElaboratedModel) -> list[list[Link]]:
+    """The links in connected groups (joints and fixed connections as edges, in either
+    direction), each in Rule 6 order, groups ordered by their first link."""
+    import networkx as nx  # only for --split-trees: NetworkX takes a quarter second to import
+
+    order = {id(link): i for i, link in enumerate(parts_rule(model))}
+    graph = model.kinematic_graph().to_undirected(as_view=True)
+    groups = [sorted((graph.nodes[n]["element"] for n in names), key=lambda l: order[id(l)])
+              for names in nx.connected_components(graph)]
+    return sorted(groups, key=lambda links: order[id(links[0])])
 
 
 def fixed_rule(t: _Translation, fixed: FixedJoint) -> list[Node | Comment]:
@@ -208,32 +247,49 @@ def fixed_rule(t: _Translation, fixed: FixedJoint) -> list[Node | Comment]:
             node]
 
 
-def _check_tree(t: _Translation) -> None:
-    """SDF allows any graph of links; PyBullet, URDF and MuJoCo need one tree. Say so."""
+def _check_tree(t: _Translation, split: bool) -> None:
+    """SDF allows any graph of links; PyBullet, URDF and MuJoCo need one tree (each link
+    but one root with exactly one parent, every link reachable from the root). Say where
+    the model is not one, leaving out the several roots that ``split`` has made trees."""
     links = t.model.links
     if not links:
         return
     parents: dict[int, int] = {}
+    children: dict[int, list[Link]] = {}
     for j in [*t.model.joints, *t.model.fixed]:
-        if j.child is not None:
+        if j.parent is not None and j.child is not None:
             parents[id(j.child)] = parents.get(id(j.child), 0) + 1
+            children.setdefault(id(j.parent), []).append(j.child)
     roots = [link for link in links if id(link) not in parents]
     shared = [link for link in links if parents.get(id(link), 0) > 1]
+    reached = {id(r) for r in roots}
+    todo = list(roots)
+    while todo:
+        for child in children.get(id(todo.pop()), []):
+            if id(child) not in reached:
+                reached.add(id(child))
+                todo.append(child)
+    circling = [link for link in links if id(link) not in reached]
     problems = []
-    if len(roots) > 1:
-        problems.append(f"{len(roots)} links have no parent joint ("
-                        + ", ".join(r.name for r in roots[:4])
-                        + (", …" if len(roots) > 4 else "") + ")")
+    if len(roots) > 1 and not split:
+        problems.append(f"{len(roots)} links have no parent joint ({_some(roots)})")
     if shared:
-        problems.append(f"{len(shared)} links have more than one parent ("
-                        + ", ".join(s.name for s in shared[:4])
-                        + (", …" if len(shared) > 4 else "") + ")")
+        problems.append(f"{len(shared)} links have more than one parent ({_some(shared)})")
+    if circling:
+        problems.append(f"{len(circling)} links are joined in a cycle that no root reaches "
+                        f"({_some(circling)})")
     if problems:
-        t.report.report(NOT_TREE, f"the links of {t.model.name} do not form one tree: "
-                        + "; ".join(problems) + ". Gazebo loads the model; PyBullet and URDF "
-                        "tools cannot", t.model.pmodel.span,
-                        "connect every link to one root by exactly one joint or fixed "
-                        "connection")
+        hint = "connect every link to one root by exactly one joint or fixed connection"
+        if len(roots) > 1 and not split:
+            hint += " (or write one model per tree with --split-trees)"
+        t.report.report(NOT_TREE, f"the links of {t.model.name} do not form "
+                        f"{'trees' if split else 'one tree'}: " + "; ".join(problems)
+                        + ". Gazebo loads the model; PyBullet and URDF tools cannot",
+                        t.model.pmodel.span, hint)
+
+
+def _some(links: list[Link]) -> str:
+    return ", ".join(link.name for link in links[:4]) + (", …" if len(links) > 4 else "")
 
 
 # --------------------------------------------------------------------------- Rule 6

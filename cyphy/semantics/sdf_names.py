@@ -80,6 +80,10 @@ class Names:
         return self._unique(f"{self._readable(parent)}__fixed__{self._readable(child)}",
                             qualified)
 
+    def tree(self, model: str, first: Element) -> str:
+        """A ``<model>`` of ``--split-trees``: the p-model's name and its tree's first link."""
+        return self._unique(f"{model}__{self.link(first)}", model)
+
     def body(self, element: Element) -> tuple[str, str]:
         """(collision name, visual name) of a body (memoised for contact sensors)."""
         key = id(element)
