@@ -166,6 +166,13 @@ def test_combine_is_associative(a: Inertial, b: Inertial, c: Inertial) -> None:
     assert_inertial_close(combine([combine([a, b]), c]), combine([a, b, c]), tol=1e-9)
 
 
+@given(bodies)
+def test_one_part_is_the_same_body_as_its_two_halves(part: Inertial) -> None:
+    # combine() takes a shortcut for a single part; halving it takes the general path.
+    half = Inertial(part.mass / 2, part.com, tuple(v / 2 for v in part.inertia))
+    assert_inertial_close(combine([part]), combine([half, half]), tol=1e-9)
+
+
 # --- is_physical ---------------------------------------------------------------------------
 
 

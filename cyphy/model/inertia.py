@@ -76,6 +76,9 @@ def combine(parts: Sequence[Inertial]) -> Inertial:
     total = float(masses.sum())
     if not total > 0.0:
         raise ValueError(f"cannot combine inertials with total mass {total}: it must be positive")
+    if len(parts) == 1:  # most links have one body: no mean, no parallel axis to add
+        (part,) = parts
+        return Inertial(total, Pose.at(part.com.position), entries(_tensor_in_frame(part)))
     centres = np.array([part.com.position for part in parts], dtype=float)
     centre = masses @ centres / total
     combined = sum(
