@@ -14,6 +14,8 @@ from enum import Enum
 from pathlib import Path
 from typing import Iterable, Iterator
 
+from cyphy.pickling import FastPickle
+
 
 class Severity(str, Enum):
     ERROR = "ERROR"
@@ -21,7 +23,7 @@ class Severity(str, Enum):
 
 
 @dataclass(frozen=True, slots=True, order=True)
-class Span:
+class Span(FastPickle):
     """A region of a source file; lines and columns count from 1, ``end_column`` is exclusive."""
 
     file: str

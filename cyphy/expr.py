@@ -11,16 +11,17 @@ from dataclasses import dataclass, field, fields, replace
 from typing import Any, Callable, Iterator
 
 from cyphy.diagnostics import Span
+from cyphy.pickling import FastPickle
 
 _NO_SPAN = Span.unknown()
 
 
 @dataclass(frozen=True, slots=True)
-class Expr:
+class Expr(FastPickle):
     """Base class of expressions; never instantiated itself."""
 
     def children(self) -> Iterator[Expr]:
-        for f in fields(self):
+        for f in fields_of(type(self)):
             value = getattr(self, f.name)
             if isinstance(value, Expr):
                 yield value
@@ -198,8 +199,9 @@ class IfExpr(Expr):
 _FIELDS: dict[type, tuple[Any, ...]] = {}
 
 
-def _fields(cls: type) -> tuple[Any, ...]:
-    """``dataclasses.fields`` per class, once: transforms visit every node."""
+def fields_of(cls: type) -> tuple[Any, ...]:
+    """``dataclasses.fields`` per class, once: walks and transforms visit every node, and
+    ``fields`` itself filters the class's field table at each call."""
     found = _FIELDS.get(cls)
     if found is None:
         found = _FIELDS[cls] = fields(cls)
@@ -209,7 +211,7 @@ def _fields(cls: type) -> tuple[Any, ...]:
 def transform(expr: Expr, fn: Callable[[Expr], Expr | None]) -> Expr:
     """Rebuild ``expr`` bottom-up; ``fn`` may return a replacement for a node or ``None``."""
     changes: dict[str, object] = {}
-    for f in _fields(type(expr)):
+    for f in fields_of(type(expr)):
         value = getattr(expr, f.name)
         if isinstance(value, Expr):
             new = transform(value, fn)

@@ -7,12 +7,13 @@ duplicates); properties give the members of one kind. Expressions are :mod:`cyph
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, Iterator, TypeVar, Union
 
 from cyphy.diagnostics import Span
-from cyphy.expr import Expr
+from cyphy.expr import Expr, fields_of
+from cyphy.pickling import FastPickle
 
 _NO_SPAN = Span.unknown()
 QName = tuple[str, ...]
@@ -20,7 +21,7 @@ T = TypeVar("T")
 
 
 @dataclass(frozen=True, slots=True)
-class Node:
+class Node(FastPickle):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False, kw_only=True)
 
 
@@ -53,7 +54,7 @@ def expressions_in(node: object) -> Iterator[Expr]:
         for item in node:
             yield from expressions_in(item)
     elif isinstance(node, Node):
-        for f in fields(node):
+        for f in fields_of(type(node)):
             if f.name != "span":
                 yield from expressions_in(getattr(node, f.name))
 
