@@ -99,6 +99,11 @@ class IsabellePrinter:
     """The 2020 Circus syntax of utp-main (``UTP-Circus``) plus our prelude's operators."""
 
     _default_settings: dict[str, Any] = {}
+    #: Operator symbols that differ between dialects (a subclass sets its own).
+    INTERLEAVE = "|||"
+    GUARD = "&\\<^sub>C"
+    CHOICE_DOT = " \\<bullet>"
+    COND = ("\\<triangleleft>", "\\<triangleright>\\<^sub>R")
 
     def __init__(self, symbols: Symbols, **settings: Any) -> None:
         unknown = set(settings) - set(self._default_settings)
@@ -350,21 +355,24 @@ class IsabellePrinter:
         return self._chain(a.items, "\\<box>")
 
     def _print_Interleave(self, a: c.Interleave) -> str:
-        return self._chain(a.items, "|||")
+        return self._chain(a.items, self.INTERLEAVE)
 
     def _print_IndexedExtChoice(self, a: c.IndexedExtChoice) -> str:
         with self.binding([a.var.name]) as (ident,):
             where = self._print(a.where)
             body = self._print(a.body)
         universe = f"(UNIV :: {self.type(a.var.type)} set)"
-        return f"(\\<box> {ident}\\<in>{universe} \\<bullet> ({where} &\\<^sub>C {body}))"
+        return f"(\\<box> {ident}\\<in>{universe}{self.CHOICE_DOT} ({where} {self.GUARD} {body}))"
 
     def _print_Parallel(self, a: c.Parallel) -> str:
         if a.channels:
             raise UnsupportedNode(a, "synchronisation on channels inside an action")
         left, right = self._print(a.left), self._print(a.right)
-        return (f"({left} \\<lbrakk>{self._nameset(a.left_names)}\\<parallel>"
-                f"{self._nameset(a.right_names)}\\<rbrakk> {right})")
+        return f"({left} \\<lbrakk>{self._namesets(a.left_names, a.right_names)}\\<rbrakk> {right})"
+
+    def _namesets(self, left: tuple[str, ...], right: tuple[str, ...]) -> str:
+        """The name sets of a parallel composition, between its brackets."""
+        return f"{self._nameset(left)}\\<parallel>{self._nameset(right)}"
 
     def _nameset(self, names: tuple[str, ...]) -> str:
         if not names:
@@ -372,11 +380,12 @@ class IsabellePrinter:
         return "{" + ", ".join(self.symbols.names[n] for n in names) + "}\\<^sub>v"
 
     def _print_Cond(self, a: c.Cond) -> str:
-        return (f"({self._print(a.then)} \\<triangleleft> {self._print(a.cond)} "
-                f"\\<triangleright>\\<^sub>R {self._print(a.orelse)})")
+        before, after = self.COND
+        return (f"({self._print(a.then)} {before} {self._print(a.cond)} {after} "
+                f"{self._print(a.orelse)})")
 
     def _print_Guard(self, a: c.Guard) -> str:
-        return f"({self._print(a.cond)} &\\<^sub>C {self._print(a.action)})"
+        return f"({self._print(a.cond)} {self.GUARD} {self._print(a.action)})"
 
     def _print_Mu(self, a: c.Mu) -> str:
         with self.binding([a.var]) as (ident,):

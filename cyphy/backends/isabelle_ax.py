@@ -39,6 +39,11 @@ class AxiomaticPrinter(IsabellePrinter):
     """The Ax_CyPhyCircus notation; ``odes`` are Evolve's explicit ODEs (None: an
     evolution cannot be printed)."""
 
+    INTERLEAVE = "\\<interleave>"
+    GUARD = "\\<^bold>&"
+    CHOICE_DOT = "."
+    COND = ("\\<lhd>", "\\<rhd>")
+
     def __init__(self, symbols: Symbols, odes: list[ExplicitOde] | None = None,
                  **settings: Any) -> None:
         super().__init__(symbols, **settings)
@@ -92,22 +97,8 @@ class AxiomaticPrinter(IsabellePrinter):
             event = ctor
         return f"({event} \\<rightarrow> {self._print(a.then)})"
 
-    def _print_Interleave(self, a: c.Interleave) -> str:
-        return self._chain(a.items, "\\<interleave>")
-
-    def _print_IndexedExtChoice(self, a: c.IndexedExtChoice) -> str:
-        with self.binding([a.var.name]) as (ident,):
-            where = self._print(a.where)
-            body = self._print(a.body)
-        universe = f"(UNIV :: {self.type(a.var.type)} set)"
-        return f"(\\<box> {ident}\\<in>{universe}. ({where} \\<^bold>& {body}))"
-
-    def _print_Parallel(self, a: c.Parallel) -> str:
-        if a.channels:
-            raise UnsupportedNode(a, "synchronisation on channels inside an action")
-        left, right = self._print(a.left), self._print(a.right)
-        return (f"({left} \\<lbrakk>{self._lens(a.left_names)} | {{}} | "
-                f"{self._lens(a.right_names)}\\<rbrakk> {right})")
+    def _namesets(self, left: tuple[str, ...], right: tuple[str, ...]) -> str:
+        return f"{self._lens(left)} | {{}} | {self._lens(right)}"
 
     def _lens(self, names: tuple[str, ...]) -> str:
         """A name set as the lens of its variables: ``\\<^bold>0`` when empty."""
@@ -115,13 +106,6 @@ class AxiomaticPrinter(IsabellePrinter):
             return "\\<^bold>0"
         idents = [self.symbols.names[n] for n in names]
         return idents[0] if len(idents) == 1 else "(" + " +\\<^sub>L ".join(idents) + ")"
-
-    def _print_Cond(self, a: c.Cond) -> str:
-        return (f"({self._print(a.then)} \\<lhd> {self._print(a.cond)} \\<rhd> "
-                f"{self._print(a.orelse)})")
-
-    def _print_Guard(self, a: c.Guard) -> str:
-        return f"({self._print(a.cond)} \\<^bold>& {self._print(a.action)})"
 
     def _print_Mu(self, a: c.Mu) -> str:
         with self.binding([a.var]) as (ident,):
