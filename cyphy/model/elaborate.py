@@ -25,7 +25,7 @@ from cyphy.lang.workspace import Workspace
 from cyphy.model import inertia as inertia_math
 from cyphy.model.elements import (
     Actuator, AnnotationValue, Body, Device, ElaboratedModel, FixedJoint, Joint, Link, Port,
-    Sensor,
+    Sensor, glued,
 )
 from cyphy.model.evaluate import EvalError, UnboundName, Value, coerce, evaluate_fast
 from cyphy.model.poses import Pose
@@ -755,7 +755,7 @@ class _Elaborator:
     def _name_devices(self) -> None:
         """Mangled prefixes: the block name with its index values (``Proximity1``); where two
         collide, the enclosing part or link names are prepended until they are unique."""
-        tokens = {id(d): _tokens(q) for d, q in self.device_names}
+        tokens = {id(d): glued(q[1:]) for d, q in self.device_names}  # model left out
         depth = {id(d): 1 for d, _ in self.device_names}
         while True:
             names: dict[str, list[int]] = {}
@@ -832,23 +832,6 @@ class _Elaborator:
 
 def _numbers_only(e: ex.Vector | ex.Matrix) -> bool:
     return all(isinstance(item, ex.Num) for row in e.rows for item in row)
-
-
-def is_index_value(component: str) -> bool:
-    """Index values are the qualified-name components that are integers (names never are)."""
-    return component.lstrip("-").isdigit()
-
-
-def _tokens(qname: tuple[str, ...]) -> list[str]:
-    """Qualified-name components with index values glued to their names, model left out:
-    ``('M', 'Core', 'Proximity', '1')`` → ``['Core', 'Proximity1']``."""
-    out: list[str] = []
-    for c in qname[1:]:
-        if is_index_value(c) and out:
-            out[-1] += c
-        else:
-            out.append(c)
-    return out
 
 
 def _renamed(device: Device, prefix: str, values: dict[str, int]) -> Device:

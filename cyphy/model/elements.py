@@ -253,3 +253,21 @@ def _container_name(e: ModelElement, model: str) -> str:
     elif isinstance(e, Joint):
         owner = e.parent
     return owner.name if owner is not None else "::".join(e.qname[:-1]) or model
+
+
+def is_index_value(component: str) -> bool:
+    """Index values are the qualified-name components that are integers (names never are)."""
+    return component.lstrip("-").isdigit()
+
+
+def glued(components: tuple[str, ...], separator: str = "") -> list[str]:
+    """Qualified-name components with each index value glued to the name before it:
+    ``('Core', 'Proximity', '1')`` → ``['Core', 'Proximity1']`` (device prefixes), or with
+    ``separator="_"`` ``['Core', 'Proximity_1']`` (SDF names)."""
+    out: list[str] = []
+    for c in components:
+        if is_index_value(c) and out:
+            out[-1] += separator + c
+        else:
+            out.append(c)
+    return out

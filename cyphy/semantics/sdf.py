@@ -32,12 +32,12 @@ from cyphy import codes, collector
 from cyphy.diagnostics import Report
 from cyphy.lang.workspace import Workspace
 from cyphy.model.elements import (
-    Actuator, AnnotationValue, Body, ElaboratedModel, FixedJoint, Joint, Link, Sensor,
+    Actuator, AnnotationValue, Body, ElaboratedModel, FixedJoint, Joint, Link, Sensor, glued,
 )
 from cyphy.model.inertia import Inertial
 from cyphy.model.poses import Pose
 from cyphy.semantics.sdf_annotations import Templates, fill
-from cyphy.semantics.sdf_names import Names, glued
+from cyphy.semantics.sdf_names import Names
 from cyphy.semantics.sdf_tree import Comment, Node
 
 NO_JOINT_TYPE = codes.code("W-SDF-JOINT", codes.W,
@@ -439,7 +439,7 @@ def joint_rule(t: _Translation, joint: Joint) -> list:  # type: ignore[type-arg]
     assert joint.parent is not None and joint.child is not None
     parent, child = t.names.link(joint.parent), t.names.link(joint.child)
     copies = t.copies[(joint.qname, id(joint.parent))]
-    suffix = "__to__" + "__".join(glued(joint.child.qname[1:])) if copies > 1 else ""
+    suffix = "__to__" + "__".join(glued(joint.child.qname[1:], "_")) if copies > 1 else ""
     annotation = joint.annotation
     template = annotation.template[-1] if annotation is not None else None
     kind = _joint_type(t, template)

@@ -15,18 +15,7 @@ that ``<model>.names.json`` holds. Should two elements still get the same name, 
 
 from __future__ import annotations
 
-from cyphy.model.elements import Element
-
-
-def glued(components: tuple[str, ...]) -> list[str]:
-    """Components with index values glued to the name before them: ``Proximity_3``."""
-    out: list[str] = []
-    for c in components:
-        if c.lstrip("-").isdigit() and out:
-            out[-1] += "_" + c
-        else:
-            out.append(c)
-    return out
+from cyphy.model.elements import Element, glued
 
 
 class Names:
@@ -49,7 +38,7 @@ class Names:
         return candidate
 
     def _readable(self, element: Element) -> str:
-        return "__".join(glued(element.qname[1:])) or element.qname[0]
+        return "__".join(glued(element.qname[1:], "_")) or element.qname[0]
 
     def link(self, element: Element) -> str:
         """The name of a link (memoised: joints ask for their parent and child)."""
