@@ -93,6 +93,10 @@ def _gen(args: argparse.Namespace) -> int:
     from cyphy.diagnostics import render_text
     from cyphy.outputs import OutputError, default_output_dir, write_all
 
+    stray = _options_of_other_targets(args)
+    if stray:
+        sys.stderr.write(f"cyphy gen: error: {stray}\n")
+        return 2
     run, _, _ = GENERATORS[args.target]
     generated = run(args)
     diagnostics = generated.report.diagnostics
@@ -111,6 +115,27 @@ def _gen(args: argparse.Namespace) -> int:
     for path in written:
         sys.stdout.write(f"wrote {path}\n")
     return generated.report.exit_code
+
+
+def _options_of_other_targets(args: argparse.Namespace) -> str | None:
+    """Why the command line is wrong when it sets an option that only other targets take
+    (``--split-trees`` with ``--cyphycircus``), which would otherwise be silently ignored.
+    Each target's options are found by letting it add them to a scratch parser."""
+    owners: dict[str, list[str]] = {}
+    flags: dict[str, str] = {}
+    defaults: dict[str, object] = {}
+    for target, (_, _, add_options) in GENERATORS.items():
+        scratch = argparse.ArgumentParser(add_help=False)
+        add_options(scratch)
+        for action in scratch._actions:
+            owners.setdefault(action.dest, []).append(target)
+            flags[action.dest] = action.option_strings[0]
+            defaults[action.dest] = action.default
+    for dest, targets in owners.items():
+        if args.target not in targets and getattr(args, dest, None) != defaults[dest]:
+            takes = ", ".join(f"--{t}" for t in targets)
+            return f"{flags[dest]} is an option of {takes}, not of --{args.target}"
+    return None
 
 
 #: ``cyphy gen`` targets: flag → (generator, flag help, function adding the target's options).

@@ -159,3 +159,24 @@ def test_consts_file(tmp_path: Path, capsys, name: str, text: str) -> None:
     assert "SpeedControlMotor::Kp" not in data["missing"] and "IR::a" not in data["missing"]
     motor = next(d for d in data["devices"] if d["prefix"] == "LMotor")
     assert {"name": "Kp", "kind": "const", "mangled": "LMotor_Kp", "value": 3} in motor["ports"]
+
+
+@pytest.mark.parametrize("target, option, owner", [
+    ("--cyphycircus", ["--split-trees"], "--sdf"),
+    ("--sdf", ["--pdf"], "--latex"),
+    ("--sdf", ["--isabelle-dialect", "axiomatic"], "--isabelle"),
+])
+def test_an_option_of_another_target_is_a_usage_error(tmp_path: Path, capsys, target: str,
+                                                      option: list[str], owner: str) -> None:
+    out = tmp_path / "out"
+    code = main(["gen", str(EXAMPLES / "marxbot" / "Mapping.rsm"), target, *option,
+                 "-o", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and f"{option[0]} is an option of {owner}" in err and target in err
+    assert not out.exists()
+
+
+def test_options_shared_by_semantic_targets_are_accepted(tmp_path: Path, capsys) -> None:
+    for target in ("--cyphycircus", "--isabelle"):
+        assert main(["gen", str(EXAMPLES / "marxbot" / "Mapping.rsm"), target, "--tscale",
+                     "0.01", "-o", str(tmp_path / target.strip("-"))]) == 0
