@@ -104,6 +104,10 @@ class IsabellePrinter:
     GUARD = "&\\<^sub>C"
     CHOICE_DOT = " \\<bullet>"
     COND = ("\\<triangleleft>", "\\<triangleright>\\<^sub>R")
+    INTERRUPT = "\\<triangle>\\<^sub>C"
+    EXISTS = "\\<^bold>\\<exists>"
+    TRUE = "true"
+    ASSIGN = ":=\\<^sub>C"
 
     def __init__(self, symbols: Symbols, **settings: Any) -> None:
         unknown = set(settings) - set(self._default_settings)
@@ -275,10 +279,10 @@ class IsabellePrinter:
         predicate in one pair of parentheses, the conjuncts flat inside."""
         with self.binding([b.name for b in p.bound]) as idents:
             sep = "\n      " if len(p.bound) > 2 else ""
-            binders = "".join(f"\\<^bold>\\<exists> {i}::{self.type(b.type)} \\<bullet> {sep}"
+            binders = "".join(f"{self.EXISTS} {i}::{self.type(b.type)}{self.CHOICE_DOT} {sep}"
                               for i, b in zip(idents, p.bound))
             joiner = " \\<and>\n      " if len(p.body) > 2 else " \\<and> "
-            body = joiner.join(self._print(x) for x in p.body) or "true"
+            body = joiner.join(self._print(x) for x in p.body) or self.TRUE
         return f"({binders}{body})"
 
     # ------------------------------------------------------------------ types
@@ -407,7 +411,7 @@ class IsabellePrinter:
         return f"({head} {' '.join(args)})"
 
     def _print_Interrupt(self, a: c.Interrupt) -> str:
-        return f"({self._print(a.left)} \\<triangle>\\<^sub>C {self._print(a.right)})"
+        return f"({self._print(a.left)} {self.INTERRUPT} {self._print(a.right)})"
 
     def _print_InterruptCond(self, a: c.InterruptCond) -> str:
         return f"(InterruptCondC {self._print(a.action)} {self._print(a.cond)})"
@@ -422,8 +426,8 @@ class IsabellePrinter:
         targets = [self.symbols.names[t] for t in a.targets]
         values = [self._print(v) for v in a.values]
         if len(targets) == 1:
-            return f"({targets[0]} :=\\<^sub>C {values[0]})"
-        return f"(({', '.join(targets)}) :=\\<^sub>C ({', '.join(values)}))"
+            return f"({targets[0]} {self.ASSIGN} {values[0]})"
+        return f"(({', '.join(targets)}) {self.ASSIGN} ({', '.join(values)}))"
 
     def _print_Spec(self, a: c.Spec) -> str:
         frame = self._nameset(a.frame)

@@ -43,6 +43,10 @@ class AxiomaticPrinter(IsabellePrinter):
     GUARD = "\\<^bold>&"
     CHOICE_DOT = "."
     COND = ("\\<lhd>", "\\<rhd>")
+    INTERRUPT = "\\<triangle>"
+    ASSIGN = ":="
+    EXISTS = "\\<exists>"
+    TRUE = "True"
 
     def __init__(self, symbols: Symbols, odes: list[ExplicitOde] | None = None,
                  **settings: Any) -> None:
@@ -63,16 +67,6 @@ class AxiomaticPrinter(IsabellePrinter):
 
     def _print_Integral(self, e: ex.Integral) -> str:
         raise UnsupportedNode(e, "an integral outside the evolution")
-
-    def _print_Exists(self, p: c.Exists) -> str:
-        """``(\\<exists> x::T. P1 \\<and> … \\<and> Pn)``: HOL's quantifier, one binder
-        per name, the conjuncts flat inside."""
-        with self.binding([b.name for b in p.bound]) as idents:
-            binders = "".join(f"\\<exists> {i}::{self.type(b.type)}. "
-                              for i, b in zip(idents, p.bound))
-            joiner = " \\<and>\n      " if len(p.body) > 2 else " \\<and> "
-            body = joiner.join(self._print(x) for x in p.body) or "True"
-        return f"({binders}{body})"
 
     # ------------------------------------------------------------------ actions
 
@@ -111,9 +105,6 @@ class AxiomaticPrinter(IsabellePrinter):
         with self.binding([a.var]) as (ident,):
             return f"(\\<mu> {ident}. {self._print(a.body)})"
 
-    def _print_Interrupt(self, a: c.Interrupt) -> str:
-        return f"({self._print(a.left)} \\<triangle> {self._print(a.right)})"
-
     def _print_InterruptCond(self, a: c.InterruptCond) -> str:
         return f"({self._print(a.action)} \\<triangle>\\<^sub>p {self._print(a.cond)})"
 
@@ -121,13 +112,6 @@ class AxiomaticPrinter(IsabellePrinter):
         with self._in_mode("hol", coerce_nat=False):
             count = self._print(a.count)
         return f"({self.symbols.names['WaitT']} {count})"
-
-    def _print_Assign(self, a: c.Assign) -> str:
-        targets = [self.symbols.names[t] for t in a.targets]
-        values = [self._print(v) for v in a.values]
-        if len(targets) == 1:
-            return f"({targets[0]} := {values[0]})"
-        return f"(({', '.join(targets)}) := ({', '.join(values)}))"
 
     def _print_Spec(self, a: c.Spec) -> str:
         if not a.frame:
