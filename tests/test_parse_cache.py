@@ -75,6 +75,18 @@ def test_a_corrupt_entry_is_parsed_again_and_replaced(cache: Path) -> None:
     assert entry.read_bytes() != b"not a pickle"
 
 
+@pytest.mark.skipif(not hasattr(os, "getuid"), reason="POSIX permissions")
+def test_an_entry_others_may_write_is_not_unpickled(cache: Path,
+                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    parse_cache.parse(GOOD, "m.rsm")
+    (entry,) = entries(cache)
+    entry.chmod(0o666)
+    loads: list[object] = []
+    monkeypatch.setattr(parse_cache.pickle, "load", lambda f: loads.append(f))
+    file, _ = parse_cache.parse(GOOD, "m.rsm")
+    assert file == parse_text(GOOD, "m.rsm").file and loads == []
+
+
 def test_an_unusable_cache_folder_is_ignored(tmp_path: Path,
                                              monkeypatch: pytest.MonkeyPatch) -> None:
     blocker = tmp_path / "a-file"

@@ -17,8 +17,8 @@ not even imported). So every successful parse is stored, as mypy and pytest keep
   ignored, silently, and the file is parsed.
 
 Location: ``$CYPHY_CACHE_DIR``, else ``$XDG_CACHE_HOME/cyphy``, else ``~/.cache/cyphy``.
-``CYPHY_NO_CACHE=1`` turns it off. Entries are pickles, read only from the user's own cache
-folder.
+``CYPHY_NO_CACHE=1`` turns it off. Entries are pickles: one is read only when this user
+owns it and nobody else may write it.
 """
 
 from __future__ import annotations
@@ -74,15 +74,25 @@ def parse(text: str, path: str) -> Parsed:
     digest = hashlib.sha256(text.encode()).digest()
     try:
         with entry.open("rb") as f:
-            stored_digest, parsed = pickle.load(f)
-        if stored_digest == digest:
-            return parsed
+            if _trusted(os.fstat(f.fileno())):
+                stored_digest, parsed = pickle.load(f)
+                if stored_digest == digest:
+                    return parsed
     except Exception:  # missing, corrupt or from an incompatible run: parse instead
         pass
     parsed = _parse(text, path)
     if parsed[0] is not None:
         _store(folder, entry, (digest, parsed))
     return parsed
+
+
+def _trusted(stat: os.stat_result) -> bool:
+    """Only entries that this user wrote and nobody else can change are unpickled (a pickle
+    can run code): a cache folder shared with others is then ignored, not a risk."""
+    getuid = getattr(os, "getuid", None)
+    if getuid is None:  # Windows: the user's own profile folder
+        return True
+    return stat.st_uid == getuid() and not stat.st_mode & 0o022
 
 
 def _parse(text: str, path: str) -> Parsed:
