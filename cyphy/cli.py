@@ -163,10 +163,12 @@ def _sdf_options(gen: argparse.ArgumentParser) -> None:
                        help="pose of the model in the world (metres, radians; default zeros)")
     group.add_argument("--short-names", action="store_true",
                        help="RoboTool's coded names (1-Wheel, 1--wheel) instead of readable ones")
-    group.add_argument("--target", dest="sdf_target", choices=("gazebo", "coppeliasim"),
-                       default="gazebo",
+    group.add_argument("--target", dest="sdf_target",
+                       choices=("gazebo", "coppeliasim", "pybullet"), default="gazebo",
                        help="coppeliasim: RoboTool's CoppeliaSim conventions (coded names, "
-                       "sensor poses turned by Ry(pi/2))")
+                       "sensor poses turned by Ry(pi/2)); pybullet: trees only (split "
+                       "trees, joints that close loops left out, gearboxes as revolute "
+                       "joints, each reported)")
     group.add_argument("--gazebo-model", metavar="DIR",
                        help="write a Gazebo model folder DIR (model.config, model.sdf)")
     group.add_argument("--split-trees", action="store_true",
@@ -181,9 +183,9 @@ def _sdf_run(args: argparse.Namespace) -> "Generated":
         if args.output is not None:
             sys.stderr.write("cyphy gen: error: give either -o or --gazebo-model\n")
             raise SystemExit(2)
-        if args.split_trees:
+        if args.split_trees or args.sdf_target == "pybullet":
             sys.stderr.write("cyphy gen: error: a Gazebo model folder holds one model: "
-                             "--split-trees writes a world\n")
+                             "--split-trees and --target pybullet write a world\n")
             raise SystemExit(2)
         args.output = args.gazebo_model
     options = SdfGenOptions(args.model, _consts(args), tuple(args.path), tuple(args.pose),

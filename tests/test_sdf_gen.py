@@ -510,5 +510,70 @@ def test_split_trees_and_gazebo_model_exclude_each_other(tmp_path, capsys) -> No
     model = EXAMPLES / "manipulator"
     with pytest.raises(SystemExit) as exit_:
         main(["gen", str(model), "--sdf", "--split-trees", "--gazebo-model", str(tmp_path / "g")])
-    assert exit_.value.code == 2 and "--split-trees writes a world" in capsys.readouterr().err
+    assert exit_.value.code == 2 and "--split-trees and --target pybullet write a world" in \
+        capsys.readouterr().err
     assert not (tmp_path / "g").exists()
+
+
+LOOPED = """
+    pmodel P {
+    \tlocal link A {
+    \t\tdef { inertial information { mass 1 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+    \t\tlocal joint J { def { annotation Revolute { axis = Axis { xyz = (|0,0,1|) limit = Limit { lower = -1 upper = 1 } } } } flexibly connected to C }
+    \t}
+    \tlocal link B {
+    \t\tpose { x = 1 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
+    \t\tdef { inertial information { mass 1 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+    \t\tfixed to C
+    \t}
+    \tlocal link C {
+    \t\tpose { x = 0.5 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
+    \t\tdef { inertial information { mass 1 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+    \t}
+    }
+"""
+
+
+def test_pybullet_target_cuts_the_connection_that_closes_a_loop(tmp_path, sdf_checker,
+                                                                  pybullet_loader) -> None:
+    result, plain = generate(tmp_path, LOOPED)
+    assert "W-SDF-TREE" in codes(result) and "W-SDF-CUT" not in codes(result)
+    result, sdf = generate(tmp_path, LOOPED, target="pybullet")
+    (cut,) = [d for d in result.report.diagnostics if d.code.id == "W-SDF-CUT"]
+    assert "fixed connection from P::B to P::C closes a kinematic loop" in cut.message
+    assert cut.span.line == 14 and "W-SDF-TREE" not in codes(result)  # `fixed to C`
+    world = ET.fromstring(sdf.split("\n", 1)[1]).find("world")
+    models = {m.get("name"): m for m in world.findall("model")}
+    assert list(models) == ["P__A", "P__B"]  # C stays with A, by joint J; B is alone
+    assert [link.get("name") for link in models["P__A"].findall("link")] == ["A", "C"]
+    assert [j.get("name") for j in models["P__A"].findall("joint")] == ["A__J"]
+    assert models["P__B"].find("joint") is None
+    assert "closes a loop: left out for PyBullet" in sdf
+    valid(sdf_checker, pybullet_loader, tmp_path / "out.sdf", 1)
+
+
+def test_pybullet_target_cuts_a_cycle_at_its_first_link(tmp_path) -> None:
+    cycle = FOREST.replace("\t\tpose { x = 0 y = 0 z = 0.5", "\t\tlocal joint K { def { annotation Revolute { axis = Axis { xyz = (|0,0,1|) limit = Limit { lower = -1 upper = 1 } } } } flexibly connected to A }\n\t\tpose { x = 0 y = 0 z = 0.5")
+    result, sdf = generate(tmp_path, cycle, target="pybullet")
+    (cut,) = [d for d in result.report.diagnostics if d.code.id == "W-SDF-CUT"]
+    assert "joint F::B::K from F::B to F::A" in cut.message
+    assert "W-SDF-TREE" not in codes(result)
+    world = ET.fromstring(sdf.split("\n", 1)[1]).find("world")
+    assert [j.get("name") for j in world.iter("joint")] == ["A__J"]
+
+
+def test_pybullet_target_writes_a_gearbox_as_a_revolute_joint(tmp_path, sdf_checker,
+                                                               pybullet_loader) -> None:
+    joint = ("local joint G { def { annotation Gearbox { gearbox_ratio = 0.5 "
+             "axis = Axis { xyz = (|1,0,0|) } axis2 = Axis { xyz = (|0,1,0|) } } } "
+             "flexibly connected to U }")
+    result, sdf = generate(tmp_path, TWO_LINKS.replace("JOINT", joint))
+    assert fragment(sdf, "joint").startswith('<joint name="L__G" type="gearbox">')
+    assert fragment(sdf, "joint/gearbox_ratio") == "<gearbox_ratio>0.5</gearbox_ratio>"
+    result, sdf = generate(tmp_path, TWO_LINKS.replace("JOINT", joint), target="pybullet")
+    assert "W-SDF-GEARBOX" in codes(result)
+    joint_xml = fragment(sdf, "joint")
+    assert joint_xml.startswith('<joint name="L__G" type="revolute">')
+    assert "<xyz>1 0 0</xyz>" in joint_xml
+    assert "axis2" not in joint_xml and "gearbox" not in joint_xml
+    valid(sdf_checker, pybullet_loader, tmp_path / "out.sdf", 1)

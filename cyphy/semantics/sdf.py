@@ -27,6 +27,7 @@ written by :mod:`cyphy.backends.sdf_xml`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Union
 
 from cyphy import codes, collector
 from cyphy.diagnostics import Report
@@ -56,6 +57,10 @@ LOOP = codes.code("W-SDF-LOOP", codes.W,
                   "two links connected both by a joint and by a fixed connection")
 NOT_TREE = codes.code("W-SDF-TREE", codes.W,
                       "the links do not form one tree: tree-based simulators cannot load it")
+CUT = codes.code("W-SDF-CUT", codes.W,
+                 "--target pybullet: a joint that closes a kinematic loop is left out")
+GEARBOX = codes.code("W-SDF-GEARBOX", codes.W,
+                     "--target pybullet: a gearbox joint is written as a revolute joint")
 
 JOINT_TYPES = {"Revolute": "revolute", "Prismatic": "prismatic", "Ball": "ball",
                "Universal": "universal", "Revolute2": "revolute2", "Screw": "screw",
@@ -81,8 +86,10 @@ DEFAULT_MASS = 1.0
 class SdfOptions:
     pose: tuple[float, float, float, float, float, float] = (0.0,) * 6
     short_names: bool = False
-    target: str = "gazebo"  # or "coppeliasim": RoboTool's conventions (coded names, Ry(π/2))
-    split_trees: bool = False  # a <world> with one <model> per tree of links, for PyBullet
+    #: "gazebo"; "coppeliasim": RoboTool's conventions (coded names, Ry(π/2)); "pybullet":
+    #: trees only (split trees, loops cut, gearboxes as revolute joints)
+    target: str = "gazebo"
+    split_trees: bool = False  # a <world> with one <model> per tree of links
 
 
 @dataclass
@@ -102,6 +109,7 @@ class _Translation:
         self.report = report
         self.options = options
         self.coppeliasim = options.target == "coppeliasim"
+        self.pybullet = options.target == "pybullet"
         self.names = Names(options.short_names or self.coppeliasim)
         self.templates = Templates(ws)
         self.bodies_by_name: dict[tuple[str, ...], list[Body]] = {}
@@ -173,8 +181,11 @@ def pmodel_rule(t: _Translation) -> Node:
     With ``split_trees`` (ours), a model whose links form several trees becomes a ``<world>``
     named after it holding one such ``<model>`` per tree: a tree-based simulator (PyBullet)
     loads each as a body, where it refuses a model with several root links, and libsdformat
-    12 accepts a world of models where it refuses several models at the top."""
+    12 accepts a world of models where it refuses several models at the top. ``--target
+    pybullet`` splits trees and first cuts the connections that close loops (each reported),
+    as a tree-based simulator needs."""
     model = t.model
+    cut = {id(j): j for j in _loop_cuts(model)} if t.pybullet else {}
     pieces: list[tuple[Link | None, list[Node | Comment]]] = []
     for link in parts_rule(model):
         pieces.append((link, link_rule(t, link)))
@@ -185,11 +196,15 @@ def pmodel_rule(t: _Translation) -> Node:
                         "has no joint for it", joint.span,
                         "add `flexibly connected to LINK` to the joint")
     for joint in model.joints:
-        pieces.append((joint.parent, joint_rule(t, joint)))
+        pieces.append((joint.parent, _cut(t, joint) if id(joint) in cut
+                       else joint_rule(t, joint)))
     for fixed in model.fixed:
-        pieces.append((fixed.parent, fixed_rule(t, fixed)))
-    trees = _trees(model) if t.options.split_trees else []
-    _check_tree(t, split=len(trees) > 1)
+        pieces.append((fixed.parent, _cut(t, fixed) if id(fixed) in cut
+                       else fixed_rule(t, fixed)))
+    kept = [j for j in [*model.joints, *model.fixed] if id(j) not in cut]
+    split = t.options.split_trees or t.pybullet
+    trees = _trees(model, kept) if split else []
+    _check_tree(t, kept, split=len(trees) > 1)
     if len(trees) <= 1:
         return _model_node(t, model.name, f"p-model {model.name}",
                            [n for _, nodes in pieces for n in nodes])
@@ -215,16 +230,69 @@ def _model_node(t: _Translation, name: str, comment: str,
     return node
 
 
-def _trees(model: ElaboratedModel) -> list[list[Link]]:
-    """The links in connected groups (joints and fixed connections as edges, in either
-    direction), each in Rule 6 order, groups ordered by their first link."""
-    import networkx as nx  # only for --split-trees: NetworkX takes a quarter second to import
+Connection = Union[Joint, FixedJoint]
+
+
+def _trees(model: ElaboratedModel, kept: list[Connection]) -> list[list[Link]]:
+    """The links in connected groups (the ``kept`` joints and fixed connections as edges, in
+    either direction), each in Rule 6 order, groups ordered by their first link."""
+    import networkx as nx  # only when splitting: NetworkX takes a quarter second to import
 
     order = {id(link): i for i, link in enumerate(parts_rule(model))}
-    graph = model.kinematic_graph().to_undirected(as_view=True)
-    groups = [sorted((graph.nodes[n]["element"] for n in names), key=lambda l: order[id(l)])
-              for names in nx.connected_components(graph)]
+    graph = nx.Graph()
+    graph.add_nodes_from(order)
+    graph.add_edges_from((id(j.parent), id(j.child)) for j in kept
+                         if j.parent is not None and j.child is not None)
+    link_of = {id(link): link for link in model.links}
+    groups = [sorted((link_of[n] for n in ids), key=lambda l: order[id(l)])
+              for ids in nx.connected_components(graph)]
     return sorted(groups, key=lambda links: order[id(links[0])])
+
+
+def _loop_cuts(model: ElaboratedModel) -> list[Connection]:
+    """The connections a tree-based simulator cannot have: of those into one link, all but
+    the first (joints in model order, then fixed connections); then, in each cycle of what
+    is left, the connection into the cycle's first link in Rule 6 order."""
+    order = {id(link): i for i, link in enumerate(parts_rule(model))}
+    parent_of: dict[int, Connection] = {}
+    cuts: list[Connection] = []
+    for j in [*model.joints, *model.fixed]:
+        if j.parent is None or j.child is None:
+            continue
+        if id(j.child) in parent_of or j.child is j.parent:
+            cuts.append(j)
+        else:
+            parent_of[id(j.child)] = j
+    done: set[int] = set()
+    for link in parts_rule(model):
+        path: list[Link] = []
+        on_path: set[int] = set()
+        node: Link | None = link
+        while node is not None and id(node) not in done and id(node) not in on_path:
+            path.append(node)
+            on_path.add(id(node))
+            edge = parent_of.get(id(node))
+            node = edge.parent if edge is not None else None
+        if node is not None and id(node) in on_path:  # back on the path: a cycle
+            cycle = path[[id(p) for p in path].index(id(node)):]
+            first = min(cycle, key=lambda l: order[id(l)])
+            cuts.append(parent_of.pop(id(first)))
+        done.update(on_path)
+    return cuts
+
+
+def _cut(t: _Translation, j: Connection) -> list[Node | Comment]:
+    """A connection left out for PyBullet: a comment in the file and a warning."""
+    assert j.parent is not None and j.child is not None
+    what = "fixed connection" if isinstance(j, FixedJoint) else f"joint {j.name}"
+    extra = (" (with its sensors and actuators)"
+             if isinstance(j, Joint) and (j.sensors or j.actuators) else "")
+    t.report.report(CUT, f"{what} from {j.parent.name} to {j.child.name} closes a kinematic "
+                    f"loop: it is left out for PyBullet{extra}", j.span,
+                    "add it in PyBullet with p.createConstraint between the two links, or "
+                    "generate for Gazebo, which loads loops")
+    return [Comment(f"{what} from {j.parent.name} to {j.child.name} closes a loop: left out "
+                    "for PyBullet")]
 
 
 def fixed_rule(t: _Translation, fixed: FixedJoint) -> list[Node | Comment]:
@@ -247,7 +315,7 @@ def fixed_rule(t: _Translation, fixed: FixedJoint) -> list[Node | Comment]:
             node]
 
 
-def _check_tree(t: _Translation, split: bool) -> None:
+def _check_tree(t: _Translation, kept: list[Connection], split: bool) -> None:
     """SDF allows any graph of links; PyBullet, URDF and MuJoCo need one tree (each link
     but one root with exactly one parent, every link reachable from the root). Say where
     the model is not one, leaving out the several roots that ``split`` has made trees."""
@@ -256,7 +324,7 @@ def _check_tree(t: _Translation, split: bool) -> None:
         return
     parents: dict[int, int] = {}
     children: dict[int, list[Link]] = {}
-    for j in [*t.model.joints, *t.model.fixed]:
+    for j in kept:
         if j.parent is not None and j.child is not None:
             parents[id(j.child)] = parents.get(id(j.child), 0) + 1
             children.setdefault(id(j.parent), []).append(j.child)
@@ -453,6 +521,13 @@ def joint_rule(t: _Translation, joint: Joint) -> list:  # type: ignore[type-arg]
                         "SDF joint type; it is written as a revolute joint", joint.span,
                         "use one of " + ", ".join(JOINT_TYPES))
     kind = kind or "revolute"
+    annotated_axes = frozenset(AXES.get(kind, ()))  # written by _axis, with their defaults
+    if kind == "gearbox" and t.pybullet:
+        kind = "revolute"
+        t.report.report(GEARBOX, f"joint {joint.name} is a gearbox, which PyBullet does not "
+                        "know: it is written as a revolute joint about its first axis",
+                        joint.span, "couple it in PyBullet with p.createConstraint(…, "
+                        "p.JOINT_GEAR, …) and setting its gearRatio")
     qualified = joint.name
     node = Node("joint", {"name": t.names.joint(joint, qualified, suffix),
                           "type": kind})
@@ -460,10 +535,12 @@ def joint_rule(t: _Translation, joint: Joint) -> list:  # type: ignore[type-arg]
     node.add("parent", parent)
     node.add("child", child)
     resolve = t.resolver(joint.qname)
-    axes = AXES.get(kind, ())
     if annotation is not None:
-        fill(node, annotation, t.templates, resolve, skip=frozenset(axes))
-    for name in axes:
+        fill(node, annotation, t.templates, resolve, skip=annotated_axes)
+    if kind != "gearbox":  # a gearbox written for PyBullet: its coupling has no meaning here
+        node.children = [c for c in node.children if not (
+            isinstance(c, Node) and c.tag in ("gearbox_ratio", "gearbox_reference_body"))]
+    for name in AXES.get(kind, ()):
         node.children.append(_axis(t, joint, name))
     if kind == "gearbox" and node.find("gearbox_reference_body") is None:
         node.add("gearbox_reference_body", parent)
