@@ -348,7 +348,10 @@ def _check_tree(t: _Translation, kept: list[Connection], split: bool) -> None:
                         f"({_some(circling)})")
     if problems:
         hint = "connect every link to one root by exactly one joint or fixed connection"
-        if len(roots) > 1 and not split:
+        if shared or circling:
+            hint += " (or generate with --target pybullet, which leaves out the connections " \
+                    "that close loops)"
+        elif len(roots) > 1 and not split:
             hint += " (or write one model per tree with --split-trees)"
         t.report.report(NOT_TREE, f"the links of {t.model.name} do not form "
                         f"{'trees' if split else 'one tree'}: " + "; ".join(problems)
