@@ -393,3 +393,9 @@ def test_namesets_partition_keeps_disjoint_updates(tmp_path: Path) -> None:
     sem = semantics(paths)
     check_session(generate_session(sem.program, sem.names, IsabelleOptions(namesets=True)),
                   sem.program)
+
+
+def test_isar_tools_finds_nothing_in_the_marxbot_session(marxbot_session, tmp_path) -> None:
+    from isar_check import isar_findings
+
+    assert isar_findings(marxbot_session.files, tmp_path / "session") == []

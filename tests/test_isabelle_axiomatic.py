@@ -242,3 +242,9 @@ def test_sympy_results_convert_back_to_expressions() -> None:
                   sympy.sqrt(a) + sympy.sin(b) ** 2 - 1 / a ** 2, a ** sympy.Rational(3, 2),
                   sympy.exp(-a) * sympy.cos(x), f(a, b) - 2, sympy.Integer(-3)):
         assert sympy.simplify(to_sympy(to_expr(value)) - value) == 0, value
+
+
+def test_isar_tools_finds_nothing_in_the_axiomatic_session(marxbot, tmp_path) -> None:
+    from isar_check import isar_findings
+
+    assert isar_findings(marxbot.files, tmp_path / "session") == []
