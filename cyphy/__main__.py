@@ -1,5 +1,3 @@
-import sys
+from cyphy.cli import run
 
-from cyphy.cli import main
-
-sys.exit(main())
+run()

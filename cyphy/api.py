@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
+from cyphy import collector
 from cyphy.diagnostics import Report
 from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
@@ -41,6 +42,14 @@ class CheckResult:
 def check(paths: Sequence[str | Path], options: CheckOptions = CheckOptions()) -> CheckResult:
     """Parse the files (or folders) and, unless ``syntax_only``, resolve names and check the
     scope conditions. Diagnostics of library files are never reported."""
+    with collector.paused():  # the syntax tree and the resolution tables all stay alive
+        result = _front_end(paths, options)
+    if options.consistency and result.resolution is not None:
+        _check_consistency(result.workspace, result.resolution, result.report, options)
+    return result
+
+
+def _front_end(paths: Sequence[str | Path], options: CheckOptions) -> CheckResult:
     ws, report = load_workspace(paths, options.search_paths)
     result = CheckResult(ws, report, sources=ws.texts)
     if options.syntax_only:
@@ -54,8 +63,6 @@ def check(paths: Sequence[str | Path], options: CheckOptions = CheckOptions()) -
 
         only = None if options.value_checks else {i for i in RULES if not i.startswith("V")}
         check_wellformed(WFContext(ws, result.resolution, report, dict(options.consts)), only)
-    if options.consistency:
-        _check_consistency(ws, result.resolution, report, options)
     return result
 
 

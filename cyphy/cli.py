@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from typing import TYPE_CHECKING, Callable, Sequence
+from typing import TYPE_CHECKING, Callable, NoReturn, Sequence
 
 if TYPE_CHECKING:
     from cyphy.api import Generated, SemanticsGenOptions
@@ -441,6 +441,20 @@ def _check(args: argparse.Namespace) -> int:
                          f"{errors} error{'s' if errors != 1 else ''}, "
                          f"{warnings} warning{'s' if warnings != 1 else ''}\n")
     return result.report.exit_code
+
+
+def run() -> NoReturn:
+    """The ``cyphy`` command: :func:`main`, then the exit without the interpreter's teardown.
+    Freeing a large model object by object, and the final collection before it, take seconds
+    on a 10,000-link model; everything has been written and closed by then, and the standard
+    streams are flushed here (mypy ends the same way)."""
+    code = main()
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except BrokenPipeError:  # `cyphy show … | head`: the reader has gone
+        pass
+    os._exit(code)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

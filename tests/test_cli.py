@@ -180,3 +180,15 @@ def test_options_shared_by_semantic_targets_are_accepted(tmp_path: Path, capsys)
     for target in ("--cyphycircus", "--isabelle"):
         assert main(["gen", str(EXAMPLES / "marxbot" / "Mapping.rsm"), target, "--tscale",
                      "0.01", "-o", str(tmp_path / target.strip("-"))]) == 0
+
+
+def test_the_command_flushes_its_output_before_its_quick_exit(tmp_path: Path) -> None:
+    # `cyphy` (cli.run) leaves with os._exit, skipping the interpreter's teardown.
+    out = tmp_path / "sdf"
+    ok = subprocess.run([sys.executable, "-m", "cyphy", "gen", str(EXAMPLES / "manipulator"),
+                         "--sdf", "-o", str(out)], capture_output=True, text=True)
+    assert ok.returncode == 0 and "wrote" in ok.stdout and any(out.glob("*.sdf"))
+    bad = subprocess.run([sys.executable, "-m", "cyphy", "check", str(EXAMPLES / "faulty")],
+                         capture_output=True, text=True)
+    assert bad.returncode == 1 and "ERROR S1" in bad.stderr + bad.stdout
+    assert "2 errors" in bad.stdout + bad.stderr
