@@ -49,10 +49,15 @@ def test_a_hit_returns_the_parsed_tree_without_parsing(cache: Path,
     assert parse_cache.parse(GOOD, "m.rsm") == first
 
 
-def test_changed_text_or_other_path_is_parsed_again(cache: Path) -> None:
+def test_changed_text_or_other_path_is_parsed_again(cache: Path,
+                                                     monkeypatch: pytest.MonkeyPatch) -> None:
     parse_cache.parse(GOOD, "m.rsm")
     changed = GOOD.replace("link L", "link K")
+    loads: list[object] = []
+    real_load = parse_cache.pickle.load
+    monkeypatch.setattr(parse_cache.pickle, "load", lambda f: loads.append(f) or real_load(f))
     file, _ = parse_cache.parse(changed, "m.rsm")
+    assert loads == []  # the stale entry's hash is read, not its tree
     assert file is not None and "K" in repr(file) and " L " not in changed
     assert len(entries(cache)) == 1  # one entry per path, overwritten
     other, _ = parse_cache.parse(GOOD, "n.rsm")

@@ -4,9 +4,9 @@ Parsing dominates a short command: building Lark's lexers and parsing the seven 
 built-in library take about 300 ms, unpickling their syntax trees about 12 ms (and Lark is then
 not even imported). So every successful parse is stored, as mypy and pytest keep theirs:
 
-* one entry per file path (spans name the path), holding the SHA-256 of the text it was parsed
-  from; an entry whose hash differs from the current text is a miss and is overwritten, so the
-  cache holds at most one tree per file;
+* one entry per file path (spans name the path), starting with the SHA-256 of the text it was
+  parsed from; an entry whose hash differs from the current text is a miss (found before
+  anything is unpickled) and is overwritten, so the cache holds at most one tree per file;
 * entries live in a folder named for a fingerprint of the sources that decide the tree (the
   grammar, the parser, the syntax-tree and expression classes, diagnostics, codes and how
   they are pickled), so a
@@ -73,16 +73,14 @@ def parse(text: str, path: str) -> Parsed:
     entry = folder / (hashlib.sha256(path.encode()).hexdigest()[:32] + ".pickle")
     digest = hashlib.sha256(text.encode()).digest()
     try:
-        with entry.open("rb") as f:
-            if _trusted(os.fstat(f.fileno())):
-                stored_digest, parsed = pickle.load(f)
-                if stored_digest == digest:
-                    return parsed
+        with entry.open("rb") as f:  # the text's hash, then the pickled result
+            if _trusted(os.fstat(f.fileno())) and f.read(len(digest)) == digest:
+                return pickle.load(f)
     except Exception:  # missing, corrupt or from an incompatible run: parse instead
         pass
     parsed = _parse(text, path)
     if parsed[0] is not None:
-        _store(folder, entry, (digest, parsed))
+        _store(folder, entry, digest, parsed)
     return parsed
 
 
@@ -102,7 +100,7 @@ def _parse(text: str, path: str) -> Parsed:
     return result.file, result.diagnostics
 
 
-def _store(folder: Path, entry: Path, value: object) -> None:
+def _store(folder: Path, entry: Path, digest: bytes, parsed: Parsed) -> None:
     """Write one entry atomically (a concurrent reader sees the old entry or the new one)."""
     try:
         if not folder.is_dir():
@@ -111,7 +109,8 @@ def _store(folder: Path, entry: Path, value: object) -> None:
         fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
         try:
             with os.fdopen(fd, "wb") as f:
-                pickle.dump(value, f, protocol=pickle.HIGHEST_PROTOCOL)
+                f.write(digest)  # read first: a changed file costs no unpickling
+                pickle.dump(parsed, f, protocol=pickle.HIGHEST_PROTOCOL)
             os.replace(tmp, entry)
         except BaseException:
             os.unlink(tmp)
