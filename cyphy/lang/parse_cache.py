@@ -9,7 +9,7 @@ not even imported). So every successful parse is stored, as mypy and pytest keep
   anything is unpickled) and is overwritten, so the cache holds at most one tree per file;
 * entries live in a folder named for a fingerprint of the sources that decide the tree (the
   grammar, the parser, the syntax-tree and expression classes, diagnostics, codes and how
-  they are pickled), so a
+  they are pickled, and this module), so a
   changed cyphy never meets an old tree; folders of other fingerprints untouched for a week
   are removed when a new entry is written;
 * files with syntax errors are not stored (their diagnostics are cheap to recompute);
@@ -39,7 +39,7 @@ Parsed = tuple[ast.SourceFile | None, tuple[Diagnostic, ...]]
 
 _PACKAGE = Path(__file__).resolve().parent.parent
 _SOURCES = ("lang/robosim.lark", "lang/parser.py", "lang/ast.py", "expr.py", "diagnostics.py",
-            "codes.py", "pickling.py")
+            "codes.py", "pickling.py", "lang/parse_cache.py")
 _STALE_AFTER_S = 7 * 24 * 3600
 
 
