@@ -7,11 +7,11 @@ not even imported). So every successful parse is stored, as mypy and pytest keep
 * one entry per file path (spans name the path), starting with the SHA-256 of the text it was
   parsed from; an entry whose hash differs from the current text is a miss (found before
   anything is unpickled) and is overwritten, so the cache holds at most one tree per file;
-* entries live in a folder named for a fingerprint of the sources that decide the tree (the
-  grammar, the parser, the syntax-tree and expression classes, diagnostics, codes and how
-  they are pickled, and this module), so a
-  changed cyphy never meets an old tree; folders of other fingerprints untouched for a week
-  are removed when a new entry is written;
+* entries live in a folder named for a fingerprint of the sources that decide the tree and
+  its storage (the grammar, the parser, the syntax-tree and expression classes, diagnostics,
+  codes, how they are pickled, and this module), so a changed cyphy never meets an old
+  tree; folders of other fingerprints untouched for a week are removed when a new entry is
+  written;
 * files with syntax errors are not stored (their diagnostics are cheap to recompute);
 * the cache is only ever an optimisation: an unreadable, corrupt or unwritable cache is
   ignored, silently, and the file is parsed.
