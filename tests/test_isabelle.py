@@ -20,6 +20,7 @@ from cyphy.cli import main
 from cyphy.semantics import circus as c
 from cyphy.semantics.build import build_semantics
 from isabelle_reader import parser, read_action, read_definitions
+from robot_model import ROBOT
 
 MARXBOT = EXAMPLES / "marxbot" / "Mapping.rsm"
 MARXBOT_ACTIONS = ["Init", "ObstacleToDModel", "SendToDModel", "MoveCall", "MoveFromDModel",
@@ -270,32 +271,6 @@ module Soft {{
   cycleDef cycle == 1
   robotic platform Platform {{ provides MovesI uses SeesI{outputs} }}
 }}
-"""
-
-ROBOT = """\
-package robot
-import physmod::joints::Revolute
-import physmod::actuators::SpeedControlMotor
-import physmod::actuators::LED
-import physmod::sensors::IR
-pmodel Robot {
-  local link Base {
-    def { inertial information { mass 1.0 } }
-    local body B { def { box(length = 0.1, width = 0.1, height = 0.1) } }
-    jref J = Revolute {
-      instantiation AXIS = (|0,0,1|)
-      flexibly connected to Arm
-      aref M = SpeedControlMotor { relation M.T == J.tau }
-    }
-    aref Lamp = LED { }
-  }
-  local link Arm {
-    pose { x = 0.5 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
-    def { inertial information { mass 0.5 } }
-    local body B { def { box(length = 0.1, width = 0.1, height = 0.1) } }
-    sref S = IR { index i : [0,4) }
-  }
-}
 """
 
 # Names that are Isabelle or UTP words but fine in RoboSim: they must be mangled.

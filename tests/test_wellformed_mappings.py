@@ -24,6 +24,7 @@ from pathlib import Path
 import pytest
 
 from conftest import CORPUS, EXAMPLES, needs_corpus
+from robot_model import JOINT_LINE, ROBOT
 from cyphy import api
 from cyphy.diagnostics import Diagnostic
 
@@ -36,35 +37,6 @@ module Soft {
   robotic platform Platform { provides MovesI uses SeesI var level: real event lamp: boolean }
 }
 """
-
-ROBOT = """\
-package robot
-import physmod::joints::Revolute
-import physmod::actuators::SpeedControlMotor
-import physmod::actuators::LED
-import physmod::sensors::IR
-import physmod::sdf::annotations::*
-pmodel Robot {
-  local link Base {
-    def { inertial information { mass 1.0 } }
-    local body B { def { box(length = 0.1, width = 0.1, height = 0.1) } }
-    jref J = Revolute {
-      annotation Revolute { axis = Axis { xyz = (|0,0,1|) } }
-      instantiation AXIS = (|0,0,1|)
-      flexibly connected to Arm
-      aref M = SpeedControlMotor { relation M.T == J.tau }
-    }
-    aref Lamp = LED { }
-  }
-  local link Arm {
-    pose { x = 0.5 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
-    def { inertial information { mass 0.5 } }
-    local body B { def { box(length = 0.1, width = 0.1, height = 0.1) } }
-    sref S = IR { index i : [0,4) }
-  }
-}
-"""
-JOINT_LINE = 11
 
 MOVE = "  operation move { var w: real equation Base::J::M.das == lv + w*av }\n"
 STOP = "  operation stop { equation Base::J::M.das == 0 }\n"
