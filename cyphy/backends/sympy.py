@@ -164,35 +164,41 @@ class NotAnExpression(Exception):
     """A SymPy value the expression AST has no counterpart for (matrices, relations…)."""
 
 
-def to_expr(value: Any) -> ex.Expr:
+def to_expr(value: Any, decimals: bool = False) -> ex.Expr:
     """A scalar SymPy expression as the shared expression AST, so that every printer can
     print what SymPy computed (the explicit ODEs of :mod:`cyphy.backends.reduce`). Sums and
-    products in SymPy's canonical order (deterministic), a product's negative powers as one
-    division, rationals as ``p / q``, square roots as ``sqrt``."""
+    products in SymPy's canonical order (deterministic), negative terms as subtraction, a
+    product's negative powers as one division, square roots as ``sqrt``. Rationals are
+    ``p / q``, or with ``decimals`` one decimal number (a product's rational coefficient
+    too): Flow*'s ``poly ode`` has no division. Whether a target has a function or a power
+    is its printer's question."""
     v = sympy.sympify(value)
     if isinstance(v, sympy.Integer):
         n = ex.Num(str(abs(int(v))))
         return ex.UnaryOp("-", n) if v < 0 else n
-    if isinstance(v, sympy.Rational):
+    if isinstance(v, sympy.Rational) and not decimals:
         frac = ex.BinOp("/", ex.Num(str(abs(v.p))), ex.Num(str(v.q)))
         return ex.UnaryOp("-", frac) if v < 0 else frac
-    if isinstance(v, sympy.Float):
+    if isinstance(v, (sympy.Rational, sympy.Float)):
         text = repr(float(abs(v)))
         return ex.UnaryOp("-", ex.Num(text)) if v < 0 else ex.Num(text)
     if isinstance(v, sympy.Symbol):
         return ex.Name((v.name,))
     if isinstance(v, sympy.Add):
         terms = v.as_ordered_terms()
-        out = to_expr(terms[0])
+        out = to_expr(terms[0], decimals)
         for term in terms[1:]:
             if term.as_coeff_Mul()[0].is_negative:
-                out = ex.BinOp("-", out, to_expr(-term))
+                out = ex.BinOp("-", out, to_expr(-term, decimals))
             else:
-                out = ex.BinOp("+", out, to_expr(term))
+                out = ex.BinOp("+", out, to_expr(term, decimals))
         return out
     if isinstance(v, sympy.Mul):
-        if v.as_coeff_Mul()[0].is_negative:
-            return ex.UnaryOp("-", to_expr(-v))
+        coeff, rest = v.as_coeff_Mul()
+        if coeff.is_negative:
+            return ex.UnaryOp("-", to_expr(-v, decimals))
+        if decimals and coeff != 1:  # the coefficient as one number, never a division
+            return ex.BinOp("*", to_expr(coeff, decimals), to_expr(rest, decimals))
         numerator, denominator = [], []
         for factor in v.as_ordered_factors():
             if isinstance(factor, sympy.Rational) and not isinstance(factor, sympy.Integer):
@@ -203,23 +209,25 @@ def to_expr(value: Any) -> ex.Expr:
                 denominator.append(factor.base ** -factor.exp)
             else:
                 numerator.append(factor)
-        top = _product(numerator) if numerator else ex.Num("1")
-        return ex.BinOp("/", top, _product(denominator)) if denominator else top
+        top = _product(numerator, decimals) if numerator else ex.Num("1")
+        return ex.BinOp("/", top, _product(denominator, decimals)) if denominator else top
     if isinstance(v, sympy.Pow):
         if v.exp == sympy.Rational(1, 2):
-            return ex.Call(ex.Name(("sqrt",)), (to_expr(v.base),))
+            return ex.Call(ex.Name(("sqrt",)), (to_expr(v.base, decimals),))
         if v.exp.is_negative:
-            return ex.BinOp("/", ex.Num("1"), to_expr(v.base ** -v.exp))
-        return ex.BinOp("^", to_expr(v.base), to_expr(v.exp))
+            return ex.BinOp("/", ex.Num("1"), to_expr(v.base ** -v.exp, decimals))
+        return ex.BinOp("^", to_expr(v.base, decimals), to_expr(v.exp, decimals))
     if isinstance(v, sympy.Function):
         name = _FUNCTION_NAMES.get(v.func, getattr(v.func, "__name__", None))
         if isinstance(v, sympy.core.function.AppliedUndef) or v.func in _FUNCTION_NAMES:
-            return ex.Call(ex.Name((str(name),)), tuple(to_expr(a) for a in v.args))
+            return ex.Call(ex.Name((str(name),)),
+                           tuple(to_expr(a, decimals) for a in v.args))
     raise NotAnExpression(f"{v} ({type(v).__name__}) has no counterpart in the expressions")
 
 
-def _product(factors: list[Any]) -> ex.Expr:
-    out = to_expr(factors[0])
+def _product(factors: list[Any], decimals: bool) -> ex.Expr:
+    out = to_expr(factors[0], decimals)
     for f in factors[1:]:
-        out = ex.BinOp("*", out, to_expr(f))
+        out = ex.BinOp("*", out, to_expr(f, decimals))
     return out
+

@@ -1,5 +1,6 @@
 """Expressions in Flow* 2.1.0 syntax: the shared expression AST printed with Flow*'s lexical
-rules, and SymPy results (the reduced ODEs) brought into that AST first.
+rules; SymPy results (the reduced ODEs) are brought into that AST first by
+:func:`cyphy.backends.sympy.to_expr`.
 
 Flow*'s traps (``../shared/spec/flowstar.md`` §4.1, §4.5) are handled here once: a binary
 minus always has spaces around it (``x -1`` would read as ``x`` followed by the number
@@ -134,57 +135,13 @@ class FlowstarPrinter:
 # --------------------------------------------------------------------------- from SymPy
 
 
-def from_sympy(e: Any) -> ex.Expr:
-    """A SymPy expression (the reducer's output) as the shared AST, sums in SymPy's term
-    order, negative terms as subtraction, rational coefficients as decimals (``poly ode``
-    has no division)."""
-    import sympy
-
-    if e.is_Symbol:
-        return ex.Name((e.name,))
-    if e.is_Number:
-        if not e.is_real:
-            raise NotExpressible(f"{e} is not a real number")
-        text = number(e)
-        return ex.UnaryOp("-", ex.Num(text)) if e < 0 else ex.Num(text)
-    if e.is_Add:
-        terms = e.as_ordered_terms()
-        out = from_sympy(terms[0])
-        for term in terms[1:]:
-            coeff, _ = term.as_coeff_Mul()
-            if coeff.is_negative:
-                out = ex.BinOp("-", out, from_sympy(-term))
-            else:
-                out = ex.BinOp("+", out, from_sympy(term))
-        return out
-    if e.is_Mul:
-        coeff, rest = e.as_coeff_Mul()
-        if coeff.is_negative:
-            return ex.UnaryOp("-", from_sympy(-e))
-        if coeff != 1:  # a rational coefficient is a decimal, never a division
-            return ex.BinOp("*", from_sympy(coeff), from_sympy(rest))
-        numer, denom = sympy.fraction(e)
-        if denom != 1:
-            return ex.BinOp("/", from_sympy(numer), from_sympy(denom))
-        factors = e.as_ordered_factors()
-        out = from_sympy(factors[0])
-        for f in factors[1:]:
-            out = ex.BinOp("*", out, from_sympy(f))
-        return out
-    if e.is_Pow:
-        base, exp = e.args
-        if exp.is_Integer and exp > 0:
-            return ex.BinOp("^", from_sympy(base), ex.Num(str(int(exp))))
-        if exp.is_Integer and exp < 0:
-            return ex.BinOp("/", ex.Num("1"), from_sympy(base ** -exp))
-        if exp == sympy.Rational(1, 2):
-            return ex.Call(ex.Name(("sqrt",)), (from_sympy(base),))
-        raise NotExpressible(f"Flow* has no power {exp} (only integer powers and sqrt)")
-    if isinstance(e, sympy.Function) and type(e).__name__ in _FUNCTIONS:
-        return ex.Call(ex.Name((type(e).__name__,)), tuple(from_sympy(a) for a in e.args))
-    raise NotExpressible(f"Flow* has no counterpart for {e}")
-
-
 def flowstar_text(e: Any, polynomial: bool = True) -> str:
-    """A SymPy expression in Flow* syntax."""
-    return FlowstarPrinter(polynomial).doprint(from_sympy(e))
+    """A SymPy expression (the reducer's output) in Flow* syntax: brought into the shared
+    AST with rationals as decimals (``poly ode`` has no division), then printed."""
+    from cyphy.backends.sympy import NotAnExpression, to_expr
+
+    try:
+        tree = to_expr(e, decimals=True)
+    except NotAnExpression:
+        raise NotExpressible(f"Flow* has no counterpart for {e}") from None
+    return FlowstarPrinter(polynomial).doprint(tree)
