@@ -228,32 +228,6 @@ class ElaboratedModel:
                                element=j)
         return graph
 
-    def containment_graph(self):  # type: ignore[no-untyped-def]
-        """The model, its parts and blocks as a tree (NetworkX DiGraph keyed by qualified
-        name; edges from container to contained)."""
-        import networkx as nx
-
-        graph = nx.DiGraph()
-        graph.add_node(self.name)
-        for e in self.all_elements():
-            if isinstance(e, FixedJoint):
-                continue
-            parent = _container_name(e, self.name)
-            for i in range(1, len(e.qname)):
-                graph.add_edge("::".join(e.qname[:i]) or self.name, "::".join(e.qname[:i + 1]))
-            graph.add_edge(parent, e.name)
-            graph.nodes[e.name]["element"] = e
-        return graph
-
-
-def _container_name(e: ModelElement, model: str) -> str:
-    owner: Element | None = None
-    if isinstance(e, (Body, Sensor)):
-        owner = e.joint if isinstance(e, Sensor) and e.joint is not None else e.link
-    elif isinstance(e, Joint):
-        owner = e.parent
-    return owner.name if owner is not None else "::".join(e.qname[:-1]) or model
-
 
 def is_index_value(component: str) -> bool:
     """Index values are the qualified-name components that are integers (names never are)."""

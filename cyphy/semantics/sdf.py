@@ -203,7 +203,7 @@ def pmodel_rule(t: _Translation) -> Node:
                        else fixed_rule(t, fixed)))
     kept = [j for j in [*model.joints, *model.fixed] if id(j) not in cut]
     split = t.options.split_trees or t.pybullet
-    trees = _trees(model, kept) if split else []
+    trees = _trees(model, cut) if split else []
     _check_tree(t, kept, split=len(trees) > 1)
     if len(trees) <= 1:
         return _model_node(t, model.name, f"p-model {model.name}",
@@ -233,19 +233,17 @@ def _model_node(t: _Translation, name: str, comment: str,
 Connection = Union[Joint, FixedJoint]
 
 
-def _trees(model: ElaboratedModel, kept: list[Connection]) -> list[list[Link]]:
-    """The links in connected groups (the ``kept`` joints and fixed connections as edges, in
-    either direction), each in Rule 6 order, groups ordered by their first link."""
+def _trees(model: ElaboratedModel, cut: dict[int, Connection]) -> list[list[Link]]:
+    """The links in connected groups (the kinematic graph without the ``cut`` connections,
+    edges in either direction), each in Rule 6 order, groups ordered by their first link."""
     import networkx as nx  # only when splitting: NetworkX takes a quarter second to import
 
     order = {id(link): i for i, link in enumerate(parts_rule(model))}
-    graph = nx.Graph()
-    graph.add_nodes_from(order)
-    graph.add_edges_from((id(j.parent), id(j.child)) for j in kept
-                         if j.parent is not None and j.child is not None)
-    link_of = {id(link): link for link in model.links}
-    groups = [sorted((link_of[n] for n in ids), key=lambda l: order[id(l)])
-              for ids in nx.connected_components(graph)]
+    graph = model.kinematic_graph()
+    graph.remove_edges_from([(u, v, k) for u, v, k, j in graph.edges(keys=True, data="element")
+                             if id(j) in cut])
+    groups = [sorted((graph.nodes[n]["element"] for n in names), key=lambda l: order[id(l)])
+              for names in nx.weakly_connected_components(graph)]
     return sorted(groups, key=lambda links: order[id(links[0])])
 
 
