@@ -125,7 +125,7 @@ def _counts(model: object) -> str:
 
 def bench_chains(sizes: list[int]) -> tuple[dict[int, float], list[str]]:
     elaboration: dict[int, float] = {}
-    lines = [f"synthetic chains (benchmarks/synthetic.py chain_model)",
+    lines = ["synthetic chains (benchmarks/synthetic.py chain_model)",
              f"  {'N':>6} {'runs':>5} {'check ms':>12} {'elaborate ms':>13} {'ms/link':>9}  "
              "elements"]
     with tempfile.TemporaryDirectory(prefix="cyphy-bench-") as tmp:

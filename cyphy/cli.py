@@ -103,7 +103,7 @@ def _gen(args: argparse.Namespace) -> int:
     if diagnostics:
         sys.stderr.write(render_text(diagnostics, dict(generated.sources)))
     if generated.report.has_errors or not generated.files:
-        sys.stderr.write(f"cyphy gen: nothing written: the model has errors\n")
+        sys.stderr.write("cyphy gen: nothing written: the model has errors\n")
         return 1
     folder = getattr(args, "default_folder", args.target)  # a generator may choose another
     out_dir = Path(args.output) if args.output else default_output_dir(args.paths, folder)

@@ -71,7 +71,7 @@ def check_static(files: dict[str, str], theory: str) -> str:
     assert name == Path(theory).stem and is_identifier(name)
     assert imports == [IMPORT]
     assert "\nlemma" not in text and "[closure]" not in text and "NCSP" not in text
-    assert f'= "Axiomatic_CyPhyCircus" +' in files["ROOT"] and f"    {name}\n" in files["ROOT"]
+    assert '= "Axiomatic_CyPhyCircus" +' in files["ROOT"] and f"    {name}\n" in files["ROOT"]
     assert "\nconsts\n  cycle :: nat\n  tscale :: real\n" in text
     # define before use: every action a body mentions is defined above it (or is WaitT)
     defined = {"WaitT"} if "\nprimrec WaitT ::" in text else set()

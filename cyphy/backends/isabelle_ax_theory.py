@@ -102,7 +102,7 @@ def _evolve_note(odes: EvolveOdes, elements: tuple[str, ...]) -> str:
     """What the explicit ODE below is, in the theory itself."""
     kinds = [o.kind for o in odes.odes]
     outputs = [o.variable for o in odes.odes if o.kind == "output"]
-    text = (f"The equations reduced to explicit ODEs (as cyphy solve does"
+    text = ("The equations reduced to explicit ODEs (as cyphy solve does"
             + (f", restricted to {', '.join(elements)}" if elements else "")
             + f"): {kinds.count('state')} states")
     if outputs:

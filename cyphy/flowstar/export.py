@@ -35,7 +35,7 @@ import sympy
 from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span, did_you_mean
-from cyphy.flowstar.constraints import Atom, Conjunction, dnf, negated_dnf
+from cyphy.flowstar.constraints import Conjunction, dnf, negated_dnf
 from cyphy.flowstar.printer import NotExpressible, flowstar_text, number, valid_name
 from cyphy.flowstar.scenario import Scenario
 

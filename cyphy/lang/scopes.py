@@ -12,9 +12,8 @@ different namespaces (the joint definition ``Revolute`` and the annotation templ
 
 from __future__ import annotations
 
-from typing import Callable, Iterable
+from typing import Callable
 
-from cyphy.diagnostics import did_you_mean  # noqa: F401  (re-exported)
 from cyphy.lang import ast
 from cyphy.lang.workspace import Declaration, Workspace
 

@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING, Any, Callable, Union
 from cyphy import expr as ex
 from cyphy.diagnostics import Code, Report, Severity, Span
 from cyphy.lang import ast
-from cyphy.lang.notation import type_to_notation
 from cyphy.lang.scopes import is_constant, is_value
 from cyphy.lang.typing import Kind, TypeChecker, Ty, same_shape, type_of_declared
 from cyphy.wellformed.registry import BlockSite, WFContext, rule
