@@ -14,10 +14,10 @@ from typing import Any, Iterable, Iterator, Union
 
 from cyphy import codes
 from cyphy import expr as ex
-from cyphy.diagnostics import Report, Span
+from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.lang import ast
 from cyphy.lang.scopes import (
-    Scopes, did_you_mean, is_constant, is_definition, is_interface, is_module, is_node, is_pmodel,
+    Scopes, is_constant, is_definition, is_interface, is_module, is_node, is_pmodel,
     is_template, is_type, is_value,
 )
 from cyphy.lang.typing import TypeChecker
