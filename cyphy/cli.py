@@ -404,8 +404,13 @@ def _positive_int(text: str) -> int:
 
 
 def _list_rules() -> int:
+    """Every condition ``cyphy check`` checks: the scope and typing conditions S1-S5, which
+    name resolution and typing check as they go, then the registered rules."""
+    from cyphy import codes
     from cyphy.wellformed import RULES
 
+    for code in (codes.S1, codes.S2, codes.S3, codes.S4, codes.S5):
+        sys.stdout.write(f"{code.id:<7} {code.severity.value:<7} {code.summary}\n")
     for r in RULES.values():
         sys.stdout.write(f"{r.id:<7} {r.code.severity.value:<7} {r.summary}\n")
     return 0
