@@ -13,6 +13,7 @@ import pytest
 from conftest import EXAMPLES, ROOT
 from cyphy import api
 from cyphy.lang import parse_cache
+from cyphy.lang.ast import ParseResult
 from cyphy.lang.parser import parse_text
 
 GOOD = "package p\npmodel M {\n\tlocal link L { def { } }\n}\n"
@@ -32,7 +33,7 @@ def entries(folder: Path) -> list[Path]:
 
 
 def no_parsing(monkeypatch: pytest.MonkeyPatch) -> None:
-    def fail(text: str, path: str) -> parse_cache.Parsed:
+    def fail(text: str, path: str) -> ParseResult:
         raise AssertionError(f"{path} was parsed, not read from the cache")
 
     monkeypatch.setattr(parse_cache, "_parse", fail)
@@ -42,7 +43,7 @@ def test_a_hit_returns_the_parsed_tree_without_parsing(cache: Path,
                                                        monkeypatch: pytest.MonkeyPatch) -> None:
     first = parse_cache.parse(GOOD, "m.rsm")
     expected = parse_text(GOOD, "m.rsm")
-    assert first == (expected.file, expected.diagnostics)
+    assert first == expected
     assert len(entries(cache)) == 1 and entries(cache)[0].parent.name == \
         f"parse-{parse_cache.fingerprint()}"
     no_parsing(monkeypatch)
@@ -56,18 +57,18 @@ def test_changed_text_or_other_path_is_parsed_again(cache: Path,
     loads: list[object] = []
     real_load = parse_cache.pickle.load
     monkeypatch.setattr(parse_cache.pickle, "load", lambda f: loads.append(f) or real_load(f))
-    file, _ = parse_cache.parse(changed, "m.rsm")
+    file = parse_cache.parse(changed, "m.rsm").file
     assert loads == []  # the stale entry's hash is read, not its tree
     assert file is not None and "K" in repr(file) and " L " not in changed
     assert len(entries(cache)) == 1  # one entry per path, overwritten
-    other, _ = parse_cache.parse(GOOD, "n.rsm")
+    other = parse_cache.parse(GOOD, "n.rsm").file
     assert other is not None and other.path == "n.rsm"  # spans name their own file
     assert len(entries(cache)) == 2
 
 
 def test_files_with_syntax_errors_are_not_stored(cache: Path) -> None:
-    file, diagnostics = parse_cache.parse(BAD, "bad.rsm")
-    assert file is None and diagnostics[0].code.id == "E-SYNTAX"
+    parsed = parse_cache.parse(BAD, "bad.rsm")
+    assert parsed.file is None and parsed.diagnostics[0].code.id == "E-SYNTAX"
     assert entries(cache) == []
 
 
@@ -75,7 +76,7 @@ def test_a_corrupt_entry_is_parsed_again_and_replaced(cache: Path) -> None:
     parse_cache.parse(GOOD, "m.rsm")
     (entry,) = entries(cache)
     entry.write_bytes(b"not a pickle")
-    file, _ = parse_cache.parse(GOOD, "m.rsm")
+    file = parse_cache.parse(GOOD, "m.rsm").file
     assert file == parse_text(GOOD, "m.rsm").file
     assert entry.read_bytes() != b"not a pickle"
 
@@ -88,7 +89,7 @@ def test_an_entry_others_may_write_is_not_unpickled(cache: Path,
     entry.chmod(0o666)
     loads: list[object] = []
     monkeypatch.setattr(parse_cache.pickle, "load", lambda f: loads.append(f))
-    file, _ = parse_cache.parse(GOOD, "m.rsm")
+    file = parse_cache.parse(GOOD, "m.rsm").file
     assert file == parse_text(GOOD, "m.rsm").file and loads == []
 
 
@@ -97,13 +98,13 @@ def test_an_unusable_cache_folder_is_ignored(tmp_path: Path,
     blocker = tmp_path / "a-file"
     blocker.write_text("")
     monkeypatch.setenv("CYPHY_CACHE_DIR", str(blocker))  # a file, not a folder
-    file, _ = parse_cache.parse(GOOD, "m.rsm")
+    file = parse_cache.parse(GOOD, "m.rsm").file
     assert file == parse_text(GOOD, "m.rsm").file
 
 
 def test_no_cache_writes_nothing(cache: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("CYPHY_NO_CACHE", "1")
-    assert parse_cache.parse(GOOD, "m.rsm")[0] is not None
+    assert parse_cache.parse(GOOD, "m.rsm").file is not None
     assert not cache.exists()
 
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, Iterator, TypeVar, Union
 
-from cyphy.diagnostics import Span
+from cyphy.diagnostics import Diagnostic, Span
 from cyphy.expr import Expr, fields_of
 from cyphy.pickling import FastPickle
 
@@ -831,3 +831,12 @@ class SourceFile(Node):
         for item in self.items:
             if not isinstance(item, (PackageDecl, EndPackage, Import)):
                 yield item
+
+
+@dataclass(frozen=True, slots=True)
+class ParseResult:
+    """One file's text parsed: its syntax tree (None when it has syntax errors) and the
+    diagnostics of parsing."""
+
+    file: SourceFile | None
+    diagnostics: tuple[Diagnostic, ...]

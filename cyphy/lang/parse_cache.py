@@ -32,10 +32,7 @@ import time
 from functools import lru_cache
 from pathlib import Path
 
-from cyphy.diagnostics import Diagnostic
-from cyphy.lang import ast
-
-Parsed = tuple[ast.SourceFile | None, tuple[Diagnostic, ...]]
+from cyphy.lang.ast import ParseResult
 
 _PACKAGE = Path(__file__).resolve().parent.parent
 _SOURCES = ("lang/robosim.lark", "lang/parser.py", "lang/ast.py", "expr.py", "diagnostics.py",
@@ -63,7 +60,7 @@ def cache_root() -> Path | None:
     return (Path(xdg) if xdg else Path.home() / ".cache") / "cyphy"
 
 
-def parse(text: str, path: str) -> Parsed:
+def parse(text: str, path: str) -> ParseResult:
     """The syntax tree and diagnostics of ``text`` read from ``path``, from the cache when
     this exact text was parsed at this path before."""
     root = cache_root()
@@ -79,7 +76,7 @@ def parse(text: str, path: str) -> Parsed:
     except Exception:  # missing, corrupt or from an incompatible run: parse instead
         pass
     parsed = _parse(text, path)
-    if parsed[0] is not None:
+    if parsed.file is not None:
         _store(folder, entry, digest, parsed)
     return parsed
 
@@ -93,14 +90,13 @@ def _trusted(stat: os.stat_result) -> bool:
     return stat.st_uid == getuid() and not stat.st_mode & 0o022
 
 
-def _parse(text: str, path: str) -> Parsed:
+def _parse(text: str, path: str) -> ParseResult:
     from cyphy.lang.parser import parse_text  # Lark is imported only when something is parsed
 
-    result = parse_text(text, path)
-    return result.file, result.diagnostics
+    return parse_text(text, path)
 
 
-def _store(folder: Path, entry: Path, digest: bytes, parsed: Parsed) -> None:
+def _store(folder: Path, entry: Path, digest: bytes, parsed: ParseResult) -> None:
     """Write one entry atomically (a concurrent reader sees the old entry or the new one)."""
     try:
         if not folder.is_dir():

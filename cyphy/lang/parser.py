@@ -21,6 +21,7 @@ from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Diagnostic, Span, did_you_mean
 from cyphy.lang import ast
+from cyphy.lang.ast import ParseResult
 
 GRAMMAR = "robosim.lark"
 POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
@@ -41,12 +42,6 @@ def grammar(strict: bool = False) -> Lark:
         # analysis takes 0.7 s, loading the cache a few milliseconds.
         cache=not strict,
     )
-
-
-@dataclass(frozen=True, slots=True)
-class ParseResult:
-    file: ast.SourceFile | None
-    diagnostics: tuple[Diagnostic, ...]
 
 
 def parse_text(text: str, path: str = "<string>") -> ParseResult:

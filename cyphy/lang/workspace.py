@@ -136,11 +136,11 @@ def load_workspace(
         text = _read(p, report)
         if text is None:
             continue
-        file, diagnostics = parse_cache.parse(text, str(p))
-        report.extend(diagnostics)
+        parsed = parse_cache.parse(text, str(p))
+        report.extend(parsed.diagnostics)
         ws.texts[str(p)] = text
-        if file is not None:
-            ws.files[str(p)] = file
+        if parsed.file is not None:
+            ws.files[str(p)] = parsed.file
     ws.named = [str(p) for p in dict.fromkeys(targets)]
     ws.targets = [str(p) for p in dict.fromkeys(targets)]
 
@@ -163,7 +163,7 @@ def _library() -> tuple[tuple[str, str, ast.SourceFile], ...]:
     out = []
     for p in library_files():
         text = p.read_text(encoding="utf-8")
-        file, _ = parse_cache.parse(text, str(p))
+        file = parse_cache.parse(text, str(p)).file
         if file is not None:  # the shipped library always parses (a test checks)
             out.append((str(p), text, file))
     return tuple(out)
