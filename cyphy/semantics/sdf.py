@@ -316,7 +316,9 @@ def fixed_rule(t: _Translation, fixed: FixedJoint) -> list[Node | Comment]:
 def _check_tree(t: _Translation, kept: list[Connection], split: bool) -> None:
     """SDF allows any graph of links; PyBullet, URDF and MuJoCo need one tree (each link
     but one root with exactly one parent, every link reachable from the root). Say where
-    the model is not one, leaving out the several roots that ``split`` has made trees."""
+    the model is not one, leaving out the several roots that ``split`` has made trees.
+    Counted with dictionaries rather than the kinematic graph: every ``gen --sdf`` runs
+    this, and importing NetworkX would cost it a quarter of a second."""
     links = t.model.links
     if not links:
         return
