@@ -107,6 +107,7 @@ class IsabellePrinter:
     INTERRUPT = "\\<triangle>\\<^sub>C"
     EXISTS = "\\<^bold>\\<exists>"
     TRUE = "true"
+    ARROW = "\\<^bold>\\<rightarrow>"
     ASSIGN = ":=\\<^sub>C"
 
     def __init__(self, symbols: Symbols, **settings: Any) -> None:
@@ -325,25 +326,32 @@ class IsabellePrinter:
             raise UnsupportedNode(comm, "inputs and outputs in one communication")
         if inputs:
             with self.binding(inputs) as idents:
-                event = ctor + "".join(f"?({i})" for i in idents)
-                return f"({event} \\<^bold>\\<rightarrow> {self._print(a.then)})"
+                event = self._input_event(ctor, idents)
+                return f"({event} {self.ARROW} {self._print(a.then)})"
         if values:
             kinds = {type(f) for f in comm.fields}
             if len(kinds) != 1:
                 raise UnsupportedNode(comm, "dots and outputs in one communication")
-            mark = "!" if kinds == {c.Out} else "."
-            printed = [self._print(v) for v in values]
-            if len(printed) == 1:
-                event = f"{ctor}{mark}({printed[0]})"
-            elif all(self._state_free(v) for v in values):
-                with self._in_mode("hol"):
-                    inner = ", ".join(self._print(v) for v in values)
-                event = f"{ctor}{mark}({LIFT_OPEN}({inner}){LIFT_CLOSE})"
-            else:
-                event = f"{ctor}{mark}(({', '.join(printed)})\\<^sub>u)"
+            event = self._output_event(ctor, kinds == {c.Out}, values)
         else:
             event = ctor
-        return f"({event} \\<^bold>\\<rightarrow> {self._print(a.then)})"
+        return f"({event} {self.ARROW} {self._print(a.then)})"
+
+    def _input_event(self, ctor: str, idents: list[str]) -> str:
+        """``c?(x)?(y)``: one input per field."""
+        return ctor + "".join(f"?({i})" for i in idents)
+
+    def _output_event(self, ctor: str, output: bool, values: list[ex.Expr]) -> str:
+        """``c!(e)`` (``c.(e)`` for dots); several values as one lifted tuple."""
+        mark = "!" if output else "."
+        printed = [self._print(v) for v in values]
+        if len(printed) == 1:
+            return f"{ctor}{mark}({printed[0]})"
+        if all(self._state_free(v) for v in values):
+            with self._in_mode("hol"):
+                inner = ", ".join(self._print(v) for v in values)
+            return f"{ctor}{mark}({LIFT_OPEN}({inner}){LIFT_CLOSE})"
+        return f"{ctor}{mark}(({', '.join(printed)})\\<^sub>u)"
 
     def _chain(self, items: tuple[c.Action, ...], op: str) -> str:
         printed = [self._print(i) for i in items]

@@ -47,6 +47,7 @@ class AxiomaticPrinter(IsabellePrinter):
     ASSIGN = ":="
     EXISTS = "\\<exists>"
     TRUE = "True"
+    ARROW = "\\<rightarrow>"
 
     def __init__(self, symbols: Symbols, odes: list[ExplicitOde] | None = None,
                  **settings: Any) -> None:
@@ -70,26 +71,13 @@ class AxiomaticPrinter(IsabellePrinter):
 
     # ------------------------------------------------------------------ actions
 
-    def _print_Prefix(self, a: c.Prefix) -> str:
-        comm = a.comm
-        ctor = self._constructor(comm)
-        inputs = [f.name for f in comm.fields if isinstance(f, c.In)]
-        values = [f.value for f in comm.fields if not isinstance(f, c.In)]
-        if inputs and values:
-            raise UnsupportedNode(comm, "inputs and outputs in one communication")
-        if inputs:
-            with self.binding(inputs) as idents:
-                bound = idents[0] if len(idents) == 1 else f"({', '.join(idents)})"
-                return f"({ctor}\\<^bold>?{bound} \\<rightarrow> {self._print(a.then)})"
-        if values:
-            kinds = {type(f) for f in comm.fields}
-            if len(kinds) != 1:
-                raise UnsupportedNode(comm, "dots and outputs in one communication")
-            mark = "\\<^bold>!" if kinds == {c.Out} else "\\<^bold>."
-            event = f"{ctor}{mark}({', '.join(self._print(v) for v in values)})"
-        else:
-            event = ctor
-        return f"({event} \\<rightarrow> {self._print(a.then)})"
+    def _input_event(self, ctor: str, idents: list[str]) -> str:
+        bound = idents[0] if len(idents) == 1 else f"({', '.join(idents)})"
+        return f"{ctor}\\<^bold>?{bound}"
+
+    def _output_event(self, ctor: str, output: bool, values: list[ex.Expr]) -> str:
+        mark = "\\<^bold>!" if output else "\\<^bold>."
+        return f"{ctor}{mark}({', '.join(self._print(v) for v in values)})"
 
     def _namesets(self, left: tuple[str, ...], right: tuple[str, ...]) -> str:
         return f"{self._lens(left)} | {{}} | {self._lens(right)}"
