@@ -30,3 +30,24 @@ def corpus_model_files() -> list[Path]:
 def corpus_project_folders() -> list[Path]:
     """Folders that hold model files: each is one RoboTool project."""
     return sorted({p.parent for p in corpus_model_files()})
+
+
+def flowstar_binary() -> Path | None:
+    """The real Flow* binary: ``$CYPHY_FLOWSTAR``, the folder ``.ci/install`` builds it into, or
+    ``flowstar`` on PATH; ``None`` when there is none (its tests then skip)."""
+    import shutil
+
+    if os.environ.get("CYPHY_FLOWSTAR"):
+        return Path(os.environ["CYPHY_FLOWSTAR"])
+    tools = os.environ.get("CYPHY_TOOLS_DIR") or str(
+        Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "cyphy-tools")
+    built = Path(tools) / "flowstar"
+    if built.is_file() and os.access(built, os.X_OK):
+        return built
+    found = shutil.which("flowstar")
+    return Path(found) if found else None
+
+
+needs_flowstar = pytest.mark.skipif(
+    flowstar_binary() is None,
+    reason="no Flow* binary (.ci/install builds one from ../shared/tools/flowstar)")
