@@ -279,25 +279,11 @@ def generate_sdf(paths: Sequence[str | Path], options: SdfGenOptions = SdfGenOpt
     ``<Model>.names.json``, or, for a Gazebo model folder, ``model.sdf``, ``model.config``
     and the table. No files when the model has errors or constants without values."""
     from cyphy.backends.sdf_xml import model_config, names_json, to_xml
-    from cyphy.model.elaborate import choose_pmodel, elaborate_pmodel, require_constants
-    from cyphy.semantics.sdf import SdfOptions, translate, unvalued
+    from cyphy.semantics.sdf import SdfOptions, translate
 
-    checked = check(paths, CheckOptions(search_paths=options.search_paths,
-                                        consts=dict(options.consts)))
-    generated = Generated(checked.report, checked.sources)
-    if checked.report.has_errors or checked.resolution is None:
-        return generated
-    chosen = choose_pmodel(checked.workspace, options.model, checked.report)
-    if chosen is None:
-        return generated
-    model = elaborate_pmodel(checked.workspace, checked.resolution, checked.report, *chosen,
-                             options.consts)  # type: ignore[arg-type]
-    if unvalued(model):  # only constants that SDF needs must have values
-        needed = {n: spans for n, spans in model.missing.items()
-                  if not _device_constant(model, n)} or model.missing
-        model.missing = needed
-        require_constants(model, checked.report, "SDF generation")
-    if checked.report.has_errors:
+    checked, generated, model = _geometric_model(paths, options.model, options.consts,
+                                                 options.search_paths, "SDF generation")
+    if model is None:
         return generated
     document = translate(model, checked.workspace, checked.report,
                          SdfOptions(options.pose, options.short_names, options.target,
@@ -310,6 +296,99 @@ def generate_sdf(paths: Sequence[str | Path], options: SdfGenOptions = SdfGenOpt
         generated.files = {f"{model.name}.sdf": text,
                            f"{model.name}.names.json": names_json(document.names)}
     return generated
+
+
+def _geometric_model(paths: Sequence[str | Path], name: str | None,
+                     consts: dict[str, object], search_paths: tuple[str, ...], purpose: str
+                     ) -> tuple[CheckResult, Generated, "ElaboratedModel | None"]:
+    """Check the files and elaborate one p-model for a geometric export (SDF, URDF, MJCF,
+    pictures): the model is None when the files have errors or a constant that geometry
+    needs has no value (constants only the equations use may stay without one)."""
+    from cyphy.model.elaborate import choose_pmodel, elaborate_pmodel, require_constants
+    from cyphy.semantics.sdf import unvalued
+
+    checked = check(paths, CheckOptions(search_paths=search_paths, consts=dict(consts)))
+    generated = Generated(checked.report, checked.sources)
+    if checked.report.has_errors or checked.resolution is None:
+        return checked, generated, None
+    chosen = choose_pmodel(checked.workspace, name, checked.report)
+    if chosen is None:
+        return checked, generated, None
+    model = elaborate_pmodel(checked.workspace, checked.resolution, checked.report, *chosen,
+                             consts)  # type: ignore[arg-type]
+    if unvalued(model):  # only constants that SDF needs must have values
+        needed = {n: spans for n, spans in model.missing.items()
+                  if not _device_constant(model, n)} or model.missing
+        model.missing = needed
+        require_constants(model, checked.report, purpose)
+    if checked.report.has_errors:
+        return checked, generated, None
+    return checked, generated, model
+
+
+@dataclass(frozen=True)
+class TreeGenOptions:
+    """Options of the tree exports (``--urdf``, ``--mjcf``)."""
+
+    model: str | None = None
+    consts: dict[str, object] = field(default_factory=dict)
+    search_paths: tuple[str, ...] = ()
+    output: str | None = None  # the output folder, to write mesh paths relative to it
+    package: str | None = None  # mesh paths as package://PACKAGE/… (URDF)
+
+
+def robot(paths: Sequence[str | Path], options: TreeGenOptions, target: str
+          ) -> tuple[Generated, Any, Any]:
+    """The checked model as trees of links for ``target`` (``urdf``, ``mjcf``):
+    ``(generated, robot or None, elaborated model)``; mesh warnings are reported here."""
+    from cyphy.semantics.robot_tree import build_robot
+    from cyphy.backends.urdf import report_meshes
+
+    checked, generated, model = _geometric_model(paths, options.model, options.consts,
+                                                 options.search_paths,
+                                                 f"{target.upper()} generation")
+    if model is None:
+        return generated, None, None
+    built = build_robot(model, checked.workspace, checked.report, target)
+    report_meshes(built, checked.report, model.pmodel.span)
+    return generated, built, model
+
+
+def _mesh_paths(options: TreeGenOptions, model: "ElaboratedModel") -> Any:
+    """Mesh paths as the export names them: from the output folder to the model's."""
+    import os
+
+    from cyphy.backends.urdf import MeshPaths
+
+    folder = Path(model.pmodel.span.file).resolve().parent
+    out = Path(options.output).resolve() if options.output else folder
+    return MeshPaths(Path(os.path.relpath(folder, out)).as_posix(), options.package)
+
+
+def generate_urdf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGenOptions()
+                  ) -> Generated:
+    """URDF 1.0 (``cyphy gen --urdf``): ``<Model>.urdf``, or one ``<Model>__<Root>.urdf`` per
+    tree of links, and the name table. Loops are cut as for ``--target pybullet``."""
+    from cyphy.backends.sdf_xml import names_json, to_xml
+    from cyphy.backends.urdf import robot_to_urdf
+
+    generated, built, model = robot(paths, options, "urdf")
+    if built is None:
+        return generated
+    report = generated.report
+    files = robot_to_urdf(built, _mesh_paths(options, model), report, model.pmodel.span)
+    if report.has_errors:
+        return generated
+    generated.files = {name: to_xml(node) for name, node in files.items()}
+    generated.files[f"{built.name}.names.json"] = names_json(_names(built))
+    return generated
+
+
+def _names(built: Any) -> dict[str, str]:
+    """Exported link and joint names → qualified RoboSim names."""
+    table = {link.name: link.qualified for link in built.links().values()}
+    table.update((j.name, j.qualified) for j in built.joints())
+    return table
 
 
 def _device_constant(model: "ElaboratedModel", name: str) -> bool:

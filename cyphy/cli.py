@@ -12,7 +12,7 @@ import sys
 from typing import TYPE_CHECKING, Callable, NoReturn, Sequence
 
 if TYPE_CHECKING:
-    from cyphy.api import Generated, SemanticsGenOptions
+    from cyphy.api import Generated, SemanticsGenOptions, TreeGenOptions
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -196,6 +196,34 @@ def _sdf_run(args: argparse.Namespace) -> "Generated":
 
 GENERATORS["sdf"] = (_sdf_run, "SDF 1.6 for Gazebo and other simulators (the paper's "
                      "section 5)", _sdf_options)
+def _tree_options(args: argparse.Namespace) -> "TreeGenOptions":
+    """The options of ``--urdf`` and ``--mjcf``: mesh paths are written relative to the
+    output folder, so it is fixed here as ``_gen`` will choose it."""
+    from cyphy.api import TreeGenOptions
+    from cyphy.outputs import default_output_dir
+
+    output = args.output or str(default_output_dir(args.paths, args.target))
+    return TreeGenOptions(args.model, _consts(args), tuple(args.path), output,
+                          getattr(args, "urdf_package", None))
+
+
+def _urdf_options(gen: argparse.ArgumentParser) -> None:
+    group = gen.add_argument_group("--urdf options")
+    group.add_argument("--urdf-package", metavar="NAME",
+                       help="mesh paths as package://NAME/<path in the model folder> (ROS), "
+                       "instead of relative to the output folder")
+
+
+def _urdf_run(args: argparse.Namespace) -> "Generated":
+    from cyphy.api import generate_urdf
+
+    return generate_urdf(args.paths, _tree_options(args))
+
+
+GENERATORS["urdf"] = (_urdf_run, "URDF 1.0 for ROS, PyBullet and Pinocchio: one file per "
+                      "tree of links, loops cut", _urdf_options)
+
+
 def _flowstar_gen(args: argparse.Namespace) -> "Generated":
     from cyphy.flowstar.commands import generate
 

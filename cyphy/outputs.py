@@ -22,6 +22,8 @@ DEFAULT_FOLDERS = {
     "isabelle": "isabelle-gen",
     "isabelle-axiomatic": "isabelle-ax-gen",
     "flowstar": "flowstar-gen",
+    "urdf": "urdf-gen",
+    "mjcf": "mjcf-gen",
 }
 
 

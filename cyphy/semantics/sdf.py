@@ -73,6 +73,8 @@ SENSOR_TYPES = {"Ray": "ray", "Sonar": "sonar", "IMU": "imu", "Camera": "camera"
                 "Contact": "contact", "Logical_camera": "logical_camera", "GPS": "gps",
                 "Altimeter": "altimeter", "Magnetometer": "magnetometer",
                 "Force_torque": "force_torque"}
+#: Targets that need trees (``split_trees``, loops cut), with the name the warnings use.
+TREE_TARGETS = {"pybullet": "PyBullet", "urdf": "URDF", "mjcf": "MuJoCo"}
 #: Actuator templates and the SDF element they stand for, with where it is valid.
 ACTUATOR_ELEMENTS = {"Light": ("light", "link"), "Physics": ("physics", "joint")}
 
@@ -109,7 +111,9 @@ class _Translation:
         self.report = report
         self.options = options
         self.coppeliasim = options.target == "coppeliasim"
-        self.pybullet = options.target == "pybullet"
+        #: Trees only (loops cut, gearboxes as revolute joints): PyBullet, URDF and MJCF.
+        self.pybullet = options.target in TREE_TARGETS
+        self.simulator = TREE_TARGETS.get(options.target, "PyBullet")
         self.names = Names(options.short_names or self.coppeliasim)
         self.templates = Templates(ws)
         self.bodies_by_name: dict[tuple[str, ...], list[Body]] = {}
@@ -286,11 +290,12 @@ def _cut(t: _Translation, j: Connection) -> list[Node | Comment]:
     extra = (" (with its sensors and actuators)"
              if isinstance(j, Joint) and (j.sensors or j.actuators) else "")
     t.report.report(CUT, f"{what} from {j.parent.name} to {j.child.name} closes a kinematic "
-                    f"loop: it is left out for PyBullet{extra}", j.span,
-                    "add it in PyBullet with p.createConstraint between the two links, or "
-                    "generate for Gazebo, which loads loops")
+                    f"loop: it is left out for {t.simulator}{extra}", j.span,
+                    "add it in the simulator as a constraint (PyBullet: p.createConstraint; "
+                    "--mjcf writes a MuJoCo equality constraint), or generate SDF for "
+                    "Gazebo, which loads loops")
     return [Comment(f"{what} from {j.parent.name} to {j.child.name} closes a loop: left out "
-                    "for PyBullet")]
+                    f"for {t.simulator}")]
 
 
 def fixed_rule(t: _Translation, fixed: FixedJoint) -> list[Node | Comment]:
@@ -527,7 +532,7 @@ def joint_rule(t: _Translation, joint: Joint) -> list:  # type: ignore[type-arg]
     annotated_axes = frozenset(AXES.get(kind, ()))  # written by _axis, with their defaults
     if kind == "gearbox" and t.pybullet:
         kind = "revolute"
-        t.report.report(GEARBOX, f"joint {joint.name} is a gearbox, which PyBullet does not "
+        t.report.report(GEARBOX, f"joint {joint.name} is a gearbox, which {t.simulator} does not "
                         "know: it is written as a revolute joint about its first axis",
                         joint.span, "couple it in PyBullet with p.createConstraint(…, "
                         "p.JOINT_GEAR, …) and setting its gearRatio")
