@@ -335,6 +335,7 @@ class TreeGenOptions:
     search_paths: tuple[str, ...] = ()
     output: str | None = None  # the output folder, to write mesh paths relative to it
     package: str | None = None  # mesh paths as package://PACKAGE/… (URDF)
+    free_base: bool = False  # MJCF: each tree's root gets a free joint
 
 
 def robot(paths: Sequence[str | Path], options: TreeGenOptions, target: str
@@ -381,6 +382,26 @@ def generate_urdf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
         return generated
     generated.files = {name: to_xml(node) for name, node in files.items()}
     generated.files[f"{built.name}.names.json"] = names_json(_names(built))
+    return generated
+
+
+def generate_mjcf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGenOptions()
+                  ) -> Generated:
+    """MuJoCo's MJCF (``cyphy gen --mjcf``): ``<Model>.xml`` with every tree of links, a
+    motor per driven joint, loops closed by equality constraints; and the name table."""
+    from cyphy.backends.mjcf import robot_to_mjcf
+    from cyphy.backends.sdf_xml import names_json, to_xml
+
+    generated, built, model = robot(paths, options, "mjcf")
+    if built is None:
+        return generated
+    report = generated.report
+    root = robot_to_mjcf(built, _mesh_paths(options, model), report, model.pmodel.span,
+                         options.free_base)
+    if report.has_errors:
+        return generated
+    generated.files = {f"{built.name}.xml": to_xml(root),
+                       f"{built.name}.names.json": names_json(_names(built))}
     return generated
 
 

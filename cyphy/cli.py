@@ -204,7 +204,8 @@ def _tree_options(args: argparse.Namespace) -> "TreeGenOptions":
 
     output = args.output or str(default_output_dir(args.paths, args.target))
     return TreeGenOptions(args.model, _consts(args), tuple(args.path), output,
-                          getattr(args, "urdf_package", None))
+                          getattr(args, "urdf_package", None),
+                          getattr(args, "mjcf_free_base", False))
 
 
 def _urdf_options(gen: argparse.ArgumentParser) -> None:
@@ -222,6 +223,23 @@ def _urdf_run(args: argparse.Namespace) -> "Generated":
 
 GENERATORS["urdf"] = (_urdf_run, "URDF 1.0 for ROS, PyBullet and Pinocchio: one file per "
                       "tree of links, loops cut", _urdf_options)
+
+
+def _mjcf_options(gen: argparse.ArgumentParser) -> None:
+    group = gen.add_argument_group("--mjcf options")
+    group.add_argument("--mjcf-free-base", action="store_true",
+                       help="give each tree's root a free joint (a mobile robot) instead of "
+                       "fixing it to the world")
+
+
+def _mjcf_run(args: argparse.Namespace) -> "Generated":
+    from cyphy.api import generate_mjcf
+
+    return generate_mjcf(args.paths, _tree_options(args))
+
+
+GENERATORS["mjcf"] = (_mjcf_run, "MuJoCo MJCF: the trees of links as bodies, a motor per "
+                      "driven joint, loops closed by equality constraints", _mjcf_options)
 
 
 def _flowstar_gen(args: argparse.Namespace) -> "Generated":

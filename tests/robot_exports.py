@@ -31,8 +31,11 @@ def pinocchio_mass(urdf: Path, q: dict[str, float]) -> MassMatrix:
     names = [model.names[i] for i in range(1, model.njoints) if model.joints[i].nv == 1]
     config = pinocchio.neutral(model)
     for i in range(1, model.njoints):
+        value, at = q.get(model.names[i], 0.0), model.joints[i].idx_q
         if model.joints[i].nq == 1:
-            config[model.joints[i].idx_q] = q.get(model.names[i], 0.0)
+            config[at] = value
+        elif model.joints[i].nv == 1:  # unbounded (URDF continuous): (cos q, sin q)
+            config[at:at + 2] = (np.cos(value), np.sin(value))
     M = pinocchio.crba(model, data, config)
     M = np.triu(M) + np.triu(M, 1).T
     order = [model.joints[model.getJointId(n)].idx_v for n in names]
@@ -65,13 +68,14 @@ def mujoco_mass(mjcf: Path, q: dict[str, float]) -> MassMatrix:
     data = mujoco.MjData(model)
     names = []
     for j in range(model.njnt):
-        if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE):
+        if int(model.jnt_type[j]) in (int(mujoco.mjtJoint.mjJNT_HINGE),
+                                      int(mujoco.mjtJoint.mjJNT_SLIDE)):
             name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j)
             names.append(name)
             data.qpos[model.jnt_qposadr[j]] = q.get(name, 0.0)
     mujoco.mj_forward(model, data)
     full = np.zeros((model.nv, model.nv))
-    mujoco.mj_fullM(model, full, data.qM)
+    mujoco.mj_fullM(model, data, full)
     dofs = [model.jnt_dofadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, n)]
             for n in names]
     return names, full[np.ix_(dofs, dofs)]
