@@ -13,7 +13,8 @@ Decisions (README "gen --mjcf"):
   prismatic → ``slide``, ball → ``ball``, universal and revolute2 → two hinges in one body,
   fixed → none; bounds → ``range``, damping and friction → ``damping``, ``frictionloss``;
 * one geom per RoboSim body (box half sizes, cylinder radius and half length, sphere, mesh
-  for the formats MuJoCo reads: STL, OBJ, MSH; another format gets a comment, W-MJCF-MESH);
+  for the formats MuJoCo reads: STL, OBJ, MSH); a geom MuJoCo would refuse (another mesh
+  format, a size that is not positive) is a comment and W-MJCF-GEOM;
 * a **driven joint** is a joint that holds an actuator (an ``aref`` in its ``jref``, the
   motor that the platform mapping drives): each of its hinges and slides gets a ``<motor>``
   (gear 1, control and force ranges ±effort when the annotation limits the effort);
@@ -40,8 +41,9 @@ from cyphy.model.poses import Pose
 from cyphy.semantics.robot_tree import Robot, RobotJoint, RobotLink, Shape, Tree
 from cyphy.semantics.sdf_tree import Node
 
-MESH_FORMAT = codes.code("W-MJCF-MESH", codes.W,
-                         "a mesh in a format MuJoCo cannot read (only STL, OBJ, MSH): left out")
+BAD_GEOM = codes.code("W-MJCF-GEOM", codes.W,
+                      "a geometry MuJoCo refuses (a mesh not in STL, OBJ or MSH, a size that is "
+                      "not positive): its geom is left out")
 NO_EQUALITY = codes.code("W-MJCF-LOOP", codes.W,
                          "a cut prismatic or screw joint: MuJoCo gets no constraint for it")
 
@@ -165,6 +167,12 @@ def _geom(body: Node, shape: Shape, frame: Pose, meshes: MeshPaths, assets: Node
           report: Report, span: object) -> None:
     local = shape.pose.relative_to(frame)
     attrs = {"name": shape.name}
+    if any(v <= 0 for v in shape.size):
+        report.report(BAD_GEOM, f"body {shape.qualified}: MuJoCo refuses a {shape.kind} of "
+                      f"size {_vec(shape.size)}; its geom is left out", span,  # type: ignore[arg-type]
+                      "give the geometry positive sizes")
+        body.comment(f"body {shape.qualified}: {shape.kind} of size {_vec(shape.size)} left out")
+        return
     if shape.kind == "box":
         attrs.update(type="box", size=_vec(v / 2 for v in shape.size))
     elif shape.kind == "cylinder":
@@ -174,7 +182,7 @@ def _geom(body: Node, shape: Shape, frame: Pose, meshes: MeshPaths, assets: Node
     else:
         path = MeshPaths(meshes.to_output).uri(shape.uri)
         if posixpath.splitext(path)[1].lower() not in MESH_FORMATS or "://" in path:
-            report.report(MESH_FORMAT, f"body {shape.qualified}: MuJoCo cannot read mesh "
+            report.report(BAD_GEOM, f"body {shape.qualified}: MuJoCo cannot read mesh "
                           f"'{shape.uri}'; its geom is left out", span,  # type: ignore[arg-type]
                           "convert the mesh to STL or OBJ")
             body.comment(f"body {shape.qualified}: mesh {shape.uri} left out")

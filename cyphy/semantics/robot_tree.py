@@ -289,3 +289,33 @@ def mesh_escapes(uri: str) -> bool:
         return False
     path = uri.removeprefix("file://")
     return posixpath.isabs(path) or posixpath.normpath(path).startswith("..")
+
+
+def moved(robot: Robot, positions: dict[str, float]) -> dict[str, Pose]:
+    """Forward kinematics: for each link, the rigid motion ``D`` that takes its model-frame
+    poses (link, bodies, centre of mass) at rest to where they are with the joints at
+    ``positions`` (joint name → radians or metres; a joint not given stays at 0): a revolute
+    joint turns its child about its axis through the joint origin, a prismatic joint slides
+    it along the axis. Other joint types stay at rest."""
+    motion: dict[str, Pose] = {}
+    for tree in robot.trees:
+        motion[tree.root.name] = Pose.identity()
+        for j in tree.joints:  # depth first: the parent's motion is known
+            q = positions.get(j.name, 0.0)
+            axis = j.axes[0] if j.axes else np.array([0.0, 0.0, 1.0])
+            if j.kind in ("revolute", "gearbox", "screw", "universal", "revolute2") and q:
+                local = Pose((0.0, 0.0, 0.0), _rotation(axis, q))
+            elif j.kind == "prismatic" and q:
+                local = Pose.at(tuple(q * axis))
+            else:
+                local = Pose.identity()
+            # D_child = D_parent · F0 · local · F0⁻¹, with F0 the joint frame at rest
+            motion[j.child] = motion[j.parent].compose(j.frame).compose(local).compose(
+                j.frame.inverse())
+    return motion
+
+
+def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    """Rodrigues' formula: the rotation by ``angle`` about the unit vector ``axis``."""
+    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
+    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * (k @ k)

@@ -196,29 +196,38 @@ def check_V5_coincident(ctx: WFContext) -> None:
     poses are composed are almost always a copy-and-paste slip (the paper's firefighter drone
     had two rotor arms at the same coordinates, found only by eye in Gazebo)."""
     for m in _models(ctx):
-        body_keys = {id(b): _body_key(b) for b in m.bodies}  # each body's key, once
-        _coincident(ctx, m.links, lambda link: _link_key(link, body_keys), "links",
-                    "move one of them (check the poses of the links and of the parts that "
-                    "contain them)")
-        for link in m.links:
-            if len(link.bodies) > 1:
-                _coincident(ctx, link.bodies, lambda body: body_keys[id(body)], "bodies",
-                            "move one of them, or remove the duplicate")
+        for first, again in coincident(m):
+            what, hint = ("links", "move one of them (check the poses of the links and of the "
+                          "parts that contain them)") if hasattr(first, "bodies") else \
+                ("bodies", "move one of them, or remove the duplicate")
+            ctx.error("V5", again, f"{what} {first.name} and {again.name} have the same shape "
+                      "at the same place", hint)
 
 
-def _coincident(ctx: WFContext, elements: list[Any], key_of: Callable[[Any], Any], what: str,
-                hint: str) -> None:
-    """Report each element whose (shape, place) key an earlier one already has."""
+def coincident(model: Any) -> list[tuple[Any, Any]]:
+    """V5's pairs in an elaborated model: (earlier, later) links, then bodies of one link,
+    with the same shape at the same place (``cyphy view`` draws them highlighted)."""
+    body_keys = {id(b): _body_key(b) for b in model.bodies}  # each body's key, once
+    pairs = _coincident(model.links, lambda link: _link_key(link, body_keys))
+    for link in model.links:
+        if len(link.bodies) > 1:
+            pairs += _coincident(link.bodies, lambda body: body_keys[id(body)])
+    return pairs
+
+
+def _coincident(elements: list[Any], key_of: Callable[[Any], Any]) -> list[tuple[Any, Any]]:
+    """Each element whose (shape, place) key an earlier one already has, with that one."""
     seen: dict[Any, Any] = {}
+    pairs = []
     for element in elements:
         key = key_of(element)
         if key is None:
             continue
         if key in seen:
-            ctx.error("V5", element, f"{what} {seen[key].name} and {element.name} have the "
-                      "same shape at the same place", hint)
+            pairs.append((seen[key], element))
         else:
             seen[key] = element
+    return pairs
 
 
 def _rounded(values: Any) -> tuple[float, ...]:
