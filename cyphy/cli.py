@@ -46,7 +46,9 @@ def _parser() -> argparse.ArgumentParser:
     show.add_argument("paths", nargs="+", metavar="PATH", help="model file or folder")
     show.add_argument("--model", metavar="NAME", help="the p-model to show")
     _const_options(show)
-    show.add_argument("--format", choices=("text", "json"), default="text")
+    show.add_argument("--format", choices=("text", "json", "dot", "svg"), default="text",
+                      help="text (default), json, or the kinematic graph: dot (Graphviz's "
+                      "language) or svg (drawn by Graphviz's dot)")
     _path_option(show)
     solve = sub.add_parser(
         "solve",
@@ -488,7 +490,19 @@ def _show(args: argparse.Namespace) -> int:
         sys.stderr.write(render_text(diagnostics, dict(result.check.sources)))
     if result.model is None:
         return 1
-    out = model_to_json(result.model) if args.format == "json" else model_to_text(result.model)
+    if args.format in ("dot", "svg"):
+        from cyphy.backends.graph import GraphvizMissing, dot_to_svg, model_to_dot
+
+        out = model_to_dot(result.model)
+        if args.format == "svg":
+            try:
+                out = dot_to_svg(out)
+            except GraphvizMissing as err:
+                sys.stderr.write(f"cyphy show: error: {err}\n")
+                return 2
+    else:
+        out = model_to_json(result.model) if args.format == "json" \
+            else model_to_text(result.model)
     sys.stdout.write(out)
     return result.report.exit_code
 
