@@ -72,7 +72,8 @@ def _parser() -> argparse.ArgumentParser:
         help="generate files for simulators and provers",
         description="Check the model and, when it has no errors, generate the chosen artefact. "
         "Without -o the files go beside the model, in RoboTool's folder names (sdf-gen/, "
-        "cpc-gen/, isabelle-gen/, flowstar-gen/). A model with errors writes nothing.",
+        "cpc-gen/, isabelle-gen/, flowstar-gen/; ours urdf-gen/, mjcf-gen/). A model with errors "
+        "writes nothing.",
     )
     gen.add_argument("paths", nargs="+", metavar="PATH", help="model file or folder")
     targets = gen.add_mutually_exclusive_group(required=True)
