@@ -7,8 +7,6 @@ import subprocess
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-import pytest
-
 from conftest import EXAMPLES
 from cyphy.cli import main
 

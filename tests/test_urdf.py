@@ -3,7 +3,6 @@ model's geometry re-expressed in URDF's joint frames (checked against the SDF's 
 
 from __future__ import annotations
 
-import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -174,3 +173,60 @@ def test_corpus_urdf_passes_check_urdf(tmp_path: Path) -> None:
                 pinocchio.buildModelFromUrdf(str(path))
                 written += 1
     assert written > 150
+
+
+MULTI_AXIS = """\
+import physmod::joints::Revolute
+import physmod::sdf::annotations::*
+pmodel Multi {
+  local link Base {
+    def { inertial information { mass 1.0 } }
+    local body B { def { box(length = 0.1, width = 0.1, height = 0.1) } }
+    jref Shoulder = Revolute { pose { x = 0 y = 0 z = 0.1 roll = 0 pitch = 0 yaw = 0 }
+      annotation Ball { } flexibly connected to Upper }
+  }
+  local link Upper {
+    pose { x = 0 y = 0 z = 0.1 roll = 0 pitch = 0 yaw = 0 }
+    def { inertial information { mass 0.5 } }
+    local body U { pose { x = 0 y = 0 z = 0.2 roll = 0 pitch = 0 yaw = 0 }
+      def { cylinder(radius = 0.02, length = 0.4) } }
+    jref Wrist = Revolute { pose { x = 0 y = 0 z = 0.4 roll = 0 pitch = 0 yaw = 0 }
+      annotation Universal { axis = Axis { xyz = (|1,0,0|) } axis2 = Axis { xyz = (|0,1,0|) } }
+      flexibly connected to Hand }
+  }
+  local link Hand {
+    pose { x = 0 y = 0 z = 0.5 roll = 0 pitch = 0 yaw = 0 }
+    def { inertial information { mass 0.2 } }
+    local body H { def { sphere(radius = 0.05) } }
+  }
+}
+"""
+
+
+def test_ball_and_universal_joints(tmp_path: Path) -> None:
+    """URDF: a ball joint as three revolute joints, a universal joint as two, through
+    massless links (W-URDF-JOINT each); MJCF keeps them (a ball, two hinges in one body)."""
+    import mujoco
+    import pinocchio
+
+    model_file = tmp_path / "Multi.rsm"
+    model_file.write_text(MULTI_AXIS)
+    options = api.TreeGenOptions(output=str(tmp_path))
+    urdf = api.generate_urdf([model_file], options)
+    assert [d.code.id for d in urdf.report.diagnostics].count("W-URDF-JOINT") == 2
+    (tmp_path / "Multi.urdf").write_text(urdf.files["Multi.urdf"])  # type: ignore[arg-type]
+    assert check_urdf(tmp_path / "Multi.urdf") == ""
+    robot = ET.parse(tmp_path / "Multi.urdf").getroot()
+    axes = [(j.get("name"), j.find("axis").get("xyz")) for j in robot.iter("joint")]
+    assert axes == [("Base__Shoulder", "1 0 0"), ("Base__Shoulder__2", "0 1 0"),
+                    ("Base__Shoulder__3", "0 0 1"), ("Upper__Wrist", "1 0 0"),
+                    ("Upper__Wrist__2", "0 1 0")]
+    assert pinocchio.buildModelFromUrdf(str(tmp_path / "Multi.urdf")).nv == 5
+    mjcf = api.generate_mjcf([model_file], api.TreeGenOptions(output=str(tmp_path),
+                                                               free_base=True))
+    (tmp_path / "Multi.xml").write_text(mjcf.files["Multi.xml"])  # type: ignore[arg-type]
+    model = mujoco.MjModel.from_xml_path(str(tmp_path / "Multi.xml"))
+    assert model.nv == 6 + 3 + 2  # free base, ball, two hinges
+    assert sorted(int(t) for t in model.jnt_type) == sorted(int(t) for t in (
+        mujoco.mjtJoint.mjJNT_FREE, mujoco.mjtJoint.mjJNT_BALL, mujoco.mjtJoint.mjJNT_HINGE,
+        mujoco.mjtJoint.mjJNT_HINGE))
