@@ -72,6 +72,10 @@ def test_manipulator_motors_and_ranges(tmp_path: Path, capsys) -> None:
     again = tmp_path / "again"
     _gen(again, "manipulator")
     assert (again / "Manipulator.xml").read_bytes() == mjcf.read_bytes()
+    faulty = tmp_path / "faulty"
+    assert main(["gen", str(EXAMPLES / "faulty"), "--mjcf", "-o", str(faulty)]) == 1
+    assert not faulty.exists()
+    assert main(["gen", str(EXAMPLES / "dcmotor"), "--mjcf", "--urdf-package", "p"]) == 2
 
 
 FOUR_BAR = """\
