@@ -106,7 +106,7 @@ def _relation(p: Any, negate: bool, variables: set[Any]) -> list[Conjunction]:
     else:
         denom = sympy.nsimplify(denom) if not denom.is_number else denom
         poly = sympy.expand(numer / denom)
-    if not poly.free_symbols & variables:
+    if not poly.free_symbols:
         value = float(poly)
         holds = {"<": value <= 0, "<=": value <= 0, ">": value >= 0, ">=": value >= 0,
                  "==": value == 0}[op]

@@ -36,7 +36,7 @@ from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.flowstar.constraints import Conjunction, dnf, negated_dnf
-from cyphy.flowstar.printer import NotExpressible, flowstar_text, number, valid_name
+from cyphy.flowstar.printer import FUNCTIONS, NotExpressible, flowstar_text, number, valid_name
 from cyphy.flowstar.scenario import Scenario
 
 EXPORT = codes.code("E-FLOWSTAR", codes.E,
@@ -181,9 +181,10 @@ class _Builder:
         self._check_init(problem)
         if s.settings.max_jumps is not None and s.settings.max_jumps < problem.required_jumps:
             raise self.fail(
-                f"max_jumps = {s.settings.max_jumps} is too small: {s.horizon} time units are "
-                f"{problem.required_jumps - 1} cycles of {s.period:g}, so Flow* needs at least "
-                f"{problem.required_jumps} jumps; with fewer it stops early and still reports "
+                f"max_jumps = {s.settings.max_jumps} is too small: the horizon of "
+                f"{s.horizon:g} s is {problem.required_jumps - 1} cycles of {s.period:g} s "
+                f"(cycle × tscale), so Flow* needs at least {problem.required_jumps} jumps; "
+                "with fewer it stops early and still reports "
                 "SAFE", s.span("flowstar", "max_jumps"),
                 f"remove max_jumps (the default is {problem.required_jumps}) or raise it")
         return problem
@@ -261,8 +262,16 @@ class _Builder:
 
     def _known_names(self, e: ex.Expr, system: Any, span: Span) -> None:
         known = set(system.variables) | set(system.parameters) | {CLOCK}
+        functions = {id(n.func) for n in e.walk() if isinstance(n, ex.Call)}
         for node in e.walk():
-            if isinstance(node, ex.Name) and node.text not in known:
+            if isinstance(node, ex.Call) and (
+                    not isinstance(node.func, ex.Name) or node.func.text not in FUNCTIONS
+                    or len(node.args) != 1):
+                name = node.func.text if isinstance(node.func, ex.Name) else "?"
+                raise self.fail(f"'{name}' is not a function Flow* has", span,
+                                "Flow* knows exp, sin, cos, log and sqrt, of one argument")
+            if isinstance(node, ex.Name) and id(node) not in functions and \
+                    node.text not in known:
                 raise self.fail(f"'{node.text}' is not a variable of the model's equations",
                                 span, did_you_mean(node.text, known))
 
@@ -411,6 +420,15 @@ class _Builder:
                                 self.s.span("init", written.split("::")[-1]),
                                 did_you_mean(name, expected) or
                                 f"state variables: {', '.join(sorted(expected))}")
+        unset = [u for u in p.held_inputs if u not in given
+                 and u not in p.effects.get(self.s.initial, {})]
+        if unset:
+            raise self.fail(
+                f"nothing gives the held actuator input{'s' if len(unset) > 1 else ''} "
+                f"{', '.join(unset)} a value at time 0: the initial state {self.s.initial} "
+                "calls nothing that sets it", self.s.span("controller", "initial"),
+                "give its value at time 0 in [init] (" + ", ".join(f"{u} = 0" for u in unset)
+                + "), or a call in the initial state that sets it")
         missing = [x for x in p.states if x not in given]
         if missing:
             raise self.fail(f"[init] gives no initial interval for {', '.join(missing)}",
@@ -496,8 +514,8 @@ def render(p: Problem, output_name: str) -> str:
               f"  output {output_name}",
               f"  max jumps {p.max_jumps}",
               "  print off", " }", "", " modes", " {"]
-    for mode, effects in p.effects.items():
-        values = {symbol(u): effects[u] for u in mode_inputs}
+    for mode in p.effects:
+        values = _mode_values(p, mode)
         rhs = {x: sympy.expand(p.rhs[x].xreplace(values)) for x in p.states}
         poly = all(f.is_polynomial(*var_syms) for f in rhs.values())
         lines += [f"  {mode}", "  {", "   poly ode 2" if poly else "   nonpoly ode", "   {"]
@@ -524,11 +542,12 @@ def render(p: Problem, output_name: str) -> str:
     lines += [f"   {TIMER} in [0, 0]", f"   {CLOCK} in [0, 0]", "  }", " }", "}", "",
               "# every mode is listed: a mode left out would count as entirely unsafe",
               "unsafe", "{"]
-    unsafe = dnf(p.unsafe, var_syms)
-    body = [a.text() for a in unsafe[0]] if unsafe else [f"{CLOCK} <= -1"]  # empty: never
-    if unsafe and not body:
-        body = [f"{CLOCK} >= 0"]  # the whole space: every reachable state is unsafe
     for mode in p.effects:
+        # the mode's constant actuator inputs substituted: an unsafe set may name them
+        unsafe = dnf(p.unsafe.xreplace(_mode_values(p, mode)), var_syms)
+        body = [a.text() for a in unsafe[0]] if unsafe else [f"{CLOCK} <= -1"]  # never
+        if unsafe and not body:
+            body = [f"{CLOCK} >= 0"]  # the whole space: every reachable state is unsafe
         lines += [f" {mode}", " {"] + [f"  {b}" for b in body] + [" }"]
     lines.append("}")
     return "\n".join(lines) + "\n"
@@ -543,11 +562,17 @@ def _jumps(p: Problem, variables: set[Any]) -> list[tuple[str, str, Conjunction]
         for t in p.scenario.transitions:
             if t.source != state:
                 continue
-            pred = sympy.Not(p.events[t.event]) if t.negated else p.events[t.event]
+            event = p.events[t.event].xreplace(_mode_values(p, state))
+            pred = sympy.Not(event) if t.negated else event
             whens.append(pred)
             out += [(state, t.target, c) for c in dnf(pred, variables)]
         out += [(state, state, c) for c in negated_dnf(whens, variables)]
     return out
+
+
+def _mode_values(p: Problem, mode: str) -> dict[Any, Any]:
+    """The actuator inputs that are constants of ``mode``, as a substitution."""
+    return {symbol(u): p.effects[mode][u] for u in p.mode_inputs}
 
 
 def _init(p: Problem, name: str) -> tuple[Any, Any]:
@@ -555,10 +580,8 @@ def _init(p: Problem, name: str) -> tuple[Any, Any]:
     for n, v in s.init.items():
         if n == name or p.qualified.get(name) in (n, f"{p.name}::{n}"):
             return v
-    initial = p.effects.get(s.initial, {})
-    if name in initial:
-        return initial[name], initial[name]
-    return 0, 0
+    initial = p.effects[s.initial]  # _check_init saw that it sets every other held input
+    return initial[name], initial[name]
 
 
 def _value(v: Any) -> str:
@@ -570,6 +593,6 @@ def _value(v: Any) -> str:
 def output_name(scenario_path: str) -> str:
     """Flow*'s ``output`` name from the scenario file's name: letters, digits, ``_``."""
     stem = re.sub(r"[^A-Za-z0-9_]", "_", Path(scenario_path).stem) or "model"
-    if not re.match(r"[A-Za-z_]", stem) or stem in ("time", "init", "in", "mode"):
+    if not valid_name(stem):  # a digit first, or a reserved word (`sin.toml`)
         stem = "m_" + stem
     return stem

@@ -9,6 +9,7 @@ the file's shape; names are checked against the model by :mod:`cyphy.flowstar.ex
 
 from __future__ import annotations
 
+import math
 import re
 import tomllib
 from dataclasses import dataclass, field
@@ -107,6 +108,10 @@ class _Reader:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             self.error(f"'{'.'.join(keys)}' must be a number, not {value!r}", keys)
             return None
+        if not math.isfinite(value):
+            self.error(f"'{'.'.join(keys)}' must be a finite number, not {value!r}", keys,
+                       "nan and inf have no meaning here: write a number")
+            return None
         if positive and value <= 0:
             self.error(f"'{'.'.join(keys)}' must be positive", keys)
             return None
@@ -187,8 +192,20 @@ def _consts(r: _Reader, value: Any) -> None:
     for name, v in (table or {}).items():
         if isinstance(v, bool) or not isinstance(v, (int, float, list, str)):
             r.error(f"constant '{name}' must be a number, a list or a string", ("consts", name))
+        elif not _finite(v):
+            r.error(f"constant '{name}' must be finite, not {v!r}", ("consts", name),
+                    "nan and inf have no meaning here: write a number")
         else:
             r.s.consts[name] = v
+
+
+def _finite(value: Any) -> bool:
+    """No nan or inf anywhere in a constant's value (a number or a list of them)."""
+    if isinstance(value, float):
+        return math.isfinite(value)
+    if isinstance(value, list):
+        return all(_finite(v) for v in value)
+    return True
 
 
 def _init(r: _Reader, value: Any) -> None:
@@ -205,7 +222,9 @@ def _init(r: _Reader, value: Any) -> None:
                 continue
             r.s.init[name] = (lo, hi)
         elif isinstance(v, (int, float)) and not isinstance(v, bool):
-            r.s.init[name] = (float(v), float(v))
+            number = r.number(v, keys)
+            if number is not None:
+                r.s.init[name] = (number, number)
         else:
             r.error(f"the initial value of '{name}' must be a number or an interval "
                     "[low, high]", keys)
@@ -219,7 +238,9 @@ def _environment(r: _Reader, value: Any) -> None:
         if isinstance(v, str):
             r.s.environment[name] = Environment(name, v, None, span)
         elif isinstance(v, (int, float)) and not isinstance(v, bool):
-            r.s.environment[name] = Environment(name, repr(float(v)), None, span)
+            number = r.number(v, keys)
+            if number is not None:
+                r.s.environment[name] = Environment(name, repr(number), None, span)
         elif isinstance(v, dict) and set(v) == {"derivative"} and isinstance(
                 v["derivative"], (str, int, float)):
             r.s.environment[name] = Environment(name, str(v["derivative"]), None, span)
