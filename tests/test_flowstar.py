@@ -192,8 +192,11 @@ def test_dcmotor_export_matches_the_spec_example_in_structure(dcmotor):
     model = parse_model(render(dcmotor, "sampled_stop"))
     assert list(model.modes) == ["cruise", "stopped"]
     assert all(m.ode == "poly ode 2" for m in model.modes.values())
+    # the spec's example also has stopped -> stopped; a final state flows to the horizon
     assert [(j.source, j.target) for j in model.jumps] == [
-        ("cruise", "stopped"), ("cruise", "cruise"), ("stopped", "stopped")]
+        ("cruise", "stopped"), ("cruise", "cruise")]
+    assert [c.bounds for c in model.modes["cruise"].invariant] == [("0.1",)]
+    assert model.modes["stopped"].invariant == []
     assert all(j.resets.keys() == {"timer"} for j in model.jumps)
     assert set(model.unsafe) == set(model.modes)
     assert model.settings["max jumps"] == 25
@@ -577,3 +580,11 @@ def test_a_timeout_kills_the_whole_process_group(tmp_path):
         time.sleep(0.1)
     else:
         pytest.fail("the grandchild survived the timeout")
+
+
+def test_a_final_state_keeps_its_cycles_when_the_unsafe_set_reads_the_timer(tmp_path):
+    path = tmp_path / "timer.toml"
+    path.write_text(BASE.replace('"Motor_av >= 20"', '"Motor_av >= 20", "timer >= 0.05"'))
+    model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), "timer"))
+    assert ("stopped", "stopped") in [(j.source, j.target) for j in model.jumps]
+    assert model.modes["stopped"].invariant

@@ -71,6 +71,18 @@ class Problem:
         return [u for u in self.inputs if u not in self.mode_inputs]
 
     @property
+    def final_states(self) -> set[str]:
+        """Controller states no transition leaves. Their cycles change nothing: the calls
+        re-set the same inputs, and only the timer is reset. Such a mode flows to the
+        horizon without the timer's invariant and jumps: every jump costs Flow* precision
+        (the enclosure grows at each), so this is what lets a stopped robot be proved at
+        rest. Not done when the unsafe set reads the timer, whose values it changes."""
+        if symbol(TIMER) in self.unsafe.free_symbols:
+            return set()
+        leaving = {t.source for t in self.scenario.transitions if t.target != t.source}
+        return {state for state in self.effects if state not in leaving}
+
+    @property
     def max_jumps(self) -> int:
         required = self.required_jumps
         given = self.scenario.settings.max_jumps
@@ -514,6 +526,7 @@ def render(p: Problem, output_name: str) -> str:
               f"  output {output_name}",
               f"  max jumps {p.max_jumps}",
               "  print off", " }", "", " modes", " {"]
+    final = p.final_states
     for mode in p.effects:
         values = _mode_values(p, mode)
         rhs = {x: sympy.expand(p.rhs[x].xreplace(values)) for x in p.states}
@@ -524,9 +537,12 @@ def render(p: Problem, output_name: str) -> str:
         for u in held:
             lines.append(f"    {u}' = 0")
         lines += [f"    {TIMER}' = 1", f"    {CLOCK}' = 1", "   }",
-                  "   inv", "   {", f"    {TIMER} <= {number(period)}", "   }", "  }", ""]
+                  "   inv", "   {"]
+        if mode not in final:
+            lines.append(f"    {TIMER} <= {number(period)}")
+        lines += ["   }", "  }", ""]
     lines[-1:] = [" }", "", " jumps", " {"]
-    for source, target, guard in _jumps(p, var_syms):
+    for source, target, guard in _jumps(p, var_syms, final):
         atoms = [f"{TIMER} = {number(period)}"] + [a.text() for a in guard]
         resets = [f"{TIMER}' := 0"] + [f"{u}' := {_value(p.effects[target][u])}"
                                         for u in held if u in p.effects[target]]
@@ -553,11 +569,15 @@ def render(p: Problem, output_name: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _jumps(p: Problem, variables: set[Any]) -> list[tuple[str, str, Conjunction]]:
+def _jumps(p: Problem, variables: set[Any], final: set[str]
+           ) -> list[tuple[str, str, Conjunction]]:
     """Per controller state, in the scenario's order: each transition's ``when`` (one jump
-    per disjunct), then staying, guarded by the closure of "no ``when`` holds"."""
+    per disjunct), then staying, guarded by the closure of "no ``when`` holds". A final
+    state has none: it flows to the horizon."""
     out: list[tuple[str, str, Conjunction]] = []
     for state in p.effects:
+        if state in final:
+            continue
         whens = []
         for t in p.scenario.transitions:
             if t.source != state:

@@ -147,15 +147,42 @@ class Automaton:
             return None
 
     def _run(self, start: dict[str, float]) -> Witness | None:
+        mode = self.model.initial_mode
+        first = self._point(0.0, mode, [start[v] for v in self.variables])
+        switches: list[Point] = []
+        step = float(self.model.settings.get("fixed steps") or 0.01)
+        previous = mode
+        for mode, sol, begin, end, jumps in self._segments(start, strict=True):
+            if mode != previous:
+                switches.append(self._point(begin, mode, sol.y[:, 0]))
+                previous = mode
+            entry = self._entry(mode, sol, begin, end, step)
+            if entry is not None:
+                return Witness(first, tuple(switches), entry, jumps)
+        return None
+
+    def sample(self, start: dict[str, float], times: Any) -> dict[str, Any]:
+        """The values of every variable at ``times`` (NaN after the path ends); at a jump
+        whose guard is on its boundary the first such jump in file order is taken."""
+        import numpy as np
+
+        out = {v: np.full(len(times), np.nan) for v in self.variables}
+        for _, sol, begin, end, _ in self._segments(start, strict=False):
+            inside = (times >= begin) & (times <= end)
+            values = sol.sol(times[inside])
+            for k, v in enumerate(self.variables):
+                out[v][inside] = values[k]
+        return out
+
+    def _segments(self, start: dict[str, float], strict: bool) -> Any:
+        """The flows of the trajectory from ``start``, one per mode visit: (mode, solution,
+        start time, end time, jumps so far)."""
         import numpy as np
         from scipy.integrate import solve_ivp
 
         mode = self.model.initial_mode
         x = np.array([start[v] for v in self.variables], dtype=float)
-        first = self._point(0.0, mode, x)
-        switches: list[Point] = []
         now, jumps = 0.0, 0
-        step = float(self.model.settings.get("fixed steps") or 0.01)
         while True:
             events = []
             for f, rel, (b, *_) in self.invariants[mode]:
@@ -169,23 +196,18 @@ class Automaton:
                             x, method="DOP853", rtol=RTOL, atol=ATOL, events=events,
                             dense_output=True)
             end = float(sol.t[-1])
-            entry = self._entry(mode, sol, now, end, step)
-            if entry is not None:
-                return Witness(first, tuple(switches), entry, jumps)
+            yield mode, sol, now, end, jumps
             now, x = end, sol.y[:, -1]
             if now >= self.horizon - 1e-12 or jumps >= self.max_jumps:
-                return None
-            taken = self._jump(mode, x)
+                return
+            taken = self._jump(mode, x, strict)
             if taken is None:
-                return None  # no guard holds: the path ends, as in Flow*
+                return  # no guard holds: the path ends, as in Flow*
             target, resets = taken
             new = x.copy()
             for v, f in resets.items():
                 new[self.variables.index(v)] = float(f(*x))
-            x, jumps = new, jumps + 1
-            if target != mode:
-                switches.append(self._point(now, target, x))
-            mode = target
+            x, jumps, mode = new, jumps + 1, target
 
     def _entry(self, mode: str, sol: Any, start: float, end: float, step: float
                ) -> Point | None:
@@ -203,14 +225,14 @@ class Automaton:
             return self._point(float(samples[k]), mode, states[:, k])
         return None
 
-    def _jump(self, mode: str, x: Any) -> tuple[str, dict[str, Any]] | None:
+    def _jump(self, mode: str, x: Any, strict: bool) -> tuple[str, dict[str, Any]] | None:
         for source, target, guard, resets in self.jumps:
             if source != mode:
                 continue
             status = int(self._conjunction(guard, x.reshape(-1, 1))[0])
-            if status == 0:
+            if status == 0 and strict:
                 raise _Unclear  # this jump's guard is on its boundary here
-            if status == 1:
+            if status >= 0:
                 return target, resets
         return None
 
