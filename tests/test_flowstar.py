@@ -325,8 +325,6 @@ BASE = (EXAMPLES / "dcmotor" / "sampled_stop.toml").read_text()
     (("Motor_theta = 0\n", ""), "E-FLOWSTAR", "no initial interval for Motor_theta"),
     (("max_jumps = 25", "max_jumps = 5"), "E-FLOWSTAR", "max_jumps = 5 is too small"),
     (('"Motor_av >= 20"', '"sin(Motor_av) >= 0.5"'), "E-FLOWSTAR", "no Flow* constraint"),
-    (('"Motor_av >= 20"', '"Motor_av >= 20 \\\\/ Motor_i >= 3"'), "E-FLOWSTAR",
-     "one conjunction"),
     (('Range_distance = "-2"', ''), "E-FLOWSTAR", "nothing gives the input"),
     (('calls = ["drive(10)"]', 'calls = ["drive(10, 2)"]'), "E-FLOWSTAR", "takes 1 argument"),
     (("[init]", "[init\n"), "E-SCENARIO", "not valid TOML"),
@@ -418,7 +416,8 @@ def _fake_flowstar(tmp_path, stdout, stderr="", rc=0):
 
 @pytest.mark.parametrize("stdout, stderr, code, word", [
     (COMPLETED + _verdict("SAFE") + TIME, "", 0, "SAFE:"),
-    (COMPLETED + _verdict("UNSAFE") + TIME, "", 1, "UNSAFE:"),
+    # Flow*'s UNSAFE on the safe motor: no simulated trajectory confirms it
+    (COMPLETED + _verdict("UNSAFE") + TIME, "", 3, "UNKNOWN: Flow* found a flowpipe"),
     ("Computation not completed: 0 flowpipe(s) computed.\n" + _verdict("SAFE"), "", 3,
      "UNKNOWN:"),
     ("", "Error line 3: syntax error\n", 2, "ERROR:"),
@@ -430,7 +429,7 @@ def test_reach_prints_one_line_and_the_exit_status(tmp_path, capsys, stdout, std
                str(tmp_path / "out"), "--flowstar-bin", binary])
     captured = capsys.readouterr()
     assert rc == code
-    line = (captured.err if code == 2 else captured.out).strip().splitlines()[-1]
+    line = (captured.err if code == 2 else captured.out).strip().splitlines()[0]
     assert line.startswith(word) and str(tmp_path / "out" / "sampled_stop.model") in line
 
 
@@ -588,3 +587,17 @@ def test_a_final_state_keeps_its_cycles_when_the_unsafe_set_reads_the_timer(tmp_
     model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), "timer"))
     assert ("stopped", "stopped") in [(j.source, j.target) for j in model.jumps]
     assert model.modes["stopped"].invariant
+
+
+def test_a_disjunctive_unsafe_set_is_one_model_per_disjunct(tmp_path, capsys):
+    either = tmp_path / "either.toml"
+    either.write_text(BASE.replace('"Motor_av >= 20"', '"Motor_av >= 20 \\\\/ Motor_i >= 30"'))
+    rc = main(["gen", str(DCMOTOR[0]), "--flowstar", "--scenario", str(either), "-o",
+               str(tmp_path / "out")])
+    assert rc == 0, capsys.readouterr().err
+    written = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert written == ["either_1.model", "either_2.model"]
+    first = parse_model((tmp_path / "out" / "either_1.model").read_text())
+    second = parse_model((tmp_path / "out" / "either_2.model").read_text())
+    assert [c.bounds for c in first.unsafe["cruise"]] == [("20",)]
+    assert [c.bounds for c in second.unsafe["cruise"]] == [("30",)]

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -69,6 +69,16 @@ class Problem:
     def held_inputs(self) -> list[str]:
         """Inputs some state leaves alone: state variables with derivative 0."""
         return [u for u in self.inputs if u not in self.mode_inputs]
+
+    def disjuncts(self) -> list["Problem"]:
+        """One problem per disjunct of the unsafe set (Flow* checks one conjunction per
+        run): the system is safe when it avoids every one."""
+        variables = {symbol(n) for n in [*self.states, *self.inputs, TIMER, CLOCK]}
+        conjunctions = dnf(self.unsafe, variables)
+        if len(conjunctions) <= 1:
+            return [self]
+        return [replace(self, unsafe=sympy.And(*[a.relation() for a in c]))
+                for c in conjunctions]
 
     @property
     def final_states(self) -> set[str]:
@@ -417,10 +427,10 @@ class _Builder:
             conjunctions = dnf(unsafe, scope.variables)
         except NotExpressible as err:
             raise self.fail(str(err), self.s.span("unsafe"), "") from None
-        if len(conjunctions) > 1:
-            raise self.fail("Flow*'s unsafe set is one conjunction: a disjunction needs one "
-                            "run per disjunct", self.s.span("unsafe"),
-                            "split the property into several scenarios")
+        if not conjunctions:
+            raise self.fail("the unsafe set is empty (its constraints contradict each other)",
+                            self.s.span("unsafe"), "nothing to check: write the negation of "
+                            "the property")
         return unsafe
 
     def _check_init(self, p: Problem) -> None:
@@ -550,10 +560,10 @@ def render(p: Problem, output_name: str) -> str:
                   f"  reset {{ {'  '.join(resets)} }}", "  parallelotope aggregation { }", ""]
     lines[-1:] = [" }", "", " init", " {", f"  {s.initial}", "  {"]
     for v in p.states:
-        lo, hi = _init(p, v)
+        lo, hi = initial_interval(p, v)
         lines.append(f"   {v} in [{_value(lo)}, {_value(hi)}]")
     for u in held:
-        lo, hi = _init(p, u)
+        lo, hi = initial_interval(p, u)
         lines.append(f"   {u} in [{_value(lo)}, {_value(hi)}]")
     lines += [f"   {TIMER} in [0, 0]", f"   {CLOCK} in [0, 0]", "  }", " }", "}", "",
               "# every mode is listed: a mode left out would count as entirely unsafe",
@@ -561,6 +571,9 @@ def render(p: Problem, output_name: str) -> str:
     for mode in p.effects:
         # the mode's constant actuator inputs substituted: an unsafe set may name them
         unsafe = dnf(p.unsafe.xreplace(_mode_values(p, mode)), var_syms)
+        if len(unsafe) > 1:
+            raise NotExpressible("Flow*'s unsafe set is one conjunction: render each of "
+                                 "Problem.disjuncts()")
         body = [a.text() for a in unsafe[0]] if unsafe else [f"{CLOCK} <= -1"]  # never
         if unsafe and not body:
             body = [f"{CLOCK} >= 0"]  # the whole space: every reachable state is unsafe
@@ -595,7 +608,9 @@ def _mode_values(p: Problem, mode: str) -> dict[Any, Any]:
     return {symbol(u): p.effects[mode][u] for u in p.mode_inputs}
 
 
-def _init(p: Problem, name: str) -> tuple[Any, Any]:
+def initial_interval(p: Problem, name: str) -> tuple[Any, Any]:
+    """The initial interval of a state or held input: the scenario's, else (a held input)
+    the value the initial state's calls give it."""
     s = p.scenario
     for n, v in s.init.items():
         if n == name or p.qualified.get(name) in (n, f"{p.name}::{n}"):
