@@ -558,7 +558,9 @@ def render(p: Problem, output_name: str) -> str:
                                         for u in held if u in p.effects[target]]
         lines += [f"  {source} -> {target}", f"  guard {{ {'  '.join(atoms)} }}",
                   f"  reset {{ {'  '.join(resets)} }}", "  parallelotope aggregation { }", ""]
-    lines[-1:] = [" }", "", " init", " {", f"  {s.initial}", "  {"]
+    if lines[-1] == "":  # the blank line after the last jump (a final state has none)
+        lines.pop()
+    lines += [" }", "", " init", " {", f"  {s.initial}", "  {"]
     for v in p.states:
         lo, hi = initial_interval(p, v)
         lines.append(f"   {v} in [{_value(lo)}, {_value(hi)}]")
