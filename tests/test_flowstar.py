@@ -601,3 +601,18 @@ def test_a_disjunctive_unsafe_set_is_one_model_per_disjunct(tmp_path, capsys):
     second = parse_model((tmp_path / "out" / "either_2.model").read_text())
     assert [c.bounds for c in first.unsafe["cruise"]] == [("20",)]
     assert [c.bounds for c in second.unsafe["cruise"]] == [("30",)]
+
+
+def test_adaptive_steps_and_orders_are_passed_through(tmp_path):
+    path = tmp_path / "adaptive.toml"
+    path.write_text(BASE.replace("step = 0.01", "step = [0.002, 0.01]"))
+    model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), "adaptive"))
+    assert model.settings["adaptive steps"] == ("0.002", "0.01")
+    path.write_text(BASE.replace("order = 6", "order = [4, 8]"))
+    text = render(_problem(EXAMPLES / "dcmotor", path), "adaptive")
+    assert "adaptive orders { min 4 , max 8 }" in text and parse_model(text)
+    errors = _diagnose(tmp_path, BASE.replace("step = 0.01", "step = [0.002, 0.01]")
+                       .replace("order = 6", "order = [4, 8]"))
+    assert any("not both" in m for _, m, _, _ in errors)
+    errors = _diagnose(tmp_path, BASE.replace("order = 6", "order = [8, 4]"))
+    assert any("[min, max]" in m for _, m, _, _ in errors)

@@ -270,3 +270,12 @@ def test_real_flowstar_split_and_disjunctions(tmp_path, capsys):
     assert rc == 0, out + err
     assert "every disjunct of the unsafe set safe in 4 runs" in out
     assert out.count(": SAFE (") == 4
+
+
+@needs_flowstar
+def test_real_flowstar_accepts_adaptive_orders(tmp_path, capsys):
+    rc, out, err = _reach(capsys, DCMOTOR, _scenario(tmp_path, "adaptive", SHORT,
+                                                     ("order = 6", "order = [4, 8]")),
+                          tmp_path, "--no-auto-split")
+    assert rc == 0 and "adaptive orders { min 4 , max 8 }" in (
+        tmp_path / "out" / "adaptive.model").read_text(), out + err

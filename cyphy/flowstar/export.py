@@ -525,12 +525,12 @@ def render(p: Problem, output_name: str) -> str:
     lines.append(f"#   {TIMER}: the cycle's timer; {CLOCK}: global time")
     lines += ["hybrid reachability", "{", f" state var {', '.join(variables)}", "",
               " setting", " {",
-              f"  fixed steps {number(s.settings.step)}",
+              _steps(s.settings.step),
               f"  time {number(s.horizon)}",
               f"  remainder estimation {number(s.settings.remainder)}",
               "  identity precondition",
               f"  gnuplot octagon {CLOCK}, {p.states[0] if p.states else TIMER}",
-              f"  fixed orders {s.settings.order}",
+              _orders(s.settings.order),
               f"  cutoff {number(s.settings.cutoff)}",
               f"  precision {s.settings.precision}",
               f"  output {output_name}",
@@ -603,6 +603,18 @@ def _jumps(p: Problem, variables: set[Any], final: set[str]
             out += [(state, t.target, c) for c in dnf(pred, variables)]
         out += [(state, state, c) for c in negated_dnf(whens, variables)]
     return out
+
+
+def _steps(step: Any) -> str:
+    if isinstance(step, tuple):
+        return f"  adaptive steps {{ min {number(step[0])} , max {number(step[1])} }}"
+    return f"  fixed steps {number(step)}"
+
+
+def _orders(order: Any) -> str:
+    if isinstance(order, tuple):
+        return f"  adaptive orders {{ min {order[0]} , max {order[1]} }}"
+    return f"  fixed orders {order}"
 
 
 def _mode_values(p: Problem, mode: str) -> dict[Any, Any]:

@@ -48,8 +48,11 @@ class Transition:
 
 @dataclass(frozen=True)
 class Settings:
-    step: float = 0.01
-    order: int = 6
+    """Flow*'s settings. ``step`` and ``order`` are a number (fixed) or a pair (min, max):
+    adaptive, which Flow* allows for one of the two at a time."""
+
+    step: float | tuple[float, float] = 0.01
+    order: int | tuple[int, int] = 6
     remainder: float = 1e-2
     cutoff: float = 1e-12
     precision: int = 53
@@ -208,6 +211,14 @@ def _finite(value: Any) -> bool:
     return True
 
 
+def _positive(value: Any, kind: type) -> bool:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    if kind is int and not isinstance(value, int):
+        return False
+    return math.isfinite(value) and value > 0
+
+
 def _init(r: _Reader, value: Any) -> None:
     table = _table(r, value, ("init",))
     for name, v in (table or {}).items():
@@ -339,12 +350,29 @@ def _settings(r: _Reader, value: Any) -> None:
     table = _table(r, value, ("flowstar",)) or {}
     r.unknown_keys(table, _FLOWSTAR, ("flowstar",))
     values: dict[str, Any] = {}
+    for key, kind in (("step", float), ("order", int)):
+        v = table.get(key)
+        if isinstance(v, list):  # adaptive: [min, max]
+            keys = ("flowstar", key)
+            if len(v) != 2 or not all(_positive(x, kind) for x in v) or v[0] > v[1]:
+                r.error(f"'flowstar.{key}' as a list is [min, max] of positive "
+                        f"{'numbers' if kind is float else 'integers'}, min <= max", keys,
+                        f"for example {key} = {[0.001, 0.01] if kind is float else [4, 8]}")
+            else:
+                values[key] = (kind(v[0]), kind(v[1]))
+    if isinstance(values.get("step"), tuple) and isinstance(values.get("order"), tuple):
+        r.error("Flow* adapts the step or the order, not both: make one of them a number",
+                ("flowstar", "order"))
     for key in ("step", "remainder", "cutoff"):
+        if key == "step" and isinstance(table.get(key), list):
+            continue
         if key in table:
             v = r.number(table[key], ("flowstar", key), positive=True)
             if v is not None:
                 values[key] = v
     for key in ("order", "precision", "max_jumps"):
+        if key == "order" and isinstance(table.get(key), list):
+            continue
         if key in table:
             v = table[key]
             if isinstance(v, bool) or not isinstance(v, int) or v <= 0:

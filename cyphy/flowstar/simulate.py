@@ -150,7 +150,9 @@ class Automaton:
         mode = self.model.initial_mode
         first = self._point(0.0, mode, [start[v] for v in self.variables])
         switches: list[Point] = []
-        step = float(self.model.settings.get("fixed steps") or 0.01)
+        steps = self.model.settings.get("fixed steps") or \
+            (self.model.settings.get("adaptive steps") or ("0.01", "0.01"))[1]
+        step = float(steps)
         previous = mode
         for mode, sol, begin, end, jumps in self._segments(start, strict=True):
             if mode != previous:
