@@ -616,3 +616,15 @@ def test_adaptive_steps_and_orders_are_passed_through(tmp_path):
     assert any("not both" in m for _, m, _, _ in errors)
     errors = _diagnose(tmp_path, BASE.replace("order = 6", "order = [8, 4]"))
     assert any("[min, max]" in m for _, m, _, _ in errors)
+
+
+def test_d_model_speeds_reach_the_motors_per_second(marxbot):
+    """``move(lv, 0)`` with lv = 0.1: the mapping's equations are taken as written, in the
+    p-model's seconds, so each wheel is asked for lv / r rad/s and the obstacle approaches
+    at lv m/s; tscale (0.1 s) only sets the cycle."""
+    r = 0.025025
+    das = float(marxbot.effects["Cruising"]["LMotor_das"])
+    assert das == pytest.approx(0.1 / r)
+    av = {sympy.Symbol("LMotor_av", real=True): das, sympy.Symbol("RMotor_av", real=True): das}
+    assert float(marxbot.rhs["Proximity1_distance"].xreplace(av)) == pytest.approx(-0.1)
+    assert marxbot.scenario.period == pytest.approx(0.1)
