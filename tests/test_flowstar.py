@@ -486,6 +486,11 @@ def _reach(tmp_path, text, binary=None, extra=()):
     ('initial = "cruise"', "initial = 1", "needs 'initial'"),
     ("[controller]", "[controllr]", "unknown key 'controllr'"),
     ('"Motor_av >= 20"', '"Motor_av >= "', "cannot read the expression"),
+    ('"Motor_av >= 20"', '"Motor_av >= 1e400"', "'1e400' in 'Motor_av >= 1e400' is not a fin"),
+    ('"Motor_av >= 20"', '"Motor_av / 0 >= 1"', "the unsafe set is undefined"),
+    ('calls = ["drive(10)"]', 'calls = ["drive(1e400)"]', "beyond what a double holds"),
+    ('calls = ["drive(10)"]', 'calls = ["drive(w)"]', "leaves Motor_das = w, not a number"),
+    ('when = "near"', 'when = "not"', "no input event 'not'"),
 ])
 def test_malformed_scenarios_are_located_errors_with_exit_2(tmp_path, capsys, old, new, words):
     assert old in BASE

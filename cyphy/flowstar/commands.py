@@ -20,7 +20,8 @@ def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str 
     """The Flow* model of the p-model under the scenario, as ``NAME.model`` (NAME from the
     scenario's file name), and the problem it renders (None on errors), which
     :func:`cyphy.flowstar.check.check` decomposes, splits and runs."""
-    from cyphy.flowstar.export import build_problem, output_name, render
+    from cyphy.flowstar.export import EXPORT, build_problem, output_name, render
+    from cyphy.flowstar.printer import NotExpressible
 
     report = Report()
     if scenario_path is None:
@@ -40,8 +41,14 @@ def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str 
         return Generated(report, sources), None
     name = output_name(scenario_path)
     disjuncts = problem.disjuncts()
-    if len(disjuncts) == 1:
-        return Generated(report, sources, {f"{name}.model": render(problem, name)}), problem
-    files = {f"{name}_{k + 1}.model": render(d, f"{name}_{k + 1}")
-             for k, d in enumerate(disjuncts)}  # Flow* checks one conjunction per model
+    try:
+        if len(disjuncts) == 1:
+            files = {f"{name}.model": render(problem, name)}
+        else:  # Flow* checks one conjunction per model
+            files = {f"{name}_{k + 1}.model": render(d, f"{name}_{k + 1}")
+                     for k, d in enumerate(disjuncts)}
+    except NotExpressible as err:  # what the checks while building did not foresee
+        report.report(EXPORT, f"the automaton cannot be written for Flow*: {err}",
+                      scenario.span("unsafe"), "see the README's scenario format")
+        return Generated(report, sources), None
     return Generated(report, sources, files), problem

@@ -253,6 +253,10 @@ class _Builder:
         if parsed.diagnostics or item is None or item.value is None:
             raise self.fail(f"cannot read the expression '{text}'", span,
                             "write it in the notation: LMotor_av >= 0.5, -0.1*(a + b)")
+        for node in item.value.walk():
+            if isinstance(node, ex.Num) and not math.isfinite(float(node.text)):
+                raise self.fail(f"'{node.text}' in '{text}' is not a finite number", span,
+                                "write a number a double can hold")
 
         def rename(node: ex.Expr) -> ex.Expr | None:
             if isinstance(node, ex.Name) and len(node.parts) > 1:
@@ -358,6 +362,9 @@ class _Builder:
         out = {}
         for u in frame:
             v = sympy.nsimplify(solutions[0][symbol(u)])
+            if v.is_number and not (v.is_finite and math.isfinite(float(v))):
+                raise self.fail(f"the call {text} sets {u} beyond what a double holds", span,
+                                "give the call finite arguments")
             if not v.is_number:
                 raise self.fail(f"the call {text} leaves {u} = {v}, not a number", span,
                                 "give the call numbers, or names defined in [consts]")
@@ -479,6 +486,9 @@ class _Scope:
             if replaced == value:
                 break
             value = replaced
+        if value.has(sympy.zoo, sympy.oo, -sympy.oo, sympy.nan):
+            raise b.fail(f"{what} is undefined (a division by zero, or an infinite value)",
+                         span, "write a comparison of finite polynomials")
         unknown = value.free_symbols - self.variables
         if unknown:
             names = sorted(map(str, unknown))
