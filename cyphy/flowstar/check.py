@@ -99,8 +99,9 @@ def _variables(p: Problem) -> set[Any]:
 
 
 def _event_states(p: Problem) -> set[str]:
-    used = {t.event for t in p.scenario.transitions}
-    return {str(s) for e in used for s in p.events[e].free_symbols} & set(p.states)
+    """The states the controller's events read (``Problem.events`` holds the events its
+    transitions use)."""
+    return {str(s) for e in p.events.values() for s in e.free_symbols} & set(p.states)
 
 
 def _closure(p: Problem, start: set[str]) -> set[str]:

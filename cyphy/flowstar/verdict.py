@@ -4,9 +4,9 @@ Flow* reports SAFE for what it computed, even when the computation did not compl
 ``max jumps`` cut the paths short, and exits 0 on a syntax error. A run therefore counts as
 SAFE only when: the exit status is 0, stderr is empty, stdout says ``Computation
 completed``, the verdict line says SAFE, and the model itself lists every mode under
-``unsafe`` with ``max jumps`` large enough (:func:`model_problems`). An UNSAFE verdict is
-definite (every trajectory is in the unsafe set at some time) whether or not the
-computation went on.
+``unsafe`` with ``max jumps`` large enough (:func:`model_problems`). An UNSAFE here is
+Flow*'s word only: on a hybrid automaton its flowpipes may follow a branch no trajectory
+takes, so :mod:`cyphy.flowstar.check` reports it only with a simulated witness.
 """
 
 from __future__ import annotations
@@ -130,18 +130,12 @@ def find_flowstar(name: str | None) -> str:
     return str(Path(path).resolve())
 
 
-def run(model: Path, binary: str, timeout: float | None = None,
-        required_jumps: int | None = None) -> Outcome:
-    """Run Flow* on ``model`` (read from stdin, as Flow* requires) in a scratch directory
-    of its own (Flow* writes outputs/, images/ and counterexamples/ into the current one).
-    On a timeout the whole process group is killed (Flow* may have started gnuplot)."""
-    text = model.read_text(encoding="utf-8")
-    return run_text(text, binary, timeout, required_jumps)
-
-
 def run_text(text: str, binary: str, timeout: float | None = None,
              required_jumps: int | None = None) -> Outcome:
-    """:func:`run` on a model given as text."""
+    """Run Flow* on the model ``text`` (fed on stdin, as Flow* requires) in a scratch
+    directory of its own (Flow* writes outputs/, images/ and counterexamples/ into the
+    current one), and decide. On a timeout the whole process group is killed (Flow* may
+    have started gnuplot)."""
     problems = model_problems(text, required_jumps)
     with tempfile.TemporaryDirectory(prefix="cyphy-flowstar-") as scratch:
         started = time.perf_counter()
