@@ -339,7 +339,15 @@ def _add_reach(sub: argparse._SubParsersAction) -> None:
     reach.add_argument("--flowstar-bin", metavar="PATH",
                        help="the Flow* executable (default: flowstar on PATH)")
     reach.add_argument("--timeout", type=float, metavar="SECONDS",
-                       help="give up (UNKNOWN) when Flow* runs longer")
+                       help="give up (UNKNOWN) when a Flow* run takes longer")
+    reach.add_argument("--split", type=int, default=1, metavar="N",
+                       help="split the initial set into N boxes along its widest state, one "
+                       "Flow* run each (default 1; a run ending UNKNOWN is retried with "
+                       "4 boxes unless --no-auto-split)")
+    reach.add_argument("--no-auto-split", action="store_true",
+                       help="do not retry an UNKNOWN run on smaller boxes")
+    reach.add_argument("--jobs", type=int, metavar="N",
+                       help="Flow* runs at a time (default: the number of cores)")
     reach.add_argument("-o", "--output", metavar="DIR",
                        help="where the model is written (default: flowstar-gen/ beside it)")
     reach.add_argument("--model", metavar="NAME", help="the p-model")
@@ -352,7 +360,8 @@ def _reach(args: argparse.Namespace) -> int:
 
     from cyphy.diagnostics import render_text
     from cyphy.flowstar.commands import generate
-    from cyphy.flowstar.verdict import FlowstarMissing, find_flowstar, run
+    from cyphy.flowstar.check import check
+    from cyphy.flowstar.verdict import FlowstarMissing, find_flowstar
     from cyphy.outputs import OutputError, default_output_dir, write_all
 
     try:
@@ -360,11 +369,14 @@ def _reach(args: argparse.Namespace) -> int:
     except FlowstarMissing as err:
         sys.stderr.write(f"cyphy reach: error: {err}\n")
         return 2
-    generated, jumps = generate(args.paths, args.scenario, args.model, tuple(args.path),
-                                _consts(args))
+    if args.split < 1 or (args.jobs is not None and args.jobs < 1):
+        sys.stderr.write("cyphy reach: error: --split and --jobs take a positive number\n")
+        return 2
+    generated, problem = generate(args.paths, args.scenario, args.model, tuple(args.path),
+                                  _consts(args))
     if generated.report.diagnostics:
         sys.stderr.write(render_text(generated.report.diagnostics, dict(generated.sources)))
-    if generated.report.has_errors or not generated.files:
+    if generated.report.has_errors or not generated.files or problem is None:
         sys.stderr.write("cyphy reach: nothing checked: the model or scenario has errors\n")
         return 2
     out_dir = Path(args.output) if args.output else default_output_dir(args.paths, "flowstar")
@@ -374,14 +386,20 @@ def _reach(args: argparse.Namespace) -> int:
         sys.stderr.write(f"cyphy reach: error: {err}\n")
         return 2
     try:
-        outcome = run(model, binary, args.timeout, jumps)
+        result = check(problem, model.stem, binary, args.timeout, args.split,
+                       not args.no_auto_split, args.jobs)
     except FlowstarMissing as err:
         sys.stderr.write(f"cyphy reach: error: {err}\n")
         return 2
-    seconds = "?" if outcome.seconds is None else f"{outcome.seconds:g} s"
-    line = f"{outcome.verdict}: {outcome.reason} (Flow* time {seconds}; model {model})\n"
-    (sys.stderr if outcome.verdict == "ERROR" else sys.stdout).write(line)
-    return outcome.exit_code
+    line = f"{result.verdict}: {result.reason} (Flow* runs {result.seconds:.1f} s; model {model})\n"
+    stream = sys.stderr if result.verdict == "ERROR" else sys.stdout
+    stream.write(line)
+    if result.witness is not None:
+        stream.write("the trajectory (time, event, controller state, state):\n")
+        stream.write("\n".join(result.witness.lines(result.names)) + "\n")
+    if len(result.details) > 1 or result.verdict != "SAFE":
+        stream.write("Flow* runs:\n" + "\n".join(result.details) + "\n")
+    return result.exit_code
 
 def _semantics_options(parser: argparse.ArgumentParser) -> None:
     """Options of the CyPhyCircus semantics that every semantic generator shares (added

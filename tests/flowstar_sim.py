@@ -1,9 +1,9 @@
 """Two independent simulations of a Flow* scenario, for the tests (SciPy).
 
-``interpret`` reads an exported model file with our Flow* grammar and runs the hybrid
-automaton it describes from one initial point: flows by their ODE text, invariants as
-terminal events, then the first jump (in file order) whose guard holds, its resets applied
-simultaneously. ``simulate_direct`` runs the same scenario from the elaborated model's
+``interpret`` runs an exported model file from one initial point with the package's
+simulator (:mod:`cyphy.flowstar.simulate`: flows by their ODE text, invariants as terminal
+events, then the first jump in file order whose guard holds, its resets applied
+simultaneously). ``simulate_direct`` runs the same scenario from the elaborated model's
 reduced equations and the scenario's controller without any of the exporter's rendering:
 cycle by cycle, events evaluated as the mapping's predicates, transitions in the scenario's
 order, actuator inputs set by the calls of the state entered.
@@ -19,7 +19,8 @@ from scipy.integrate import solve_ivp
 
 from cyphy import expr as ex
 from cyphy.backends.sympy import to_sympy
-from cyphy.flowstar.syntax import FlowModel, parse_model
+from cyphy.flowstar.simulate import Automaton
+from cyphy.flowstar.syntax import FlowModel
 
 RTOL, ATOL = 1e-11, 1e-12
 
@@ -36,74 +37,13 @@ def _expr(e: ex.Expr, params: dict[str, float]) -> Any:
 
 def interpret(text: str, point: dict[str, float], samples: np.ndarray) -> dict[str, np.ndarray]:
     """Values of every state variable at the sample times (the automaton's global time),
-    from ``point`` (the middle of the model's initial box where it says nothing)."""
-    model: FlowModel = parse_model(text)
-    params = {k: float(v) for k, v in model.params.items()}
-    variables = model.variables
-    syms = [_sym(v) for v in variables]
-    horizon = float(model.settings["time"])
-    max_jumps = int(model.settings["max jumps"])
-
-    def bound(b: str) -> float:
-        return params[b] if b in params else float(b)
-
-    flows, invariants = {}, {}
-    for name, mode in model.modes.items():
-        exprs = [_expr(mode.flow[v], params) if v in mode.flow else sympy.Integer(0)
-                 for v in variables]
-        flows[name] = sympy.lambdify(syms, exprs, "numpy")
-        invariants[name] = [(sympy.lambdify(syms, _expr(c.lhs, params)), c.rel,
-                             bound(c.bounds[0])) for c in mode.invariant]
-    jumps = []
-    for j in model.jumps:
-        guard = [(sympy.lambdify(syms, _expr(c.lhs, params)), c.rel, bound(c.bounds[0]))
-                 for c in j.guard]
-        resets = {v: sympy.lambdify(syms, _expr(r, params)) for v, r in j.resets.items()}
-        jumps.append((j.source, j.target, guard, resets))
-
-    def holds(cons: list, x: np.ndarray) -> bool:
-        for f, rel, b in cons:
-            v = float(f(*x)) - b
-            tol = 1e-9 * max(1.0, abs(b))
-            if (rel == "<=" and v > tol) or (rel == ">=" and v < -tol) or \
-                    (rel == "=" and abs(v) > tol):
-                return False
-        return True
-
-    mode = model.initial_mode
+    from ``point`` (the middle of the model's initial box where it says nothing), by the
+    package's simulator of model files."""
+    automaton = Automaton(text)
+    model: FlowModel = automaton.model
     start = {v: (float(lo) + float(hi)) / 2 for v, (lo, hi) in model.init.items()}
     start.update(point)  # variables the model leaves out of init start at 0 (spec §4.7)
-    x = np.array([start.get(v, 0.0) for v in variables], dtype=float)
-    now, count = 0.0, 0
-    out = {v: np.full(len(samples), np.nan) for v in variables}
-    while now < horizon - 1e-12:
-        events = []
-        for f, rel, b in invariants[mode]:
-            if rel != "<=":
-                raise NotImplementedError("only upper-bound invariants are interpreted")
-            ev = (lambda t, y, f=f, b=b: float(f(*y)) - b)
-            ev.terminal, ev.direction = True, 1
-            events.append(ev)
-        flow = flows[mode]
-        sol = solve_ivp(lambda t, y: np.asarray(flow(*y), dtype=float), (now, horizon), x,
-                        method="DOP853", rtol=RTOL, atol=ATOL, events=events,
-                        dense_output=True)
-        end = sol.t[-1]
-        inside = (samples >= now) & (samples <= end)
-        for k, v in enumerate(variables):
-            out[v][inside] = sol.sol(samples[inside])[k]
-        now, x = end, sol.y[:, -1]
-        if now >= horizon - 1e-12:
-            break
-        taken = next(((t, r) for s, t, g, r in jumps if s == mode and holds(g, x)), None)
-        if taken is None or count >= max_jumps:
-            break
-        target, resets = taken
-        new = x.copy()
-        for v, f in resets.items():
-            new[variables.index(v)] = float(f(*x))
-        x, mode, count = new, target, count + 1
-    return out
+    return automaton.sample({v: start.get(v, 0.0) for v in model.variables}, samples)
 
 
 def simulate_direct(problem: Any, point: dict[str, float], samples: np.ndarray

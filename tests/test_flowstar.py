@@ -16,7 +16,7 @@ from hypothesis import given, settings, strategies as st
 
 from cyphy.cli import main
 from cyphy.diagnostics import Report
-from cyphy.flowstar.export import build_problem, render
+from cyphy.flowstar.export import build_problem, output_name, render
 from cyphy.flowstar.printer import NotExpressible, flowstar_text, number
 from cyphy.flowstar.scenario import load_scenario
 from cyphy.flowstar.syntax import FlowstarSyntaxError, parse_model
@@ -192,8 +192,11 @@ def test_dcmotor_export_matches_the_spec_example_in_structure(dcmotor):
     model = parse_model(render(dcmotor, "sampled_stop"))
     assert list(model.modes) == ["cruise", "stopped"]
     assert all(m.ode == "poly ode 2" for m in model.modes.values())
+    # the spec's example also has stopped -> stopped; a final state flows to the horizon
     assert [(j.source, j.target) for j in model.jumps] == [
-        ("cruise", "stopped"), ("cruise", "cruise"), ("stopped", "stopped")]
+        ("cruise", "stopped"), ("cruise", "cruise")]
+    assert [c.bounds for c in model.modes["cruise"].invariant] == [("0.1",)]
+    assert model.modes["stopped"].invariant == []
     assert all(j.resets.keys() == {"timer"} for j in model.jumps)
     assert set(model.unsafe) == set(model.modes)
     assert model.settings["max jumps"] == 25
@@ -322,8 +325,6 @@ BASE = (EXAMPLES / "dcmotor" / "sampled_stop.toml").read_text()
     (("Motor_theta = 0\n", ""), "E-FLOWSTAR", "no initial interval for Motor_theta"),
     (("max_jumps = 25", "max_jumps = 5"), "E-FLOWSTAR", "max_jumps = 5 is too small"),
     (('"Motor_av >= 20"', '"sin(Motor_av) >= 0.5"'), "E-FLOWSTAR", "no Flow* constraint"),
-    (('"Motor_av >= 20"', '"Motor_av >= 20 \\\\/ Motor_i >= 3"'), "E-FLOWSTAR",
-     "one conjunction"),
     (('Range_distance = "-2"', ''), "E-FLOWSTAR", "nothing gives the input"),
     (('calls = ["drive(10)"]', 'calls = ["drive(10, 2)"]'), "E-FLOWSTAR", "takes 1 argument"),
     (("[init]", "[init\n"), "E-SCENARIO", "not valid TOML"),
@@ -415,7 +416,8 @@ def _fake_flowstar(tmp_path, stdout, stderr="", rc=0):
 
 @pytest.mark.parametrize("stdout, stderr, code, word", [
     (COMPLETED + _verdict("SAFE") + TIME, "", 0, "SAFE:"),
-    (COMPLETED + _verdict("UNSAFE") + TIME, "", 1, "UNSAFE:"),
+    # Flow*'s UNSAFE on the safe motor: no simulated trajectory confirms it
+    (COMPLETED + _verdict("UNSAFE") + TIME, "", 3, "UNKNOWN: Flow* found a flowpipe"),
     ("Computation not completed: 0 flowpipe(s) computed.\n" + _verdict("SAFE"), "", 3,
      "UNKNOWN:"),
     ("", "Error line 3: syntax error\n", 2, "ERROR:"),
@@ -427,7 +429,7 @@ def test_reach_prints_one_line_and_the_exit_status(tmp_path, capsys, stdout, std
                str(tmp_path / "out"), "--flowstar-bin", binary])
     captured = capsys.readouterr()
     assert rc == code
-    line = (captured.err if code == 2 else captured.out).strip().splitlines()[-1]
+    line = (captured.err if code == 2 else captured.out).strip().splitlines()[0]
     assert line.startswith(word) and str(tmp_path / "out" / "sampled_stop.model") in line
 
 
@@ -453,3 +455,181 @@ def test_gen_flowstar_with_a_bad_scenario_writes_nothing(tmp_path, capsys):
     rc = main(["gen", str(DCMOTOR[0]), "--flowstar", "--scenario", str(bad), "-o", str(out)])
     assert rc == 1 and not out.exists()
     assert "E-FLOWSTAR" in capsys.readouterr().err
+
+
+# --------------------------------------------------------------------------- defects (issue 17)
+
+def _reach(tmp_path, text, binary=None, extra=()):
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    binary = binary or _fake_flowstar(tmp_path, COMPLETED + _verdict("SAFE") + TIME)
+    return main(["reach", str(DCMOTOR[0]), "--scenario", str(path), "-o",
+                 str(tmp_path / "out"), "--flowstar-bin", binary, *extra])
+
+
+@pytest.mark.parametrize("old, new, words", [
+    ("horizon = 2.0", "horizon = nan", "'horizon' must be a finite number"),
+    ("horizon = 2.0", "horizon = inf", "'horizon' must be a finite number"),
+    ("Range_distance = [3, 3.1]", "Range_distance = [3, inf]", "must be a finite number"),
+    ("Motor_av = 0\n", "Motor_av = nan\n", "must be a finite number"),
+    ("step = 0.01", "step = nan", "'flowstar.step' must be a finite number"),
+    ("remainder = 1e-2", "remainder = -inf", "must be a finite number"),
+    ("horizon = 2.0", 'horizon = "2"', "'horizon' must be a number"),
+    ("order = 6", "order = 6.5", "'flowstar.order' must be a positive integer"),
+    ('calls = ["drive(10)"]', 'calls = "drive(10)"', "must be a list of calls"),
+    ('when = "near"', "when = 3", "'when' must be an input event"),
+    ('constraints = ["Motor_av >= 20"]', "constraints = [20]", "non-empty list"),
+    ('constraints = ["Motor_av >= 20"]', 'constraints = ["Motor_xx >= 20"]', "Motor_xx"),
+    ('Range_distance = "-2"', 'Range_distance = "-2*Motor_q"', "'Motor_q' is not a var"),
+    ('Range_distance = "-2"', 'Range_distance = "-2 - tan(t)"', "'tan' is not a function"),
+    ("Motor_theta = 0\n", "Motor_theta = 0\nMotor_omega = 1\n", "not a state variable"),
+    ('initial = "cruise"', "initial = 1", "needs 'initial'"),
+    ("[controller]", "[controllr]", "unknown key 'controllr'"),
+    ('"Motor_av >= 20"', '"Motor_av >= "', "cannot read the expression"),
+    ('"Motor_av >= 20"', '"Motor_av >= 1e400"', "'1e400' in 'Motor_av >= 1e400' is not a fin"),
+    ('"Motor_av >= 20"', '"Motor_av / 0 >= 1"', "the unsafe set is undefined"),
+    ('calls = ["drive(10)"]', 'calls = ["drive(1e400)"]', "beyond what a double holds"),
+    ('calls = ["drive(10)"]', 'calls = ["drive(w)"]', "leaves Motor_das = w, not a number"),
+    ('when = "near"', 'when = "not"', "no input event 'not'"),
+])
+def test_malformed_scenarios_are_located_errors_with_exit_2(tmp_path, capsys, old, new, words):
+    assert old in BASE
+    rc = _reach(tmp_path, BASE.replace(old, new, 1))
+    err = capsys.readouterr().err
+    assert rc == 2, err
+    assert words in err and "s.toml:" in err and "internal error" not in err
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("name", ["Motor_das", "Motor_e", "Motor_V"])
+def test_unsafe_sets_may_name_actuator_inputs_and_what_derives_from_them(tmp_path, name):
+    """``Motor_das`` is a constant of each mode: each mode's unsafe set has its value."""
+    path = tmp_path / "u.toml"
+    path.write_text(BASE.replace('"Motor_av >= 20"', f'"{name} >= 5"'))
+    text = render(_problem(EXAMPLES / "dcmotor", path), "u")
+    model = parse_model(text)
+    assert set(model.unsafe) == {"cruise", "stopped"}
+    if name == "Motor_das":  # 10 in cruise: everything; 0 once stopped: nothing
+        assert [(c.rel, c.bounds) for c in model.unsafe["cruise"]] == [(">=", ("0",))]
+        assert [(c.rel, c.bounds) for c in model.unsafe["stopped"]] == [("<=", ("-1",))]
+    else:  # Motor_e and Motor_V involve das: its value differs per mode
+        assert model.unsafe["cruise"] != model.unsafe["stopped"]
+
+
+def test_environment_functions_make_a_nonpoly_mode(tmp_path):
+    path = tmp_path / "sin.toml"
+    path.write_text(BASE.replace('Range_distance = "-2"', 'Range_distance = "-2 - sin(5*t)"'))
+    model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), output_name(str(path))))
+    assert all(m.ode == "nonpoly ode" for m in model.modes.values())
+    from cyphy.backends.sympy import to_sympy
+    t = sympy.Symbol("t", real=True)
+    rhs = to_sympy(model.modes["cruise"].flow["Range_distance"], symbols={"t": t})
+    assert sympy.simplify(rhs - (-2 - sympy.sin(5 * t))) == 0
+
+
+def test_a_held_input_needs_a_value_at_time_0(tmp_path):
+    """The initial state calls nothing: the held input's value at time 0 is not invented."""
+    text = HELD.replace('initial = "cruise"', 'initial = "coast"')
+    errors = _diagnose(tmp_path, text)
+    assert any("held actuator input Motor_das" in m and "Motor_das = 0" in h
+               for _, m, _, h in errors), errors
+    path = tmp_path / "given.toml"
+    path.write_text(text.replace("[init]\n", "[init]\nMotor_das = 3\n"))
+    model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), "given"))
+    assert model.init["Motor_das"] == ("3", "3")
+
+
+def test_the_max_jumps_message_speaks_of_seconds(tmp_path):
+    errors = _diagnose(tmp_path, BASE.replace("max_jumps = 25", "max_jumps = 5"))
+    message = next(m for _, m, _, _ in errors if "too small" in m)
+    assert "the horizon of 2 s is 20 cycles of 0.1 s (cycle × tscale)" in message
+
+
+def test_a_relative_flowstar_bin_is_found_from_the_scratch_folder(tmp_path, capsys,
+                                                                   monkeypatch):
+    binary = _fake_flowstar(tmp_path, COMPLETED + _verdict("SAFE") + TIME)
+    monkeypatch.chdir(tmp_path)
+    rc = main(["reach", str(DCMOTOR[0]), "--scenario", str(DCMOTOR[1]), "-o", "out",
+               "--flowstar-bin", "./" + Path(binary).name])
+    assert rc == 0, capsys.readouterr().err
+    assert capsys.readouterr().out.startswith("SAFE:")
+
+
+def test_a_timeout_kills_the_whole_process_group(tmp_path):
+    import os
+    import time
+
+    from cyphy.flowstar.verdict import run_text
+
+    pidfile = tmp_path / "child.pid"
+    script = tmp_path / "slow"
+    script.write_text(f"#!{sys.executable}\nimport subprocess, sys, time\nsys.stdin.read()\n"
+                      f"child = subprocess.Popen(['sleep', '60'])\n"
+                      f"open({str(pidfile)!r}, 'w').write(str(child.pid))\n"
+                      "time.sleep(60)\n")
+    script.chmod(script.stat().st_mode | stat.S_IEXEC)
+    started = time.monotonic()
+    outcome = run_text(SMALL, str(script), timeout=1.5)
+    assert outcome.verdict == "UNKNOWN" and "within 1.5 s" in outcome.reason
+    assert time.monotonic() - started < 20
+    child = int(pidfile.read_text())
+    for _ in range(50):  # the child is gone (or a zombie about to be reaped by init)
+        try:
+            os.kill(child, 0)
+            with open(f"/proc/{child}/stat") as f:
+                if f.read().split()[2] == "Z":
+                    break
+        except (ProcessLookupError, FileNotFoundError):
+            break
+        time.sleep(0.1)
+    else:
+        pytest.fail("the grandchild survived the timeout")
+
+
+def test_a_final_state_keeps_its_cycles_when_the_unsafe_set_reads_the_timer(tmp_path):
+    path = tmp_path / "timer.toml"
+    path.write_text(BASE.replace('"Motor_av >= 20"', '"Motor_av >= 20", "timer >= 0.05"'))
+    model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), "timer"))
+    assert ("stopped", "stopped") in [(j.source, j.target) for j in model.jumps]
+    assert model.modes["stopped"].invariant
+
+
+def test_a_disjunctive_unsafe_set_is_one_model_per_disjunct(tmp_path, capsys):
+    either = tmp_path / "either.toml"
+    either.write_text(BASE.replace('"Motor_av >= 20"', '"Motor_av >= 20 \\\\/ Motor_i >= 30"'))
+    rc = main(["gen", str(DCMOTOR[0]), "--flowstar", "--scenario", str(either), "-o",
+               str(tmp_path / "out")])
+    assert rc == 0, capsys.readouterr().err
+    written = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert written == ["either_1.model", "either_2.model"]
+    first = parse_model((tmp_path / "out" / "either_1.model").read_text())
+    second = parse_model((tmp_path / "out" / "either_2.model").read_text())
+    assert [c.bounds for c in first.unsafe["cruise"]] == [("20",)]
+    assert [c.bounds for c in second.unsafe["cruise"]] == [("30",)]
+
+
+def test_adaptive_steps_and_orders_are_passed_through(tmp_path):
+    path = tmp_path / "adaptive.toml"
+    path.write_text(BASE.replace("step = 0.01", "step = [0.002, 0.01]"))
+    model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), "adaptive"))
+    assert model.settings["adaptive steps"] == ("0.002", "0.01")
+    path.write_text(BASE.replace("order = 6", "order = [4, 8]"))
+    text = render(_problem(EXAMPLES / "dcmotor", path), "adaptive")
+    assert "adaptive orders { min 4 , max 8 }" in text and parse_model(text)
+    errors = _diagnose(tmp_path, BASE.replace("step = 0.01", "step = [0.002, 0.01]")
+                       .replace("order = 6", "order = [4, 8]"))
+    assert any("not both" in m for _, m, _, _ in errors)
+    errors = _diagnose(tmp_path, BASE.replace("order = 6", "order = [8, 4]"))
+    assert any("[min, max]" in m for _, m, _, _ in errors)
+
+
+def test_d_model_speeds_reach_the_motors_per_second(marxbot):
+    """``move(lv, 0)`` with lv = 0.1: the mapping's equations are taken as written, in the
+    p-model's seconds, so each wheel is asked for lv / r rad/s and the obstacle approaches
+    at lv m/s; tscale (0.1 s) only sets the cycle."""
+    r = 0.025025
+    das = float(marxbot.effects["Cruising"]["LMotor_das"])
+    assert das == pytest.approx(0.1 / r)
+    av = {sympy.Symbol("LMotor_av", real=True): das, sympy.Symbol("RMotor_av", real=True): das}
+    assert float(marxbot.rhs["Proximity1_distance"].xreplace(av)) == pytest.approx(-0.1)
+    assert marxbot.scenario.period == pytest.approx(0.1)

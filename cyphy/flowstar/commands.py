@@ -4,19 +4,24 @@ here, no exits)."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 from cyphy.api import Generated
 from cyphy.diagnostics import Report, Span
 from cyphy.flowstar.scenario import SCENARIO, load_scenario
 
+if TYPE_CHECKING:
+    from cyphy.flowstar.export import Problem
+
 
 def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str | None = None,
              search_paths: tuple[str, ...] = (), consts: dict[str, object] | None = None
-             ) -> tuple[Generated, int | None]:
+             ) -> tuple[Generated, "Problem | None"]:
     """The Flow* model of the p-model under the scenario, as ``NAME.model`` (NAME from the
-    scenario's file name), and the number of jumps the horizon needs (None on errors)."""
-    from cyphy.flowstar.export import build_problem, output_name, render
+    scenario's file name), and the problem it renders (None on errors), which
+    :func:`cyphy.flowstar.check.check` decomposes, splits and runs."""
+    from cyphy.flowstar.export import EXPORT, build_problem, output_name, render
+    from cyphy.flowstar.printer import NotExpressible
 
     report = Report()
     if scenario_path is None:
@@ -35,5 +40,15 @@ def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str 
     if problem is None or report.has_errors:
         return Generated(report, sources), None
     name = output_name(scenario_path)
-    return Generated(report, sources, {f"{name}.model": render(problem, name)}), \
-        problem.required_jumps
+    disjuncts = problem.disjuncts()
+    try:
+        if len(disjuncts) == 1:
+            files = {f"{name}.model": render(problem, name)}
+        else:  # Flow* checks one conjunction per model
+            files = {f"{name}_{k + 1}.model": render(d, f"{name}_{k + 1}")
+                     for k, d in enumerate(disjuncts)}
+    except NotExpressible as err:  # what the checks while building did not foresee
+        report.report(EXPORT, f"the automaton cannot be written for Flow*: {err}",
+                      scenario.span("unsafe"), "see the README's scenario format")
+        return Generated(report, sources), None
+    return Generated(report, sources, files), problem

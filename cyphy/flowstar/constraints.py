@@ -41,6 +41,10 @@ class Atom:
             lhs, rhs, rel = -lhs, -rhs, _FLIP[rel]
         return f"{flowstar_text(lhs)} {rel} {_signed(rhs)}"
 
+    def relation(self) -> Any:
+        """The atom as a SymPy relation again."""
+        return {"<=": sympy.Le, ">=": sympy.Ge, "=": sympy.Eq}[self.rel](self.poly, 0)
+
     def holds(self, values: dict[Any, float], tol: float = 1e-9) -> bool:
         v = float(self.poly.xreplace(values))
         return {"<=": v <= tol, ">=": v >= -tol, "=": abs(v) <= tol}[self.rel]
@@ -106,7 +110,7 @@ def _relation(p: Any, negate: bool, variables: set[Any]) -> list[Conjunction]:
     else:
         denom = sympy.nsimplify(denom) if not denom.is_number else denom
         poly = sympy.expand(numer / denom)
-    if not poly.free_symbols & variables:
+    if not poly.free_symbols:
         value = float(poly)
         holds = {"<": value <= 0, "<=": value <= 0, ">": value >= 0, ">=": value >= 0,
                  "==": value == 0}[op]

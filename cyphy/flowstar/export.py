@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -36,7 +36,7 @@ from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.flowstar.constraints import Conjunction, dnf, negated_dnf
-from cyphy.flowstar.printer import NotExpressible, flowstar_text, number, valid_name
+from cyphy.flowstar.printer import FUNCTIONS, NotExpressible, flowstar_text, number, valid_name
 from cyphy.flowstar.scenario import Scenario
 
 EXPORT = codes.code("E-FLOWSTAR", codes.E,
@@ -69,6 +69,28 @@ class Problem:
     def held_inputs(self) -> list[str]:
         """Inputs some state leaves alone: state variables with derivative 0."""
         return [u for u in self.inputs if u not in self.mode_inputs]
+
+    def disjuncts(self) -> list["Problem"]:
+        """One problem per disjunct of the unsafe set (Flow* checks one conjunction per
+        run): the system is safe when it avoids every one."""
+        variables = {symbol(n) for n in [*self.states, *self.inputs, TIMER, CLOCK]}
+        conjunctions = dnf(self.unsafe, variables)
+        if len(conjunctions) <= 1:
+            return [self]
+        return [replace(self, unsafe=sympy.And(*[a.relation() for a in c]))
+                for c in conjunctions]
+
+    @property
+    def final_states(self) -> set[str]:
+        """Controller states no transition leaves. Their cycles change nothing: the calls
+        re-set the same inputs, and only the timer is reset. Such a mode flows to the
+        horizon without the timer's invariant and jumps: every jump costs Flow* precision
+        (the enclosure grows at each), so this is what lets a stopped robot be proved at
+        rest. Not done when the unsafe set reads the timer, whose values it changes."""
+        if symbol(TIMER) in self.unsafe.free_symbols:
+            return set()
+        leaving = {t.source for t in self.scenario.transitions if t.target != t.source}
+        return {state for state in self.effects if state not in leaving}
 
     @property
     def max_jumps(self) -> int:
@@ -181,9 +203,10 @@ class _Builder:
         self._check_init(problem)
         if s.settings.max_jumps is not None and s.settings.max_jumps < problem.required_jumps:
             raise self.fail(
-                f"max_jumps = {s.settings.max_jumps} is too small: {s.horizon} time units are "
-                f"{problem.required_jumps - 1} cycles of {s.period:g}, so Flow* needs at least "
-                f"{problem.required_jumps} jumps; with fewer it stops early and still reports "
+                f"max_jumps = {s.settings.max_jumps} is too small: the horizon of "
+                f"{s.horizon:g} s is {problem.required_jumps - 1} cycles of {s.period:g} s "
+                f"(cycle × tscale), so Flow* needs at least {problem.required_jumps} jumps; "
+                "with fewer it stops early and still reports "
                 "SAFE", s.span("flowstar", "max_jumps"),
                 f"remove max_jumps (the default is {problem.required_jumps}) or raise it")
         return problem
@@ -230,6 +253,10 @@ class _Builder:
         if parsed.diagnostics or item is None or item.value is None:
             raise self.fail(f"cannot read the expression '{text}'", span,
                             "write it in the notation: LMotor_av >= 0.5, -0.1*(a + b)")
+        for node in item.value.walk():
+            if isinstance(node, ex.Num) and not math.isfinite(float(node.text)):
+                raise self.fail(f"'{node.text}' in '{text}' is not a finite number", span,
+                                "write a number a double can hold")
 
         def rename(node: ex.Expr) -> ex.Expr | None:
             if isinstance(node, ex.Name) and len(node.parts) > 1:
@@ -261,8 +288,16 @@ class _Builder:
 
     def _known_names(self, e: ex.Expr, system: Any, span: Span) -> None:
         known = set(system.variables) | set(system.parameters) | {CLOCK}
+        functions = {id(n.func) for n in e.walk() if isinstance(n, ex.Call)}
         for node in e.walk():
-            if isinstance(node, ex.Name) and node.text not in known:
+            if isinstance(node, ex.Call) and (
+                    not isinstance(node.func, ex.Name) or node.func.text not in FUNCTIONS
+                    or len(node.args) != 1):
+                name = node.func.text if isinstance(node.func, ex.Name) else "?"
+                raise self.fail(f"'{name}' is not a function Flow* has", span,
+                                "Flow* knows exp, sin, cos, log and sqrt, of one argument")
+            if isinstance(node, ex.Name) and id(node) not in functions and \
+                    node.text not in known:
                 raise self.fail(f"'{node.text}' is not a variable of the model's equations",
                                 span, did_you_mean(node.text, known))
 
@@ -327,6 +362,9 @@ class _Builder:
         out = {}
         for u in frame:
             v = sympy.nsimplify(solutions[0][symbol(u)])
+            if v.is_number and not (v.is_finite and math.isfinite(float(v))):
+                raise self.fail(f"the call {text} sets {u} beyond what a double holds", span,
+                                "give the call finite arguments")
             if not v.is_number:
                 raise self.fail(f"the call {text} leaves {u} = {v}, not a number", span,
                                 "give the call numbers, or names defined in [consts]")
@@ -396,10 +434,10 @@ class _Builder:
             conjunctions = dnf(unsafe, scope.variables)
         except NotExpressible as err:
             raise self.fail(str(err), self.s.span("unsafe"), "") from None
-        if len(conjunctions) > 1:
-            raise self.fail("Flow*'s unsafe set is one conjunction: a disjunction needs one "
-                            "run per disjunct", self.s.span("unsafe"),
-                            "split the property into several scenarios")
+        if not conjunctions:
+            raise self.fail("the unsafe set is empty (its constraints contradict each other)",
+                            self.s.span("unsafe"), "nothing to check: write the negation of "
+                            "the property")
         return unsafe
 
     def _check_init(self, p: Problem) -> None:
@@ -411,6 +449,15 @@ class _Builder:
                                 self.s.span("init", written.split("::")[-1]),
                                 did_you_mean(name, expected) or
                                 f"state variables: {', '.join(sorted(expected))}")
+        unset = [u for u in p.held_inputs if u not in given
+                 and u not in p.effects.get(self.s.initial, {})]
+        if unset:
+            raise self.fail(
+                f"nothing gives the held actuator input{'s' if len(unset) > 1 else ''} "
+                f"{', '.join(unset)} a value at time 0: the initial state {self.s.initial} "
+                "calls nothing that sets it", self.s.span("controller", "initial"),
+                "give its value at time 0 in [init] (" + ", ".join(f"{u} = 0" for u in unset)
+                + "), or a call in the initial state that sets it")
         missing = [x for x in p.states if x not in given]
         if missing:
             raise self.fail(f"[init] gives no initial interval for {', '.join(missing)}",
@@ -439,6 +486,9 @@ class _Scope:
             if replaced == value:
                 break
             value = replaced
+        if value.has(sympy.zoo, sympy.oo, -sympy.oo, sympy.nan):
+            raise b.fail(f"{what} is undefined (a division by zero, or an infinite value)",
+                         span, "write a comparison of finite polynomials")
         unknown = value.free_symbols - self.variables
         if unknown:
             names = sorted(map(str, unknown))
@@ -485,19 +535,20 @@ def render(p: Problem, output_name: str) -> str:
     lines.append(f"#   {TIMER}: the cycle's timer; {CLOCK}: global time")
     lines += ["hybrid reachability", "{", f" state var {', '.join(variables)}", "",
               " setting", " {",
-              f"  fixed steps {number(s.settings.step)}",
+              _steps(s.settings.step),
               f"  time {number(s.horizon)}",
               f"  remainder estimation {number(s.settings.remainder)}",
               "  identity precondition",
               f"  gnuplot octagon {CLOCK}, {p.states[0] if p.states else TIMER}",
-              f"  fixed orders {s.settings.order}",
+              _orders(s.settings.order),
               f"  cutoff {number(s.settings.cutoff)}",
               f"  precision {s.settings.precision}",
               f"  output {output_name}",
               f"  max jumps {p.max_jumps}",
               "  print off", " }", "", " modes", " {"]
-    for mode, effects in p.effects.items():
-        values = {symbol(u): effects[u] for u in mode_inputs}
+    final = p.final_states
+    for mode in p.effects:
+        values = _mode_values(p, mode)
         rhs = {x: sympy.expand(p.rhs[x].xreplace(values)) for x in p.states}
         poly = all(f.is_polynomial(*var_syms) for f in rhs.values())
         lines += [f"  {mode}", "  {", "   poly ode 2" if poly else "   nonpoly ode", "   {"]
@@ -506,59 +557,90 @@ def render(p: Problem, output_name: str) -> str:
         for u in held:
             lines.append(f"    {u}' = 0")
         lines += [f"    {TIMER}' = 1", f"    {CLOCK}' = 1", "   }",
-                  "   inv", "   {", f"    {TIMER} <= {number(period)}", "   }", "  }", ""]
+                  "   inv", "   {"]
+        if mode not in final:
+            lines.append(f"    {TIMER} <= {number(period)}")
+        lines += ["   }", "  }", ""]
     lines[-1:] = [" }", "", " jumps", " {"]
-    for source, target, guard in _jumps(p, var_syms):
+    for source, target, guard in _jumps(p, var_syms, final):
         atoms = [f"{TIMER} = {number(period)}"] + [a.text() for a in guard]
         resets = [f"{TIMER}' := 0"] + [f"{u}' := {_value(p.effects[target][u])}"
                                         for u in held if u in p.effects[target]]
         lines += [f"  {source} -> {target}", f"  guard {{ {'  '.join(atoms)} }}",
                   f"  reset {{ {'  '.join(resets)} }}", "  parallelotope aggregation { }", ""]
-    lines[-1:] = [" }", "", " init", " {", f"  {s.initial}", "  {"]
+    if lines[-1] == "":  # the blank line after the last jump (a final state has none)
+        lines.pop()
+    lines += [" }", "", " init", " {", f"  {s.initial}", "  {"]
     for v in p.states:
-        lo, hi = _init(p, v)
+        lo, hi = initial_interval(p, v)
         lines.append(f"   {v} in [{_value(lo)}, {_value(hi)}]")
     for u in held:
-        lo, hi = _init(p, u)
+        lo, hi = initial_interval(p, u)
         lines.append(f"   {u} in [{_value(lo)}, {_value(hi)}]")
     lines += [f"   {TIMER} in [0, 0]", f"   {CLOCK} in [0, 0]", "  }", " }", "}", "",
               "# every mode is listed: a mode left out would count as entirely unsafe",
               "unsafe", "{"]
-    unsafe = dnf(p.unsafe, var_syms)
-    body = [a.text() for a in unsafe[0]] if unsafe else [f"{CLOCK} <= -1"]  # empty: never
-    if unsafe and not body:
-        body = [f"{CLOCK} >= 0"]  # the whole space: every reachable state is unsafe
     for mode in p.effects:
+        # the mode's constant actuator inputs substituted: an unsafe set may name them
+        unsafe = dnf(p.unsafe.xreplace(_mode_values(p, mode)), var_syms)
+        if len(unsafe) > 1:
+            raise NotExpressible("Flow*'s unsafe set is one conjunction: render each of "
+                                 "Problem.disjuncts()")
+        body = [a.text() for a in unsafe[0]] if unsafe else [f"{CLOCK} <= -1"]  # never
+        if unsafe and not body:
+            body = [f"{CLOCK} >= 0"]  # the whole space: every reachable state is unsafe
         lines += [f" {mode}", " {"] + [f"  {b}" for b in body] + [" }"]
     lines.append("}")
     return "\n".join(lines) + "\n"
 
 
-def _jumps(p: Problem, variables: set[Any]) -> list[tuple[str, str, Conjunction]]:
+def _jumps(p: Problem, variables: set[Any], final: set[str]
+           ) -> list[tuple[str, str, Conjunction]]:
     """Per controller state, in the scenario's order: each transition's ``when`` (one jump
-    per disjunct), then staying, guarded by the closure of "no ``when`` holds"."""
+    per disjunct), then staying, guarded by the closure of "no ``when`` holds". A final
+    state has none: it flows to the horizon."""
     out: list[tuple[str, str, Conjunction]] = []
     for state in p.effects:
+        if state in final:
+            continue
         whens = []
         for t in p.scenario.transitions:
             if t.source != state:
                 continue
-            pred = sympy.Not(p.events[t.event]) if t.negated else p.events[t.event]
+            event = p.events[t.event].xreplace(_mode_values(p, state))
+            pred = sympy.Not(event) if t.negated else event
             whens.append(pred)
             out += [(state, t.target, c) for c in dnf(pred, variables)]
         out += [(state, state, c) for c in negated_dnf(whens, variables)]
     return out
 
 
-def _init(p: Problem, name: str) -> tuple[Any, Any]:
+def _steps(step: Any) -> str:
+    if isinstance(step, tuple):
+        return f"  adaptive steps {{ min {number(step[0])} , max {number(step[1])} }}"
+    return f"  fixed steps {number(step)}"
+
+
+def _orders(order: Any) -> str:
+    if isinstance(order, tuple):
+        return f"  adaptive orders {{ min {order[0]} , max {order[1]} }}"
+    return f"  fixed orders {order}"
+
+
+def _mode_values(p: Problem, mode: str) -> dict[Any, Any]:
+    """The actuator inputs that are constants of ``mode``, as a substitution."""
+    return {symbol(u): p.effects[mode][u] for u in p.mode_inputs}
+
+
+def initial_interval(p: Problem, name: str) -> tuple[Any, Any]:
+    """The initial interval of a state or held input: the scenario's, else (a held input)
+    the value the initial state's calls give it."""
     s = p.scenario
     for n, v in s.init.items():
         if n == name or p.qualified.get(name) in (n, f"{p.name}::{n}"):
             return v
-    initial = p.effects.get(s.initial, {})
-    if name in initial:
-        return initial[name], initial[name]
-    return 0, 0
+    initial = p.effects[s.initial]  # _check_init saw that it sets every other held input
+    return initial[name], initial[name]
 
 
 def _value(v: Any) -> str:
@@ -570,6 +652,6 @@ def _value(v: Any) -> str:
 def output_name(scenario_path: str) -> str:
     """Flow*'s ``output`` name from the scenario file's name: letters, digits, ``_``."""
     stem = re.sub(r"[^A-Za-z0-9_]", "_", Path(scenario_path).stem) or "model"
-    if not re.match(r"[A-Za-z_]", stem) or stem in ("time", "init", "in", "mode"):
+    if not valid_name(stem):  # a digit first, or a reserved word (`sin.toml`)
         stem = "m_" + stem
     return stem

@@ -23,7 +23,8 @@ RESERVED = frozenset(
     "inv guard reset start output unsafe exp sin cos log sqrt cutoff precision gnuplot matlab "
     "par uncertain step true false visualize".split())
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_.]*\Z")
-_FUNCTIONS = ("exp", "sin", "cos", "log", "sqrt")
+#: The functions of ``nonpoly ode`` (spec §4.5); Flow* has no other.
+FUNCTIONS = ("exp", "sin", "cos", "log", "sqrt")
 _PRECEDENCE = {"+": 1, "-": 1, "*": 2, "/": 2, "^": 4}
 _UNARY = 3
 
@@ -116,7 +117,7 @@ class FlowstarPrinter:
 
     def _print_Call(self, e: ex.Call) -> str:
         name = e.func.text if isinstance(e.func, ex.Name) else ""
-        if self.polynomial or name not in _FUNCTIONS or len(e.args) != 1:
+        if self.polynomial or name not in FUNCTIONS or len(e.args) != 1:
             where = "'poly ode' right-hand sides and constraints" if self.polynomial else \
                 "Flow*"
             raise NotExpressible(f"{where} cannot apply '{name or '?'}' (Flow* knows only "

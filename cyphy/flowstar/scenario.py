@@ -9,6 +9,7 @@ the file's shape; names are checked against the model by :mod:`cyphy.flowstar.ex
 
 from __future__ import annotations
 
+import math
 import re
 import tomllib
 from dataclasses import dataclass, field
@@ -47,8 +48,11 @@ class Transition:
 
 @dataclass(frozen=True)
 class Settings:
-    step: float = 0.01
-    order: int = 6
+    """Flow*'s settings. ``step`` and ``order`` are a number (fixed) or a pair (min, max):
+    adaptive, which Flow* allows for one of the two at a time."""
+
+    step: float | tuple[float, float] = 0.01
+    order: int | tuple[int, int] = 6
     remainder: float = 1e-2
     cutoff: float = 1e-12
     precision: int = 53
@@ -106,6 +110,10 @@ class _Reader:
     def number(self, value: Any, keys: tuple[str, ...], positive: bool = False) -> float | None:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             self.error(f"'{'.'.join(keys)}' must be a number, not {value!r}", keys)
+            return None
+        if not math.isfinite(value):
+            self.error(f"'{'.'.join(keys)}' must be a finite number, not {value!r}", keys,
+                       "nan and inf have no meaning here: write a number")
             return None
         if positive and value <= 0:
             self.error(f"'{'.'.join(keys)}' must be positive", keys)
@@ -187,8 +195,28 @@ def _consts(r: _Reader, value: Any) -> None:
     for name, v in (table or {}).items():
         if isinstance(v, bool) or not isinstance(v, (int, float, list, str)):
             r.error(f"constant '{name}' must be a number, a list or a string", ("consts", name))
+        elif not _finite(v):
+            r.error(f"constant '{name}' must be finite, not {v!r}", ("consts", name),
+                    "nan and inf have no meaning here: write a number")
         else:
             r.s.consts[name] = v
+
+
+def _finite(value: Any) -> bool:
+    """No nan or inf anywhere in a constant's value (a number or a list of them)."""
+    if isinstance(value, float):
+        return math.isfinite(value)
+    if isinstance(value, list):
+        return all(_finite(v) for v in value)
+    return True
+
+
+def _positive(value: Any, kind: type) -> bool:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    if kind is int and not isinstance(value, int):
+        return False
+    return math.isfinite(value) and value > 0
 
 
 def _init(r: _Reader, value: Any) -> None:
@@ -205,7 +233,9 @@ def _init(r: _Reader, value: Any) -> None:
                 continue
             r.s.init[name] = (lo, hi)
         elif isinstance(v, (int, float)) and not isinstance(v, bool):
-            r.s.init[name] = (float(v), float(v))
+            number = r.number(v, keys)
+            if number is not None:
+                r.s.init[name] = (number, number)
         else:
             r.error(f"the initial value of '{name}' must be a number or an interval "
                     "[low, high]", keys)
@@ -219,7 +249,9 @@ def _environment(r: _Reader, value: Any) -> None:
         if isinstance(v, str):
             r.s.environment[name] = Environment(name, v, None, span)
         elif isinstance(v, (int, float)) and not isinstance(v, bool):
-            r.s.environment[name] = Environment(name, repr(float(v)), None, span)
+            number = r.number(v, keys)
+            if number is not None:
+                r.s.environment[name] = Environment(name, repr(number), None, span)
         elif isinstance(v, dict) and set(v) == {"derivative"} and isinstance(
                 v["derivative"], (str, int, float)):
             r.s.environment[name] = Environment(name, str(v["derivative"]), None, span)
@@ -318,12 +350,29 @@ def _settings(r: _Reader, value: Any) -> None:
     table = _table(r, value, ("flowstar",)) or {}
     r.unknown_keys(table, _FLOWSTAR, ("flowstar",))
     values: dict[str, Any] = {}
+    for key, kind in (("step", float), ("order", int)):
+        v = table.get(key)
+        if isinstance(v, list):  # adaptive: [min, max]
+            keys = ("flowstar", key)
+            if len(v) != 2 or not all(_positive(x, kind) for x in v) or v[0] > v[1]:
+                r.error(f"'flowstar.{key}' as a list is [min, max] of positive "
+                        f"{'numbers' if kind is float else 'integers'}, min <= max", keys,
+                        f"for example {key} = {[0.001, 0.01] if kind is float else [4, 8]}")
+            else:
+                values[key] = (kind(v[0]), kind(v[1]))
+    if isinstance(values.get("step"), tuple) and isinstance(values.get("order"), tuple):
+        r.error("Flow* adapts the step or the order, not both: make one of them a number",
+                ("flowstar", "order"))
     for key in ("step", "remainder", "cutoff"):
+        if key == "step" and isinstance(table.get(key), list):
+            continue
         if key in table:
             v = r.number(table[key], ("flowstar", key), positive=True)
             if v is not None:
                 values[key] = v
     for key in ("order", "precision", "max_jumps"):
+        if key == "order" and isinstance(table.get(key), list):
+            continue
         if key in table:
             v = table[key]
             if isinstance(v, bool) or not isinstance(v, int) or v <= 0:

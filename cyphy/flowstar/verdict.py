@@ -4,19 +4,21 @@ Flow* reports SAFE for what it computed, even when the computation did not compl
 ``max jumps`` cut the paths short, and exits 0 on a syntax error. A run therefore counts as
 SAFE only when: the exit status is 0, stderr is empty, stdout says ``Computation
 completed``, the verdict line says SAFE, and the model itself lists every mode under
-``unsafe`` with ``max jumps`` large enough (:func:`model_problems`). An UNSAFE verdict is
-definite (every trajectory is in the unsafe set at some time) whether or not the
-computation went on.
+``unsafe`` with ``max jumps`` large enough (:func:`model_problems`). An UNSAFE here is
+Flow*'s word only: on a hybrid automaton its flowpipes may follow a branch no trajectory
+takes, so :mod:`cyphy.flowstar.check` reports it only with a simulated witness.
 """
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
+import signal
 import subprocess
 import tempfile
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
@@ -35,6 +37,7 @@ class Outcome:
     verdict: str
     reason: str
     seconds: float | None = None  # Flow*'s own time cost (CPU time), when it printed one
+    counterexample: str = ""  # Flow*'s counterexamples/NAME.counterexample, when it wrote one
 
     @property
     def exit_code(self) -> int:
@@ -116,31 +119,53 @@ class FlowstarMissing(Exception):
 
 
 def find_flowstar(name: str | None) -> str:
+    """The Flow* executable as an absolute path: Flow* runs in a scratch directory of its
+    own, where a relative path would name nothing."""
     path = shutil.which(name or "flowstar")
     if path is None:
         raise FlowstarMissing(
             f"Flow* not found ({name or 'flowstar'} is not an executable on PATH): install "
             "Flow* 2.1.0 (https://flowstar.org) and put it on PATH as flowstar, or give "
             "--flowstar-bin PATH")
-    return path
+    return str(Path(path).resolve())
 
 
-def run(model: Path, binary: str, timeout: float | None = None,
-        required_jumps: int | None = None) -> Outcome:
-    """Run Flow* on ``model`` (read from stdin, as Flow* requires) in a scratch directory
-    of its own (Flow* writes outputs/, images/ and counterexamples/ into the current one)."""
-    text = model.read_text(encoding="utf-8")
+def run_text(text: str, binary: str, timeout: float | None = None,
+             required_jumps: int | None = None) -> Outcome:
+    """Run Flow* on the model ``text`` (fed on stdin, as Flow* requires) in a scratch
+    directory of its own (Flow* writes outputs/, images/ and counterexamples/ into the
+    current one), and decide. On a timeout the whole process group is killed (Flow* may
+    have started gnuplot)."""
     problems = model_problems(text, required_jumps)
     with tempfile.TemporaryDirectory(prefix="cyphy-flowstar-") as scratch:
         started = time.perf_counter()
         try:
-            with model.open("rb") as stdin:
-                done = subprocess.run([binary], stdin=stdin, cwd=scratch, capture_output=True,
-                                      timeout=timeout, check=False)
-        except subprocess.TimeoutExpired:
-            return Outcome("UNKNOWN", f"Flow* did not finish within {timeout:g} s",
-                           time.perf_counter() - started)
+            proc = subprocess.Popen([binary], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                    stderr=subprocess.PIPE, cwd=scratch,
+                                    start_new_session=True)
         except OSError as err:
             raise FlowstarMissing(f"cannot run {binary}: {err.strerror or err}") from None
-    return decide(done.returncode, done.stdout.decode("utf-8", "replace"),
-                  done.stderr.decode("utf-8", "replace"), problems)
+        try:
+            stdout, stderr = proc.communicate(text.encode("utf-8"), timeout=timeout)
+        except subprocess.TimeoutExpired:
+            _kill_group(proc)
+            return Outcome("UNKNOWN", f"Flow* did not finish within {timeout:g} s",
+                           time.perf_counter() - started)
+        except BaseException:
+            _kill_group(proc)
+            raise
+        found = sorted(Path(scratch, "counterexamples").glob("*.counterexample"))
+        counterexample = found[0].read_text(encoding="utf-8", errors="replace") if found \
+            else ""
+    outcome = decide(proc.returncode, stdout.decode("utf-8", "replace"),
+                     stderr.decode("utf-8", "replace"), problems)
+    return replace(outcome, counterexample=counterexample)
+
+
+def _kill_group(proc: subprocess.Popen) -> None:
+    """Kill Flow* and everything it started (its own session), then reap it."""
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass
+    proc.communicate()

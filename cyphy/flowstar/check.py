@@ -1,0 +1,330 @@
+"""``cyphy reach``'s verdict: the problem decomposed into independent parts, initial boxes
+split, Flow* run on each in parallel processes, the results combined soundly, and an UNSAFE
+confirmed by a simulated trajectory (:mod:`cyphy.flowstar.simulate`).
+
+Why each step is sound:
+
+- **Decomposition.** The unsafe set is a conjunction of atoms. An atom needs the states it
+  reads and, transitively, those their derivatives read; a state whose flow differs between
+  controller modes also needs the states the transitions' events read (they choose the
+  mode). Atoms whose needs are disjoint (the clocks ``t`` and ``timer`` aside, which every
+  part keeps) form separate parts, and each part keeps only the states it needs: its
+  automaton is the exact projection of the whole one onto them. The whole system avoids the
+  conjunction as soon as one part avoids its own atoms, so SAFE needs one part SAFE. States
+  nothing needs are left out (the wheels' angles of a robot whose torque is checked).
+  A part whose states do not depend on the mode keeps one mode and no jumps.
+- **Splitting.** The initial set is the union of the boxes, so SAFE needs every box SAFE
+  (each with a completed computation); the verdicts of the boxes are reported.
+- **UNSAFE** is only said with a concrete trajectory of the whole automaton from the
+  initial set that enters the unsafe set; otherwise Flow*'s UNSAFE flowpipe may lie on a
+  branch no trajectory takes (its enclosures take every jump whose guard they meet), and the
+  verdict is UNKNOWN.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import re
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from typing import Any
+
+import sympy
+
+from cyphy.flowstar.constraints import dnf
+from cyphy.flowstar.export import CLOCK, TIMER, Problem, render, symbol
+from cyphy.flowstar.simulate import Witness, find_witness, unsafe_paths
+from cyphy.flowstar.verdict import Outcome, run_text
+
+AUTO_SPLIT = 4  # boxes per part when a run without splitting ends UNKNOWN
+
+
+@dataclass(frozen=True)
+class Task:
+    """One Flow* run: a part of the problem on one box of its initial set."""
+
+    label: str
+    problem: Problem
+    text: str
+
+
+@dataclass
+class Result:
+    verdict: str  # SAFE, UNSAFE, UNKNOWN or ERROR
+    reason: str
+    seconds: float  # wall-clock time of all the runs
+    details: list[str] = field(default_factory=list)  # one line per run
+    witness: Witness | None = None
+    names: list[str] = field(default_factory=list)  # the witness's variables, in order
+
+    @property
+    def exit_code(self) -> int:
+        return {"SAFE": 0, "UNSAFE": 1, "UNKNOWN": 3}.get(self.verdict, 2)
+
+
+# --------------------------------------------------------------------------- decomposition
+
+
+def parts(p: Problem) -> list[Problem]:
+    """The problem's independent parts (see the module's docstring), each restricted to the
+    states it needs; one part when the atoms' needs overlap."""
+    conjunction = dnf(p.unsafe, _variables(p))
+    atoms = list(conjunction[0]) if conjunction else []
+    clocks = {symbol(TIMER), symbol(CLOCK)}
+    needs = [_closure(p, {str(s) for s in a.poly.free_symbols - clocks}) for a in atoms]
+    events = _closure(p, _event_states(p))  # every part that depends on the mode has them
+    groups: list[tuple[set[str], list[Any]]] = []
+    shared = []
+    for atom, need in zip(atoms, needs):
+        if not need:
+            shared.append(atom)  # reads the clocks only: every part keeps it
+            continue
+        merged = [g for g in groups if (g[0] - events) & (need - events)
+                  or not (g[0] - events) or not (need - events)]
+        for g in merged:
+            groups.remove(g)
+            need = need | g[0]
+        groups.append((need, [a for g in merged for a in g[1]] + [atom]))
+    if len(groups) <= 1:
+        need = groups[0][0] if groups else set()
+        return [_restrict(p, need, p.unsafe)]
+    return [_restrict(p, need, sympy.And(*[a.relation() for a in [*atoms_, *shared]]))
+            for need, atoms_ in groups]
+
+
+def _variables(p: Problem) -> set[Any]:
+    return {symbol(n) for n in [*p.states, *p.inputs, TIMER, CLOCK]}
+
+
+def _event_states(p: Problem) -> set[str]:
+    """The states the controller's events read (``Problem.events`` holds the events its
+    transitions use)."""
+    return {str(s) for e in p.events.values() for s in e.free_symbols} & set(p.states)
+
+
+def _closure(p: Problem, start: set[str]) -> set[str]:
+    """The states ``start`` needs, transitively (held inputs count as mode-dependent)."""
+    states, inputs = set(p.states), {symbol(u) for u in p.inputs}
+    events = _event_states(p)
+    need, todo = set(), [s for s in start if s in states or s in p.inputs]
+    while todo:
+        x = todo.pop()
+        if x in need:
+            continue
+        need.add(x)
+        if x in p.inputs:  # a held input changes at the jumps the events choose
+            todo += sorted(events)
+            continue
+        free = p.rhs[x].free_symbols
+        todo += sorted(str(s) for s in free if str(s) in states)
+        if free & inputs:
+            todo += sorted(events)
+    return need & states
+
+
+def _restrict(p: Problem, need: set[str], unsafe: Any) -> Problem:
+    states = [x for x in p.states if x in need]
+    s = p.scenario
+    init = {x: _box(p, x) for x in [*states, *p.held_inputs]}
+    inputs = {symbol(u) for u in p.inputs}
+    moded = any(p.rhs[x].free_symbols & inputs for x in states) or \
+        bool(unsafe.free_symbols & inputs)
+    if moded:
+        scenario = dataclasses.replace(s, init=init)
+        return dataclasses.replace(p, scenario=scenario, states=states,
+                                   rhs={x: p.rhs[x] for x in states}, unsafe=unsafe)
+    # the mode does not matter to these states: one mode, no transitions, no jumps
+    scenario = dataclasses.replace(s, init=init, states={s.initial: s.states[s.initial]},
+                                   transitions=[])
+    return dataclasses.replace(p, scenario=scenario, states=states,
+                               rhs={x: p.rhs[x] for x in states}, inputs=[],
+                               effects={s.initial: {}}, events={}, unsafe=unsafe)
+
+
+def _box(p: Problem, name: str) -> tuple[float, float]:
+    from cyphy.flowstar.export import initial_interval
+
+    lo, hi = initial_interval(p, name)
+    return float(lo), float(hi)
+
+
+def split(p: Problem, count: int) -> list[tuple[str, Problem]]:
+    """``count`` boxes cut along the state with the widest initial interval (all of ``p``
+    when no state is uncertain), labelled with that state's interval."""
+    widths = {x: hi - lo for x, (lo, hi) in ((x, _box(p, x)) for x in p.states)}
+    wide = max(widths, key=lambda x: (widths[x], x), default=None)
+    if count <= 1 or wide is None or widths[wide] <= 0:
+        return [("", p)]
+    lo, hi = _box(p, wide)
+    out = []
+    for k in range(count):
+        a = lo + (hi - lo) * k / count
+        b = hi if k == count - 1 else lo + (hi - lo) * (k + 1) / count
+        init = dict(p.scenario.init)
+        init[wide] = (a, b)
+        scenario = dataclasses.replace(p.scenario, init=init)
+        out.append((f"{wide} in [{a:.6g}, {b:.6g}]", dataclasses.replace(p, scenario=scenario)))
+    return out
+
+
+# --------------------------------------------------------------------------- running
+
+
+def check(p: Problem, name: str, binary: str, timeout: float | None = None,
+          boxes: int = 1, auto_split: bool = True, jobs: int | None = None) -> Result:
+    """The verdict on ``p``: see the module's docstring. Every run of a round goes to one
+    pool of ``jobs`` Flow* processes: the disjuncts of the unsafe set, their independent
+    parts, the boxes of each; a second round splits what the first left open."""
+    started = time.perf_counter()
+    jobs = jobs or os.cpu_count() or 1
+    disjuncts = p.disjuncts()
+    pieces = [parts(d) for d in disjuncts]
+    labels = [[_part_label(part, k, len(ps), j, len(disjuncts)) for k, part in enumerate(ps)]
+              for j, ps in enumerate(pieces)]
+    # state of each (disjunct, part): its tasks and outcomes so far
+    tasks = {(j, k): _tasks(part, name, labels[j][k], boxes)
+             for j, ps in enumerate(pieces) for k, part in enumerate(ps)}
+    outcomes = _run_round(tasks, binary, timeout, jobs)
+    notes: list[str] = []  # the runs a second round replaced by smaller boxes
+
+    def details() -> list[str]:
+        return notes + _details(tasks, outcomes)
+
+    for round_ in range(2):
+        found = _confirm(disjuncts, name, tasks, outcomes)
+        if found is not None:
+            witness, names, outcome = found
+            return Result("UNSAFE", "a simulated trajectory from the initial set enters the "
+                          f"unsafe set at t = {witness.entry.time:.6g} (Flow*: "
+                          f"{outcome.reason}{_paths(outcome)})",
+                          time.perf_counter() - started, details(), witness, names)
+        errors = [o for outs in outcomes.values() for o in outs if o.verdict == "ERROR"]
+        if errors:
+            return Result("ERROR", errors[0].reason, time.perf_counter() - started, details())
+        proved = {j for (j, k), outs in outcomes.items()
+                  if all(o.verdict == "SAFE" for o in outs)}
+        if len(proved) == len(disjuncts) or round_ == 1 or not auto_split or boxes > 1:
+            break
+        retry = {key: _tasks(pieces[key[0]][key[1]], name, labels[key[0]][key[1]],
+                             AUTO_SPLIT)
+                 for key, outs in outcomes.items()
+                 if key[0] not in proved and len(outs) == 1 and _open(outs[0])}
+        retry = {key: ts for key, ts in retry.items() if len(ts) > 1}
+        if not retry:
+            break
+        for key in retry:
+            o = outcomes[key][0]
+            notes.append(f"  {tasks[key][0].label}: {o.verdict} ({o.reason}); split into "
+                         f"{AUTO_SPLIT} boxes")
+        again = _run_round(retry, binary, timeout, jobs)
+        tasks.update(retry)
+        outcomes.update(again)
+    elapsed = time.perf_counter() - started
+    if len(proved) == len(disjuncts):
+        count = sum(len(outs) for outs in outcomes.values())
+        what = "every disjunct of the unsafe set" if len(disjuncts) > 1 else "the initial set"
+        return Result("SAFE", f"Flow* proved {what} safe in {count} run"
+                      f"{'s' if count > 1 else ''}, every computation completed", elapsed,
+                      details())
+    unsafe = [o for outs in outcomes.values() for o in outs if o.verdict == "UNSAFE"]
+    if unsafe:
+        return Result("UNKNOWN", "Flow* found a flowpipe inside the unsafe set, but no "
+                      "simulated trajectory from the initial set enters it: the flowpipe may "
+                      "lie on a spurious branch (a jump its enclosure allows and no "
+                      f"trajectory takes){_paths(unsafe[0])}", elapsed, details())
+    open_ = [t.label for key, ts in tasks.items() if key[0] not in proved
+             for t, o in zip(ts, outcomes[key]) if o.verdict != "SAFE"]
+    return Result("UNKNOWN", "not proved: " + "; ".join(open_[:6]) +
+                  (" …" if len(open_) > 6 else ""), elapsed, details())
+
+
+def _details(tasks: dict[Any, list[Task]], outcomes: dict[Any, list[Outcome]]) -> list[str]:
+    return [f"  {t.label}: {o.verdict} ({o.reason})" for key in tasks
+            for t, o in zip(tasks[key], outcomes[key])]
+
+
+def _run_round(tasks: dict[Any, list[Task]], binary: str, timeout: float | None, jobs: int
+               ) -> dict[Any, list[Outcome]]:
+    flat = [(key, t) for key, ts in tasks.items() for t in ts]
+    results = _run_all([t for _, t in flat], binary, timeout, jobs)
+    out: dict[Any, list[Outcome]] = {key: [] for key in tasks}
+    for (key, _), outcome in zip(flat, results):
+        out[key].append(outcome)
+    return out
+
+
+def _open(outcome: Outcome) -> bool:
+    """Whether smaller boxes may help: UNKNOWN or an unconfirmed UNSAFE, not a timeout."""
+    return outcome.verdict in ("UNKNOWN", "UNSAFE") and \
+        not outcome.reason.startswith("Flow* did not finish")
+
+
+def _confirm(disjuncts: list[Problem], name: str, tasks: dict[Any, list[Task]],
+             outcomes: dict[Any, list[Outcome]]) -> tuple[Witness, list[str], Outcome] | None:
+    """A witness for one of the runs Flow* called UNSAFE, searched on the whole automaton
+    (with that run's disjunct) from that run's box."""
+    for (j, _), outs in outcomes.items():
+        for task, outcome in zip(tasks[(j, _)], outs):
+            if outcome.verdict != "UNSAFE":
+                continue
+            whole = _whole(disjuncts[j], task.problem)
+            witness = find_witness(render(whole, name))
+            if witness is not None:
+                return witness, [*whole.states, *whole.held_inputs], outcome
+    return None
+
+
+def _part_label(part: Problem, k: int, n: int, j: int, m: int) -> str:
+    where = [f"disjunct {j + 1}/{m}"] if m > 1 else []
+    if n > 1:
+        where.append(f"part {k + 1}/{n} [{', '.join(part.states)}]")
+    return ", ".join(where) or "run"
+
+
+def _tasks(part: Problem, name: str, label: str, boxes: int) -> list[Task]:
+    return [Task(f"{label}{': ' + box if box else ''}", piece, _runnable(render(piece, name)))
+            for box, piece in split(part, boxes)]
+
+
+def _runnable(text: str) -> str:
+    """The model as run: the Taylor-model dump and counterexample file only (``tm output``),
+    not the gnuplot file, whose writing can take longer than the computation."""
+    return re.sub(r"^(\s*)output (\w+)$", r"\1tm output \2", text, count=1, flags=re.M)
+
+
+def _run_all(tasks: list[Task], binary: str, timeout: float | None, jobs: int
+             ) -> list[Outcome]:
+    required = [t.problem.required_jumps for t in tasks]
+    if len(tasks) == 1 or jobs <= 1:
+        return [run_text(t.text, binary, timeout, r) for t, r in zip(tasks, required)]
+    with ThreadPoolExecutor(max_workers=min(jobs, len(tasks))) as pool:  # one Flow* each
+        return list(pool.map(lambda tr: run_text(tr[0].text, binary, timeout, tr[1]),
+                             zip(tasks, required)))
+
+
+def _whole(p: Problem, box: Problem) -> Problem:
+    """The whole problem on the initial box of a run (a part's box, others unchanged)."""
+    init = {x: _box(p, x) for x in [*p.states, *p.held_inputs]}
+    init.update(box.scenario.init)
+    return dataclasses.replace(p, scenario=dataclasses.replace(p.scenario, init=init))
+
+
+def _paths(outcome: Outcome) -> str:
+    paths = unsafe_paths(outcome.counterexample)
+    if not paths:
+        return ""
+    shown = " -> ".join(_compress(max(paths, key=len)))
+    return f"; Flow*'s unsafe flowpipe on the path {shown}"
+
+
+def _compress(modes: list[str]) -> list[str]:
+    out: list[str] = []
+    for m in modes:
+        if out and out[-1].split(" ×")[0] == m:
+            count = int(out[-1].split(" ×")[1]) + 1 if " ×" in out[-1] else 2
+            out[-1] = f"{m} ×{count}"
+        else:
+            out.append(m)
+    return out
