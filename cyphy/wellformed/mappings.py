@@ -809,7 +809,7 @@ def _called_operation(ctx: WFContext, site: _Site, ops: dict[str, str],
 def _dmodel_operation(ctx: WFContext, file: ast.SourceFile, name: tuple[str, ...]) -> str | None:
     """The d-model operation definition (``operation op(…) {…}``) ``name`` denotes, if any."""
     for d in ctx.scopes.lookup(file, name):
-        if isinstance(d, ast.Skipped) and d.kind == "operation":
+        if isinstance(d, ast.StateMachine) and d.kind == "operation":
             return f"operation definition {d.name}"
     return None
 
