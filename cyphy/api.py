@@ -62,7 +62,8 @@ def _front_end(paths: Sequence[str | Path], options: CheckOptions) -> CheckResul
         from cyphy.wellformed import RULES, WFContext, check_wellformed
 
         only = None if options.value_checks else {i for i in RULES if not i.startswith("V")}
-        check_wellformed(WFContext(ws, result.resolution, report, dict(options.consts)), only)
+        check_wellformed(WFContext(ws, result.resolution, report, dict(options.consts),
+                                   z3=options.consistency), only)
     return result
 
 

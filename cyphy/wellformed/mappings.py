@@ -111,6 +111,11 @@ def platform_of(ctx: WFContext, mapping: ast.PlatformMapping) -> Platform | None
     module = ctx.target(mapping)
     if not isinstance(module, ast.Module):
         return None  # S1 reported the d-model
+    return module_platform(ctx, module)
+
+
+def module_platform(ctx: WFContext, module: ast.Module) -> Platform | None:
+    """The services of a module's robotic platform (None when it has none)."""
     module_file = ctx.file_of(module)
     platform, platform_file = module.platform, module_file
     if platform is None:  # `rref rp = Platform` to a platform declared on its own
