@@ -10,12 +10,15 @@ name that does not resolve is recorded (for the rules to report), never raised.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Iterator
+from typing import TYPE_CHECKING, Iterator
 
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
+
+if TYPE_CHECKING:
+    from cyphy.lang.scopes import Scopes
 
 
 @dataclass(frozen=True)
@@ -224,3 +227,37 @@ def statement_expressions(s: ast.Statement) -> tuple[ex.Expr, ...]:
     if isinstance(s, ast.WaitStatement):
         return (s.cycles,)
     return ()
+
+
+def global_constants(machine: Machine, scopes: "Scopes") -> dict[str, object]:
+    """Values of the constants declared outside the machine that its expressions name
+    (``PI`` of ``physmod::math``, a package's ``const``), by name; a constant without a
+    value, or whose value cannot be computed, is left out (the interpreter then reports
+    the name where it is used)."""
+    from cyphy.lang.scopes import is_constant
+    from cyphy.model.evaluate import EvalError, evaluate
+
+    local = set(machine.constants) | set(machine.variables) | set(machine.clocks)
+    names = sorted({n.text for e, _ in expressions(machine) for n in e.walk()
+                    if isinstance(n, ex.Name) and n.text not in local})
+    names += sorted({n.text for d in machine.constants.values() if d.value is not None
+                     for n in d.value.walk() if isinstance(n, ex.Name)} - local - set(names))
+    values: dict[str, object] = {}
+    todo = list(names)
+    for _ in range(8):  # constants defined by constants, a few levels deep
+        left = []
+        for name in todo:
+            found = scopes.lookup(machine.file, tuple(name.split("::")), is_constant)
+            decl = found[0] if found else None
+            if not isinstance(decl, ast.VarDecl) or decl.value is None:
+                continue
+            try:
+                values[name] = evaluate(decl.value, values)
+            except EvalError:
+                left.append(name)
+                todo += [n.text for n in decl.value.walk() if isinstance(n, ex.Name)
+                         and n.text not in values and n.text not in todo]
+        if not left:
+            break
+        todo = left
+    return values
