@@ -201,13 +201,18 @@ GENERATORS["sdf"] = (_sdf_run, "SDF 1.6 for Gazebo and other simulators (the pap
 def _flowstar_gen(args: argparse.Namespace) -> "Generated":
     from cyphy.flowstar.commands import generate
 
-    return generate(args.paths, args.scenario, args.model, tuple(args.path), _consts(args))[0]
+    return generate(args.paths, args.scenario, args.model, tuple(args.path), _consts(args),
+                    args.machine)[0]
 
 
 def _scenario_option(parser: argparse.ArgumentParser) -> None:
     if not any("--scenario" in a.option_strings for a in parser._actions):
         parser.add_argument("--scenario", metavar="FILE",
                             help="(--flowstar) the controller scenario, a TOML file")
+    if not any("--machine" in a.option_strings for a in parser._actions):
+        parser.add_argument("--machine", metavar="NAME",
+                            help="(--flowstar) the d-model's state machine that is the "
+                            "controller when the scenario has no [controller]")
 
 
 GENERATORS["flowstar"] = (_flowstar_gen, "a Flow* 2.1.0 hybrid automaton of the model under "
@@ -232,6 +237,9 @@ def _add_reach(sub: argparse._SubParsersAction) -> None:
     reach.add_argument("-o", "--output", metavar="DIR",
                        help="where the model is written (default: flowstar-gen/ beside it)")
     reach.add_argument("--model", metavar="NAME", help="the p-model")
+    reach.add_argument("--machine", metavar="NAME",
+                       help="the d-model's state machine that is the controller when the "
+                       "scenario has no [controller]")
     _const_options(reach)
     _path_option(reach)
 
@@ -250,7 +258,7 @@ def _reach(args: argparse.Namespace) -> int:
         sys.stderr.write(f"cyphy reach: error: {err}\n")
         return 2
     generated, jumps = generate(args.paths, args.scenario, args.model, tuple(args.path),
-                                _consts(args))
+                                _consts(args), args.machine)
     if generated.report.diagnostics:
         sys.stderr.write(render_text(generated.report.diagnostics, dict(generated.sources)))
     if generated.report.has_errors or not generated.files:
