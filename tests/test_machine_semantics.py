@@ -196,3 +196,13 @@ def test_corpus_smovement_turns_for_pi_over_av_cycles():
     # PI/av = 3 in cycle 5: forward again.
     assert outputs == [(("move", (0.1, 0.0)),), (), (("stop", ()),), (("move", (0.0, 1.0)),),
                        (), (("move", (0.1, 0.0)),), ()]
+
+
+def test_api_entry_point_builds_the_example_machine(tmp_path):
+    it, checked = api.machine_interpreter([str(EXAMPLES / "marxbot")], pmodel="marXbotBase")
+    assert it is not None and it.machine.name == "SMovement"
+    assert it.cycle({"obstacle": None}) == (("move", (0.1, 0.0)),)
+    missing, checked = api.machine_interpreter([str(EXAMPLES / "marxbot")], name="Nope")
+    assert missing is None
+    assert [d.code.id for d in checked.report.diagnostics] == ["E-MACHINE"]
+    assert "SMovement" in checked.report.diagnostics[0].hint

@@ -261,3 +261,52 @@ def global_constants(machine: Machine, scopes: "Scopes") -> dict[str, object]:
             break
         todo = left
     return values
+
+
+def select_machine(files: list[ast.SourceFile], resolution: Resolution, pmodel: str | None,
+                   name: str | None) -> tuple[Machine | None, tuple[str, str]]:
+    """The machine that controls ``pmodel``: the one named ``name``, else the only one the
+    controllers of the module mapped onto ``pmodel`` run, else the only one of the files.
+    None with a message and a hint when there is no such single machine."""
+    from cyphy.diagnostics import did_you_mean
+
+    machines = machines_of(files, resolution)
+    if name is not None:
+        chosen = [m for m in machines if m.name == name]
+        if chosen:
+            return chosen[0], ("", "")
+        return None, (f"no state machine '{name}' among the files",
+                      did_you_mean(name, [m.name for m in machines]) or
+                      "machines: " + (", ".join(m.name for m in machines) or "(none)"))
+    running = run_by_mapped_module(files, resolution, pmodel) if pmodel else set()
+    chosen = [m for m in machines if id(m.decl) in running] or machines
+    if len(chosen) == 1:
+        return chosen[0], ("", "")
+    if chosen:
+        return None, (f"the d-model has several state machines "
+                      f"({', '.join(m.name for m in chosen)})",
+                      'name one with --machine NAME (or machine = "NAME" in the scenario)')
+    return None, ("the files have no state machine",
+                  "add the d-model's files, or a [controller] table")
+
+
+def run_by_mapped_module(files: list[ast.SourceFile], resolution: Any, pmodel: str
+                          ) -> set[int]:
+    """Ids of the machines that the controllers of the module mapped onto ``pmodel`` run."""
+    out: set[int] = set()
+    for f in files:
+        for mapping in f.items:
+            if not (isinstance(mapping, ast.PlatformMapping) and mapping.pmodel[-1] == pmodel):
+                continue
+            module = resolution.get(mapping)
+            if not isinstance(module, ast.Module):
+                continue
+            controllers = [c for c in module.members if isinstance(c, ast.Controller)]
+            controllers += [resolution.get(r) for r in module.members
+                            if isinstance(r, ast.NodeRef) and r.kind == "cref"]
+            for c in controllers:
+                if not isinstance(c, ast.Controller):
+                    continue
+                out.update(id(m) for m in c.machines)
+                out.update(id(resolution.get(r)) for r in c.machine_refs)
+    return out

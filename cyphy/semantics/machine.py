@@ -41,11 +41,14 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.model.evaluate import MATH_FUNCTIONS, EvalError, evaluate
 from cyphy.model.machines import Machine, MachineTransition
+
+MACHINE = codes.code("E-MACHINE", codes.E, "the state machine cannot be run")
 
 Output = tuple[str, tuple[float, ...]]
 MAX_STEPS = 10_000
