@@ -211,3 +211,20 @@ def test_real_flowstar_verdicts_under_sspeed_match_the_hand_written_controller(
                    "--flowstar-bin", str(flowstar_binary()), "-o", str(tmp_path / name)])
         out = capsys.readouterr().out
         assert (rc, out.split(":")[0]) == (code, verdict), out
+
+
+def test_marxbot_avoid_obstacle_scenario_is_driven_by_smovement(tmp_path):
+    path = EXAMPLES / "marxbot" / "avoid_obstacle.toml"
+    assert "\n[controller]" not in path.read_text()
+    report = Report()
+    scenario = load_scenario(path, report)
+    problem, _ = build_problem([EXAMPLES / "marxbot"], scenario, report)
+    assert problem is not None, [d.message for d in report.diagnostics]
+    assert list(problem.effects) == ["Cruising", "Stopped", "Spinning", "Spinning_2",
+                                     "Spinning_3", "Spinning_4", "Spinning_5", "Spinning_6"]
+    # move(0.1, 0) drives both wheels at lv/r = 3.996 rad per time unit; move(0, 0.5) turns
+    # them at +-av*axis/(2r) = +-0.5994; stop() sets both to 0.
+    assert float(problem.effects["Cruising"]["LMotor_das"]) == pytest.approx(0.1 / 0.025025)
+    assert float(problem.effects["Spinning"]["RMotor_das"]) == pytest.approx(
+        -0.5 * 0.06 / (2 * 0.025025))
+    assert float(problem.effects["Stopped"]["LMotor_das"]) == 0
