@@ -106,8 +106,7 @@ class MachineInterpreter:
                  functions: Mapping[str, Any] | None = None) -> None:
         self.machine = machine
         self.functions = {**MATH_FUNCTIONS, **(functions or {}), "since": lambda c: c}
-        self.given = dict(constants or {})
-        self.constants = self._constants(self.given)
+        self.constants = self._constants(dict(constants or {}))
         self.period = self._period()
         start = machine.initial(None)
         if start is None:
@@ -309,8 +308,7 @@ class MachineInterpreter:
                                    "add 'initial i0' inside it (see STM2)")
             steps.append(_Enter(inner.key))
         else:
-            steps += [_Stmt(s) for k in self._ancestors(key)[-1:]
-                      for s in self.machine.nodes[k].actions("during")]
+            steps += [_Stmt(s) for s in node.actions("during")]
         self.pending = steps + self.pending
 
     # ----- statements and expressions

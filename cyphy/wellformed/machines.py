@@ -17,7 +17,7 @@ from __future__ import annotations
 from typing import Any, Iterator
 
 from cyphy import expr as ex
-from cyphy.diagnostics import did_you_mean
+from cyphy.diagnostics import Severity, did_you_mean
 from cyphy.lang import ast
 from cyphy.lang.notation import to_notation
 from cyphy.lang.scopes import is_constant, is_function, is_machine
@@ -25,7 +25,6 @@ from cyphy.model.evaluate import MATH_FUNCTIONS
 from cyphy.model.machines import Machine, expressions, machines_of, statements
 from cyphy.wellformed.mappings import Platform, module_platform
 from cyphy.wellformed.registry import WFContext, rule
-from cyphy.diagnostics import Severity
 
 SINCE = "since"
 
