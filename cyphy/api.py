@@ -17,6 +17,7 @@ from cyphy.lang.workspace import Workspace, load_workspace
 
 if TYPE_CHECKING:  # the model needs NumPy and SciPy: `cyphy check` must not import them
     from cyphy.model.elements import ElaboratedModel
+    from cyphy.semantics.machine import MachineInterpreter
 
 
 @dataclass(frozen=True)
@@ -62,7 +63,8 @@ def _front_end(paths: Sequence[str | Path], options: CheckOptions) -> CheckResul
         from cyphy.wellformed import RULES, WFContext, check_wellformed
 
         only = None if options.value_checks else {i for i in RULES if not i.startswith("V")}
-        check_wellformed(WFContext(ws, result.resolution, report, dict(options.consts)), only)
+        check_wellformed(WFContext(ws, result.resolution, report, dict(options.consts),
+                                   z3=options.consistency), only)
     return result
 
 
@@ -99,6 +101,38 @@ def _with_dependencies(ws: Workspace) -> list[str]:
         if not new:
             return targets
         targets = targets + new
+
+
+def machine_interpreter(paths: Sequence[str | Path], name: str | None = None,
+                        consts: dict[str, object] | None = None,
+                        search_paths: tuple[str, ...] = (), pmodel: str | None = None
+                        ) -> tuple["MachineInterpreter | None", CheckResult]:
+    """The d-model's state machine under RoboSim's cycle semantics, ready to run (the
+    sampled controller of a simulation): the machine ``name``, else the one the controller
+    of the module mapped onto ``pmodel`` runs, else the only one. None (with diagnostics,
+    code ``E-MACHINE`` for what is not a check) when the files have errors or there is no
+    single machine to run."""
+    from cyphy.diagnostics import Span
+    from cyphy.lang.scopes import Scopes
+    from cyphy.model.machines import global_constants, select_machine
+    from cyphy.semantics.machine import MACHINE, MachineError, MachineInterpreter
+
+    checked = check(paths, CheckOptions(search_paths=search_paths))
+    report = checked.report
+    if report.has_errors or checked.resolution is None:
+        return None, checked
+    machine, (message, hint) = select_machine(list(checked.workspace.user_files()),
+                                              checked.resolution, pmodel, name)
+    if machine is None:
+        report.report(MACHINE, message, Span.unknown(str(next(iter(paths), "<input>"))), hint)
+        return None, checked
+    values = {**global_constants(machine, Scopes(checked.workspace)), **(consts or {})}
+    try:
+        return MachineInterpreter(machine, values), checked
+    except MachineError as err:
+        report.report(MACHINE, f"state machine {machine.name}: {err.message}", err.span,
+                      err.hint)
+        return None, checked
 
 
 @dataclass(frozen=True)

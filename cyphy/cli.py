@@ -45,6 +45,8 @@ def _parser() -> argparse.ArgumentParser:
     )
     show.add_argument("paths", nargs="+", metavar="PATH", help="model file or folder")
     show.add_argument("--model", metavar="NAME", help="the p-model to show")
+    show.add_argument("--dmodel", action="store_true",
+                      help="show the d-model instead: modules, controllers and state machines")
     _const_options(show)
     show.add_argument("--format", choices=("text", "json", "dot", "svg"), default="text",
                       help="text (default), json, or the kinematic graph: dot (Graphviz's "
@@ -312,13 +314,18 @@ GENERATORS["mjcf"] = (_mjcf_run, "MuJoCo MJCF: the trees of links as bodies, a m
 def _flowstar_gen(args: argparse.Namespace) -> "Generated":
     from cyphy.flowstar.commands import generate
 
-    return generate(args.paths, args.scenario, args.model, tuple(args.path), _consts(args))[0]
+    return generate(args.paths, args.scenario, args.model, tuple(args.path), _consts(args),
+                    args.machine)[0]
 
 
 def _scenario_option(parser: argparse.ArgumentParser) -> None:
     if not any("--scenario" in a.option_strings for a in parser._actions):
         parser.add_argument("--scenario", metavar="FILE",
                             help="(--flowstar) the controller scenario, a TOML file")
+    if not any("--machine" in a.option_strings for a in parser._actions):
+        parser.add_argument("--machine", metavar="NAME",
+                            help="(--flowstar) the d-model's state machine that is the "
+                            "controller when the scenario has no [controller]")
 
 
 GENERATORS["flowstar"] = (_flowstar_gen, "a Flow* 2.1.0 hybrid automaton of the model under "
@@ -351,6 +358,9 @@ def _add_reach(sub: argparse._SubParsersAction) -> None:
     reach.add_argument("-o", "--output", metavar="DIR",
                        help="where the model is written (default: flowstar-gen/ beside it)")
     reach.add_argument("--model", metavar="NAME", help="the p-model")
+    reach.add_argument("--machine", metavar="NAME",
+                       help="the d-model's state machine that is the controller when the "
+                       "scenario has no [controller]")
     _const_options(reach)
     _path_option(reach)
 
@@ -373,7 +383,7 @@ def _reach(args: argparse.Namespace) -> int:
         sys.stderr.write("cyphy reach: error: --split and --jobs take a positive number\n")
         return 2
     generated, problem = generate(args.paths, args.scenario, args.model, tuple(args.path),
-                                  _consts(args))
+                                  _consts(args), args.machine)
     if generated.report.diagnostics:
         sys.stderr.write(render_text(generated.report.diagnostics, dict(generated.sources)))
     if generated.report.has_errors or not generated.files or problem is None:
@@ -502,6 +512,8 @@ def _show(args: argparse.Namespace) -> int:
     from cyphy.backends.show import model_to_json, model_to_text
     from cyphy.diagnostics import render_text
 
+    if args.dmodel:
+        return _show_dmodel(args)
     consts = _consts(args)
     result = elaborate(args.paths, ElaborateOptions(args.model, consts, tuple(args.path)))
     diagnostics = result.report.diagnostics
@@ -524,6 +536,36 @@ def _show(args: argparse.Namespace) -> int:
             else model_to_text(result.model)
     sys.stdout.write(out)
     return result.report.exit_code
+
+
+def _show_dmodel(args: argparse.Namespace) -> int:
+    from cyphy.api import CheckOptions, check
+    from cyphy.backends.show_dmodel import dmodel_to_dict, dmodel_to_json, dmodel_to_text
+    from cyphy.diagnostics import render_text
+    from cyphy.lang import ast
+    from cyphy.model.machines import machines_of
+
+    result = check(args.paths, CheckOptions(search_paths=tuple(args.path),
+                                            consts=_consts(args)))
+    diagnostics = result.report.diagnostics
+    if diagnostics:
+        sys.stderr.write(render_text(diagnostics, dict(result.sources)))
+    if result.resolution is None:
+        return 1
+    files = list(result.workspace.user_files())
+    # Errors stop the show only where the d-model is (a p-model beside it does not matter).
+    dmodel_files = {f.path for f in files if any(isinstance(
+        i, (ast.Module, ast.Controller, ast.StateMachine, ast.Interface)) for i in f.items)}
+    if any(d.span.file in dmodel_files or d.span.file not in result.sources
+           for d in result.report.errors):
+        return 1
+    data = dmodel_to_dict(files, result.resolution, machines_of(files, result.resolution))
+    if not (data["modules"] or data["controllers"] or data["machines"]):
+        sys.stderr.write("cyphy show: error: no module, controller or state machine in the "
+                         "files\n")
+        return 1
+    sys.stdout.write(dmodel_to_json(data) if args.format == "json" else dmodel_to_text(data))
+    return 0
 
 
 def _consistency_options(parser: argparse.ArgumentParser) -> None:

@@ -189,6 +189,21 @@ class Record(Expr):
 
 
 @dataclass(frozen=True, slots=True)
+class PlatformRef(Expr):
+    """RoboSim's ``$e`` (an event, operation or variable of the robotic platform, read or
+    called by a state machine) and ``$e?x`` (the event's value bound to ``x`` when it
+    occurs). Only d-model behaviour uses it."""
+
+    name: tuple[str, ...]
+    binding: str | None = None
+    span: Span = field(default=_NO_SPAN, compare=False, repr=False)
+
+    @property
+    def text(self) -> str:
+        return "::".join(self.name)
+
+
+@dataclass(frozen=True, slots=True)
 class IfExpr(Expr):
     cond: Expr
     then: Expr

@@ -190,19 +190,20 @@ def test_printed_polynomials_parse_back_to_the_same_values(terms, xv, yv):
 
 def test_dcmotor_export_matches_the_spec_example_in_structure(dcmotor):
     model = parse_model(render(dcmotor, "sampled_stop"))
-    assert list(model.modes) == ["cruise", "stopped"]
+    # The modes are those of the d-model's machine SSpeed, compiled (no [controller]).
+    assert list(model.modes) == ["Cruise", "Stopped"]
     assert all(m.ode == "poly ode 2" for m in model.modes.values())
     # the spec's example also has stopped -> stopped; a final state flows to the horizon
     assert [(j.source, j.target) for j in model.jumps] == [
-        ("cruise", "stopped"), ("cruise", "cruise")]
-    assert [c.bounds for c in model.modes["cruise"].invariant] == [("0.1",)]
-    assert model.modes["stopped"].invariant == []
+        ("Cruise", "Stopped"), ("Cruise", "Cruise")]
+    assert [c.bounds for c in model.modes["Cruise"].invariant] == [("0.1",)]
+    assert model.modes["Stopped"].invariant == []
     assert all(j.resets.keys() == {"timer"} for j in model.jumps)
     assert set(model.unsafe) == set(model.modes)
     assert model.settings["max jumps"] == 25
-    assert model.initial_mode == "cruise" and model.init["Range_distance"] == ("3", "3.1")
+    assert model.initial_mode == "Cruise" and model.init["Range_distance"] == ("3", "3.1")
     # the plant of dc_motor_sampled_stop.model: wref = 10 in cruise, 0 once stopped
-    cruise, stopped = model.modes["cruise"].flow, model.modes["stopped"].flow
+    cruise, stopped = model.modes["Cruise"].flow, model.modes["Stopped"].flow
     from cyphy.backends.sympy import to_sympy
     w, i, z = sympy.symbols("Motor_av Motor_i Motor_int1", real=True)
     names = {"Motor_av": w, "Motor_i": i, "Motor_int1": z}
@@ -314,7 +315,23 @@ def _diagnose(tmp_path, text, folder=EXAMPLES / "dcmotor"):
             if d.severity.value == "ERROR"]
 
 
-BASE = (EXAMPLES / "dcmotor" / "sampled_stop.toml").read_text()
+# The example's scenario with the hand-written controller it had before it used SSpeed.
+HAND_CONTROLLER = """
+[controller]
+initial = "cruise"
+
+[controller.states.cruise]
+calls = ["drive(10)"]
+
+[controller.states.stopped]
+calls = ["stop()"]
+
+[[controller.transitions]]
+from = "cruise"
+to = "stopped"
+when = "near"
+"""
+BASE = (EXAMPLES / "dcmotor" / "sampled_stop.toml").read_text() + HAND_CONTROLLER
 
 
 @pytest.mark.parametrize("edit, code, words", [

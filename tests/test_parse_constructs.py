@@ -947,32 +947,9 @@ def test_module_with_cycle_platform_refs_and_connections():
         ast.Connection("RP", "obstacle", "ctrl", "obstacle", "_async"),
         ast.Connection("ctrl", "move", "RP", "move", None),
     )
-    assert mod.members[6] == ast.Skipped("controller", "Local", (), "{ cycleDef 5 }")
+    assert mod.members[6] == ast.Controller("Local", (ast.CycleDef(num("5")),))
     assert mod.cycle_defs == (ast.CycleDef(B("==", N("cycle"), num("1"))),)
     assert mod.platform.name == "RP"
-
-
-def test_controllers_state_machines_and_operations_are_kept_as_text():
-    ctrl_body = "{ uses I sref s = pkg::Stm { nested } connection a on b to c on d }"
-    stm_body = (
-        "{\n  var x: int = 0\n  state A { entry $op(1) ; #C }\n"
-        '  transition t { from A to A condition $e ? v /\\ since(C) > 1 action x = "}" }\n'
-        "  // a comment with a brace }\n"
-        "  pmodel NotReally { }\n}"
-    )
-    op_body = "{ x = a / 2 }"
-    f = parse(
-        f"controller Ctrl {ctrl_body}\n"
-        f"stm Machine {stm_body}\n"
-        f"operation scale(a: real, b: int) {op_body}\n"
-        "pmodel After { }\n"
-    )
-    assert f.items[0] == ast.Skipped("controller", "Ctrl", (), ctrl_body)
-    assert f.items[1] == ast.Skipped("stm", "Machine", (), stm_body)
-    assert f.items[2] == ast.Skipped(
-        "operation", "scale", (ast.Param("a", REAL), ast.Param("b", INT)), op_body
-    )
-    assert f.items[3] == ast.PModel("After", ())
 
 
 # ----------------------------------------------------------------------------- A.11 expressions

@@ -15,11 +15,12 @@ if TYPE_CHECKING:
 
 
 def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str | None = None,
-             search_paths: tuple[str, ...] = (), consts: dict[str, object] | None = None
-             ) -> tuple[Generated, "Problem | None"]:
+             search_paths: tuple[str, ...] = (), consts: dict[str, object] | None = None,
+             machine: str | None = None) -> tuple[Generated, "Problem | None"]:
     """The Flow* model of the p-model under the scenario, as ``NAME.model`` (NAME from the
     scenario's file name), and the problem it renders (None on errors), which
-    :func:`cyphy.flowstar.check.check` decomposes, splits and runs."""
+    :func:`cyphy.flowstar.check.check` decomposes, splits and runs. ``machine`` names the
+    d-model's state machine that is the controller when the scenario has no ``[controller]``."""
     from cyphy.flowstar.export import EXPORT, build_problem, output_name, render
     from cyphy.flowstar.printer import NotExpressible
 
@@ -35,6 +36,13 @@ def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str 
         return Generated(report, {scenario_path: text}), None
     if model is not None:
         scenario.model = model
+    if machine is not None:
+        if scenario.states:
+            report.report(SCENARIO, f"--machine {machine}: the scenario has a [controller], "
+                          "which is the controller", scenario.span("controller"),
+                          "remove the [controller] table to use the machine")
+            return Generated(report, {scenario_path: scenario.text}), None
+        scenario.machine = machine
     scenario.consts.update(consts or {})
     problem, sources = build_problem(paths, scenario, report, search_paths)
     if problem is None or report.has_errors:

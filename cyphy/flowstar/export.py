@@ -126,6 +126,11 @@ def build_problem(paths: Sequence[str | Path], scenario: Scenario, report: Repor
     sources[scenario.path] = scenario.text
     if result.model is None:
         return None, sources
+    if not scenario.states:  # no [controller]: the d-model's state machine is the controller
+        from cyphy.flowstar.machine import machine_controller
+
+        if not machine_controller(result.check, result.model.name, scenario, report):
+            return None, sources
     try:
         return _Builder(result, scenario, report).build(), sources
     except _Stop:
@@ -387,24 +392,25 @@ class _Builder:
         """Each input event a transition names, as its mapping predicate (mangled names)."""
         from cyphy.semantics.equations import input_event_predicate
 
-        if not self.s.transitions:
+        if not any(t.literals for t in self.s.transitions):
             return {}
         mapping = self._mapping()
         available = {e.name: e for e in mapping.events if e.direction == "input"}
         out: dict[str, tuple[ex.Expr, Span]] = {}
         for t in self.s.transitions:
-            if t.event in out:
-                continue
-            event = available.get(t.event)
-            if event is None:
-                raise self.fail(f"mapping {mapping.name} has no input event '{t.event}'",
-                                t.span, did_you_mean(t.event, available) or
-                                f"input events: {', '.join(sorted(available)) or '(none)'}")
-            pred = input_event_predicate(self.model, mapping, event)
-            if pred is None:
-                raise self.fail(f"the input event {t.event} has no predicate in mapping "
-                                f"{mapping.name}: its occurrence cannot be decided", t.span)
-            out[t.event] = (pred, t.span)
+            for name, _ in t.literals:
+                if name in out:
+                    continue
+                event = available.get(name)
+                if event is None:
+                    raise self.fail(f"mapping {mapping.name} has no input event '{name}'",
+                                    t.span, did_you_mean(name, available) or
+                                    f"input events: {', '.join(sorted(available)) or '(none)'}")
+                pred = input_event_predicate(self.model, mapping, event)
+                if pred is None:
+                    raise self.fail(f"the input event {name} has no predicate in mapping "
+                                    f"{mapping.name}: its occurrence cannot be decided", t.span)
+                out[name] = (pred, t.span)
         return out
 
     def _probes(self, system: Any, exprs: list[ex.Expr]) -> dict[str, str]:
@@ -607,8 +613,9 @@ def _jumps(p: Problem, variables: set[Any], final: set[str]
         for t in p.scenario.transitions:
             if t.source != state:
                 continue
-            event = p.events[t.event].xreplace(_mode_values(p, state))
-            pred = sympy.Not(event) if t.negated else event
+            values = _mode_values(p, state)
+            pred = sympy.And(*[sympy.Not(p.events[e].xreplace(values)) if negated
+                               else p.events[e].xreplace(values) for e, negated in t.literals])
             whens.append(pred)
             out += [(state, t.target, c) for c in dnf(pred, variables)]
         out += [(state, state, c) for c in negated_dnf(whens, variables)]

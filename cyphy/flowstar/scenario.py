@@ -1,10 +1,12 @@
 """The scenario file (TOML) of ``cyphy gen --flowstar`` and ``cyphy reach``: what the model is
 checked under (the README documents every key).
 
-The d-model's own semantics is not generated, so the scenario gives the controller as a small
-automaton over the d-model's events and operations, with the environment (how sensor inputs
-evolve), the initial set, the unsafe set and Flow*'s settings. This module reads and checks
-the file's shape; names are checked against the model by :mod:`cyphy.flowstar.export`.
+The controller is the d-model's state machine (compiled by :mod:`cyphy.flowstar.machine`
+into ``states`` and ``transitions``) unless the scenario gives one as a small automaton over
+the d-model's events and operations (``[controller]``); the scenario also gives the
+environment (how sensor inputs evolve), the initial set, the unsafe set and Flow*'s
+settings. This module reads and checks the file's shape; names are checked against the model
+by :mod:`cyphy.flowstar.export`.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from cyphy.diagnostics import Report, Span, did_you_mean
 SCENARIO = codes.code("E-SCENARIO", codes.E, "the scenario file cannot be used")
 
 _TOP = {"model", "elements", "horizon", "tscale", "cycle", "consts", "init", "environment",
-        "controller", "unsafe", "flowstar"}
+        "controller", "machine", "unsafe", "flowstar"}
 _FLOWSTAR = {"step", "order", "remainder", "cutoff", "precision", "max_jumps"}
 _WHEN = re.compile(r"\s*(not\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*\Z")
 
@@ -41,9 +43,16 @@ class Environment:
 class Transition:
     source: str
     target: str
-    event: str
+    event: str  # "" with no conjuncts: always taken
     negated: bool  # ``when = "not obstacle"``
     span: Span
+    # More literals that must hold with the first (a compiled state machine's guards).
+    conjuncts: tuple[tuple[str, bool], ...] = ()
+
+    @property
+    def literals(self) -> tuple[tuple[str, bool], ...]:
+        """The guard: a conjunction of (event, negated); () is always true."""
+        return (((self.event, self.negated),) if self.event else ()) + self.conjuncts
 
 
 @dataclass(frozen=True)
@@ -76,6 +85,7 @@ class Scenario:
     transitions: list[Transition] = field(default_factory=list)
     unsafe: tuple[str, ...] = ()
     settings: Settings = Settings()
+    machine: str | None = None  # the d-model machine to use when there is no [controller]
 
     @property
     def period(self) -> float:
@@ -176,7 +186,17 @@ def load_scenario(path: str | Path, report: Report) -> Scenario | None:
     _consts(r, data.get("consts", {}))
     _init(r, data.get("init", {}))
     _environment(r, data.get("environment", {}))
-    _controller(r, data.get("controller"))
+    if "machine" in data:
+        if isinstance(data["machine"], str):
+            s.machine = data["machine"]
+        else:
+            r.error("'machine' must be the name of a state machine of the d-model",
+                    ("machine",))
+    if "controller" in data and "machine" in data:
+        r.error("give either a [controller] or 'machine', not both", ("machine",),
+                "without [controller] the d-model's machine is the controller")
+    if "controller" in data:
+        _controller(r, data["controller"])
     _unsafe(r, data.get("unsafe"))
     _settings(r, data.get("flowstar", {}))
     after = len([d for d in report.diagnostics if d.code is SCENARIO])
@@ -266,9 +286,6 @@ def _environment(r: _Reader, value: Any) -> None:
 
 
 def _controller(r: _Reader, value: Any) -> None:
-    if value is None:
-        r.error("the scenario needs a [controller]", (), "see the README's scenario format")
-        return
     table = _table(r, value, ("controller",))
     if table is None:
         return

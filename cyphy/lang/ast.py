@@ -590,7 +590,35 @@ class SkipStatement(Node):
     pass
 
 
-Statement = Union[Assign, CallStatement, SkipStatement]
+@dataclass(frozen=True, slots=True)
+class SendStatement(Node):
+    """``$e!v`` (or ``$e!``-less ``$e`` as a call statement): an output event."""
+
+    event: Expr
+    value: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class ClockReset(Node):
+    """``#C``: the clock ``C`` counts again from 0."""
+
+    clock: str
+
+
+@dataclass(frozen=True, slots=True)
+class ExecStatement(Node):
+    """``exec`` inside an action: the cycle ends here; the rest runs in the next cycle."""
+
+
+@dataclass(frozen=True, slots=True)
+class WaitStatement(Node):
+    """``wait(n)``: the machine lets ``n`` cycles pass."""
+
+    cycles: Expr
+
+
+Statement = Union[Assign, CallStatement, SkipStatement, SendStatement, ClockReset,
+                  ExecStatement, WaitStatement]
 
 
 @dataclass(frozen=True, slots=True)
@@ -774,15 +802,134 @@ class Connection(Node):
     flag: str | None
 
 
-@dataclass(frozen=True, slots=True)
-class Skipped(Node):
-    """A controller, state machine or operation definition kept as text (not needed by
-    mappings; parsed as a brace-balanced block)."""
+# --------------------------------------------------------------------------- behaviour
 
-    kind: str  # controller, stm, operation
+
+@dataclass(frozen=True, slots=True)
+class MachineRef(Node):
+    """``sref sm = SMovement`` (or ``opref``) inside a controller."""
+
+    kind: str
     name: str
-    params: tuple[Param, ...]
-    text: str
+    target: QName
+
+
+@dataclass(frozen=True, slots=True)
+class Context(Node):
+    """``input context { uses I }`` or ``output context { requires I }``."""
+
+    direction: str  # input, output
+    members: tuple[InterfaceUse, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Terminates(Node):
+    """``terminates`` in an operation definition."""
+
+
+@dataclass(frozen=True, slots=True)
+class MachineNode(Node):
+    """``initial i0``, ``junction j`` or ``final f``: a node without actions."""
+
+    kind: str  # initial, junction, final
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class StateAction(Node):
+    kind: str  # entry, during, exit
+    statements: tuple[Statement, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Transition(Node):
+    name: str
+    source: str | None
+    target: str | None
+    exec: bool
+    trigger: Expr | None
+    condition: Expr | None
+    action: tuple[Statement, ...] | None
+    source_span: Span | None = field(default=None, compare=False, repr=False)
+    target_span: Span | None = field(default=None, compare=False, repr=False)
+
+
+class _Behaviour:
+    """What machines, operation definitions and (composite) states share: nodes and
+    transitions among their members."""
+
+    __slots__ = ()
+    members: tuple[object, ...]
+
+    @property
+    def states(self) -> tuple["State", ...]:
+        return _of(self.members, State)
+
+    @property
+    def nodes(self) -> tuple[MachineNode, ...]:
+        return _of(self.members, MachineNode)
+
+    @property
+    def transitions(self) -> tuple[Transition, ...]:
+        return _of(self.members, Transition)
+
+
+@dataclass(frozen=True, slots=True)
+class State(_Behaviour, Node):
+    name: str
+    members: tuple[object, ...]
+
+    def actions(self, kind: str) -> tuple[Statement, ...]:
+        """The statements of the ``entry``, ``during`` or ``exit`` actions, in order."""
+        return tuple(s for a in _of(self.members, StateAction) if a.kind == kind
+                     for s in a.statements)
+
+
+@dataclass(frozen=True, slots=True)
+class StateMachine(_Behaviour, Node):
+    """``stm NAME { … }``; also an operation definition (``kind`` operation, with
+    parameters)."""
+
+    name: str
+    members: tuple[object, ...]
+    kind: str = "stm"  # stm, operation
+    params: tuple[Param, ...] = ()
+
+    @property
+    def variables(self) -> tuple[VarDecl, ...]:
+        return _of(self.members, VarDecl)
+
+    @property
+    def clocks(self) -> tuple[ClockDecl, ...]:
+        return _of(self.members, ClockDecl)
+
+    @property
+    def contexts(self) -> tuple[Context, ...]:
+        return _of(self.members, Context)
+
+    @property
+    def cycle_defs(self) -> tuple[CycleDef, ...]:
+        return _of(self.members, CycleDef)
+
+    @property
+    def interface_uses(self) -> tuple[InterfaceUse, ...]:
+        """``uses``/``requires``/``provides``, written directly or in a context."""
+        direct = _of(self.members, InterfaceUse)
+        return direct + tuple(u for c in self.contexts for u in c.members)
+
+
+@dataclass(frozen=True, slots=True)
+class Controller(Node):
+    name: str
+    members: tuple[object, ...]
+
+    @property
+    def machine_refs(self) -> tuple[MachineRef, ...]:
+        return _of(self.members, MachineRef)
+
+    @property
+    def machines(self) -> tuple[StateMachine, ...]:
+        return _of(self.members, StateMachine)
 
 
 @dataclass(frozen=True, slots=True)
@@ -806,7 +953,7 @@ class Module(Node):
 TopLevel = Union[
     PackageDecl, EndPackage, Import, VarDecl, TypeDecl, FunctionDecl, DataType, Enumeration,
     UnitDecl, AnnotationTemplate, Definition, PModel, PlatformMapping, Solution, Interface,
-    Module, RoboticPlatform, Skipped,
+    Module, RoboticPlatform, Controller, StateMachine,
 ]
 
 

@@ -108,6 +108,10 @@ class NotationPrinter:
         fields = ", ".join(f"{n} = {self.print(v)}" for n, v in e.fields)
         return f"{'::'.join(e.type_name)} (|{fields}|)", ATOM
 
+    def _print_PlatformRef(self, e: ex.PlatformRef) -> tuple[str, int]:
+        binding = f"?{e.binding}" if e.binding is not None else ""
+        return f"${e.text}{binding}", ATOM
+
     def _print_IfExpr(self, e: ex.IfExpr) -> tuple[str, int]:
         return (f"if {self.print(e.cond)} then {self.print(e.then)} else "
                 f"{self.print(e.orelse)} end"), ATOM
@@ -115,6 +119,27 @@ class NotationPrinter:
 
 def to_notation(e: ex.Expr) -> str:
     return NotationPrinter().print(e)
+
+
+def statement_to_notation(s: ast.Statement) -> str:
+    """A statement of an action as written: ``x = 1``, ``$move(lv, 0)``, ``#C``, ``exec``."""
+    if isinstance(s, ast.Assign):
+        return f"{to_notation(s.target)} = {to_notation(s.value)}"
+    if isinstance(s, ast.CallStatement):
+        return to_notation(s.call)
+    if isinstance(s, ast.SendStatement):
+        return f"{to_notation(s.event)}!{NotationPrinter().wrap(s.value, ATOM)}"
+    if isinstance(s, ast.ClockReset):
+        return f"#{s.clock}"
+    if isinstance(s, ast.ExecStatement):
+        return "exec"
+    if isinstance(s, ast.WaitStatement):
+        return f"wait({to_notation(s.cycles)})"
+    return "skip"
+
+
+def action_to_notation(statements: tuple[ast.Statement, ...]) -> str:
+    return "; ".join(statement_to_notation(s) for s in statements)
 
 
 def type_to_notation(t: ast.TypeRef | None) -> str:

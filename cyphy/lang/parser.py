@@ -12,8 +12,6 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Iterable
 
-import re
-
 from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
@@ -64,7 +62,6 @@ _FRIENDLY = {
     "NUMBER": "a number",
     "STRING": "a string",
     "UNIT": "a unit",
-    "SKIPPED_TEXT": "text",
     "$END": "end of file",
 }
 
@@ -177,17 +174,15 @@ def _syntax_diagnostic(err: UnexpectedInput, text: str, path: str) -> Diagnostic
                 f"expected {_expected_text(expected)}",
             )
         value = str(token)
-        if token.type == "SKIPPED_TEXT":
-            # No terminal of the parser state matched: Lark's fallback lexer read a run of
-            # text. Report the word or character that really starts there.
-            word = _WORD.match(value)
-            if word is None:
-                span = Span(path, line, column, line, column + 1)
-                hint = f"expected {_expected_text(expected)}"
-                return Diagnostic(codes.LEX, f"unexpected character {value[0]!r}", span, hint)
-            value = word.group(0)
-            token = Token("NAME", value, token.start_pos, line, column, line,
-                          column + len(value))
+        rest = text[token.start_pos:] if token.start_pos is not None else ""
+        if rest.startswith("/*") and "*/" not in rest:
+            return Diagnostic(codes.LEX, "unterminated block comment",
+                              Span(path, line, column, line, column + 2),
+                              "close the comment with '*/'")
+        if rest.startswith('"') and token.type != "STRING":
+            return Diagnostic(codes.LEX, "unterminated string",
+                              Span(path, line, column, line, column + 1),
+                              "close the string with '\"'")
         end_col = (token.end_column or column + len(value)) if token.end_line == line else column + 1
         span = Span(path, line, column, line, max(end_col, column + 1))
         message = f"unexpected {_describe_token(token)}"
@@ -201,9 +196,6 @@ def _syntax_diagnostic(err: UnexpectedInput, text: str, path: str) -> Diagnostic
 
     span = Span(path, line, column, line, column + 1)
     return Diagnostic(codes.SYNTAX, str(err).splitlines()[0], span, "")
-
-
-_WORD = re.compile(r"\^?[A-Za-z_][A-Za-z0-9_]*|[0-9]")
 
 
 def _describe_token(token: Token) -> str:
@@ -642,8 +634,12 @@ class _Builder:
     def assignment(self, meta: Any, c: list[Any]) -> ast.Assign:
         return ast.Assign(c[0], c[1], span=self._span(meta))
 
-    def call_statement(self, meta: Any, c: list[Any]) -> ast.CallStatement:
-        return ast.CallStatement(c[0], span=self._span(meta))
+    def call_statement(self, meta: Any, c: list[Any]) -> ast.Statement:
+        call, span = c[0], self._span(meta)
+        if (isinstance(call, ex.Call) and isinstance(call.func, ex.Name)
+                and call.func.parts == ("wait",) and len(call.args) == 1):
+            return ast.WaitStatement(call.args[0], span=span)
+        return ast.CallStatement(call, span=span)
 
     def skip_statement(self, meta: Any, c: list[Any]) -> ast.SkipStatement:
         return ast.SkipStatement(span=self._span(meta))
@@ -693,19 +689,103 @@ class _Builder:
     def connection_flag(self, meta: Any, c: list[Token]) -> str:
         return _name(c[0])
 
-    def skipped_kind(self, meta: Any, c: list[Token]) -> str:
+    # ----- behaviour: controllers, state machines, operation definitions
+    def controller(self, meta: Any, c: list[Any]) -> ast.Controller:
+        return ast.Controller(_name(c[0]), self._flat(c[1:]), span=self._span(meta))
+
+    def machine_ref_kind(self, meta: Any, c: list[Token]) -> str:
         return str(c[0])
 
-    def skipped_body(self, meta: Any, c: list[Any]) -> str:
-        return self.text[meta.start_pos:meta.end_pos]
+    def machine_ref(self, meta: Any, c: list[Any]) -> ast.MachineRef:
+        return ast.MachineRef(c[0], _name(c[1]), c[2].parts, span=self._span(meta))
 
-    def skipped_decl(self, meta: Any, c: list[Any]) -> ast.Skipped:
-        return ast.Skipped(c[0], _name(c[1]), (), c[2], span=self._span(meta))
+    def state_machine(self, meta: Any, c: list[Any]) -> ast.StateMachine:
+        return ast.StateMachine(_name(c[0]), self._flat(c[1:]), span=self._span(meta))
 
-    def skipped_operation(self, meta: Any, c: list[Any]) -> ast.Skipped:
+    def operation_def(self, meta: Any, c: list[Any]) -> ast.StateMachine:
         name, *rest = c
         params = tuple(x for x in rest if isinstance(x, ast.Param))
-        return ast.Skipped("operation", _name(name), params, rest[-1], span=self._span(meta))
+        members = self._flat(x for x in rest if not isinstance(x, ast.Param))
+        return ast.StateMachine(_name(name), members, "operation", params,
+                                span=self._span(meta))
+
+    def terminates(self, meta: Any, c: list[Any]) -> ast.Terminates:
+        return ast.Terminates(span=self._span(meta))
+
+    def context_kind(self, meta: Any, c: list[Token]) -> str:
+        return str(c[0])
+
+    def context(self, meta: Any, c: list[Any]) -> ast.Context:
+        return ast.Context(c[0], tuple(c[1:]), span=self._span(meta))
+
+    def _machine_node(self, kind: str, meta: Any, c: list[Token]) -> ast.MachineNode:
+        return ast.MachineNode(kind, _name(c[0]), span=self._span(meta))
+
+    def initial_node(self, meta: Any, c: list[Token]) -> ast.MachineNode:
+        return self._machine_node("initial", meta, c)
+
+    def junction_node(self, meta: Any, c: list[Token]) -> ast.MachineNode:
+        return self._machine_node("junction", meta, c)
+
+    def final_node(self, meta: Any, c: list[Token]) -> ast.MachineNode:
+        return self._machine_node("final", meta, c)
+
+    def state(self, meta: Any, c: list[Any]) -> ast.State:
+        return ast.State(_name(c[0]), self._flat(c[1:]), span=self._span(meta))
+
+    def action_kind(self, meta: Any, c: list[Token]) -> str:
+        return str(c[0])
+
+    def state_action(self, meta: Any, c: list[Any]) -> ast.StateAction:
+        return ast.StateAction(c[0], c[1], span=self._span(meta))
+
+    def transition_from(self, meta: Any, c: list[Token]) -> _Tagged:
+        return _Tagged("from", _name(c[0]), self._tok_span(c[0]))
+
+    def transition_to(self, meta: Any, c: list[Token]) -> _Tagged:
+        return _Tagged("to", _name(c[0]), self._tok_span(c[0]))
+
+    def exec_trigger(self, meta: Any, c: list[Any]) -> _Tagged:
+        return _Tagged("exec", True, self._span(meta))
+
+    def transition_trigger(self, meta: Any, c: list[Any]) -> _Tagged:
+        return _Tagged("trigger", c[0], self._span(meta))
+
+    def transition_condition(self, meta: Any, c: list[Any]) -> _Tagged:
+        return _Tagged("condition", c[0], self._span(meta))
+
+    def transition(self, meta: Any, c: list[Any]) -> ast.Transition:
+        name, *members = c
+        span = self._span(meta)
+        where = f"transition {_name(name)}"
+        parts: dict[str, Any] = {}
+        for m in members:
+            tag, value, mspan = ((m.tag, m.value, m.span) if isinstance(m, _Tagged)
+                                 else ("action", m.statements, m.span))
+            if tag in parts:
+                self._duplicate(tag, where, mspan)
+                continue
+            parts[tag] = (value, mspan)
+        value = {k: v for k, (v, _) in parts.items()}
+        return ast.Transition(
+            _name(name), value.get("from"), value.get("to"), bool(value.get("exec")),
+            value.get("trigger"), value.get("condition"), value.get("action"), span=span,
+            source_span=parts["from"][1] if "from" in parts else None,
+            target_span=parts["to"][1] if "to" in parts else None)
+
+    def send_statement(self, meta: Any, c: list[Any]) -> ast.SendStatement:
+        span = self._span(meta)
+        if not isinstance(c[0], ex.PlatformRef):
+            self.diagnostics.append(Diagnostic(
+                codes.SYNTAX, "only an output event of the platform can be sent with '!'", span,
+                "write $event!value"))
+        return ast.SendStatement(c[0], c[1], span=span)
+
+    def clock_reset(self, meta: Any, c: list[Token]) -> ast.ClockReset:
+        return ast.ClockReset(_name(c[0]), span=self._span(meta))
+
+    def exec_statement(self, meta: Any, c: list[Any]) -> ast.ExecStatement:
+        return ast.ExecStatement(span=self._span(meta))
 
     # ----- expressions
     def binop(self, meta: Any, c: list[Token]) -> str:
@@ -768,6 +848,10 @@ class _Builder:
         if isinstance(value, Token):
             value = ex.Num(str(value), span=self._tok_span(value))
         return ex.Quantity(value, str(unit), span=span)
+
+    def platform_ref(self, meta: Any, c: list[Any]) -> ex.PlatformRef:
+        return ex.PlatformRef(c[0].parts, _name(c[1]) if c[1] is not None else None,
+                              span=self._span(meta))
 
     def string(self, meta: Any, c: list[Token]) -> ex.Str:
         return ex.Str(_unescape(str(c[0])), span=self._span(meta))

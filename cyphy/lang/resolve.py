@@ -17,7 +17,7 @@ from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.lang import ast
 from cyphy.lang.scopes import (
-    Scopes, is_constant, is_definition, is_interface, is_module, is_node, is_pmodel,
+    Scopes, is_constant, is_definition, is_interface, is_machine, is_module, is_node, is_pmodel,
     is_template, is_type, is_value,
 )
 from cyphy.lang.typing import TypeChecker
@@ -206,7 +206,7 @@ class _Checker:
             return "definition"
         if isinstance(decl, (ast.DataType, ast.TypeDecl, ast.Enumeration)):
             return "type"
-        if isinstance(decl, ast.Skipped):
+        if isinstance(decl, (ast.Controller, ast.StateMachine)):
             return "behaviour"
         return type(decl).__name__
 
@@ -259,9 +259,10 @@ class _Checker:
             self._module(item)
         elif isinstance(item, ast.Solution):
             self._type(item.type)
-        elif isinstance(item, ast.Skipped):
-            for p in item.params:
-                self._type(p.type)
+        elif isinstance(item, ast.Controller):
+            self._controller(item)
+        elif isinstance(item, ast.StateMachine):
+            self._machine(item)
 
     def _function(self, f: ast.FunctionDecl) -> None:
         self._unique(f.params, "parameter", f"function {f.name}")
@@ -634,6 +635,32 @@ class _Checker:
             elif isinstance(m, ast.VarDecl):
                 self._type(m.type)
 
+    def _controller(self, c: ast.Controller) -> None:
+        for m in c.members:
+            if isinstance(m, ast.InterfaceUse):
+                self.resolve(m, m.interface, is_interface, "interface", m.span)
+            elif isinstance(m, ast.MachineRef):
+                self.resolve(m, m.target, is_machine, "state machine or operation", m.span)
+            elif isinstance(m, ast.StateMachine):
+                self._machine(m)
+            elif isinstance(m, ast.VarDecl):
+                self._type(m.type)
+
+    def _machine(self, stm: ast.StateMachine) -> None:
+        """The interfaces and types a machine names; its states, transitions and expressions
+        are checked by the machine rules (``cyphy.wellformed.machines``)."""
+        for p in stm.params:
+            self._type(p.type)
+        for use in stm.interface_uses:
+            self.resolve(use, use.interface, is_interface, "interface", use.span)
+        stack: list[object] = list(stm.members)
+        while stack:
+            m = stack.pop()
+            if isinstance(m, ast.VarDecl):
+                self._type(m.type)
+            elif isinstance(m, ast.State):
+                stack.extend(m.members)
+
     def _module(self, mod: ast.Module) -> None:
         nodes: dict[str, object] = {}
         for m in mod.members:
@@ -643,7 +670,7 @@ class _Checker:
             elif isinstance(m, ast.NodeRef):
                 self.resolve(m, m.target, is_node, "controller or platform", m.span)
                 nodes[m.name] = m
-            elif isinstance(m, ast.Skipped):
+            elif isinstance(m, (ast.Controller, ast.StateMachine)):
                 nodes[m.name] = m
             elif isinstance(m, ast.CycleDef):
                 cycle = ast.Param("cycle", ast.PrimitiveType("nat"), span=m.span)

@@ -65,7 +65,12 @@ def is_interface(d: Declaration) -> bool:
 
 def is_node(d: Declaration) -> bool:
     """Targets of ``cref``/``rref`` in a module: controllers and robotic platforms."""
-    return isinstance(d, (ast.Skipped, ast.RoboticPlatform)) and getattr(d, "kind", "") != "stm"
+    return isinstance(d, (ast.Controller, ast.RoboticPlatform))
+
+
+def is_machine(d: Declaration) -> bool:
+    """Targets of ``sref``/``opref`` in a controller: state machines and operations."""
+    return isinstance(d, ast.StateMachine)
 
 
 def is_anything(d: Declaration) -> bool:

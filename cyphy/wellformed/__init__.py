@@ -16,5 +16,6 @@ from cyphy.wellformed import indexing  # noqa: E402,F401
 from cyphy.wellformed import annotations  # noqa: E402,F401
 from cyphy.wellformed import mappings  # noqa: E402,F401
 from cyphy.wellformed import values  # noqa: E402,F401
+from cyphy.wellformed import machines  # noqa: E402,F401
 
 __all__ = ["RULES", "WFContext", "check_wellformed", "rule"]

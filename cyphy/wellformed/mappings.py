@@ -111,6 +111,11 @@ def platform_of(ctx: WFContext, mapping: ast.PlatformMapping) -> Platform | None
     module = ctx.target(mapping)
     if not isinstance(module, ast.Module):
         return None  # S1 reported the d-model
+    return module_platform(ctx, module)
+
+
+def module_platform(ctx: WFContext, module: ast.Module) -> Platform | None:
+    """The services of a module's robotic platform (None when it has none)."""
     module_file = ctx.file_of(module)
     platform, platform_file = module.platform, module_file
     if platform is None:  # `rref rp = Platform` to a platform declared on its own
@@ -809,7 +814,7 @@ def _called_operation(ctx: WFContext, site: _Site, ops: dict[str, str],
 def _dmodel_operation(ctx: WFContext, file: ast.SourceFile, name: tuple[str, ...]) -> str | None:
     """The d-model operation definition (``operation op(…) {…}``) ``name`` denotes, if any."""
     for d in ctx.scopes.lookup(file, name):
-        if isinstance(d, ast.Skipped) and d.kind == "operation":
+        if isinstance(d, ast.StateMachine) and d.kind == "operation":
             return f"operation definition {d.name}"
     return None
 

@@ -69,6 +69,8 @@ class WFContext:
     resolution: Resolution
     report: Report
     consts: dict[str, Any] = field(default_factory=dict)
+    z3: bool = False
+    """Rules that need Z3 run (``check --consistency``): plain ``check`` never imports it."""
     scopes: Scopes = field(init=False)
     cache: dict[str, Any] = field(default_factory=dict)
     """Results shared between rules of one run (the elaborated models)."""

@@ -287,6 +287,11 @@ def check_consistency(ws: Workspace, resolution: Resolution, report: Report,
     ctx = WFContext(ws, resolution, Report(), dict(consts or {}))
     mappings = list(ctx.mappings())
     if not mappings:
+        from cyphy.lang.ast import Controller, StateMachine
+
+        if any(isinstance(i, (StateMachine, Controller)) for f in ctx.files()
+               for i in f.items):
+            return  # d-model behaviour only: its Z3 check is the machine rule STM7
         first = next(iter(ws.targets), "<input>")
         report.report(CANNOT, "no platform mapping among the files to check for consistency",
                       Span.unknown(str(first)), "name the mapping file (map M dmodel … to "

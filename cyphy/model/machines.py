@@ -1,0 +1,312 @@
+"""RoboSim state machines as the checks, ``cyphy show --dmodel``, the cycle interpreter and
+the Flow* compilation see them: nodes (states, initial junctions, junctions, final states)
+keyed by their path in the machine, transitions with resolved ends, the machine's constants,
+variables and clocks, and the platform's events and operations its contexts name.
+
+Built from the syntax tree and the name resolution only: nothing is evaluated here, and a
+name that does not resolve is recorded (for the rules to report), never raised.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Iterator
+
+from cyphy import expr as ex
+from cyphy.diagnostics import Span
+from cyphy.lang import ast
+from cyphy.lang.resolve import Resolution
+
+if TYPE_CHECKING:
+    from cyphy.lang.scopes import Scopes
+
+
+@dataclass(frozen=True)
+class MachineNode:
+    """A state or pseudo-state; ``key`` is its path in the machine (``Outer::Inner``)."""
+
+    key: str
+    kind: str  # state, initial, junction, final
+    decl: ast.State | ast.MachineNode
+    parent: str | None  # the composite state that contains it (None: the machine)
+
+    @property
+    def name(self) -> str:
+        return self.decl.name
+
+    @property
+    def span(self) -> Span:
+        return self.decl.span
+
+    @property
+    def composite(self) -> bool:
+        return isinstance(self.decl, ast.State) and bool(
+            self.decl.states or self.decl.nodes)
+
+    def actions(self, kind: str) -> tuple[ast.Statement, ...]:
+        return self.decl.actions(kind) if isinstance(self.decl, ast.State) else ()
+
+
+@dataclass(frozen=True)
+class MachineTransition:
+    decl: ast.Transition
+    container: str | None  # the composite state that declares it (None: the machine)
+    source: str | None  # node keys; None when the name does not resolve
+    target: str | None
+
+    @property
+    def name(self) -> str:
+        return self.decl.name
+
+
+@dataclass
+class Platform:
+    """What a machine may use of its robotic platform: the events it reads (input
+    context), the events it sends and the operations it calls (output context)."""
+
+    input_events: dict[str, ast.EventDecl] = field(default_factory=dict)
+    output_events: dict[str, ast.EventDecl] = field(default_factory=dict)
+    operations: dict[str, ast.OperationSig] = field(default_factory=dict)
+    variables: dict[str, ast.VarDecl] = field(default_factory=dict)
+
+
+@dataclass
+class Machine:
+    decl: ast.StateMachine
+    file: ast.SourceFile
+    nodes: dict[str, MachineNode]
+    transitions: list[MachineTransition]
+    platform: Platform
+    constants: dict[str, ast.VarDecl]
+    variables: dict[str, ast.VarDecl]
+    clocks: dict[str, ast.ClockDecl]
+
+    @property
+    def name(self) -> str:
+        return self.decl.name
+
+    def children(self, container: str | None) -> list[MachineNode]:
+        return [n for n in self.nodes.values() if n.parent == container]
+
+    def initial(self, container: str | None) -> MachineNode | None:
+        """The initial junction of the machine (or of a composite state)."""
+        return next((n for n in self.children(container) if n.kind == "initial"), None)
+
+    def outgoing(self, key: str) -> list[MachineTransition]:
+        """Transitions leaving a node, in the order written (the interpreter's priority
+        among simultaneously enabled transitions)."""
+        return [t for t in self.transitions if t.source == key]
+
+    @property
+    def cycle(self) -> ex.Expr | None:
+        """The right side of ``cycleDef cycle == e`` (None when the machine has none)."""
+        for c in self.decl.cycle_defs:
+            e = c.expr
+            if isinstance(e, ex.BinOp) and e.op == "==" and e.left == ex.Name(("cycle",)):
+                return e.right
+        return None
+
+    @property
+    def states(self) -> list[MachineNode]:
+        return [n for n in self.nodes.values() if n.kind == "state"]
+
+    @property
+    def junctions(self) -> list[MachineNode]:
+        return [n for n in self.nodes.values() if n.kind in ("initial", "junction")]
+
+
+def build_machine(stm: ast.StateMachine, file: ast.SourceFile, resolution: Resolution
+                  ) -> Machine:
+    nodes: dict[str, MachineNode] = {}
+    pending: list[tuple[ast.Transition, str | None]] = []
+
+    def walk(members: tuple[object, ...], parent: str | None) -> None:
+        prefix = f"{parent}::" if parent else ""
+        for m in members:
+            if isinstance(m, ast.State):
+                key = prefix + m.name
+                nodes.setdefault(key, MachineNode(key, "state", m, parent))
+                walk(m.members, key)
+            elif isinstance(m, ast.MachineNode):
+                key = prefix + m.name
+                nodes.setdefault(key, MachineNode(key, m.kind, m, parent))
+            elif isinstance(m, ast.Transition):
+                pending.append((m, parent))
+
+    walk(stm.members, None)
+    transitions = []
+    for t, parent in pending:
+        transitions.append(MachineTransition(t, parent, _end(nodes, parent, t.source),
+                                             _end(nodes, parent, t.target)))
+    variables = {v.name: v for v in stm.variables if v.kind is ast.DeclKind.VAR}
+    constants = {v.name: v for v in stm.variables if v.kind is ast.DeclKind.CONST}
+    for p in stm.params:
+        constants.setdefault(p.name, ast.VarDecl(ast.DeclKind.CONST, p.name, p.type, None,
+                                                 span=p.span))
+    clocks = {c.name: c for c in stm.clocks}
+    return Machine(stm, file, nodes, transitions, machine_platform(stm, resolution),
+                   constants, variables, clocks)
+
+
+def _end(nodes: dict[str, MachineNode], parent: str | None, name: str | None) -> str | None:
+    """A transition's end, looked up in the scope that declares the transition."""
+    if name is None:
+        return None
+    key = f"{parent}::{name}" if parent else name
+    return key if key in nodes else None
+
+
+def machine_platform(stm: ast.StateMachine, resolution: Resolution) -> Platform:
+    """Events and operations of the interfaces a machine's contexts name: ``uses`` in the
+    input context gives input events, ``uses`` in the output context output events,
+    ``requires`` operations (and ``provides``, variables)."""
+    p = Platform()
+    direct = [(u, "input" if u.relation == "uses" else "output")
+              for u in stm.members if isinstance(u, ast.InterfaceUse)]
+    uses = direct + [(u, c.direction) for c in stm.contexts for u in c.members]
+    for use, direction in uses:
+        interface = resolution.get(use)
+        if not isinstance(interface, ast.Interface):
+            continue
+        for e in interface.events:
+            if use.relation == "uses":
+                (p.input_events if direction == "input" else p.output_events).setdefault(
+                    e.name, e)
+        if use.relation in ("requires", "provides"):
+            for op in interface.operations:
+                p.operations.setdefault(op.name, op)
+            for v in interface.variables:
+                p.variables.setdefault(v.name, v)
+    return p
+
+
+def machines_of(files: Iterator[ast.SourceFile] | list[ast.SourceFile], resolution: Resolution
+                ) -> list[Machine]:
+    """Every state machine (top-level or inside a controller) of the files, in file order;
+    operation definitions are left out (nothing calls them yet)."""
+    out = []
+    for f in files:
+        for item in f.items:
+            stms = [item] if isinstance(item, ast.StateMachine) else list(
+                item.machines) if isinstance(item, ast.Controller) else []
+            for stm in stms:
+                if stm.kind == "stm":
+                    out.append(build_machine(stm, f, resolution))
+    return out
+
+
+def statements(machine: Machine) -> Iterator[tuple[ast.Statement, str]]:
+    """Every statement of the machine with where it is (``entry of S``, ``transition t``)."""
+    for n in machine.nodes.values():
+        for kind in ("entry", "during", "exit"):
+            for s in n.actions(kind):
+                yield s, f"{kind} action of {n.key}"
+    for t in machine.transitions:
+        for s in t.decl.action or ():
+            yield s, f"transition {t.name}"
+
+
+def expressions(machine: Machine) -> Iterator[tuple[ex.Expr, str]]:
+    """Every expression of the machine's behaviour, with where it is."""
+    for t in machine.transitions:
+        for e in (t.decl.trigger, t.decl.condition):
+            if e is not None:
+                yield e, f"transition {t.name}"
+    for s, where in statements(machine):
+        for e in statement_expressions(s):
+            yield e, where
+
+
+def statement_expressions(s: ast.Statement) -> tuple[ex.Expr, ...]:
+    if isinstance(s, ast.Assign):
+        return (s.target, s.value)
+    if isinstance(s, ast.CallStatement):
+        return (s.call,)
+    if isinstance(s, ast.SendStatement):
+        return (s.event, s.value)
+    if isinstance(s, ast.WaitStatement):
+        return (s.cycles,)
+    return ()
+
+
+def global_constants(machine: Machine, scopes: "Scopes") -> dict[str, object]:
+    """Values of the constants declared outside the machine that its expressions name
+    (``PI`` of ``physmod::math``, a package's ``const``), by name; a constant without a
+    value, or whose value cannot be computed, is left out (the interpreter then reports
+    the name where it is used)."""
+    from cyphy.lang.scopes import is_constant
+    from cyphy.model.evaluate import EvalError, evaluate
+
+    local = set(machine.constants) | set(machine.variables) | set(machine.clocks)
+    names = sorted({n.text for e, _ in expressions(machine) for n in e.walk()
+                    if isinstance(n, ex.Name) and n.text not in local})
+    names += sorted({n.text for d in machine.constants.values() if d.value is not None
+                     for n in d.value.walk() if isinstance(n, ex.Name)} - local - set(names))
+    values: dict[str, object] = {}
+    todo = list(names)
+    for _ in range(8):  # constants defined by constants, a few levels deep
+        left = []
+        for name in todo:
+            found = scopes.lookup(machine.file, tuple(name.split("::")), is_constant)
+            decl = found[0] if found else None
+            if not isinstance(decl, ast.VarDecl) or decl.value is None:
+                continue
+            try:
+                values[name] = evaluate(decl.value, values)
+            except EvalError:
+                left.append(name)
+                todo += [n.text for n in decl.value.walk() if isinstance(n, ex.Name)
+                         and n.text not in values and n.text not in todo]
+        if not left:
+            break
+        todo = left
+    return values
+
+
+def select_machine(files: list[ast.SourceFile], resolution: Resolution, pmodel: str | None,
+                   name: str | None) -> tuple[Machine | None, tuple[str, str]]:
+    """The machine that controls ``pmodel``: the one named ``name``, else the only one the
+    controllers of the module mapped onto ``pmodel`` run, else the only one of the files.
+    None with a message and a hint when there is no such single machine."""
+    from cyphy.diagnostics import did_you_mean
+
+    machines = machines_of(files, resolution)
+    if name is not None:
+        chosen = [m for m in machines if m.name == name]
+        if chosen:
+            return chosen[0], ("", "")
+        return None, (f"no state machine '{name}' among the files",
+                      did_you_mean(name, [m.name for m in machines]) or
+                      "machines: " + (", ".join(m.name for m in machines) or "(none)"))
+    running = run_by_mapped_module(files, resolution, pmodel) if pmodel else set()
+    chosen = [m for m in machines if id(m.decl) in running] or machines
+    if len(chosen) == 1:
+        return chosen[0], ("", "")
+    if chosen:
+        return None, (f"the d-model has several state machines "
+                      f"({', '.join(m.name for m in chosen)})",
+                      'name one with --machine NAME (or machine = "NAME" in the scenario)')
+    return None, ("the files have no state machine",
+                  "add the d-model's files, or a [controller] table")
+
+
+def run_by_mapped_module(files: list[ast.SourceFile], resolution: Any, pmodel: str
+                          ) -> set[int]:
+    """Ids of the machines that the controllers of the module mapped onto ``pmodel`` run."""
+    out: set[int] = set()
+    for f in files:
+        for mapping in f.items:
+            if not (isinstance(mapping, ast.PlatformMapping) and mapping.pmodel[-1] == pmodel):
+                continue
+            module = resolution.get(mapping)
+            if not isinstance(module, ast.Module):
+                continue
+            controllers = [c for c in module.members if isinstance(c, ast.Controller)]
+            controllers += [resolution.get(r) for r in module.members
+                            if isinstance(r, ast.NodeRef) and r.kind == "cref"]
+            for c in controllers:
+                if not isinstance(c, ast.Controller):
+                    continue
+                out.update(id(m) for m in c.machines)
+                out.update(id(resolution.get(r)) for r in c.machine_refs)
+    return out

@@ -1,0 +1,415 @@
+"""RoboSim's cycle semantics for one state machine: an interpreter.
+
+Each call of :meth:`MachineInterpreter.cycle` is one cycle of the machine (RoboSim,
+Cavalcanti et al., "RoboSim: a simulation notation for robotics", SoSyM 2019, and the
+paper's Section 2 / Fig. 3 for how a d-model drives a p-model):
+
+1. **Inputs.** The events of the cycle are read once, at its start: ``$e`` is true when the
+   event occurs in this cycle (its value, if typed, is what ``$e?x`` binds).
+2. **Clocks.** Every clock advances by one cycle at the start of each cycle but the first;
+   ``since(C)`` is the number of cycles since ``#C`` (or since the machine started) times
+   the machine's cycle (``cycleDef cycle == k``, default 1): clocks count cycles.
+3. **Run to exec.** The machine resumes where the last cycle ended. In a state it runs the
+   state's ``during`` action and then takes the first enabled transition (in the order
+   written; a composite state's own transitions before those of the states inside it). A
+   transition is enabled when its trigger and condition hold and, for an ``exec``
+   transition, when the machine has rested in its source since the previous cycle
+   (``exec`` marks the end of the cycle: the transition waits for the next one). Taking a
+   transition runs the exit actions (innermost first), the transition's action, and the
+   target's entry action (a composite target continues at its initial junction).
+   Junctions are passed through in the same cycle. The cycle ends when no transition is
+   enabled (the machine rests in its state), or at an ``exec`` statement inside an action
+   (the rest of the action, and the entry of the target, run at the start of the next
+   cycle); ``wait(n)`` is ``n`` such ends.
+4. **Outputs.** The operation calls (``$op(args)``) and output events (``$e!v``) performed
+   in the cycle are returned in order; the caller writes them to the platform, then waits
+   ``cycle × tscale`` seconds.
+
+Simplifications (documented in the README): when two transitions are enabled at once the
+first written is taken (RoboSim leaves the choice open; ``cyphy check --consistency``
+reports such junctions, STM7); a junction with no enabled transition makes the machine wait
+there for the next cycle instead of deadlocking (also reported by STM7); ``during`` actions
+run to completion; final states end nothing (the machine just rests there); operation
+definitions, called from a machine, are not interpreted; vectors are NumPy arrays indexed
+from 1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+import numpy as np
+
+from cyphy import codes
+from cyphy import expr as ex
+from cyphy.diagnostics import Span
+from cyphy.lang import ast
+from cyphy.model.evaluate import MATH_FUNCTIONS, EvalError, evaluate
+from cyphy.model.machines import Machine, MachineTransition
+
+MACHINE = codes.code("E-MACHINE", codes.E, "the state machine cannot be run")
+
+Output = tuple[str, tuple[float, ...]]
+MAX_STEPS = 10_000
+"""Steps (statements, nodes passed) in one cycle before the machine is taken to loop."""
+
+
+class MachineError(Exception):
+    """The machine cannot go on (a constant without value, an expression with no value, a
+    loop without ``exec``), with the span of what is at fault."""
+
+    def __init__(self, message: str, span: Span, hint: str = "") -> None:
+        super().__init__(message)
+        self.message, self.span, self.hint = message, span, hint
+
+
+@dataclass(frozen=True)
+class _Exec:
+    """A cycle boundary inside an action (``exec``, or one cycle of ``wait``)."""
+
+
+@dataclass(frozen=True)
+class _Enter:
+    key: str
+
+
+@dataclass(frozen=True)
+class _Stmt:
+    statement: ast.Statement
+
+
+_Step = _Exec | _Enter | _Stmt
+
+
+@dataclass(frozen=True)
+class Configuration:
+    """Everything the next cycles depend on, hashable: where the machine is, the rest of an
+    action interrupted by ``exec``, the variables and the clocks' cycle counts."""
+
+    node: str
+    resting: bool  # rested in ``node`` since the last cycle ended: exec transitions enabled
+    pending: tuple[_Step, ...]
+    variables: tuple[tuple[str, Any], ...]
+    clocks: tuple[tuple[str, int], ...]
+
+
+def _frozen(v: Any) -> Any:
+    return tuple(np.asarray(v).ravel().tolist()) if isinstance(v, np.ndarray) else v
+
+
+class MachineInterpreter:
+    """One machine under RoboSim's cycle semantics; the sampled-controller hook of
+    ``cyphy simulate`` (``cycle`` and ``reset``)."""
+
+    def __init__(self, machine: Machine, constants: Mapping[str, object] | None = None,
+                 functions: Mapping[str, Any] | None = None) -> None:
+        self.machine = machine
+        self.functions = {**MATH_FUNCTIONS, **(functions or {}), "since": lambda c: c}
+        self.constants = self._constants(dict(constants or {}))
+        self.period = self._period()
+        start = machine.initial(None)
+        if start is None:
+            raise MachineError(f"machine {machine.name} has no initial junction",
+                               machine.decl.span, "add 'initial i0' (see STM2)")
+        self._start = start.key
+        self.reset()
+
+    # ----- set-up
+    def _constants(self, given: dict[str, object]) -> dict[str, object]:
+        values: dict[str, object] = dict(given)
+        for name, decl in self.machine.constants.items():
+            if name in given:
+                values[name] = given[name]
+            elif decl.value is not None:
+                values[name] = self._value(decl.value, values)
+            else:
+                raise MachineError(
+                    f"the constant {name} of {self.machine.name} has no value", decl.span,
+                    f"give it one in the machine, or in the scenario's [consts] ({name} = …)")
+        return values
+
+    def _value(self, e: ex.Expr, env: Mapping[str, object]) -> object:
+        try:
+            return evaluate(e, env, self.functions)
+        except EvalError as err:
+            raise MachineError(err.message, err.span, err.hint) from None
+
+    def _period(self) -> float:
+        cycle = self.machine.cycle
+        if cycle is None:
+            return 1.0
+        value = self._value(cycle, self.constants)
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or value <= 0:
+            raise MachineError(f"the cycle of {self.machine.name} is not a positive number",
+                               cycle.span)
+        return float(value)
+
+    def _initial_value(self, decl: ast.VarDecl) -> object:
+        if decl.value is not None:
+            return self._value(decl.value, self.constants)
+        t = decl.type
+        if isinstance(t, ast.PrimitiveType) and t.name == "boolean":
+            return False
+        if isinstance(t, ast.VectorType) and t.size is not None:
+            size = self._value(t.size, self.constants)
+            return np.zeros(int(size))  # type: ignore[call-overload]
+        return 0.0
+
+    def reset(self) -> None:
+        """Back to the start: variables at their initial values, clocks at 0, the machine
+        before its initial junction (its first cycle leaves it)."""
+        self.variables: dict[str, object] = {
+            n: self._initial_value(d) for n, d in self.machine.variables.items()}
+        self.clocks: dict[str, int] = {c: 0 for c in self.machine.clocks}
+        self.node = self._start
+        self.resting = False
+        self.pending: list[_Step] = []
+        self.cycles = 0
+
+    # ----- configurations (the Flow* compilation explores them)
+    def configuration(self) -> Configuration:
+        return Configuration(self.node, self.resting, tuple(self.pending),
+                             tuple((n, _frozen(v)) for n, v in sorted(self.variables.items())),
+                             tuple(sorted(self.clocks.items())))
+
+    def restore(self, c: Configuration, cycles: int = 1) -> None:
+        self.node, self.resting, self.pending = c.node, c.resting, list(c.pending)
+        self.variables = {n: np.array(v) if isinstance(v, tuple) else v
+                          for n, v in c.variables}
+        self.clocks = dict(c.clocks)
+        self.cycles = cycles
+
+    # ----- one cycle
+    def cycle(self, events: Mapping[str, object]) -> tuple[Output, ...]:
+        """Run one cycle with the given input events (name → None when absent, True or the
+        event's value when present) and return the calls and output events, in order."""
+        if self.cycles > 0:
+            for c in self.clocks:
+                self.clocks[c] += 1
+        self.cycles += 1
+        self.events = {name: v for name, v in events.items() if v is not None and not (
+            v is False and self._untyped(name))}
+        self.outputs: list[Output] = []
+        steps = 0
+        during_done = False
+        while True:
+            steps += 1
+            if steps > MAX_STEPS:
+                raise MachineError(f"machine {self.machine.name} took {MAX_STEPS} steps "
+                                   "without ending its cycle: a loop of transitions without "
+                                   "exec?", self.machine.nodes[self.node].span,
+                                   "mark the end of the cycle with exec")
+            if self.pending:
+                step = self.pending.pop(0)
+                if isinstance(step, _Exec):
+                    self.resting = False
+                    return tuple(self.outputs)
+                if isinstance(step, _Stmt):
+                    self._execute(step.statement)
+                else:
+                    self._arrive(step.key)
+                    during_done = True
+                continue
+            if not during_done:
+                self._during()
+                during_done = True
+                continue
+            taken = self._select()
+            if taken is None:
+                self.resting = True
+                return tuple(self.outputs)
+            self._take(taken)
+            self.resting = False
+
+    def _untyped(self, name: str) -> bool:
+        decl = self.machine.platform.input_events.get(name)
+        return decl is None or decl.type is None
+
+    def _ancestors(self, key: str) -> list[str]:
+        """The node and the composite states around it, outermost first."""
+        out = [key]
+        parent = self.machine.nodes[key].parent
+        while parent is not None:
+            out.insert(0, parent)
+            parent = self.machine.nodes[parent].parent
+        return out
+
+    def _during(self) -> None:
+        node = self.machine.nodes[self.node]
+        if node.kind != "state":
+            return
+        for key in self._ancestors(self.node):
+            for s in self.machine.nodes[key].actions("during"):
+                self.pending.append(_Stmt(s))
+
+    def _select(self) -> tuple[MachineTransition, str, dict[str, object]] | None:
+        """The transition to take (with the node it leaves and the bindings of ``$e?x``)."""
+        for key in self._ancestors(self.node):
+            for t in self.machine.outgoing(key):
+                if t.target is None:
+                    continue
+                if t.decl.exec and not self.resting:
+                    continue
+                bindings = self._bindings(t.decl)
+                if all(self._truth(e, bindings) for e in (t.decl.trigger, t.decl.condition)
+                       if e is not None):
+                    return t, key, bindings
+        return None
+
+    def _bindings(self, t: ast.Transition) -> dict[str, object]:
+        out: dict[str, object] = {}
+        for e in (t.trigger, t.condition):
+            for node in e.walk() if e is not None else ():
+                if isinstance(node, ex.PlatformRef) and node.binding is not None \
+                        and node.name[-1] in self.events:
+                    out[node.binding] = self.events[node.name[-1]]
+        return out
+
+    def _take(self, chosen: tuple[MachineTransition, str, dict[str, object]]) -> None:
+        t, source, bindings = chosen
+        self.variables.update(bindings)
+        leaving = self._ancestors(self.node)
+        leaving = leaving[leaving.index(source):]
+        steps: list[_Step] = []
+        for key in reversed(leaving):
+            steps += [_Stmt(s) for s in self.machine.nodes[key].actions("exit")]
+        for s in t.decl.action or ():
+            steps += self._expand(s)
+        steps.append(_Enter(t.target))  # type: ignore[arg-type]
+        self.pending = steps + self.pending
+
+    def _expand(self, s: ast.Statement) -> list[_Step]:
+        if isinstance(s, ast.ExecStatement):
+            return [_Exec()]
+        if isinstance(s, ast.WaitStatement):
+            n = self._number(s.cycles)
+            if n < 0 or n != int(n):
+                raise MachineError(f"wait({n:g}): the number of cycles must be a natural "
+                                   "number", s.span)
+            return [_Exec()] * int(n)
+        return [_Stmt(s)]
+
+    def _arrive(self, key: str) -> None:
+        """Enter a node: a state's entry action runs (then the state's own during action and
+        transitions, or the initial junction of a composite state); a junction is left in the
+        same cycle."""
+        node = self.machine.nodes[key]
+        self.node = key
+        if node.kind != "state":
+            return
+        steps: list[_Step] = []
+        for s in node.actions("entry"):
+            steps += self._expand(s)
+        if node.composite:
+            inner = self.machine.initial(key)
+            if inner is None:
+                raise MachineError(f"state {key} has no initial junction", node.span,
+                                   "add 'initial i0' inside it (see STM2)")
+            steps.append(_Enter(inner.key))
+        else:
+            steps += [_Stmt(s) for s in node.actions("during")]
+        self.pending = steps + self.pending
+
+    # ----- statements and expressions
+    def _execute(self, s: ast.Statement) -> None:
+        if isinstance(s, ast.Assign):
+            self._assign(s.target, self._eval(s.value))
+        elif isinstance(s, ast.ClockReset):
+            self.clocks[s.clock] = 0
+        elif isinstance(s, ast.SendStatement):
+            value = self._eval(s.value)
+            name = s.event.name[-1] if isinstance(s.event, ex.PlatformRef) else "?"
+            self.outputs.append((name, _floats(value, s.span)))
+        elif isinstance(s, ast.CallStatement):
+            self._call(s)
+        elif isinstance(s, (ast.ExecStatement, ast.WaitStatement)):
+            self.pending = self._expand(s) + self.pending
+
+    def _call(self, s: ast.CallStatement) -> None:
+        call = s.call
+        if isinstance(call, ex.PlatformRef):  # `$e` alone: an output event without value
+            self.outputs.append((call.name[-1], ()))
+            return
+        if not isinstance(call, ex.Call):
+            raise MachineError("this statement does nothing", s.span)
+        func = call.func
+        name = func.name[-1] if isinstance(func, ex.PlatformRef) else \
+            func.parts[-1] if isinstance(func, ex.Name) else None
+        if name is not None and name in self.machine.platform.operations:
+            args = tuple(float(_floats(self._eval(a), a.span)[0]) for a in call.args)
+            self.outputs.append((name, args))
+        elif name is not None and name in self.machine.platform.output_events:
+            self.outputs.append((name, tuple(v for a in call.args
+                                             for v in _floats(self._eval(a), a.span))))
+        else:
+            raise MachineError(f"'{name}' is not an operation of {self.machine.name}'s "
+                               "platform (operation definitions are not interpreted)",
+                               s.span, "call an operation of the output context (STM3)")
+
+    def _assign(self, target: ex.Expr, value: object) -> None:
+        if isinstance(target, ex.Name):
+            self.variables[target.text] = value
+            return
+        if isinstance(target, ex.Index) and isinstance(target.base, ex.Name) and \
+                len(target.args) == 1:
+            name = target.base.text
+            vector = np.array(self.variables.get(name, np.zeros(0)), dtype=float)
+            i = int(self._number(target.args[0])) - 1
+            if not 0 <= i < vector.size:
+                raise MachineError(f"index {i + 1} is outside {name} (size {vector.size})",
+                                   target.span)
+            vector[i] = float(_floats(value, target.span)[0])
+            self.variables[name] = vector
+            return
+        raise MachineError("only a variable or one entry of a vector can be assigned",
+                           target.span)
+
+    def _env(self, bindings: Mapping[str, object] | None = None) -> dict[str, object]:
+        env: dict[str, object] = dict(self.constants)
+        env.update(self.variables)
+        env.update({c: n * self.period for c, n in self.clocks.items()})
+        for name in self.machine.platform.input_events:
+            env["$" + name] = name in self.events
+        if bindings:
+            env.update(bindings)
+        return env
+
+    def _eval(self, e: ex.Expr, bindings: Mapping[str, object] | None = None) -> object:
+        def platform(node: ex.Expr) -> ex.Expr | None:
+            if isinstance(node, ex.PlatformRef):
+                return ex.Name(("$" + node.name[-1],), span=node.span)
+            return None
+
+        try:
+            return evaluate(ex.transform(e, platform), self._env(bindings), self.functions)
+        except EvalError as err:
+            raise MachineError(err.message, err.span, err.hint) from None
+
+    def _truth(self, e: ex.Expr, bindings: Mapping[str, object]) -> bool:
+        value = self._eval(e, bindings)
+        if not isinstance(value, (bool, np.bool_)):
+            raise MachineError("a condition must be true or false", e.span)
+        return bool(value)
+
+    def _number(self, e: ex.Expr) -> float:
+        value = self._eval(e)
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
+            raise MachineError("a number is needed here", e.span)
+        return float(value)
+
+    # ----- what callers read
+    @property
+    def state(self) -> str:
+        """The node the machine rests in (a state, or a junction it is stuck at)."""
+        return self.node
+
+
+def _floats(value: object, span: Span) -> tuple[float, ...]:
+    if isinstance(value, (bool, np.bool_)):
+        return (1.0 if value else 0.0,)
+    if isinstance(value, (int, float, np.number)):
+        return (float(value),)
+    if isinstance(value, np.ndarray):
+        return tuple(float(x) for x in value.ravel())
+    raise MachineError(f"{value!r} cannot be sent to the platform as numbers", span)
