@@ -501,7 +501,7 @@ def _reach(tmp_path, text, binary=None, extra=()):
     ('Range_distance = "-2"', 'Range_distance = "-2 - tan(t)"', "'tan' is not a function"),
     ("Motor_theta = 0\n", "Motor_theta = 0\nMotor_omega = 1\n", "not a state variable"),
     ('initial = "cruise"', "initial = 1", "needs 'initial'"),
-    ("[controller]", "[controllr]", "unknown key 'controllr'"),
+    ("\n[controller]\n", "\n[controllr]\n", "unknown key 'controllr'"),
     ('"Motor_av >= 20"', '"Motor_av >= "', "cannot read the expression"),
     ('"Motor_av >= 20"', '"Motor_av >= 1e400"', "'1e400' in 'Motor_av >= 1e400' is not a fin"),
     ('"Motor_av >= 20"', '"Motor_av / 0 >= 1"', "the unsafe set is undefined"),
