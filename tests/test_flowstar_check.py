@@ -111,7 +111,7 @@ def test_mode_independent_states_keep_one_mode(tmp_path):
     (part,) = parts(_problem(DCMOTOR, path))
     assert part.states == ["Range_distance"]
     model = parse_model(render(part, "range"))
-    assert list(model.modes) == ["cruise"] and model.jumps == []
+    assert list(model.modes) == ["Cruise"] and model.jumps == []
 
 
 def test_split_boxes_cover_the_initial_interval(tmp_path):
@@ -215,7 +215,7 @@ def test_real_flowstar_borderline_unsafe_is_unknown(tmp_path, capsys):
     rc, out, err = _reach(capsys, DCMOTOR, _scenario(tmp_path, "b", *BORDER, SHORT), tmp_path)
     assert rc == 3, out + err
     assert out.startswith("UNKNOWN: Flow* found a flowpipe inside the unsafe set")
-    assert "spurious branch" in out and "cruise ×10 -> stopped" in out
+    assert "spurious branch" in out and "Cruise ×10 -> Stopped" in out
     assert "split into 4 boxes" in out
 
 
