@@ -336,6 +336,14 @@ def generate_isabelle(paths: Sequence[str | Path],
     if built is None or report.has_errors:
         return generated
     span = built.mapping.span
+    from cyphy.backends.isabelle_axioms import INCONSISTENT_AXIOMS, unsatisfiable_axioms
+
+    why = unsatisfiable_axioms(built.program.globals)
+    if why is not None:
+        report.report(INCONSISTENT_AXIOMS, why, span,
+                      "check the d-model's cycle restriction and --tscale: a theory with "
+                      "inconsistent axioms proves anything")
+        return generated
     try:
         if options.dialect == "axiomatic":
             session = _axiomatic_session(built, options, report)

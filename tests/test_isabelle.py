@@ -274,7 +274,8 @@ module Soft {{
 """
 
 # Names that are Isabelle or UTP words but fine in RoboSim: they must be mangled.
-PARAM_NAMES = ["lv", "av", "x", "fst", "card", "theory", "lemma", "wait", "ok", "hd"]
+PARAM_NAMES = ["lv", "av", "x", "fst", "card", "theory", "lemma", "wait", "ok", "hd", "on", "sp",
+               "wp", "wlp", "frz", "at", "within"]
 OP_NAMES = ["move", "stop", "turn", "card", "halt"]
 EVENT_NAMES = ["obstacle", "distance", "bump", "fst", "light"]
 
@@ -374,3 +375,72 @@ def test_isar_tools_finds_nothing_in_the_marxbot_session(marxbot_session, tmp_pa
     from isar_check import isar_findings
 
     assert isar_findings(marxbot_session.files, tmp_path / "session") == []
+
+
+# ---------------------------------------------------------------- words of the library
+
+#: Words that utp-main's syntax makes keywords (mixfix delimiters, read from its sources by
+#: cyphy.backends.isabelle_library_words) or HOL's (at, within), plus library constants.
+LIBRARY_WORDS = ["on", "sp", "wp", "wlp", "frz", "at", "within", "state", "var", "mods",
+                 "nmods", "mdf", "ns", "nuses", "vrt", "invr", "con", "alpha", "tt", "do",
+                 "od", "II", "U", "NCSP", "Skip", "uop", "cond", "spec", "useq"]
+
+
+@pytest.mark.parametrize("word", LIBRARY_WORDS)
+def test_library_word_is_renamed_as_global_and_as_bound_name(word: str) -> None:
+    from cyphy.backends.isabelle import bound_identifier
+
+    assert word in RESERVED
+    assert IsabelleNames().add(word) == f"{word}_v"
+    assert bound_identifier(word, set()) == f"{word}_b"
+
+
+@pytest.mark.parametrize("word", ["on", "sp", "wp", "wlp", "frz", "at", "within"])
+def test_keyword_parameter_is_renamed_in_the_theory(tmp_path: Path, word: str) -> None:
+    software = SOFTWARE.format(ops=f"move({word}: real)", events="", outputs="")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               f"  operation move {{ equation Base::J::M.das == {word} }}\n}}\n")
+    sem = semantics(write_model(tmp_path, software, mapping))
+    session = generate_session(sem.program, sem.names)
+    text = session.files["Robot_CyPhyCircus.thy"]
+    assert f'"MoveCall {word}_b = ({{M_das}}\\<^sub>v:[true, ((&M_das =\\<^sub>u ' \
+           f'\\<guillemotleft>{word}_b\\<guillemotright>))]\\<^sub>C)"' in text
+    assert not re.search(rf"(?<![\w\\<]){word}(?![\w>])", text.split("section \\<open>Actions")[1]
+                         .replace(f"{word}_b", ""))
+    check_session(session, sem.program)
+
+
+# ---------------------------------------------------------------- values that reach a theory
+
+
+@pytest.mark.parametrize("option", [["--tscale", "-1"], ["--tscale", "0"], ["--tscale", "nan"],
+                                    ["--tscale", "inf"], ["--tscale", "x"], ["--name", "a*)b"],
+                                    ["--name", "1x"], ["--name", "x_"], ["--name", "a b"]])
+def test_bad_tscale_or_name_is_a_usage_error(tmp_path: Path, capsys, option) -> None:
+    out = tmp_path / "out"
+    with pytest.raises(SystemExit) as exit_:
+        main(["gen", "--isabelle", str(MARXBOT), "-o", str(out), *option])
+    assert exit_.value.code == 2
+    assert option[0] in capsys.readouterr().err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("tscale", [-1.0, 0.0, float("nan")])
+def test_inconsistent_tscale_axioms_are_refused(tscale: float) -> None:
+    for dialect in ("utp", "axiomatic"):
+        generated = api.generate_isabelle(
+            [MARXBOT], api.SemanticsGenOptions(tscale=tscale, dialect=dialect))
+        assert generated.files == {}
+        assert [d.code.id for d in generated.report.diagnostics] == ["E-ISABELLE-AXIOMS"]
+
+
+def test_cycle_restriction_contradicting_cycle_positive_is_refused(tmp_path: Path) -> None:
+    software = SOFTWARE.format(ops="move(lv: real)", events="", outputs="").replace(
+        "cycleDef cycle == 1", "cycleDef cycle == 0")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               "  operation move { equation Base::J::M.das == lv }\n}\n")
+    paths = write_model(tmp_path, software, mapping)
+    generated = api.generate_isabelle(paths)
+    assert generated.files == {}
+    (found,) = [d for d in generated.report.diagnostics if d.code.id == "E-ISABELLE-AXIOMS"]
+    assert "cycle == 0" in found.message and "no model" in found.message

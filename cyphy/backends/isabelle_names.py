@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import re
 
+from cyphy.backends.isabelle_library_words import LIBRARY_CONSTANTS, SYNTAX_WORDS
 from cyphy.semantics.names import identifier
 
 _IDENT = re.compile(r"[A-Za-z](?:[A-Za-z0-9]|_(?=[A-Za-z0-9]))*")
@@ -53,7 +54,10 @@ if then else let pre true false function generic relation leftassoc rightassoc s
 parents
 """.split())
 
-RESERVED = OUTER_KEYWORDS | COMMANDS | INNER_WORDS | SHADOWED | Z_KEYWORDS
+#: Every word a generated identifier avoids: the lists above (HOL, Isar, Z), and the mixfix
+#: delimiters and constants read from utp-main's sources (:mod:`isabelle_library_words`).
+RESERVED = (OUTER_KEYWORDS | COMMANDS | INNER_WORDS | SHADOWED | Z_KEYWORDS
+            | frozenset(SYNTAX_WORDS) | frozenset(LIBRARY_CONSTANTS))
 
 
 def is_identifier(text: str) -> bool:
