@@ -210,6 +210,13 @@ class ToCircus(Transformer):
     def lifted_binop(self, lifter, op, left, right) -> ex.Expr:
         return ex.BinOp(_HOL_OPS[op], left, right)
 
+    def cons(self, head, tail) -> ex.Expr:
+        rest = tail.items if isinstance(tail, ex.Seq) else ()
+        return ex.Seq((head, *rest))
+
+    def fmod(self, left, right) -> ex.Expr:
+        return ex.BinOp("%", left, right)
+
     def sequence(self, *items) -> ex.Expr:
         return ex.Seq(tuple(i for i in items if i is not None))
 

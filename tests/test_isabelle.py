@@ -74,7 +74,7 @@ def term_identifiers(term: str) -> set[str]:
 
 KEYWORDS_OF_TERMS = {"Skip", "Stop", "MuC", "InterruptCondC", "WaitC", "EvolveC", "DerC",
                      "IntegralC", "true", "false", "True", "False", "UNIV", "set", "list",
-                     "real", "nat", "int", "bool", "uop", "bop", "trop", "mod", "powr",
+                     "real", "nat", "int", "bool", "uop", "bop", "trop", "fmod", "powr", "Cons",
                      "sin", "cos", "tan", "sqrt", "exp", "ln", "abs", "arctan"}
 
 
@@ -239,7 +239,9 @@ def test_prelude_is_the_shipped_text(marxbot_session) -> None:
                  "InterruptCondC_NCSP [closure]", "MuC_NCSP [closure]", "WaitC_NCSP [closure]"):
         assert fact in prelude
     assert lex_errors(prelude) == []
-    assert theory_header(prelude) == ("CyPhyCircus_Prelude", ['"UTP-Circus.utp_circus"'])
+    assert theory_header(prelude) == ("CyPhyCircus_Prelude",
+                                      ['"UTP-Circus.utp_circus"', '"HOL.Transcendental"'])
+    assert 'definition fmod :: "real \\<Rightarrow> real \\<Rightarrow> real"' in prelude
 
 
 # ---------------------------------------------------------------- names
@@ -363,8 +365,8 @@ def test_namesets_partition_keeps_disjoint_updates(tmp_path: Path) -> None:
     chosen = api.generate_isabelle(paths, api.SemanticsGenOptions(namesets=True))
     assert chosen.report.diagnostics == []
     text = chosen.files["Robot_CyPhyCircus.thy"]
-    assert ('"ReceiveFromDModel = (MoveFromDModel \\<lbrakk>{M_das}\\<^sub>v\\<parallel>'
-            '{Lamp_on}\\<^sub>v\\<rbrakk> LampFromDModel)"') in text
+    assert ('"ReceiveFromDModel = (MoveFromDModel \\<lbrakk>M_das\\<parallel>'
+            'Lamp_on\\<rbrakk> LampFromDModel)"') in text
     assert "name-set partition that keeps their updates" in text
     sem = semantics(paths)
     check_session(generate_session(sem.program, sem.names, IsabelleOptions(namesets=True)),
@@ -444,3 +446,28 @@ def test_cycle_restriction_contradicting_cycle_positive_is_refused(tmp_path: Pat
     assert generated.files == {}
     (found,) = [d for d in generated.report.diagnostics if d.code.id == "E-ISABELLE-AXIOMS"]
     assert "cycle == 0" in found.message and "no model" in found.message
+
+
+def test_operators_the_library_lacks_are_printed_with_the_preludes() -> None:
+    """A5: a real exponent is powr (also over the state: through bop), a remainder fmod, a
+    sequence over the state a chain of bop Cons (no list display for UTP expressions)."""
+    from cyphy import expr as ex
+    from cyphy.backends.isabelle import IsabellePrinter, Symbols
+
+    names = IsabelleNames()
+    for n in ("x", "k"):
+        names.add(n)
+    printer = IsabellePrinter(Symbols(names, state=frozenset({"x"}), constants=frozenset({"k"})))
+    x, k = ex.Name(("x",)), ex.Name(("k",))
+    half, two = ex.Num("0.5"), ex.Num("2")
+    assert printer.doprint(ex.BinOp("^", x, half), "uexpr") == \
+        "(bop (powr) &x \\<guillemotleft>0.5\\<guillemotright>)"
+    assert printer.doprint(ex.BinOp("^", x, two), "uexpr") == "(&x ^ 2)"
+    assert printer.doprint(ex.BinOp("^", k, k), "hol") == "(k powr k)"
+    assert printer.doprint(ex.BinOp("%", x, k), "uexpr") == \
+        "(bop fmod &x \\<guillemotleft>k\\<guillemotright>)"
+    assert printer.doprint(ex.BinOp("%", k, two), "hol") == "(fmod k 2)"
+    assert printer.doprint(ex.Seq((x, k)), "uexpr") == (
+        "(bop Cons &x (bop Cons \\<guillemotleft>k\\<guillemotright> "
+        "\\<guillemotleft>[]\\<guillemotright>))")
+    assert "\\<langle>" not in printer.doprint(ex.Seq((x,)), "uexpr")

@@ -113,8 +113,10 @@ def test_marxbot_terms_use_the_axiomatic_notation(marxbot) -> None:
     assert bodies["MoveFromDModel"] == \
         "MoveFromDModel = (registerWrite_move\\<^bold>?(lv, av) \\<rightarrow> (MoveCall lv av))"
     assert bodies["MoveCall"].startswith(
-        "MoveCall lv av = ((LMotor_das, RMotor_das):[True, (\\<exists> move_dsl::real. "
-        "\\<exists> move_dsr::real. (LMotor_das = move_dsl)")
+        "MoveCall lv av = (cSpec ((LMotor_das, RMotor_das))\\<^sub>v (True)\\<^sub>e "
+        "((\\<exists> move_dsl::real. \\<exists> move_dsr::real. (LMotor_das = move_dsl)")
+    assert bodies["MoveCall"].endswith(")\\<^sub>e)")
+    assert ":[" not in text  # the generic Spec notation is not bound to cSpec (B6)
     assert bodies["ReceiveFromDModel"] == \
         "ReceiveFromDModel = (MoveFromDModel \\<interleave> StopFromDModel)"
     assert bodies["MainAction"] == (
@@ -248,3 +250,21 @@ def test_isar_tools_finds_nothing_in_the_axiomatic_session(marxbot, tmp_path) ->
     from isar_check import isar_findings
 
     assert isar_findings(marxbot.files, tmp_path / "session") == []
+
+
+def test_namesets_are_lenses_as_the_ranger_example_writes_them(tmp_path: Path) -> None:
+    """A6: a name set is a variable or a tuple ``((x, y))\\<^sub>v``, empty the zero lens."""
+    from cyphy.backends.isabelle import Symbols
+    from cyphy.backends.isabelle_ax import AxiomaticPrinter
+    from cyphy.backends.isabelle_names import IsabelleNames
+    from cyphy.semantics import circus as c
+
+    names = IsabelleNames()
+    for n in ("x", "y", "z"):
+        names.add(n)
+    printer = AxiomaticPrinter(Symbols(names, state=frozenset({"x", "y", "z"})))
+    par = c.Parallel(c.Skip(), ("x", "y"), (), (), c.Stop())
+    assert printer.action(par) == "(Skip \\<lbrakk>((x, y))\\<^sub>v | {} | 0\\<^sub>L\\<rbrakk> Stop)"
+    single = c.Parallel(c.Skip(), ("z",), (), ("x",), c.Stop())
+    assert printer.action(single) == "(Skip \\<lbrakk>z | {} | x\\<rbrakk> Stop)"
+    assert "+\\<^sub>L" not in printer.action(par) and "\\<^bold>0" not in printer.action(par)

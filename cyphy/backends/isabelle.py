@@ -37,7 +37,7 @@ LIFT_OPEN, LIFT_CLOSE = "\\<guillemotleft>", "\\<guillemotright>"
 
 #: HOL operators of the expression AST's binary operators.
 HOL_BINOPS = {
-    "+": "+", "-": "-", "*": "*", "/": "/", "%": "mod", "cat": "@",
+    "+": "+", "-": "-", "*": "*", "/": "/", "%": "fmod", "cat": "@",
     "==": "=", "!=": "\\<noteq>", "<": "<", ">": ">", "<=": "\\<le>", ">=": "\\<ge>",
     "/\\": "\\<and>", "\\/": "\\<or>", "=>": "\\<longrightarrow>",
     "<=>": "\\<longleftrightarrow>",
@@ -223,9 +223,16 @@ class IsabellePrinter:
     def _print_BinOp(self, e: ex.BinOp) -> str:
         left, right = self._print(e.left), self._print(e.right)
         if e.op == "^":
-            if self._mode == "hol" and not (isinstance(e.right, ex.Num) and e.right.is_integer):
+            # HOL's ^ takes a nat exponent (Power.thy); any other is powr (Transcendental.thy)
+            if isinstance(e.right, ex.Num) and e.right.is_integer:
+                return f"({left} ^ {right})"
+            if self._mode == "hol":
                 return f"({left} powr {right})"
-            return f"({left} ^ {right})"
+            return f"(bop (powr) {left} {right})"
+        if e.op == "%":  # HOL has no mod on real: the prelude's fmod
+            if self._mode == "hol":
+                return f"(fmod {left} {right})"
+            return f"(bop fmod {left} {right})"
         table = HOL_BINOPS if self._mode == "hol" else UTP_BINOPS
         op = table.get(e.op)
         if op is None:
@@ -270,8 +277,15 @@ class IsabellePrinter:
         return f"(IntegralC {operand})" if self._mode == "hol" else f"(uop IntegralC {operand})"
 
     def _print_SeqExpr(self, e: ex.Seq) -> str:
-        items = ", ".join(self._print(i) for i in e.items)
-        return f"[{items}]" if self._mode == "hol" else f"\\<langle>{items}\\<rangle>"
+        """A HOL list; over the state, consed with ``bop Cons`` (utp-main's explicit syntax
+        has no list display for UTP expressions: only the easy parser's)."""
+        items = [self._print(i) for i in e.items]
+        if self._mode == "hol":
+            return f"[{', '.join(items)}]"
+        out = LIFT_OPEN + "[]" + LIFT_CLOSE
+        for item in reversed(items):
+            out = f"(bop Cons {item} {out})"
+        return out
 
     # ------------------------------------------------------------------ predicates
 
@@ -383,8 +397,17 @@ class IsabellePrinter:
         return f"({left} \\<lbrakk>{self._namesets(a.left_names, a.right_names)}\\<rbrakk> {right})"
 
     def _namesets(self, left: tuple[str, ...], right: tuple[str, ...]) -> str:
-        """The name sets of a parallel composition, between its brackets."""
-        return f"{self._nameset(left)}\\<parallel>{self._nameset(right)}"
+        """The name sets of a parallel composition, between its brackets: there utp-main
+        reads the ``salpha`` category (utp/utp_var.thy, lines 259-268 at c9122f14), whose
+        forms are a variable ``x``, a composition ``(x;y)`` and the empty set ``\\<emptyset>``,
+        not the ``{x}\\<^sub>v`` or ``0\\<^sub>L`` terms."""
+        return f"{self._salpha(left)}\\<parallel>{self._salpha(right)}"
+
+    def _salpha(self, names: tuple[str, ...]) -> str:
+        if not names:
+            return "\\<emptyset>"
+        idents = [self.symbols.names[n] for n in names]
+        return idents[0] if len(idents) == 1 else "(" + ";".join(idents) + ")"
 
     def _nameset(self, names: tuple[str, ...]) -> str:
         if not names:
