@@ -354,9 +354,18 @@ def generate_isabelle(paths: Sequence[str | Path],
                                        IsabelleOptions(options.namesets),
                                        options.system_name)
     except IsabelleError as err:
-        report.report(UNTRANSLATABLE, str(err), span,
-                      "this construct cannot be written in Isabelle/UTP yet; the text and "
-                      "LaTeX printers (--cyphycircus, --latex) show it")
+        where = err.span if err.span is not None and err.span.line > 0 else span
+        if err.shapes:
+            from cyphy import codes
+
+            report.report(codes.S3, f"{err} (Isabelle's state is scalar: each equation "
+                          "between vectors or matrices is written per component)", where,
+                          "give both sides the same size (a m x n matrix equals only a m x n "
+                          "one; a product needs the left's columns to equal the right's rows)")
+        else:
+            report.report(UNTRANSLATABLE, str(err), where,
+                          "this construct cannot be written in Isabelle/UTP yet; the text and "
+                          "LaTeX printers (--cyphycircus, --latex) show it")
         return generated
     for found in session.lossy:
         if session.namesets_applied and found.partition:

@@ -214,6 +214,11 @@ class ToCircus(Transformer):
         rest = tail.items if isinstance(tail, ex.Seq) else ()
         return ex.Seq((head, *rest))
 
+    def index(self, base, k) -> ex.Expr:
+        if isinstance(base, ex.Index):  # ((M ! i) ! j) is M[i, j]
+            return ex.Index(base.base, (*base.args, ex.Num(str(k))))
+        return ex.Index(base, (ex.Num(str(k)),))
+
     def fmod(self, left, right) -> ex.Expr:
         return ex.BinOp("%", left, right)
 

@@ -119,6 +119,8 @@ class IsabellePrinter:
         self._mode = "hol"
         self._coerce_nat = False
         self._bound: list[dict[str, str]] = [{}]
+        self._free_memo: dict[tuple[int, int], bool] = {}
+        self._memo_keep: list[object] = []
 
     # ------------------------------------------------------------------ dispatch
 
@@ -156,6 +158,7 @@ class IsabellePrinter:
         """Bind names (parameters, inputs, quantified and recursion variables) for the
         printing of a subterm; each gets an identifier free of every global one."""
         scope = dict(self._bound[-1])
+        self._memo_keep.append(scope)  # its id keys the memo of _state_free
         idents = []
         globals_ = self._globals()
         for name in names:
@@ -179,7 +182,18 @@ class IsabellePrinter:
         return name in self.symbols.state and self._bound_ident(name) is None
 
     def _state_free(self, e: ex.Expr) -> bool:
-        return not any(isinstance(n, ex.Name) and self._is_state(n.text) for n in e.walk())
+        """Whether ``e`` mentions no state variable (memoised per node and scope: the
+        printer asks it of every subterm, and evolutions are large)."""
+        key = (id(e), id(self._bound[-1]))
+        found = self._free_memo.get(key)
+        if found is None:
+            if isinstance(e, ex.Name):
+                found = not self._is_state(e.text)
+            else:
+                found = all(self._state_free(ch) for ch in e.children())
+            self._free_memo[key] = found
+            self._memo_keep.append(e)  # keeps the id valid while the memo lives
+        return found
 
     def name(self, text: str) -> str:
         """The identifier of a bound or global name; unknown names are refused (a free
@@ -261,6 +275,17 @@ class IsabellePrinter:
         if lifter is None:
             raise UnsupportedNode(e, "a function of more than 3 arguments over the state")
         return f"({lifter} {func} {' '.join(args)})"
+
+    def _print_Index(self, e: ex.Index) -> str:
+        """A component of a vector or matrix constant (the scalarisation's ``A[k]``): HOL's
+        ``nth``, ``(A ! k)``, counted from 0."""
+        if self._mode != "hol" or not all(isinstance(a, ex.Num) and a.is_integer
+                                           for a in e.args):
+            raise UnsupportedNode(e, "an index into a vector of the state")
+        out = self._print(e.base)
+        for a in e.args:
+            out = f"({out} ! {a.text})"
+        return out
 
     def _print_Derivative(self, e: ex.Derivative) -> str:
         operand = e.operand

@@ -18,7 +18,7 @@ from cyphy.backends.isabelle import HOL_FUNCTIONS, UnsupportedNode
 from cyphy.backends.isabelle_ax import AX_RESERVED, AxiomaticPrinter
 from cyphy.backends.isabelle_theory import (IsabelleError, IsabelleOptions, IsabelleSession,
                                             _environment, _names_table, _theory_context,
-                                            symbols_of)
+                                            scalar_program, symbols_of)
 from cyphy.semantics import circus as c
 from cyphy.semantics.names import NameTable, identifier
 from cyphy.semantics.namesets import action_nodes, find_lossy_interleavings, with_namesets
@@ -35,6 +35,7 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
     """The session folder's files for ``program``; ``odes`` are Evolve's explicit ODEs
     (None only for a program without an evolution). Raises :class:`IsabelleError` when a
     construct has no counterpart in the dialect."""
+    program = scalar_program(program, evolving_as_state=False).program
     lossy = find_lossy_interleavings(program.pmodel)
     pm = program.pmodel
     applied = options.namesets and any(f.partition for f in lossy)

@@ -30,9 +30,13 @@ class TBasic:
 
 @dataclass(frozen=True, slots=True)
 class TSeq:
-    """``seq T``: vectors and matrices (a matrix is a sequence of rows)."""
+    """``seq T``: vectors and matrices (a matrix is a sequence of rows). ``size``: the
+    number of items where the declaration fixes it (``vector(real, 6)``), so that printers
+    whose target has no vectors can split the value into components; it does not take part
+    in equality (CyPhyCircus's ``seq`` has no length)."""
 
     of: "Type"
+    size: int | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True, slots=True)

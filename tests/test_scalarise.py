@@ -1,0 +1,96 @@
+"""The scalarisation pass (cyphy.semantics.scalarise): shapes inferred, mismatches refused
+with the node, component equations named as ``cyphy solve`` names components, and the
+p-model process with scalar state, evolving locals promoted and set-points held."""
+
+from __future__ import annotations
+
+import pytest
+
+from conftest import EXAMPLES
+from cyphy import api
+from cyphy import expr as ex
+from cyphy.lang.notation import to_notation
+from cyphy.semantics import circus as c
+from cyphy.semantics.scalarise import ScalariseError, Scalariser, scalar_process
+
+
+def N(text: str) -> ex.Name:
+    return ex.Name((text,))
+
+
+SC = Scalariser({"F": (6,), "A": (6,), "fV": (6,), "pV": (6,), "M": (3, 4), "Q": (4, 3),
+                 "R": (3, 3), "v3": (3,)}, frozenset({"F", "fV", "pV", "R"}))
+
+
+def texts(p: ex.Expr) -> list[str]:
+    return [to_notation(q) for q in SC.predicate(p)]
+
+
+def test_vector_equation_is_one_equation_per_component() -> None:
+    eq = ex.BinOp("==", N("fV"), ex.BinOp("+", N("pV"), ex.BinOp("*", N("A"), N("v"))))
+    assert texts(eq) == [f"fV_{k + 1} == pV_{k + 1} + A[{k}] * v" for k in range(6)]
+
+
+def test_transpose_product_is_the_sum_of_component_products() -> None:
+    eq = ex.BinOp("==", N("tau"), ex.BinOp("*", ex.Call(N("transpose"), (N("F"),)), N("A")))
+    assert texts(eq) == [" + ".join(f"F_{k + 1} * A[{k}]" for k in range(6)).join(
+        ["tau == ", ""])]
+
+
+def test_matrix_product_components_sum_over_the_inner_index() -> None:
+    eq = ex.BinOp("==", N("R"), ex.BinOp("*", N("M"), N("Q")))
+    got = texts(eq)
+    assert len(got) == 9
+    assert got[5] == "R_6 == " + " + ".join(f"M[1, {k}] * Q[{k}, 2]" for k in range(4))
+
+
+def test_scalar_equations_pass_unchanged() -> None:
+    eq = ex.BinOp("==", ex.Derivative(N("theta")), N("v"))
+    assert SC.predicate(eq) == [eq]
+    assert SC.predicate(eq)[0] is eq
+
+
+@pytest.mark.parametrize("expr, message", [
+    (ex.BinOp("==", N("M"), N("Q")), "an equation between a 3x4 matrix and a 4x3 matrix"),
+    (ex.BinOp("==", N("F"), N("v3")), "an equation between a 6-vector and a 3-vector"),
+    (ex.BinOp("==", N("R"), ex.BinOp("*", N("M"), N("M"))),
+     "product of a 3x4 matrix and a 3x4 matrix: the left's 4 columns are not the right's 3"),
+    (ex.BinOp("==", N("F"), ex.BinOp("+", N("F"), N("v3"))),
+     "'+' between a 6-vector and a 3-vector"),
+    (ex.BinOp("==", N("x"), ex.Call(N("sin"), (N("F"),))), "sin applied to a vector"),
+    (ex.BinOp("<", N("F"), N("x")), "'<' on a 6-vector"),
+])
+def test_shape_mismatch_is_refused_with_its_node(expr: ex.Expr, message: str) -> None:
+    with pytest.raises(ScalariseError) as err:
+        SC.predicate(expr)
+    assert message in str(err.value)
+
+
+def test_unsized_vector_is_refused() -> None:
+    sc = Scalariser({}, frozenset(), frozenset({"X"}))
+    with pytest.raises(ScalariseError, match="size is not declared"):
+        sc.predicate(ex.BinOp("==", N("X"), N("X")))
+
+
+def test_dcmotor_process_is_scalar_with_evolving_locals_as_state() -> None:
+    checked, built = api.semantics([EXAMPLES / "dcmotor"])
+    assert built is not None
+    scalar = scalar_process(built.program.pmodel)
+    pm = scalar.process
+    state = {f.name: f for f in pm.state.fields}
+    assert all(f.type == c.REAL or f.type == c.BOOL for f in pm.state.fields)
+    assert {f"Shaft_fA_{k}" for k in range(1, 7)} <= set(state)
+    assert "Shaft_fA" not in state
+    assert state["Shaft_fA_3"].visible and not state["Shaft_pA_3"].visible
+    # locals whose derivative appears, and the integral, are state; the others stay local
+    assert set(scalar.promoted) == {"Shaft_theta", "Shaft_v", "Motor_i", "Motor_theta",
+                                    "Motor_av", "Motor_e", "Motor_e_int"}
+    assert {f.name for f in pm.local.fields} == {"Shaft_a", "Motor_Tm", "Motor_Vemf",
+                                                 "Motor_Tf", "Motor_V"}
+    assert scalar.held == ("Motor_das",)
+    [evolve] = [d.body for d in pm.actions if isinstance(d.body, c.Evolution)]
+    eqs = {to_notation(e) for e in evolve.equations}
+    assert "derivative(Motor_das) == 0" in eqs
+    assert "derivative(Motor_e_int) == Motor_e" in eqs
+    assert "Shaft_fA_3 == Shaft_pA_3 + Shaft_A[2] * Shaft_a" in eqs
+    assert not any(isinstance(n, ex.Integral) for e in evolve.equations for n in e.walk())
