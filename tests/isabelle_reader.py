@@ -172,6 +172,8 @@ class ToCircus(Transformer):
     def state(self, ident) -> ex.Expr:
         return ex.Name((self._name(str(ident)),))
 
+    state_in = state
+
     def state_derivative(self, ident) -> ex.Expr:
         return ex.Derivative(ex.Name((self._name(str(ident)),)))
 
@@ -186,6 +188,8 @@ class ToCircus(Transformer):
 
     def false(self) -> ex.Expr:
         return ex.Bool(False)
+
+    utrue, ufalse = true, false
 
     def binop(self, left, op, right) -> ex.Expr:
         text = str(op.children[0]) if hasattr(op, "children") else str(op)

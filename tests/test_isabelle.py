@@ -20,6 +20,7 @@ from cyphy.cli import main
 from cyphy.semantics import circus as c
 from cyphy.semantics.build import build_semantics
 from isabelle_reader import parser, read_action, read_definitions
+from isabelle_types import check_theory
 from robot_model import ROBOT
 
 MARXBOT = EXAMPLES / "marxbot" / "Mapping.rsm"
@@ -132,6 +133,17 @@ def check_session(session, program: c.Program) -> None:  # type: ignore[no-untyp
     for ident in idents:
         assert ident not in BUILTIN_COMMANDS, ident
 
+    # The type checker of tests/isabelle_types.py: every definition, constant and axiom
+    # type-checks against the library's signatures; no transpose, vector constants only
+    # read by component.
+    assert check_theory(text) == []
+    assert "transpose" not in text
+    for k in program.pmodel.constants:
+        if isinstance(k.type, c.TSeq):
+            for name, _, body, _, _ in definitions:
+                uses = re.findall(rf"(?<!\w){session.names[k.name]}(?!\w)( !)?", body)
+                assert all(uses), (name, k.name)
+
     # Round trip: each definition body reads back into the action it was printed from.
     pm = program.pmodel
     local = pm.local.name if pm.local.fields else None
@@ -177,8 +189,15 @@ def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:
     assert "(WaitC tock cycle)" in text
     assert "| registerWrite_move \"real \\<times> real\"" in text
     assert 'globals_3: "(cycle = 1)"' in text
-    # transpose is a HOL constant: the library function is declared under another name
-    assert "transpose_v :: \"'a1 \\<Rightarrow> 'r\"" in text
+    # vectors are written per component (no transpose, no list arithmetic), evolving locals
+    # are state (rates $x\<acute>), set-points are held
+    assert "transpose" not in text and "DerC" not in text.split("section")[-1]
+    assert "  LHinge_fA_3 :: real\n" in text and "  LHinge_theta :: real\n" in text
+    assert ("($LHinge_fA_3 =\\<^sub>u ($LHinge_pA_3 + \\<guillemotleft>((LHinge_A ! 2) * "
+            "LHinge_a)\\<guillemotright>))") in text
+    assert "($LHinge_theta\\<acute> =\\<^sub>u $LHinge_v)" in text
+    assert "($LMotor_das\\<acute> =\\<^sub>u 0)" in text
+    assert "are held: LMotor_das, RMotor_das' = 0 in Evolve" in " ".join(text.split())
 
 
 def test_marxbot_caveat_is_a_warning_and_a_comment(tmp_path: Path) -> None:

@@ -239,8 +239,12 @@ def scalar_program(program: c.Program, evolving_as_state: bool = True) -> Scalar
         scalar = scalar_process(program.pmodel, evolving_as_state)
     except ScalariseError as err:
         raise IsabelleError(str(err), getattr(err.node, "span", None), shapes=True) from None
-    return ScalarProgram(replace(program, pmodel=scalar.process), scalar.promoted,
-                         scalar.held)
+    from cyphy.semantics.rules import functions
+
+    # transpose and the like are gone once written per component: declare only what is used
+    return ScalarProgram(replace(program, pmodel=scalar.process,
+                                 functions=functions(scalar.process)),
+                         scalar.promoted, scalar.held)
 
 
 def evolution_note(scalar: ScalarProgram, names: IsabelleNames) -> str:
@@ -253,14 +257,15 @@ def evolution_note(scalar: ScalarProgram, names: IsabelleNames) -> str:
                  f"are state too ({', '.join(names[n] for n in scalar.promoted)}), so that "
                  "EvolveC constrains their rates; the other locals are quantified at each "
                  "instant. ")
-    text += ("State that no equation of Evolve determines: the variables that discrete "
-             "actions write and no derivative governs (actuator set-points)")
+    text += ("State that no equation of Evolve determines: the numeric variables that "
+             "discrete actions write and no derivative governs (actuator set-points)")
     if scalar.held:
         text += f" are held: {', '.join(names[n] for n in scalar.held)}' = 0 in Evolve"
     else:
         text += " are held (x' = 0 in Evolve); there are none here"
     return text + ("; all other state is free, constrained only by the equations (the "
-                   "world's inputs: sensor readings, joint outputs).")
+                   "world's inputs: sensor readings, joint outputs; Boolean set-points, which "
+                   "have no rate to hold).")
 
 
 def _caveat(finding: LossyInterleaving, applied: bool) -> str:

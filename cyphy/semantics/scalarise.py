@@ -442,8 +442,9 @@ def scalar_process(pm: c.BasicProcess, evolving_as_state: bool = True) -> Scalar
     written = {t for d in (*actions, c.ActionDef("", (), main)) for n in action_nodes(d.body)
                for t in (n.targets if isinstance(n, c.Assign) else
                          n.frame if isinstance(n, c.Spec) else ())}
+    # only numbers have a rate to hold at 0; a Boolean set-point is left to the equations
     held = tuple(f.name for f in state if f.name in written and f.name not in derived
-                 and evolving_as_state)
+                 and f.type in (c.REAL, c.INT, c.NAT) and evolving_as_state)
     if held:
         hold = tuple(ex.BinOp("==", ex.Derivative(ex.Name((h,))), ex.Num("0")) for h in held)
 
