@@ -490,3 +490,13 @@ def test_operators_the_library_lacks_are_printed_with_the_preludes() -> None:
         "(bop Cons &x (bop Cons \\<guillemotleft>k\\<guillemotright> "
         "\\<guillemotleft>[]\\<guillemotright>))")
     assert "\\<langle>" not in printer.doprint(ex.Seq((x,)), "uexpr")
+
+
+def test_system_name_that_is_no_identifier_is_refused_by_the_api() -> None:
+    elements = ("marXbotBase::Core::LHinge::LMotor", "marXbotBase::Core::RHinge::RMotor")
+    for dialect in ("utp", "axiomatic"):
+        generated = api.generate_isabelle([MARXBOT], api.SemanticsGenOptions(
+            system_name="N *) theory", dialect=dialect, elements=elements))
+        assert generated.files == {}
+        assert [d.code.id for d in generated.report.diagnostics
+                if d.code.id != "W-INTERLEAVE"] == ["E-ISABELLE"]

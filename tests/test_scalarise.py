@@ -94,3 +94,82 @@ def test_dcmotor_process_is_scalar_with_evolving_locals_as_state() -> None:
     assert "derivative(Motor_e_int) == Motor_e" in eqs
     assert "Shaft_fA_3 == Shaft_pA_3 + Shaft_A[2] * Shaft_a" in eqs
     assert not any(isinstance(n, ex.Integral) for e in evolve.equations for n in e.walk())
+
+
+# ---------------------------------------------------------------- against NumPy
+
+import numpy as np  # noqa: E402
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+SHAPES = {"x": (3,), "y": (3,), "z": (2,), "M": (2, 3), "N": (3, 3), "K": (3, 2)}
+SPLIT = frozenset({"x", "z", "M", "K"})  # variables split into x_1…; y and N stay indexed
+
+
+def evaluate(e: ex.Expr, env: dict[str, object]) -> float:
+    """A scalar expression of the pass's output, evaluated (components and indices)."""
+    if isinstance(e, ex.Num):
+        return float(e.text)
+    if isinstance(e, ex.Name):
+        return float(env[e.text])  # type: ignore[arg-type]
+    if isinstance(e, ex.Index):
+        value = np.asarray(env[e.base.text])  # type: ignore[union-attr]
+        return float(value[tuple(int(a.text) for a in e.args)])  # type: ignore[union-attr]
+    if isinstance(e, ex.UnaryOp):
+        return -evaluate(e.operand, env)
+    assert isinstance(e, ex.BinOp)
+    a, b = evaluate(e.left, env), evaluate(e.right, env)
+    return {"+": a + b, "-": a - b, "*": a * b, "/": a / b}[e.op]
+
+
+def numpy_value(e: ex.Expr, values: dict[str, np.ndarray]) -> np.ndarray:
+    """The same expression with NumPy's matrix algebra (vectors are columns)."""
+    if isinstance(e, ex.Num):
+        return np.array(float(e.text))
+    if isinstance(e, ex.Name):
+        v = values[e.text]
+        return v.reshape(-1, 1) if v.ndim == 1 else v
+    if isinstance(e, ex.Call):
+        return numpy_value(e.args[0], values).T
+    if isinstance(e, ex.UnaryOp):
+        return -numpy_value(e.operand, values)
+    assert isinstance(e, ex.BinOp)
+    a, b = numpy_value(e.left, values), numpy_value(e.right, values)
+    if e.op == "*":
+        return a * b if a.ndim == 0 or b.ndim == 0 else a @ b
+    return {"+": a + b, "-": a - b, "/": a / b}[e.op]
+
+
+EXPRESSIONS = [
+    "M * x + z", "transpose(M) * z - y", "N * x + 2 * y", "transpose(x) * y",
+    "M * N * x", "-(K * z) + x / 4", "transpose(K) * N * y", "M * K", "transpose(M * K)",
+]
+
+
+def _expr(text: str) -> ex.Expr:
+    from cyphy.semantics.equations import parse_call
+
+    return parse_call(f"f({text})").args[0]
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), which=st.sampled_from(EXPRESSIONS))
+def test_components_agree_with_numpy(seed: int, which: str) -> None:
+    rng = np.random.default_rng(seed)
+    values = {n: rng.normal(size=s) for n, s in SHAPES.items()}
+    env: dict[str, object] = {}
+    for name, v in values.items():
+        if name in SPLIT:
+            for k, item in enumerate(v.reshape(-1)):
+                env[f"{name}_{k + 1}"] = item
+        else:
+            env[name] = v
+    sc = Scalariser(SHAPES, SPLIT)
+    e = _expr(which)
+    expected = numpy_value(e, values)
+    shape = sc.shape(e)
+    flat = expected.reshape(-1)
+    assert len(flat) == max(1, int(np.prod(shape)))
+    for k, want in enumerate(flat):
+        got = evaluate(sc.component(e, (k,) if shape else ()), env)
+        assert got == pytest.approx(want, rel=1e-9, abs=1e-9), (which, k)

@@ -16,6 +16,7 @@ from dataclasses import replace
 from cyphy.backends.evolve_odes import EvolveOdes
 from cyphy.backends.isabelle import HOL_FUNCTIONS, UnsupportedNode
 from cyphy.backends.isabelle_ax import AX_RESERVED, AxiomaticPrinter
+from cyphy.backends.isabelle_names import is_identifier
 from cyphy.backends.isabelle_theory import (IsabelleError, IsabelleOptions, IsabelleSession,
                                             _environment, _names_table, _theory_context,
                                             scalar_program, symbols_of)
@@ -35,6 +36,8 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
     """The session folder's files for ``program``; ``odes`` are Evolve's explicit ODEs
     (None only for a program without an evolution). Raises :class:`IsabelleError` when a
     construct has no counterpart in the dialect."""
+    if system_name is not None and not is_identifier(system_name):
+        raise IsabelleError(f"the system name '{system_name}' is not an identifier")
     program = scalar_program(program, evolving_as_state=False).program
     lossy = find_lossy_interleavings(program.pmodel)
     pm = program.pmodel

@@ -18,7 +18,7 @@ from typing import Any
 from cyphy import codes
 from cyphy.backends.isabelle import (HOL_FUNCTIONS, IsabellePrinter, Symbols, UnsupportedNode,
                                      bound_identifier)
-from cyphy.backends.isabelle_names import IsabelleNames
+from cyphy.backends.isabelle_names import IsabelleNames, is_identifier
 from cyphy.semantics.names import identifier
 from cyphy.semantics import circus as c
 from cyphy.semantics.names import NameTable
@@ -287,6 +287,8 @@ def generate_session(program: c.Program, table: NameTable,
                      system_name: str | None = None) -> IsabelleSession:
     """The session folder's files for ``program``; raises :class:`IsabelleError` when a
     construct has no Isabelle/UTP counterpart."""
+    if system_name is not None and not is_identifier(system_name):
+        raise IsabelleError(f"the system name '{system_name}' is not an identifier")
     scalar = scalar_program(program)
     program = scalar.program
     lossy = find_lossy_interleavings(program.pmodel)
