@@ -500,3 +500,26 @@ def test_system_name_that_is_no_identifier_is_refused_by_the_api() -> None:
         assert generated.files == {}
         assert [d.code.id for d in generated.report.diagnostics
                 if d.code.id != "W-INTERLEAVE"] == ["E-ISABELLE"]
+
+
+def test_vector_local_of_a_mapping_is_bound_per_component(tmp_path: Path) -> None:
+    software = SOFTWARE.format(ops="move(lv: real)", events="", outputs="")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               "  operation move { var w: vector(real, 3) equation w == (|lv, 0, 0|)\n"
+               "    equation Base::J::M.das == w[1] }\n}\n")
+    sem = semantics(write_model(tmp_path, software, mapping))
+    session = generate_session(sem.program, sem.names)
+    text = session.files["Robot_CyPhyCircus.thy"]
+    assert "\\<^bold>\\<exists> move_w_3::real \\<bullet>" in text
+    assert "\\<guillemotleft>(move_w_2 = 0)\\<guillemotright>" in text
+    assert "(&M_das =\\<^sub>u \\<guillemotleft>move_w_1\\<guillemotright>)" in text
+    check_session(session, session_program(sem.program, session))
+
+
+def session_program(program: c.Program, session) -> c.Program:  # type: ignore[no-untyped-def]
+    """The program as the session printed it (scalar state): what the round trip reads."""
+    from dataclasses import replace
+
+    from cyphy.backends.isabelle_theory import scalar_program
+
+    return replace(program, pmodel=scalar_program(program).program.pmodel)

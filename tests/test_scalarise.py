@@ -173,3 +173,19 @@ def test_components_agree_with_numpy(seed: int, which: str) -> None:
     for k, want in enumerate(flat):
         got = evaluate(sc.component(e, (k,) if shape else ()), env)
         assert got == pytest.approx(want, rel=1e-9, abs=1e-9), (which, k)
+
+
+def test_notation_indices_count_from_one_and_become_components() -> None:
+    one, two, seven = ex.Num("1"), ex.Num("2"), ex.Num("7")
+    assert SC.predicate(ex.BinOp("==", N("y"), ex.Index(N("F"), (two,)))) == [
+        ex.BinOp("==", N("y"), N("F_2"))]
+    assert SC.predicate(ex.BinOp("==", N("y"), ex.Index(N("A"), (one,)))) == [
+        ex.BinOp("==", N("y"), ex.Index(N("A"), (ex.Num("0"),)))]
+    assert SC.predicate(ex.BinOp("==", N("y"), ex.Index(N("R"), (two, one)))) == [
+        ex.BinOp("==", N("y"), N("R_4"))]
+    with pytest.raises(ScalariseError, match="index 7 out of a 6-vector"):
+        SC.predicate(ex.BinOp("==", N("y"), ex.Index(N("A"), (seven,))))
+    with pytest.raises(ScalariseError, match="not a literal"):
+        SC.predicate(ex.BinOp("==", N("y"), ex.Index(N("A"), (N("i"),))))
+    with pytest.raises(ScalariseError, match="not a vector or matrix of the model"):
+        SC.predicate(ex.BinOp("==", N("y"), ex.Index(N("q"), (one,))))

@@ -115,7 +115,7 @@ class Scalariser:
 
     def has_arrays(self, e: ex.Expr) -> bool:
         """Whether ``e`` mentions a vector or matrix at all (most equations do not)."""
-        return any(isinstance(n, (ex.Vector, ex.Matrix, ex.Seq))
+        return any(isinstance(n, (ex.Vector, ex.Matrix, ex.Seq, ex.Index))
                    or (isinstance(n, ex.Name) and (n.text in self.shapes
                                                    or n.text in self.unsized))
                    for n in e.walk())
@@ -218,9 +218,32 @@ class Scalariser:
             index = (index[0] + index[1],)
         return self._component(e, index)
 
+    def _index(self, e: ex.Index) -> ex.Expr:
+        """``x[i]`` or ``M[i, j]`` (the notation counts from 1): the component variable of a
+        split vector, or the constant indexed from 0 as HOL's ``nth`` does."""
+        base = e.base
+        if not (isinstance(base, ex.Name) and (base.text in self.shapes
+                                               or base.text in self.unsized)):
+            raise ScalariseError(e, "an index into something that is not a vector or "
+                                 "matrix of the model")
+        if not all(isinstance(a, ex.Num) and a.is_integer and int(a.text) >= 1
+                   for a in e.args):
+            raise ScalariseError(e, "an index that is not a literal (counted from 1)")
+        index = tuple(int(a.text) - 1 for a in e.args)  # type: ignore[union-attr]
+        shape = self.shapes.get(base.text)
+        if shape is not None and any(i >= n for i, n in zip(index, shape)):
+            raise ScalariseError(e, f"index {', '.join(str(i + 1) for i in index)} out of "
+                                 f"{_describe(shape)}")
+        if shape is not None and base.text in self.split:
+            return self._component(base, index)
+        return ex.Index(base, tuple(ex.Num(str(i)) for i in index), span=e.span)
+
     def _scalar(self, e: ex.Expr) -> ex.Expr:
-        """A scalar expression whose subterms may be one-item arrays."""
-        if not any(self.shape(ch) for ch in e.walk() if ch is not e):
+        """A scalar expression whose subterms may be one-item arrays or indices."""
+        if isinstance(e, ex.Index):
+            return self._index(e)
+        if not any(self.shape(ch) or isinstance(ch, ex.Index) for ch in e.walk()
+                   if ch is not e):
             return e
         kids = {id(ch): self.component(ch, ()) for ch in e.children()}
         return ex.transform(e, lambda n: kids.get(id(n)))
@@ -300,6 +323,8 @@ class Scalariser:
         """``e`` where a split vector or matrix is used whole (an output value, an action
         argument): the split variable as the sequence of its components."""
         def expand(n: ex.Expr) -> ex.Expr | None:
+            if isinstance(n, ex.Index):
+                return self._index(n)
             if isinstance(n, ex.Name) and n.text in self.split:
                 return ex.Seq(tuple(ex.Name((k,), span=n.span)
                                     for k in components(n.text, self.shapes[n.text])),
@@ -310,7 +335,11 @@ class Scalariser:
     def condition(self, p: c.Predicate) -> c.Predicate:
         """A predicate with every equation between arrays written per component."""
         if isinstance(p, c.Exists):
-            return c.Exists(p.bound, tuple(q for e in p.body for q in self.predicate(e)))
+            bound = tuple(k for b in p.bound
+                          for k in ([c.Binding(n, c.REAL)
+                                     for n in components(b.name, self.shapes[b.name])]
+                                    if b.name in self.split else [b]))
+            return c.Exists(bound, tuple(q for e in p.body for q in self.predicate(e)))
         items = self.predicate(p)
         return items[0] if len(items) == 1 else ex.conjunction(items)
 
