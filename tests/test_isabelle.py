@@ -523,3 +523,25 @@ def session_program(program: c.Program, session) -> c.Program:  # type: ignore[n
     from cyphy.backends.isabelle_theory import scalar_program
 
     return replace(program, pmodel=scalar_program(program).program.pmodel)
+
+
+def test_relation_between_a_scalar_and_a_vector_is_s3_at_its_span(tmp_path: Path) -> None:
+    """Ports reached through '.' have no kind for the checker's S3; the scalarisation finds
+    the sizes and refuses the relation there, writing nothing."""
+    from robot_model import ROBOT
+
+    software = SOFTWARE.format(ops="move(lv: real)", events="", outputs="")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               "  operation move { equation Base::J::M.das == lv }\n}\n")
+    paths = write_model(tmp_path, software, mapping)
+    robot = ROBOT.replace("relation M.T == J.tau", "relation M.T == J.F")
+    paths[1].write_text(robot, encoding="utf-8")
+    out = tmp_path / "out"
+    generated = api.generate_isabelle(paths)
+    assert generated.files == {}
+    [s3] = [d for d in generated.report.diagnostics if d.code.id == "S3"]
+    assert "an equation between a scalar and a 6-vector" in s3.message
+    line = next(i for i, t in enumerate(robot.splitlines(), 1) if "relation M.T == J.F" in t)
+    assert (s3.span.file.endswith("robot.rsm"), s3.span.line) == (True, line)
+    assert main(["gen", "--isabelle", *map(str, paths), "-o", str(out)]) == 1
+    assert not out.exists()
