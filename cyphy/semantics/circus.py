@@ -410,8 +410,8 @@ def walk(node: object) -> Iterator[object]:
     while stack:
         current = stack.pop()
         yield current
-        if isinstance(current, ex.Expr):
-            stack.extend(c for c in current.walk() if c is not current)
+        if isinstance(current, ex.Expr):  # its own walk yields each descendant once
+            yield from (c for c in current.walk() if c is not current)
             continue
         stack.extend(reversed(list(children(current))))
 
