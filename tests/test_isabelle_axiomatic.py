@@ -268,3 +268,16 @@ def test_namesets_are_lenses_as_the_ranger_example_writes_them(tmp_path: Path) -
     single = c.Parallel(c.Skip(), ("z",), (), ("x",), c.Stop())
     assert printer.action(single) == "(Skip \\<lbrakk>z | {} | x\\<rbrakk> Stop)"
     assert "+\\<^sub>L" not in printer.action(par) and "\\<^bold>0" not in printer.action(par)
+
+
+def test_marxbot_state_is_scalar_and_lists_are_only_constants(marxbot) -> None:
+    """The axiomatic theory shares the scalarisation: vector fields are components, and the
+    only real lists are the constants' definitions (no list arithmetic, no transpose)."""
+    text = marxbot.files[THEORY]
+    assert "  LHinge_fA_3 :: real\n" in text and "LHinge_fA ::" not in text
+    assert "transpose" not in text
+    lists = [line for line in text.splitlines() if "real list" in line]
+    assert lists and all(line.startswith("definition ") for line in lists)
+    for name in re.findall(r'^definition (\w+) :: "real list"', text, re.M):
+        uses = re.findall(rf"(?<!\w){name}(?!\w)( !)?", text.split("section \\<open>Actions")[1])
+        assert all(uses), name
