@@ -281,3 +281,18 @@ def test_marxbot_state_is_scalar_and_lists_are_only_constants(marxbot) -> None:
     for name in re.findall(r'^definition (\w+) :: "real list"', text, re.M):
         uses = re.findall(rf"(?<!\w){name}(?!\w)( !)?", text.split("section \\<open>Actions")[1])
         assert all(uses), name
+
+
+def test_remainder_is_fmod_defined_in_the_theory(tmp_path: Path) -> None:
+    """The axiomatic theory has no prelude: fmod is defined in it, before any use."""
+    from test_isabelle import SOFTWARE
+
+    software = SOFTWARE.format(ops="move(lv: real)", events="", outputs="")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               "  operation move { equation Base::J::M.das == lv % 2 }\n}\n")
+    paths = write_model(tmp_path, software, mapping)
+    text = axiomatic(paths, elements=("Robot::Base::J::M",)).files["Robot_AxCyPhyCircus.thy"]
+    definition = text.index('definition fmod :: "real \\<Rightarrow> real \\<Rightarrow> real"')
+    assert definition < text.index("(fmod lv 2)")
+    utp = api.generate_isabelle(paths).files["Robot_CyPhyCircus.thy"]
+    assert "\\<guillemotleft>(fmod lv 2)\\<guillemotright>" in utp and "definition fmod" not in utp

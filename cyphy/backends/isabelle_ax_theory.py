@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from cyphy import expr as ex
 from cyphy.backends.evolve_odes import EvolveOdes
 from cyphy.backends.isabelle import HOL_FUNCTIONS, UnsupportedNode
 from cyphy.backends.isabelle_ax import AX_RESERVED, AxiomaticPrinter
@@ -75,6 +76,7 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
         system=system_name or program.system.name, pmodel=pm.name,
         chan_type=names[f"{prefix}_chan"], action_type=action_type,
         wait=names[WAIT] if uses_wait else None,
+        uses_fmod=any(isinstance(n, ex.BinOp) and n.op == "%" for n in c.walk(pm)),
         tock=symbols.constructors.get(("tock", None), "tock"),
         added=[{"name": names[a], "type": "real"} for a in added],
         added_note=(f"{', '.join(names[a] for a in added)}: evolving variables that no state "
