@@ -66,10 +66,13 @@ def test_shape_mismatch_is_refused_with_its_node(expr: ex.Expr, message: str) ->
     assert message in str(err.value)
 
 
-def test_unsized_vector_is_refused() -> None:
+def test_unsized_vector_is_refused_but_its_items_are_read() -> None:
     sc = Scalariser({}, frozenset(), frozenset({"X"}))
     with pytest.raises(ScalariseError, match="size is not declared"):
         sc.predicate(ex.BinOp("==", N("X"), N("X")))
+    item = ex.Index(N("X"), (ex.Num("2"),))
+    assert sc.predicate(ex.BinOp("==", N("y"), item)) == [
+        ex.BinOp("==", N("y"), ex.Index(N("X"), (ex.Num("1"),)))]
 
 
 def test_dcmotor_process_is_scalar_with_evolving_locals_as_state() -> None:

@@ -157,6 +157,8 @@ class Scalariser:
         return self.shape(e.operand)
 
     def _shape_Index(self, e: ex.Index) -> Shape:
+        if isinstance(e.base, ex.Name) and e.base.text in self.unsized:
+            return SCALAR  # an item of a vector of open size: read with nth
         base = self.shape(e.base)
         if base and len(e.args) != len(base):
             raise ScalariseError(e, f"{len(e.args)} indices into {_describe(base)}")
