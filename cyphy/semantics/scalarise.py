@@ -354,8 +354,8 @@ class ScalarProcess:
     """The p-model process with scalar state: ``process`` has every vector or matrix field
     of fixed size replaced by its components, and (with ``evolving_as_state``) the locals
     whose derivative appears, and one variable per running integral, added to the private
-    state (``promoted``); ``held``: the state variables that discrete actions write and no
-    derivative determines, which every evolution keeps constant (``x' = 0``)."""
+    state (``promoted``); ``held``: the numeric state variables that discrete actions write
+    and no derivative determines, which every evolution keeps constant (``x' = 0``)."""
 
     process: c.BasicProcess
     promoted: tuple[str, ...]
@@ -388,6 +388,11 @@ def scalar_process(pm: c.BasicProcess, evolving_as_state: bool = True) -> Scalar
     variables = {f.name for f in (*pm.state.fields, *pm.local.fields)}
     sc = Scalariser(shapes, frozenset(n for n in shapes if n in variables), frozenset(unsized))
     taken = variables | {k.name for k in pm.constants} | {d.name for d in pm.actions}
+    for name in sorted(sc.split):
+        clash = taken.intersection(components(name, shapes[name]))
+        if clash:
+            raise ScalariseError(ex.Name((name,)), f"the components of {name} would be named "
+                                 f"like {', '.join(sorted(clash))}, which the model has")
     integrals: list[str] = []
 
     def integral_states(equations: list[ex.Expr]) -> list[ex.Expr]:
