@@ -11,7 +11,7 @@ in ``cyphy/isabelle_templates/`` hold the layout; every term comes from
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Any
 
@@ -24,6 +24,8 @@ from cyphy.semantics import circus as c
 from cyphy.semantics.names import NameTable
 from cyphy.semantics.namesets import (LossyInterleaving, action_nodes, find_lossy_interleavings,
                                       with_namesets)
+from cyphy.semantics.rules import functions
+from cyphy.semantics.scalarise import ScalariseError, scalar_process
 
 UNTRANSLATABLE = codes.code("E-ISABELLE", codes.E,
                             "the CyPhyCircus program has no Isabelle/UTP counterpart")
@@ -231,16 +233,10 @@ def scalar_program(program: c.Program, evolving_as_state: bool = True) -> Scalar
     """Vectors and matrices as components, evolving locals as state (both dialects print
     this, never ``real list`` arithmetic); raises :class:`IsabelleError` with the node's span
     where the shapes do not fit."""
-    from dataclasses import replace
-
-    from cyphy.semantics.scalarise import ScalariseError, scalar_process
-
     try:
         scalar = scalar_process(program.pmodel, evolving_as_state)
     except ScalariseError as err:
         raise IsabelleError(str(err), getattr(err.node, "span", None), shapes=True) from None
-    from cyphy.semantics.rules import functions
-
     # transpose and the like are gone once written per component: declare only what is used
     return ScalarProgram(replace(program, pmodel=scalar.process,
                                  functions=functions(scalar.process)),
