@@ -407,7 +407,13 @@ LIBRARY_WORDS = ["on", "sp", "wp", "wlp", "frz", "at", "within", "state", "var",
                  "od", "II", "U", "NCSP", "Skip", "uop", "cond", "spec", "useq"]
 
 
-@pytest.mark.parametrize("word", LIBRARY_WORDS)
+def _syntax_words() -> list[str]:
+    from cyphy.backends.isabelle_library_words import SYNTAX_WORDS
+
+    return sorted(SYNTAX_WORDS)
+
+
+@pytest.mark.parametrize("word", sorted(set(LIBRARY_WORDS) | set(_syntax_words())))
 def test_library_word_is_renamed_as_global_and_as_bound_name(word: str) -> None:
     from cyphy.backends.isabelle import bound_identifier
 
