@@ -530,6 +530,14 @@ def generate_isabelle(paths: Sequence[str | Path],
     if built is None or report.has_errors:
         return generated
     span = built.mapping.span
+    from cyphy.backends.isabelle_axioms import INCONSISTENT_AXIOMS, unsatisfiable_axioms
+
+    why = unsatisfiable_axioms(built.program.globals)
+    if why is not None:
+        report.report(INCONSISTENT_AXIOMS, why, span,
+                      "check the d-model's cycle restriction and --tscale: a theory with "
+                      "inconsistent axioms proves anything")
+        return generated
     try:
         if options.dialect == "axiomatic":
             session = _axiomatic_session(built, options, report)
@@ -540,9 +548,18 @@ def generate_isabelle(paths: Sequence[str | Path],
                                        IsabelleOptions(options.namesets),
                                        options.system_name)
     except IsabelleError as err:
-        report.report(UNTRANSLATABLE, str(err), span,
-                      "this construct cannot be written in Isabelle/UTP yet; the text and "
-                      "LaTeX printers (--cyphycircus, --latex) show it")
+        where = err.span if err.span is not None and err.span.line > 0 else span
+        if err.shapes:
+            from cyphy import codes
+
+            report.report(codes.S3, f"{err} (Isabelle's state is scalar: each equation "
+                          "between vectors or matrices is written per component)", where,
+                          "give both sides the same size (a m x n matrix equals only a m x n "
+                          "one; a product needs the left's columns to equal the right's rows)")
+        else:
+            report.report(UNTRANSLATABLE, str(err), where,
+                          "this construct cannot be written in Isabelle/UTP yet; the text and "
+                          "LaTeX printers (--cyphycircus, --latex) show it")
         return generated
     for found in session.lossy:
         if session.namesets_applied and found.partition:

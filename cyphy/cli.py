@@ -416,10 +416,39 @@ def _semantics_options(parser: argparse.ArgumentParser) -> None:
     once, whichever generator asks first)."""
     if "--tscale" in parser._option_string_actions:
         return
-    parser.add_argument("--tscale", type=float, metavar="X",
-                        help="fix tscale, the length of a d-model time unit in seconds")
-    parser.add_argument("--name", metavar="N",
-                        help="the name of the whole system (default: the mapping's)")
+    parser.add_argument("--tscale", type=_tscale, metavar="X",
+                        help="fix tscale, the length of a d-model time unit in seconds "
+                        "(finite and positive)")
+    parser.add_argument("--name", type=_system_name, metavar="N",
+                        help="the name of the whole system (default: the mapping's); an "
+                        "identifier: a letter, then letters, digits and single underscores")
+
+
+def _tscale(text: str) -> float:
+    """``--tscale``: a finite positive number. Any other value would become the axiom
+    ``tscale = X`` beside ``tscale > 0`` (or a NaN no prover reads): inconsistent axioms, from
+    which every lemma follows."""
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: '{text}'") from None
+    if not math.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"must be finite and positive, not {text}")
+    return value
+
+
+def _system_name(text: str) -> str:
+    """``--name``: an identifier, since it is printed into theories, comments and Z names
+    (``*)`` in it would end an Isabelle comment)."""
+    from cyphy.backends.isabelle_names import is_identifier
+
+    if not is_identifier(text):
+        raise argparse.ArgumentTypeError(
+            f"'{text}' is not an identifier (a letter, then letters, digits and single "
+            "underscores, not ending in one)")
+    return text
 
 
 def _isabelle_options(parser: argparse.ArgumentParser) -> None:

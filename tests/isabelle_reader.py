@@ -172,6 +172,8 @@ class ToCircus(Transformer):
     def state(self, ident) -> ex.Expr:
         return ex.Name((self._name(str(ident)),))
 
+    state_in = state
+
     def state_derivative(self, ident) -> ex.Expr:
         return ex.Derivative(ex.Name((self._name(str(ident)),)))
 
@@ -186,6 +188,8 @@ class ToCircus(Transformer):
 
     def false(self) -> ex.Expr:
         return ex.Bool(False)
+
+    utrue, ufalse = true, false
 
     def binop(self, left, op, right) -> ex.Expr:
         text = str(op.children[0]) if hasattr(op, "children") else str(op)
@@ -209,6 +213,18 @@ class ToCircus(Transformer):
 
     def lifted_binop(self, lifter, op, left, right) -> ex.Expr:
         return ex.BinOp(_HOL_OPS[op], left, right)
+
+    def cons(self, head, tail) -> ex.Expr:
+        rest = tail.items if isinstance(tail, ex.Seq) else ()
+        return ex.Seq((head, *rest))
+
+    def index(self, base, k) -> ex.Expr:
+        if isinstance(base, ex.Index):  # ((M ! i) ! j) is M[i, j]
+            return ex.Index(base.base, (*base.args, ex.Num(str(k))))
+        return ex.Index(base, (ex.Num(str(k)),))
+
+    def fmod(self, left, right) -> ex.Expr:
+        return ex.BinOp("%", left, right)
 
     def sequence(self, *items) -> ex.Expr:
         return ex.Seq(tuple(i for i in items if i is not None))

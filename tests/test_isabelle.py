@@ -20,6 +20,7 @@ from cyphy.cli import main
 from cyphy.semantics import circus as c
 from cyphy.semantics.build import build_semantics
 from isabelle_reader import parser, read_action, read_definitions
+from isabelle_types import check_theory
 from robot_model import ROBOT
 
 MARXBOT = EXAMPLES / "marxbot" / "Mapping.rsm"
@@ -74,7 +75,7 @@ def term_identifiers(term: str) -> set[str]:
 
 KEYWORDS_OF_TERMS = {"Skip", "Stop", "MuC", "InterruptCondC", "WaitC", "EvolveC", "DerC",
                      "IntegralC", "true", "false", "True", "False", "UNIV", "set", "list",
-                     "real", "nat", "int", "bool", "uop", "bop", "trop", "mod", "powr",
+                     "real", "nat", "int", "bool", "uop", "bop", "trop", "fmod", "powr", "Cons",
                      "sin", "cos", "tan", "sqrt", "exp", "ln", "abs", "arctan"}
 
 
@@ -132,6 +133,17 @@ def check_session(session, program: c.Program) -> None:  # type: ignore[no-untyp
     for ident in idents:
         assert ident not in BUILTIN_COMMANDS, ident
 
+    # The type checker of tests/isabelle_types.py: every definition, constant and axiom
+    # type-checks against the library's signatures; no transpose, vector constants only
+    # read by component.
+    assert check_theory(text) == []
+    assert "transpose" not in text
+    for k in program.pmodel.constants:
+        if isinstance(k.type, c.TSeq):
+            for name, _, body, _, _ in definitions:
+                uses = re.findall(rf"(?<!\w){session.names[k.name]}(?!\w)( !)?", body)
+                assert all(uses), (name, k.name)
+
     # Round trip: each definition body reads back into the action it was printed from.
     pm = program.pmodel
     local = pm.local.name if pm.local.fields else None
@@ -177,8 +189,15 @@ def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:
     assert "(WaitC tock cycle)" in text
     assert "| registerWrite_move \"real \\<times> real\"" in text
     assert 'globals_3: "(cycle = 1)"' in text
-    # transpose is a HOL constant: the library function is declared under another name
-    assert "transpose_v :: \"'a1 \\<Rightarrow> 'r\"" in text
+    # vectors are written per component (no transpose, no list arithmetic), evolving locals
+    # are state (rates $x\<acute>), set-points are held
+    assert "transpose" not in text and "DerC" not in text.split("section")[-1]
+    assert "  LHinge_fA_3 :: real\n" in text and "  LHinge_theta :: real\n" in text
+    assert ("($LHinge_fA_3 =\\<^sub>u ($LHinge_pA_3 + \\<guillemotleft>((LHinge_A ! 2) * "
+            "LHinge_a)\\<guillemotright>))") in text
+    assert "($LHinge_theta\\<acute> =\\<^sub>u $LHinge_v)" in text
+    assert "($LMotor_das\\<acute> =\\<^sub>u 0)" in text
+    assert "are held: LMotor_das, RMotor_das' = 0 in Evolve" in " ".join(text.split())
 
 
 def test_marxbot_caveat_is_a_warning_and_a_comment(tmp_path: Path) -> None:
@@ -239,7 +258,9 @@ def test_prelude_is_the_shipped_text(marxbot_session) -> None:
                  "InterruptCondC_NCSP [closure]", "MuC_NCSP [closure]", "WaitC_NCSP [closure]"):
         assert fact in prelude
     assert lex_errors(prelude) == []
-    assert theory_header(prelude) == ("CyPhyCircus_Prelude", ['"UTP-Circus.utp_circus"'])
+    assert theory_header(prelude) == ("CyPhyCircus_Prelude",
+                                      ['"UTP-Circus.utp_circus"', '"HOL.Transcendental"'])
+    assert 'definition fmod :: "real \\<Rightarrow> real \\<Rightarrow> real"' in prelude
 
 
 # ---------------------------------------------------------------- names
@@ -274,7 +295,8 @@ module Soft {{
 """
 
 # Names that are Isabelle or UTP words but fine in RoboSim: they must be mangled.
-PARAM_NAMES = ["lv", "av", "x", "fst", "card", "theory", "lemma", "wait", "ok", "hd"]
+PARAM_NAMES = ["lv", "av", "x", "fst", "card", "theory", "lemma", "wait", "ok", "hd", "on", "sp",
+               "wp", "wlp", "frz", "at", "within"]
 OP_NAMES = ["move", "stop", "turn", "card", "halt"]
 EVENT_NAMES = ["obstacle", "distance", "bump", "fst", "light"]
 
@@ -362,8 +384,8 @@ def test_namesets_partition_keeps_disjoint_updates(tmp_path: Path) -> None:
     chosen = api.generate_isabelle(paths, api.SemanticsGenOptions(namesets=True))
     assert chosen.report.diagnostics == []
     text = chosen.files["Robot_CyPhyCircus.thy"]
-    assert ('"ReceiveFromDModel = (MoveFromDModel \\<lbrakk>{M_das}\\<^sub>v\\<parallel>'
-            '{Lamp_on}\\<^sub>v\\<rbrakk> LampFromDModel)"') in text
+    assert ('"ReceiveFromDModel = (MoveFromDModel \\<lbrakk>M_das\\<parallel>'
+            'Lamp_on\\<rbrakk> LampFromDModel)"') in text
     assert "name-set partition that keeps their updates" in text
     sem = semantics(paths)
     check_session(generate_session(sem.program, sem.names, IsabelleOptions(namesets=True)),
@@ -374,3 +396,158 @@ def test_isar_tools_finds_nothing_in_the_marxbot_session(marxbot_session, tmp_pa
     from isar_check import isar_findings
 
     assert isar_findings(marxbot_session.files, tmp_path / "session") == []
+
+
+# ---------------------------------------------------------------- words of the library
+
+#: Words that utp-main's syntax makes keywords (mixfix delimiters, read from its sources by
+#: cyphy.backends.isabelle_library_words) or HOL's (at, within), plus library constants.
+LIBRARY_WORDS = ["on", "sp", "wp", "wlp", "frz", "at", "within", "state", "var", "mods",
+                 "nmods", "mdf", "ns", "nuses", "vrt", "invr", "con", "alpha", "tt", "do",
+                 "od", "II", "U", "NCSP", "Skip", "uop", "cond", "spec", "useq"]
+
+
+def _syntax_words() -> list[str]:
+    from cyphy.backends.isabelle_library_words import SYNTAX_WORDS
+
+    return sorted(SYNTAX_WORDS)
+
+
+@pytest.mark.parametrize("word", sorted(set(LIBRARY_WORDS) | set(_syntax_words())))
+def test_library_word_is_renamed_as_global_and_as_bound_name(word: str) -> None:
+    from cyphy.backends.isabelle import bound_identifier
+
+    assert word in RESERVED
+    assert IsabelleNames().add(word) == f"{word}_v"
+    assert bound_identifier(word, set()) == f"{word}_b"
+
+
+@pytest.mark.parametrize("word", ["on", "sp", "wp", "wlp", "frz", "at", "within"])
+def test_keyword_parameter_is_renamed_in_the_theory(tmp_path: Path, word: str) -> None:
+    software = SOFTWARE.format(ops=f"move({word}: real)", events="", outputs="")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               f"  operation move {{ equation Base::J::M.das == {word} }}\n}}\n")
+    sem = semantics(write_model(tmp_path, software, mapping))
+    session = generate_session(sem.program, sem.names)
+    text = session.files["Robot_CyPhyCircus.thy"]
+    assert f'"MoveCall {word}_b = ({{M_das}}\\<^sub>v:[true, ((&M_das =\\<^sub>u ' \
+           f'\\<guillemotleft>{word}_b\\<guillemotright>))]\\<^sub>C)"' in text
+    assert not re.search(rf"(?<![\w\\<]){word}(?![\w>])", text.split("section \\<open>Actions")[1]
+                         .replace(f"{word}_b", ""))
+    check_session(session, sem.program)
+
+
+# ---------------------------------------------------------------- values that reach a theory
+
+
+@pytest.mark.parametrize("option", [["--tscale", "-1"], ["--tscale", "0"], ["--tscale", "nan"],
+                                    ["--tscale", "inf"], ["--tscale", "x"], ["--name", "a*)b"],
+                                    ["--name", "1x"], ["--name", "x_"], ["--name", "a b"]])
+def test_bad_tscale_or_name_is_a_usage_error(tmp_path: Path, capsys, option) -> None:
+    out = tmp_path / "out"
+    with pytest.raises(SystemExit) as exit_:
+        main(["gen", "--isabelle", str(MARXBOT), "-o", str(out), *option])
+    assert exit_.value.code == 2
+    assert option[0] in capsys.readouterr().err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("tscale", [-1.0, 0.0, float("nan")])
+def test_inconsistent_tscale_axioms_are_refused(tscale: float) -> None:
+    for dialect in ("utp", "axiomatic"):
+        generated = api.generate_isabelle(
+            [MARXBOT], api.SemanticsGenOptions(tscale=tscale, dialect=dialect))
+        assert generated.files == {}
+        assert [d.code.id for d in generated.report.diagnostics] == ["E-ISABELLE-AXIOMS"]
+
+
+def test_cycle_restriction_contradicting_cycle_positive_is_refused(tmp_path: Path) -> None:
+    software = SOFTWARE.format(ops="move(lv: real)", events="", outputs="").replace(
+        "cycleDef cycle == 1", "cycleDef cycle == 0")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               "  operation move { equation Base::J::M.das == lv }\n}\n")
+    paths = write_model(tmp_path, software, mapping)
+    generated = api.generate_isabelle(paths)
+    assert generated.files == {}
+    (found,) = [d for d in generated.report.diagnostics if d.code.id == "E-ISABELLE-AXIOMS"]
+    assert "cycle == 0" in found.message and "no model" in found.message
+
+
+def test_operators_the_library_lacks_are_printed_with_the_preludes() -> None:
+    """A5: a real exponent is powr (also over the state: through bop), a remainder fmod, a
+    sequence over the state a chain of bop Cons (no list display for UTP expressions)."""
+    from cyphy import expr as ex
+    from cyphy.backends.isabelle import IsabellePrinter, Symbols
+
+    names = IsabelleNames()
+    for n in ("x", "k"):
+        names.add(n)
+    printer = IsabellePrinter(Symbols(names, state=frozenset({"x"}), constants=frozenset({"k"})))
+    x, k = ex.Name(("x",)), ex.Name(("k",))
+    half, two = ex.Num("0.5"), ex.Num("2")
+    assert printer.doprint(ex.BinOp("^", x, half), "uexpr") == \
+        "(bop (powr) &x \\<guillemotleft>0.5\\<guillemotright>)"
+    assert printer.doprint(ex.BinOp("^", x, two), "uexpr") == "(&x ^ 2)"
+    assert printer.doprint(ex.BinOp("^", k, k), "hol") == "(k powr k)"
+    assert printer.doprint(ex.BinOp("%", x, k), "uexpr") == \
+        "(bop fmod &x \\<guillemotleft>k\\<guillemotright>)"
+    assert printer.doprint(ex.BinOp("%", k, two), "hol") == "(fmod k 2)"
+    assert printer.doprint(ex.Seq((x, k)), "uexpr") == (
+        "(bop Cons &x (bop Cons \\<guillemotleft>k\\<guillemotright> "
+        "\\<guillemotleft>[]\\<guillemotright>))")
+    assert "\\<langle>" not in printer.doprint(ex.Seq((x,)), "uexpr")
+
+
+def test_system_name_that_is_no_identifier_is_refused_by_the_api() -> None:
+    elements = ("marXbotBase::Core::LHinge::LMotor", "marXbotBase::Core::RHinge::RMotor")
+    for dialect in ("utp", "axiomatic"):
+        generated = api.generate_isabelle([MARXBOT], api.SemanticsGenOptions(
+            system_name="N *) theory", dialect=dialect, elements=elements))
+        assert generated.files == {}
+        assert [d.code.id for d in generated.report.diagnostics
+                if d.code.id != "W-INTERLEAVE"] == ["E-ISABELLE"]
+
+
+def test_vector_local_of_a_mapping_is_bound_per_component(tmp_path: Path) -> None:
+    software = SOFTWARE.format(ops="move(lv: real)", events="", outputs="")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               "  operation move { var w: vector(real, 3) equation w == (|lv, 0, 0|)\n"
+               "    equation Base::J::M.das == w[1] }\n}\n")
+    sem = semantics(write_model(tmp_path, software, mapping))
+    session = generate_session(sem.program, sem.names)
+    text = session.files["Robot_CyPhyCircus.thy"]
+    assert "\\<^bold>\\<exists> move_w_3::real \\<bullet>" in text
+    assert "\\<guillemotleft>(move_w_2 = 0)\\<guillemotright>" in text
+    assert "(&M_das =\\<^sub>u \\<guillemotleft>move_w_1\\<guillemotright>)" in text
+    check_session(session, session_program(sem.program, session))
+
+
+def session_program(program: c.Program, session) -> c.Program:  # type: ignore[no-untyped-def]
+    """The program as the session printed it (scalar state): what the round trip reads."""
+    from dataclasses import replace
+
+    from cyphy.backends.isabelle_theory import scalar_program
+
+    return replace(program, pmodel=scalar_program(program).program.pmodel)
+
+
+def test_relation_between_a_scalar_and_a_vector_is_s3_at_its_span(tmp_path: Path) -> None:
+    """Ports reached through '.' have no kind for the checker's S3; the scalarisation finds
+    the sizes and refuses the relation there, writing nothing."""
+    from robot_model import ROBOT
+
+    software = SOFTWARE.format(ops="move(lv: real)", events="", outputs="")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               "  operation move { equation Base::J::M.das == lv }\n}\n")
+    paths = write_model(tmp_path, software, mapping)
+    robot = ROBOT.replace("relation M.T == J.tau", "relation M.T == J.F")
+    paths[1].write_text(robot, encoding="utf-8")
+    out = tmp_path / "out"
+    generated = api.generate_isabelle(paths)
+    assert generated.files == {}
+    [s3] = [d for d in generated.report.diagnostics if d.code.id == "S3"]
+    assert "an equation between a scalar and a 6-vector" in s3.message
+    line = next(i for i, t in enumerate(robot.splitlines(), 1) if "relation M.T == J.F" in t)
+    assert (s3.span.file.endswith("robot.rsm"), s3.span.line) == (True, line)
+    assert main(["gen", "--isabelle", *map(str, paths), "-o", str(out)]) == 1
+    assert not out.exists()

@@ -113,8 +113,10 @@ def test_marxbot_terms_use_the_axiomatic_notation(marxbot) -> None:
     assert bodies["MoveFromDModel"] == \
         "MoveFromDModel = (registerWrite_move\\<^bold>?(lv, av) \\<rightarrow> (MoveCall lv av))"
     assert bodies["MoveCall"].startswith(
-        "MoveCall lv av = ((LMotor_das, RMotor_das):[True, (\\<exists> move_dsl::real. "
-        "\\<exists> move_dsr::real. (LMotor_das = move_dsl)")
+        "MoveCall lv av = (cSpec ((LMotor_das, RMotor_das))\\<^sub>v (True)\\<^sub>e "
+        "((\\<exists> move_dsl::real. \\<exists> move_dsr::real. (LMotor_das = move_dsl)")
+    assert bodies["MoveCall"].endswith(")\\<^sub>e)")
+    assert ":[" not in text  # the generic Spec notation is not bound to cSpec (B6)
     assert bodies["ReceiveFromDModel"] == \
         "ReceiveFromDModel = (MoveFromDModel \\<interleave> StopFromDModel)"
     assert bodies["MainAction"] == (
@@ -248,3 +250,49 @@ def test_isar_tools_finds_nothing_in_the_axiomatic_session(marxbot, tmp_path) ->
     from isar_check import isar_findings
 
     assert isar_findings(marxbot.files, tmp_path / "session") == []
+
+
+def test_namesets_are_lenses_as_the_ranger_example_writes_them(tmp_path: Path) -> None:
+    """A6: a name set is a variable or a tuple ``((x, y))\\<^sub>v``, empty the zero lens."""
+    from cyphy.backends.isabelle import Symbols
+    from cyphy.backends.isabelle_ax import AxiomaticPrinter
+    from cyphy.backends.isabelle_names import IsabelleNames
+    from cyphy.semantics import circus as c
+
+    names = IsabelleNames()
+    for n in ("x", "y", "z"):
+        names.add(n)
+    printer = AxiomaticPrinter(Symbols(names, state=frozenset({"x", "y", "z"})))
+    par = c.Parallel(c.Skip(), ("x", "y"), (), (), c.Stop())
+    assert printer.action(par) == "(Skip \\<lbrakk>((x, y))\\<^sub>v | {} | 0\\<^sub>L\\<rbrakk> Stop)"
+    single = c.Parallel(c.Skip(), ("z",), (), ("x",), c.Stop())
+    assert printer.action(single) == "(Skip \\<lbrakk>z | {} | x\\<rbrakk> Stop)"
+    assert "+\\<^sub>L" not in printer.action(par) and "\\<^bold>0" not in printer.action(par)
+
+
+def test_marxbot_state_is_scalar_and_lists_are_only_constants(marxbot) -> None:
+    """The axiomatic theory shares the scalarisation: vector fields are components, and the
+    only real lists are the constants' definitions (no list arithmetic, no transpose)."""
+    text = marxbot.files[THEORY]
+    assert "  LHinge_fA_3 :: real\n" in text and "LHinge_fA ::" not in text
+    assert "transpose" not in text
+    lists = [line for line in text.splitlines() if "real list" in line]
+    assert lists and all(line.startswith("definition ") for line in lists)
+    for name in re.findall(r'^definition (\w+) :: "real list"', text, re.M):
+        uses = re.findall(rf"(?<!\w){name}(?!\w)( !)?", text.split("section \\<open>Actions")[1])
+        assert all(uses), name
+
+
+def test_remainder_is_fmod_defined_in_the_theory(tmp_path: Path) -> None:
+    """The axiomatic theory has no prelude: fmod is defined in it, before any use."""
+    from test_isabelle import SOFTWARE
+
+    software = SOFTWARE.format(ops="move(lv: real)", events="", outputs="")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               "  operation move { equation Base::J::M.das == lv % 2 }\n}\n")
+    paths = write_model(tmp_path, software, mapping)
+    text = axiomatic(paths, elements=("Robot::Base::J::M",)).files["Robot_AxCyPhyCircus.thy"]
+    definition = text.index('definition fmod :: "real \\<Rightarrow> real \\<Rightarrow> real"')
+    assert definition < text.index("(fmod lv 2)")
+    utp = api.generate_isabelle(paths).files["Robot_CyPhyCircus.thy"]
+    assert "\\<guillemotleft>(fmod lv 2)\\<guillemotright>" in utp and "definition fmod" not in utp

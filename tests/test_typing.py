@@ -57,6 +57,14 @@ def test_well_typed_model(tmp_path: Path) -> None:
     ("w == scale(u)", 13, "scale takes 2 arguments, not 1"),
     ("y == if u then 1 else 0 end", 13, "the condition of 'if' is a number"),
     ("y < AXIS", 13, "'<' orders numbers, but this is a 3-vector"),
+    ("w == transpose(M) * (|1, 2, 3|)", 13, "matrix product of a 3x2 matrix and a 3-vector"),
+    ("w == transpose(AXIS)", 13, "'==' compares a 3-vector with a 1x3 matrix"),
+    ("y == norm(ScrewAxis(AXIS, (|1, 2|)))", 13, "'v' of ScrewAxis is a 3-vector, but this is a "
+     "2-vector"),
+    ("w == ScrewAxis(AXIS, AXIS)", 13, "'==' compares a 3-vector with a 6-vector"),
+    ("y == norm(ad(AXIS) * ScrewAxis(AXIS, AXIS))", 13, "'V' of ad is a 6-vector, but this is a 3-vector"),
+    ("w == Adjoint(identity(4)) * AXIS", 13, "matrix product of a 6x6 matrix and a 3-vector"),
+    ("w == inverse(M) * AXIS", 13, "'==' compares a 3-vector with a 2-vector"),
 ])
 def test_ill_typed_equations(tmp_path: Path, equation: str, line: int, message: str) -> None:
     found = s3(tmp_path, equation=equation)
@@ -67,9 +75,27 @@ def test_ill_typed_equations(tmp_path: Path, equation: str, line: int, message: 
 @pytest.mark.parametrize("equation", [
     "w == scale(u, AXIS)", "w == AXIS + AXIS", "y == if u > 0 then 1 else 0 end",
     "derivative(y) == -u", "w[1] == u", "y == u^-1 /\\ not (u < 0)",
+    "y == transpose(AXIS) * AXIS", "w == transpose(M) * (|1, 2|)",
+    "w == identity(3) * AXIS", "w == transpose(M) * M * AXIS",
 ])
+
+
 def test_close_variants_are_well_typed(tmp_path: Path, equation: str) -> None:
     assert s3(tmp_path, equation=equation) == []
+
+
+def test_transposed_matrix_equation_says_so(tmp_path: Path) -> None:
+    """RoboTool's newer generated files (the corpus SimpleArm) equate a 3x4 matrix with a
+    4x3 literal: S3, with a hint that names the transposition."""
+    text = BASE.format(**{**GOOD, "equation": "y == u"}).replace(
+        "local w: vector(real,3)", "local w: vector(real,3), X: matrix(real,3,4)").replace(
+        "equation y == u", "equation X == [|1,0,0;0,1,0;0,0,1;0,0,0|]")
+    (tmp_path / "m.rsm").write_text(text)
+    diags = api.check([tmp_path / "m.rsm"],
+                      api.CheckOptions(wellformedness=False)).report.diagnostics
+    assert [(d.code.id, d.span.line) for d in diags] == [("S3", 13)]
+    assert diags[0].message == "'==' compares a 3x4 matrix with a 4x3 matrix"
+    assert "the other's transpose" in diags[0].hint
 
 
 def test_pose_and_mass_must_be_numbers(tmp_path: Path) -> None:

@@ -37,7 +37,7 @@ LIFT_OPEN, LIFT_CLOSE = "\\<guillemotleft>", "\\<guillemotright>"
 
 #: HOL operators of the expression AST's binary operators.
 HOL_BINOPS = {
-    "+": "+", "-": "-", "*": "*", "/": "/", "%": "mod", "cat": "@",
+    "+": "+", "-": "-", "*": "*", "/": "/", "%": "fmod", "cat": "@",
     "==": "=", "!=": "\\<noteq>", "<": "<", ">": ">", "<=": "\\<le>", ">=": "\\<ge>",
     "/\\": "\\<and>", "\\/": "\\<or>", "=>": "\\<longrightarrow>",
     "<=>": "\\<longleftrightarrow>",
@@ -119,6 +119,8 @@ class IsabellePrinter:
         self._mode = "hol"
         self._coerce_nat = False
         self._bound: list[dict[str, str]] = [{}]
+        self._free_memo: dict[tuple[int, int], bool] = {}
+        self._memo_keep: list[object] = []
 
     # ------------------------------------------------------------------ dispatch
 
@@ -156,6 +158,7 @@ class IsabellePrinter:
         """Bind names (parameters, inputs, quantified and recursion variables) for the
         printing of a subterm; each gets an identifier free of every global one."""
         scope = dict(self._bound[-1])
+        self._memo_keep.append(scope)  # its id keys the memo of _state_free
         idents = []
         globals_ = self._globals()
         for name in names:
@@ -179,7 +182,18 @@ class IsabellePrinter:
         return name in self.symbols.state and self._bound_ident(name) is None
 
     def _state_free(self, e: ex.Expr) -> bool:
-        return not any(isinstance(n, ex.Name) and self._is_state(n.text) for n in e.walk())
+        """Whether ``e`` mentions no state variable (memoised per node and scope: the
+        printer asks it of every subterm, and evolutions are large)."""
+        key = (id(e), id(self._bound[-1]))
+        found = self._free_memo.get(key)
+        if found is None:
+            if isinstance(e, ex.Name):
+                found = not self._is_state(e.text)
+            else:
+                found = all(self._state_free(ch) for ch in e.children())
+            self._free_memo[key] = found
+            self._memo_keep.append(e)  # keeps the id valid while the memo lives
+        return found
 
     def name(self, text: str) -> str:
         """The identifier of a bound or global name; unknown names are refused (a free
@@ -223,9 +237,16 @@ class IsabellePrinter:
     def _print_BinOp(self, e: ex.BinOp) -> str:
         left, right = self._print(e.left), self._print(e.right)
         if e.op == "^":
-            if self._mode == "hol" and not (isinstance(e.right, ex.Num) and e.right.is_integer):
+            # HOL's ^ takes a nat exponent (Power.thy); any other is powr (Transcendental.thy)
+            if isinstance(e.right, ex.Num) and e.right.is_integer:
+                return f"({left} ^ {right})"
+            if self._mode == "hol":
                 return f"({left} powr {right})"
-            return f"({left} ^ {right})"
+            return f"(bop (powr) {left} {right})"
+        if e.op == "%":  # HOL has no mod on real: the prelude's fmod
+            if self._mode == "hol":
+                return f"(fmod {left} {right})"
+            return f"(bop fmod {left} {right})"
         table = HOL_BINOPS if self._mode == "hol" else UTP_BINOPS
         op = table.get(e.op)
         if op is None:
@@ -255,6 +276,17 @@ class IsabellePrinter:
             raise UnsupportedNode(e, "a function of more than 3 arguments over the state")
         return f"({lifter} {func} {' '.join(args)})"
 
+    def _print_Index(self, e: ex.Index) -> str:
+        """A component of a vector or matrix constant (the scalarisation's ``A[k]``): HOL's
+        ``nth``, ``(A ! k)``, counted from 0."""
+        if self._mode != "hol" or not all(isinstance(a, ex.Num) and a.is_integer
+                                           for a in e.args):
+            raise UnsupportedNode(e, "an index into a vector of the state")
+        out = self._print(e.base)
+        for a in e.args:
+            out = f"({out} ! {a.text})"
+        return out
+
     def _print_Derivative(self, e: ex.Derivative) -> str:
         operand = e.operand
         if isinstance(operand, ex.Name) and self._mode == "rel" and self._is_state(operand.text):
@@ -270,8 +302,15 @@ class IsabellePrinter:
         return f"(IntegralC {operand})" if self._mode == "hol" else f"(uop IntegralC {operand})"
 
     def _print_SeqExpr(self, e: ex.Seq) -> str:
-        items = ", ".join(self._print(i) for i in e.items)
-        return f"[{items}]" if self._mode == "hol" else f"\\<langle>{items}\\<rangle>"
+        """A HOL list; over the state, consed with ``bop Cons`` (utp-main's explicit syntax
+        has no list display for UTP expressions: only the easy parser's)."""
+        items = [self._print(i) for i in e.items]
+        if self._mode == "hol":
+            return f"[{', '.join(items)}]"
+        out = LIFT_OPEN + "[]" + LIFT_CLOSE
+        for item in reversed(items):
+            out = f"(bop Cons {item} {out})"
+        return out
 
     # ------------------------------------------------------------------ predicates
 
@@ -383,8 +422,17 @@ class IsabellePrinter:
         return f"({left} \\<lbrakk>{self._namesets(a.left_names, a.right_names)}\\<rbrakk> {right})"
 
     def _namesets(self, left: tuple[str, ...], right: tuple[str, ...]) -> str:
-        """The name sets of a parallel composition, between its brackets."""
-        return f"{self._nameset(left)}\\<parallel>{self._nameset(right)}"
+        """The name sets of a parallel composition, between its brackets: there utp-main
+        reads the ``salpha`` category (utp/utp_var.thy, lines 259-268 at c9122f14), whose
+        forms are a variable ``x``, a composition ``(x;y)`` and the empty set ``\\<emptyset>``,
+        not the ``{x}\\<^sub>v`` or ``0\\<^sub>L`` terms."""
+        return f"{self._salpha(left)}\\<parallel>{self._salpha(right)}"
+
+    def _salpha(self, names: tuple[str, ...]) -> str:
+        if not names:
+            return "\\<emptyset>"
+        idents = [self.symbols.names[n] for n in names]
+        return idents[0] if len(idents) == 1 else "(" + ";".join(idents) + ")"
 
     def _nameset(self, names: tuple[str, ...]) -> str:
         if not names:

@@ -23,8 +23,9 @@ from cyphy.backends.evolve_odes import ExplicitOde
 from cyphy.backends.isabelle import IsabellePrinter, Symbols, UnsupportedNode
 from cyphy.semantics import circus as c
 
-#: Constants and syntax words of Ax_CyPhyCircus, IsaCircus_Syntax and Abstract_Prog_Syntax
-#: that a generated name must not take (``Evolve`` is the operator the evolution uses).
+#: Constants and syntax words of Ax_CyPhyCircus (its axiomatization, lines 34-61, and
+#: adhoc_overloading, lines 64-84), IsaCircus_Syntax and Abstract_Prog_Syntax that a
+#: generated name must not take (``Evolve`` is the operator the evolution uses).
 AX_RESERVED = frozenset("""
 cyphyaction cyphyprocess cSpec cAssigns cSeq cCond cAlternList cVarBlock cStop cChaos cGuard
 cAssume cInputPrefix cOutputPrefix cSyncPrefix cExtChoice cExtChoiceIdx cRename cHide
@@ -83,11 +84,13 @@ class AxiomaticPrinter(IsabellePrinter):
         return f"{self._lens(left)} | {{}} | {self._lens(right)}"
 
     def _lens(self, names: tuple[str, ...]) -> str:
-        """A name set as the lens of its variables: ``\\<^bold>0`` when empty."""
+        """A name set as the lens of its variables, as the dialect's own example writes
+        them (examples/Ranger_CyPhyCircus.thy: a variable ``x``, a tuple ``((x, y))\\<^sub>v``);
+        empty: Optics' zero lens ``0\\<^sub>L`` (optics/Lens_Algebra.thy)."""
         if not names:
-            return "\\<^bold>0"
+            return "0\\<^sub>L"
         idents = [self.symbols.names[n] for n in names]
-        return idents[0] if len(idents) == 1 else "(" + " +\\<^sub>L ".join(idents) + ")"
+        return idents[0] if len(idents) == 1 else "((" + ", ".join(idents) + "))\\<^sub>v"
 
     def _print_Mu(self, a: c.Mu) -> str:
         with self.binding([a.var]) as (ident,):
@@ -102,11 +105,13 @@ class AxiomaticPrinter(IsabellePrinter):
         return f"({self.symbols.names['WaitT']} {count})"
 
     def _print_Spec(self, a: c.Spec) -> str:
-        if not a.frame:
-            raise UnsupportedNode(a, "a specification statement with an empty frame")
-        idents = [self.symbols.names[n] for n in a.frame]
-        frame = idents[0] if len(idents) == 1 else f"({', '.join(idents)})"
-        return f"({frame}:[{self._print(a.pre)}, {self._print(a.post)}])"
+        """``cSpec frame (pre)\\<^sub>e (post)\\<^sub>e``: Ax_CyPhyCircus declares ``cSpec``
+        (Ax_CyPhyCircus.thy, line 35) but its ``adhoc_overloading`` (lines 64-84) does not
+        bind the generic ``Spec`` of the ``w:[p, q]`` notation to it, so the notation would
+        denote an unrelated constant. Pre- and postcondition are predicates on one state
+        (the postcondition on the after-state), quoted as Shallow-Expressions does."""
+        frame = self._lens(a.frame)
+        return f"(cSpec {frame} ({self._print(a.pre)})\\<^sub>e ({self._print(a.post)})\\<^sub>e)"
 
     def _print_Evolution(self, a: c.Evolution) -> str:
         if self.odes is None:

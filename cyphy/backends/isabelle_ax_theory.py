@@ -13,12 +13,14 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from cyphy import expr as ex
 from cyphy.backends.evolve_odes import EvolveOdes
 from cyphy.backends.isabelle import HOL_FUNCTIONS, UnsupportedNode
 from cyphy.backends.isabelle_ax import AX_RESERVED, AxiomaticPrinter
+from cyphy.backends.isabelle_names import is_identifier
 from cyphy.backends.isabelle_theory import (IsabelleError, IsabelleOptions, IsabelleSession,
                                             _environment, _names_table, _theory_context,
-                                            symbols_of)
+                                            scalar_program, symbols_of)
 from cyphy.semantics import circus as c
 from cyphy.semantics.names import NameTable, identifier
 from cyphy.semantics.namesets import action_nodes, find_lossy_interleavings, with_namesets
@@ -35,6 +37,9 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
     """The session folder's files for ``program``; ``odes`` are Evolve's explicit ODEs
     (None only for a program without an evolution). Raises :class:`IsabelleError` when a
     construct has no counterpart in the dialect."""
+    if system_name is not None and not is_identifier(system_name):
+        raise IsabelleError(f"the system name '{system_name}' is not an identifier")
+    program = scalar_program(program, evolving_as_state=False).program
     lossy = find_lossy_interleavings(program.pmodel)
     pm = program.pmodel
     applied = options.namesets and any(f.partition for f in lossy)
@@ -71,6 +76,7 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
         system=system_name or program.system.name, pmodel=pm.name,
         chan_type=names[f"{prefix}_chan"], action_type=action_type,
         wait=names[WAIT] if uses_wait else None,
+        uses_fmod=any(isinstance(n, ex.BinOp) and n.op == "%" for n in c.walk(pm)),
         tock=symbols.constructors.get(("tock", None), "tock"),
         added=[{"name": names[a], "type": "real"} for a in added],
         added_note=(f"{', '.join(names[a] for a in added)}: evolving variables that no state "

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import re
 
+from cyphy.backends.isabelle_library_words import LIBRARY_CONSTANTS, SYNTAX_WORDS
 from cyphy.semantics.names import identifier
 
 _IDENT = re.compile(r"[A-Za-z](?:[A-Za-z0-9]|_(?=[A-Za-z0-9]))*")
@@ -44,7 +45,7 @@ id set map fst snd real int nat sin cos tan sqrt exp ln log abs sgn min max norm
 length hd tl last dom ran card Inf Sup top bot tr tt st ok wait ref transpose rev nth take
 drop zip filter concat sum prod list bool unit option Some None Nil Cons True False
 uop bop trop qtop action hrel upred uexpr NCSP CSP Healthy
-EvolveC InterruptC InterruptCondC MuC WaitC DerC IntegralC
+EvolveC InterruptC InterruptCondC MuC WaitC DerC IntegralC fmod
 """.split())
 
 #: CZT/Z keywords (one mangled name serves every printer).
@@ -53,7 +54,10 @@ if then else let pre true false function generic relation leftassoc rightassoc s
 parents
 """.split())
 
-RESERVED = OUTER_KEYWORDS | COMMANDS | INNER_WORDS | SHADOWED | Z_KEYWORDS
+#: Every word a generated identifier avoids: the lists above (HOL, Isar, Z), and the mixfix
+#: delimiters and constants read from utp-main's sources (:mod:`isabelle_library_words`).
+RESERVED = (OUTER_KEYWORDS | COMMANDS | INNER_WORDS | SHADOWED | Z_KEYWORDS
+            | frozenset(SYNTAX_WORDS) | frozenset(LIBRARY_CONSTANTS))
 
 
 def is_identifier(text: str) -> bool:

@@ -11,19 +11,21 @@ in ``cyphy/isabelle_templates/`` hold the layout; every term comes from
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Any
 
 from cyphy import codes
 from cyphy.backends.isabelle import (HOL_FUNCTIONS, IsabellePrinter, Symbols, UnsupportedNode,
                                      bound_identifier)
-from cyphy.backends.isabelle_names import IsabelleNames
+from cyphy.backends.isabelle_names import IsabelleNames, is_identifier
 from cyphy.semantics.names import identifier
 from cyphy.semantics import circus as c
 from cyphy.semantics.names import NameTable
 from cyphy.semantics.namesets import (LossyInterleaving, action_nodes, find_lossy_interleavings,
                                       with_namesets)
+from cyphy.semantics.rules import functions
+from cyphy.semantics.scalarise import ScalariseError, scalar_process
 
 UNTRANSLATABLE = codes.code("E-ISABELLE", codes.E,
                             "the CyPhyCircus program has no Isabelle/UTP counterpart")
@@ -66,7 +68,13 @@ class IsabelleSession:
 
 
 class IsabelleError(Exception):
-    """The program cannot be written as Isabelle/UTP; the message says what and where."""
+    """The program cannot be written as Isabelle/UTP; the message says what, ``span``
+    where when it is known (else the mapping)."""
+
+    def __init__(self, message: str, span: Any = None, shapes: bool = False) -> None:
+        super().__init__(message)
+        self.span = span
+        self.shapes = shapes  # vector and matrix sizes that do not fit: an S3 error
 
 
 @lru_cache(maxsize=1)
@@ -211,6 +219,51 @@ def symbols_of(program: c.Program, taken: frozenset[str] = frozenset()) -> Symbo
     )
 
 
+@dataclass(frozen=True)
+class ScalarProgram:
+    """The program with the p-model's state made scalar (:mod:`cyphy.semantics.scalarise`),
+    and what that pass promoted to state and holds during evolutions."""
+
+    program: c.Program
+    promoted: tuple[str, ...]
+    held: tuple[str, ...]
+
+
+def scalar_program(program: c.Program, evolving_as_state: bool = True) -> ScalarProgram:
+    """Vectors and matrices as components, evolving locals as state (both dialects print
+    this, never ``real list`` arithmetic); raises :class:`IsabelleError` with the node's span
+    where the shapes do not fit."""
+    try:
+        scalar = scalar_process(program.pmodel, evolving_as_state)
+    except ScalariseError as err:
+        raise IsabelleError(str(err), getattr(err.node, "span", None), shapes=True) from None
+    # transpose and the like are gone once written per component: declare only what is used
+    return ScalarProgram(replace(program, pmodel=scalar.process,
+                                 functions=functions(scalar.process)),
+                         scalar.promoted, scalar.held)
+
+
+def evolution_note(scalar: ScalarProgram, names: IsabelleNames) -> str:
+    """What the theory's state and Evolve hold, for its header comment."""
+    text = ("The state is scalar: a vector or matrix X of the model is the fields X_1, X_2, "
+            "... (row by row, as cyphy solve names them); vector constants stay lists, read "
+            "with nth (A ! k, from 0). ")
+    if scalar.promoted:
+        text += ("Locals whose derivative appears, and one variable per running integral, "
+                 f"are state too ({', '.join(names[n] for n in scalar.promoted)}), so that "
+                 "EvolveC constrains their rates; the other locals are quantified at each "
+                 "instant. ")
+    text += ("State that no equation of Evolve determines: the numeric variables that "
+             "discrete actions write and no derivative governs (actuator set-points)")
+    if scalar.held:
+        text += f" are held: {', '.join(names[n] for n in scalar.held)}' = 0 in Evolve"
+    else:
+        text += " are held (x' = 0 in Evolve); there are none here"
+    return text + ("; all other state is free, constrained only by the equations (the "
+                   "world's inputs: sensor readings, joint outputs; Boolean set-points, which "
+                   "have no rate to hold).")
+
+
 def _caveat(finding: LossyInterleaving, applied: bool) -> str:
     updated = ", ".join(sorted(finding.updated))
     branches = " ||| ".join(finding.branches)
@@ -230,6 +283,10 @@ def generate_session(program: c.Program, table: NameTable,
                      system_name: str | None = None) -> IsabelleSession:
     """The session folder's files for ``program``; raises :class:`IsabelleError` when a
     construct has no Isabelle/UTP counterpart."""
+    if system_name is not None and not is_identifier(system_name):
+        raise IsabelleError(f"the system name '{system_name}' is not an identifier")
+    scalar = scalar_program(program)
+    program = scalar.program
     lossy = find_lossy_interleavings(program.pmodel)
     pm = program.pmodel
     applied = options.namesets and any(f.partition for f in lossy)
@@ -244,7 +301,8 @@ def generate_session(program: c.Program, table: NameTable,
         context = _theory_context(program, pm, printer, lossy, options, applied)
     except UnsupportedNode as err:
         raise IsabelleError(str(err)) from None
-    context.update(theory=theory, prelude=PRELUDE, prefix=prefix, mapping=program.system.name,
+    context.update(evolution_note=evolution_note(scalar, names),
+                   theory=theory, prelude=PRELUDE, prefix=prefix, mapping=program.system.name,
                    dmodel=program.dmodel.name, system=system_name or program.system.name,
                    pmodel=pm.name, chan_type=names[f"{prefix}_chan"],
                    action_type=names[f"{prefix}_action"])

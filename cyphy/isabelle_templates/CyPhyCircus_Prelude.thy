@@ -13,8 +13,16 @@
    of a local and a running integral, which the paper also leaves symbolic. *)
 
 theory CyPhyCircus_Prelude
-  imports "UTP-Circus.utp_circus"
+  imports "UTP-Circus.utp_circus" "HOL.Transcendental"
 begin
+
+text \<open>utp-main's toolkit imports HOL.Deriv (toolkit/utp_toolkit.thy, line 12), not
+  HOL.Transcendental: sin, cos, tan, arctan, exp, ln, sqrt and powr (a real exponent) come
+  from the second import. HOL's mod needs a semiring with division, which real is not: real
+  remainders use fmod.\<close>
+
+definition fmod :: "real \<Rightarrow> real \<Rightarrow> real" where
+  "fmod x y = x - y * of_int \<lfloor>x / y\<rfloor>"
 
 section \<open>Hybrid operators (axiomatised)\<close>
 

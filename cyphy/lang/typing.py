@@ -184,8 +184,14 @@ class TypeChecker:
                 self.error(e, f"'{e.op}' compares {left.describe()} with {right.describe()}",
                            "compare values of the same type")
             elif not same_shape(left.shape, right.shape):
+                transposed = (left.shape is not None and right.shape is not None
+                              and len(left.shape) == len(right.shape) == 2
+                              and left.shape == right.shape[::-1])
                 self.error(e, f"'{e.op}' compares {left.describe()} with {right.describe()}",
-                           "the two sides must have the same size")
+                           "one side is the other's transpose (RoboTool's newer generated "
+                           "files write such equations): declare the matrix with the other "
+                           "size, or transpose one side" if transposed
+                           else "the two sides must have the same size")
             return BOOL
         if e.op in ORDERING:
             for side, t in ((e.left, left), (e.right, right)):
@@ -232,8 +238,7 @@ class TypeChecker:
         return ANY if left.kind is Kind.ARRAY else left
 
     def _infer_Call(self, e: ex.Call) -> Ty:
-        for a in e.args:
-            self.infer(a)
+        args = [self.infer(a) for a in e.args]
         if isinstance(e.func, ex.Call):  # curried: submatrix(M)(0, 0, 3, 3)
             self.infer(e.func.func)
             for a in e.func.args:
@@ -248,7 +253,33 @@ class TypeChecker:
             self.error(e, f"{decl.name} takes {len(decl.params)} argument"
                        f"{'s' if len(decl.params) != 1 else ''}, not {len(e.args)}",
                        f"call it as {decl.name}({', '.join(p.name for p in decl.params)})")
-        return type_of_declared(decl.return_type) if decl.return_type is not None else ANY
+            return ANY
+        for arg, got, param in zip(e.args, args, decl.params):
+            want = type_of_declared(param.type)
+            if want.kind is Kind.ARRAY and got.kind is Kind.ARRAY \
+                    and not same_shape(want.shape, got.shape):
+                self.error(arg, f"'{param.name}' of {decl.name} is {want.describe()}, but "
+                           f"this is {got.describe()}", "pass an argument of the declared size")
+        return self._call_shape(decl, e.args, args)
+
+    def _call_shape(self, decl: ast.FunctionDecl, exprs: tuple[ex.Expr, ...],
+                    args: list[Ty]) -> Ty:
+        """The result of a call: the declared type, or for the size-generic matrix
+        functions of physmod::math (declared ``matrix(real, 0, 0)``) the size they give."""
+        declared = type_of_declared(decl.return_type) if decl.return_type is not None else ANY
+        if declared.kind is not Kind.ARRAY or declared.shape is not None:
+            return declared
+        first = args[0].shape if args and args[0].kind is Kind.ARRAY else None
+        if decl.name == "transpose" and first is not None:
+            return Ty(Kind.ARRAY, (1, first[0]) if len(first) == 1 else (first[1], first[0]))
+        if decl.name in ("inverse", "adj") and first is not None:
+            return Ty(Kind.ARRAY, first)
+        sizes = [_literal_int(x) for x in exprs]
+        if decl.name == "identity" and len(sizes) == 1 and sizes[0]:
+            return Ty(Kind.ARRAY, (sizes[0], sizes[0]))
+        if decl.name == "zeroes" and len(sizes) == 2 and sizes[0] and sizes[1]:
+            return Ty(Kind.ARRAY, (sizes[0], sizes[1]))
+        return declared
 
     def _infer_Derivative(self, e: ex.Derivative) -> Ty:
         t = self.infer(e.operand)

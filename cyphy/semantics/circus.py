@@ -30,9 +30,13 @@ class TBasic:
 
 @dataclass(frozen=True, slots=True)
 class TSeq:
-    """``seq T``: vectors and matrices (a matrix is a sequence of rows)."""
+    """``seq T``: vectors and matrices (a matrix is a sequence of rows). ``size``: the
+    number of items where the declaration fixes it (``vector(real, 6)``), so that printers
+    whose target has no vectors can split the value into components; it does not take part
+    in equality (CyPhyCircus's ``seq`` has no length)."""
 
     of: "Type"
+    size: int | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True, slots=True)
@@ -406,8 +410,8 @@ def walk(node: object) -> Iterator[object]:
     while stack:
         current = stack.pop()
         yield current
-        if isinstance(current, ex.Expr):
-            stack.extend(c for c in current.walk() if c is not current)
+        if isinstance(current, ex.Expr):  # its own walk yields each descendant once
+            yield from (c for c in current.walk() if c is not current)
             continue
         stack.extend(reversed(list(children(current))))
 

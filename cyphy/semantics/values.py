@@ -25,15 +25,24 @@ def type_of(t: ast.TypeRef | None) -> c.Type:
     if isinstance(t, ast.PrimitiveType):
         return _BASIC.get(t.name, c.TBasic(t.name))
     if isinstance(t, ast.VectorType):
-        return c.TSeq(type_of(t.element))
+        return c.TSeq(type_of(t.element), _size(t.size))
     if isinstance(t, ast.MatrixType):
-        return c.TSeq(c.TSeq(type_of(t.element)))
+        rows, cols = _size(t.rows), _size(t.cols)
+        return c.TSeq(c.TSeq(type_of(t.element), cols), rows)
     if isinstance(t, ast.SeqType):
         return c.TSeq(type_of(t.element))
     if isinstance(t, ast.NamedType):
         name = t.name[-1]
         return _BASIC.get(name, c.TBasic(name))
     return c.TBasic(type(t).__name__)
+
+
+def _size(e: ex.Expr | None) -> int | None:
+    """A declared size when it is a positive literal (``matrix(real, 0, 0)`` is the
+    notation's "any size")."""
+    if isinstance(e, ex.Num) and e.is_integer and int(e.text) > 0:
+        return int(e.text)
+    return None
 
 
 def constant_type(value: Any) -> c.Type:
@@ -44,7 +53,9 @@ def constant_type(value: Any) -> c.Type:
         return c.INT
     shape = getattr(value, "shape", None)
     if shape is not None:
-        return c.TSeq(c.TSeq(c.REAL)) if len(shape) == 2 else c.TSeq(c.REAL)
+        if len(shape) == 2:
+            return c.TSeq(c.TSeq(c.REAL, int(shape[1])), int(shape[0]))
+        return c.TSeq(c.REAL, int(shape[0]))
     return c.REAL
 
 
