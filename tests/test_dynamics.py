@@ -1,0 +1,348 @@
+"""Equations of motion of the kinematic tree (cyphy.semantics.dynamics), checked against
+independent derivations: Pinocchio, its model built here with its own API from the elaborated
+model's links, inertials and joints (never from cyphy's tree), and SymPy's Lagrange method."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from cyphy.diagnostics import Span
+from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
+from cyphy.model.inertia import Inertial
+from cyphy.model.poses import Pose
+from cyphy.semantics import dynamics
+
+pin = pytest.importorskip("pinocchio")
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def _elaborated(folder: str) -> ElaboratedModel:
+    from cyphy.api import ElaborateOptions, elaborate
+
+    result = elaborate([EXAMPLES / folder], ElaborateOptions())
+    assert result.model is not None
+    return result.model
+
+
+# ----------------------------------------------------------------------------- Pinocchio
+
+def _se3(pose: Pose) -> "pin.SE3":
+    return pin.SE3(np.array(pose.rotation), np.array(pose.position))
+
+
+def pinocchio_model(model: ElaboratedModel, order: tuple[str, ...]):
+    """Pinocchio's model of the elaborated model: one Pinocchio joint per moving joint, its
+    frame the joint's own frame (child link pose ∘ joint pose), each link's inertial appended
+    to the joint that moves it (links joined by fixed connections follow their parent)."""
+    owner: dict[str, str | None] = {link.name: None for link in model.links}
+    joint_of_child = {j.child.name: j for j in model.joints}
+    fixed_parent = {f.child.name: f.parent.name for f in model.fixed}
+
+    def moving_joint(link: str) -> Joint | None:
+        while link not in joint_of_child and link in fixed_parent:
+            link = fixed_parent[link]
+        return joint_of_child.get(link)
+
+    for name in owner:
+        j = moving_joint(name)
+        owner[name] = j.name if j else None
+    frames = {j.name: j.child.pose.compose(j.pose) for j in model.joints}
+    by_name = {j.name: j for j in model.joints}
+    robot = pin.Model()
+    ids: dict[str, int] = {}
+    for name in order:
+        joint = by_name[name]
+        parent = moving_joint(joint.parent.name)
+        parent_id = ids[parent.name] if parent else 0
+        parent_frame = frames[parent.name] if parent else Pose.identity()
+        placement = frames[name].relative_to(parent_frame)
+        axis = np.asarray(joint.axis, dtype=float)
+        axis = axis / np.linalg.norm(axis)
+        kind = dynamics.joint_kind(joint)
+        jm = pin.JointModelRevoluteUnaligned(axis) if kind == "revolute" else \
+            pin.JointModelPrismaticUnaligned(axis)
+        ids[name] = robot.addJoint(parent_id, jm, _se3(placement), name)
+    for link in model.links:
+        if owner[link.name] is None:
+            continue
+        frame = frames[owner[link.name]]
+        inertial = link.inertial
+        rotation = np.array(inertial.com.rotation)
+        inertia = rotation @ _tensor(inertial.inertia) @ rotation.T
+        com_in_link = Pose(inertial.com.position, ((1, 0, 0), (0, 1, 0), (0, 0, 1)))
+        in_joint = link.pose.relative_to(frame)
+        robot.appendBodyToJoint(ids[owner[link.name]],
+                                pin.Inertia(inertial.mass, np.zeros(3), inertia),
+                                _se3(in_joint.compose(com_in_link)))
+    return robot
+
+
+def _tensor(e):
+    ixx, ixy, ixz, iyy, iyz, izz = e
+    return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+
+
+def _pinocchio_joint_space(model: ElaboratedModel, names, q, qd):
+    robot = pinocchio_model(model, names)
+    data = robot.createData()
+    m = pin.crba(robot, data, np.asarray(q, float))
+    m = np.triu(m) + np.triu(m, 1).T
+    h = pin.rnea(robot, data, np.asarray(q, float), np.asarray(qd, float), np.zeros(len(q)))
+    assert tuple(robot.names[1:]) == tuple(names)
+    return m, h
+
+
+def _close(a, b, rel=1e-9):
+    """Within ``rel`` of the largest reference entry; an all-zero reference (a wheel on a
+    horizontal axis has no bias force) within rounding (1e-15 absolute)."""
+    scale = max(np.abs(b).max(), 1e-6)
+    assert np.abs(np.asarray(a, float) - b).max() <= rel * scale, (a, b)
+
+
+@pytest.mark.parametrize("folder", ["manipulator", "dcmotor", "marxbot"])
+def test_examples_agree_with_pinocchio(folder: str) -> None:
+    model = _elaborated(folder)
+    tree = dynamics.kinematic_tree(model)
+    assert set(tree.names) == {j.name for j in model.joints}
+    rng = np.random.default_rng(16)
+    for _ in range(5):
+        q, qd = rng.uniform(-2, 2, len(tree)), rng.uniform(-3, 3, len(tree))
+        m, h, names = dynamics.joint_space(model, q, qd)
+        m_ref, h_ref = _pinocchio_joint_space(model, names, q, qd)
+        _close(m, m_ref)
+        _close(h, h_ref)
+        tau = rng.uniform(-1, 1, len(tree))
+        _close(dynamics.forward_dynamics(tree, q, qd, tau),
+               pin.aba(pinocchio_model(model, names), pinocchio_model(model, names).createData(),
+                       q, qd, tau), rel=1e-8)
+
+
+def test_dcmotor_shaft_inertia_is_the_flywheel_about_its_axis() -> None:
+    m, h, names = dynamics.joint_space(_elaborated("dcmotor"), [0.3], [2.0])
+    assert names == ("DCMotorBase::Bench::Shaft",)
+    assert m[0, 0] == pytest.approx(0.001, rel=1e-12)  # izz of the flywheel, on the axis
+    assert h[0] == pytest.approx(0.0, abs=1e-15)  # vertical axis: gravity does no work
+
+
+def test_joint_order_is_depth_first_in_model_order() -> None:
+    tree = dynamics.kinematic_tree(_elaborated("manipulator"))
+    assert tree.names == ("Manipulator::Stand::Shoulder", "Manipulator::Arm::Slide",
+                          "Manipulator::Forearm::Lift")
+    assert [j.parent for j in tree.joints] == [-1, 0, 1]
+
+
+# ----------------------------------------------------------------------------- random trees
+
+_SPAN = Span.unknown()
+
+
+def _pose(draw) -> Pose:
+    xyz = [draw(st.floats(-1, 1)) for _ in range(3)]
+    rpy = [draw(st.floats(-np.pi, np.pi)) for _ in range(3)]
+    return Pose.from_xyz_rpy(*xyz, *rpy)
+
+
+def _inertial(draw) -> Inertial:
+    a, b = draw(st.floats(0.01, 1.0)), draw(st.floats(0.01, 1.0))
+    c = draw(st.floats(max(abs(a - b), 0.005), a + b))  # the triangle inequality
+    return Inertial(draw(st.floats(0.1, 5.0)), _pose(draw), (a, 0.0, 0.0, b, 0.0, c))
+
+
+@st.composite
+def random_trees(draw) -> ElaboratedModel:
+    """A fixed root and 1 to 8 moving links, each joined to an earlier link by a revolute or
+    prismatic joint with a random axis and pose, or (sometimes) rigidly fixed to it."""
+    n = draw(st.integers(1, 8))
+    model = ElaboratedModel("R", None)  # type: ignore[arg-type]
+    root = Link(("R", "L0"), _SPAN, pose=_pose(draw), inertial=_inertial(draw))
+    model.links.append(root)
+    for k in range(1, n + 1):
+        link = Link(("R", f"L{k}"), _SPAN, pose=_pose(draw), inertial=_inertial(draw))
+        parent = model.links[draw(st.integers(0, k - 1))]
+        model.links.append(link)
+        if k > 1 and draw(st.integers(0, 5)) == 0:
+            model.fixed.append(FixedJoint(("R", f"F{k}"), _SPAN, parent=parent, child=link))
+            continue
+        axis = np.array([draw(st.floats(-1, 1)) for _ in range(3)])
+        if np.linalg.norm(axis) < 0.1:
+            axis = np.array([0.0, 0.0, 1.0])
+        frame = _pose(draw)  # the joint frame in the model frame
+        kind = draw(st.sampled_from(["Revolute", "Prismatic"]))
+        model.joints.append(Joint(("R", parent.qname[-1], f"J{k}"), _SPAN, parent=parent,
+                                  child=link, pose=frame.relative_to(link.pose),
+                                  local_pose=frame.relative_to(parent.pose), axis=axis,
+                                  definition=kind))
+    return model
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(random_trees(), st.integers(0, 2**32 - 1))
+def test_random_trees_agree_with_pinocchio(model: ElaboratedModel, seed: int) -> None:
+    tree = dynamics.kinematic_tree(model)
+    if not len(tree):
+        return
+    rng = np.random.default_rng(seed)
+    q, qd = rng.uniform(-3, 3, len(tree)), rng.uniform(-3, 3, len(tree))
+    m, h, names = dynamics.joint_space(tree, q, qd)
+    m_ref, h_ref = _pinocchio_joint_space(model, names, q, qd)
+    _close(m, m_ref)
+    _close(h, h_ref)
+    tau = rng.uniform(-5, 5, len(tree))
+    qdd = dynamics.forward_dynamics(tree, q, qd, tau)
+    _close(m @ qdd + h, tau, rel=1e-8)
+    _close(dynamics.inverse_dynamics(tree, q, qd, qdd), tau, rel=1e-8)
+
+
+# ----------------------------------------------------------------------------- Lagrange (SymPy)
+
+def lagrange_joint_space(model: ElaboratedModel, names, q, qd):
+    """``M`` and ``h`` from Lagrange's equations (``sympy.physics.mechanics``) of the model,
+    each link a rigid body on the frame of the joint that moves it (no fixed connections)."""
+    import sympy
+    from sympy.physics import mechanics as me
+
+    by_name = {j.name: j for j in model.joints}
+    parent_joint = {j.child.name: j for j in model.joints}
+    frames = {j.name: j.child.pose.compose(j.pose) for j in model.joints}
+    coords = me.dynamicsymbols(f"q0:{len(names)}")
+    world = me.ReferenceFrame("N")
+    origin = me.Point("O")
+    origin.set_vel(world, 0)
+    frame_of, point_of, bodies = {}, {}, []
+    for k, name in enumerate(names):
+        joint = by_name[name]
+        parent = parent_joint.get(joint.parent.name)
+        parent_frame = frame_of[parent.name] if parent else world
+        parent_point = point_of[parent.name] if parent else origin
+        placement = frames[name].relative_to(frames[parent.name] if parent else Pose.identity())
+        fixed = parent_frame.orientnew(f"P{k}", "DCM",
+                                       sympy.Matrix(placement.rotation))
+        axis = np.asarray(joint.axis, float) / np.linalg.norm(joint.axis)
+        axis_vec = sum((sympy.nsimplify(0) + float(a)) * u for a, u in zip(axis, fixed))
+        at = parent_point.locatenew(f"J{k}", sum(float(c) * u for c, u in zip(
+            placement.position, parent_frame)))
+        if dynamics.joint_kind(joint) == "revolute":
+            frame = fixed.orientnew(f"B{k}", "Axis", (coords[k], axis_vec))
+            point = at
+        else:
+            frame = fixed
+            point = at.locatenew(f"S{k}", coords[k] * axis_vec)
+        point.set_vel(frame, 0)
+        frame.set_ang_vel(world, frame.ang_vel_in(world))
+        frame_of[name], point_of[name] = frame, point
+        link = joint.child
+        com = link.pose.relative_to(frames[name]).compose(link.inertial.com)
+        rotation = np.array(com.rotation)
+        tensor = rotation @ _tensor(link.inertial.inertia) @ rotation.T
+        centre = point.locatenew(f"C{k}", sum(float(c) * u for c, u in zip(com.position,
+                                                                             frame)))
+        centre.v2pt_theory(point, world, frame)
+        dyadic = me.inertia(frame, *(float(tensor[i, j]) for i, j in
+                                     [(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0)]))
+        body = me.RigidBody(f"L{k}", centre, frame, float(link.inertial.mass),
+                            (dyadic, centre))
+        body.potential_energy = float(link.inertial.mass) * 9.81 * centre.pos_from(
+            origin).dot(world.z)
+        bodies.append(body)
+    for k in range(len(names)):
+        point_of[names[k]].vel(world)
+    lagrangian = me.Lagrangian(world, *bodies)
+    method = me.LagrangesMethod(lagrangian, coords)
+    method.form_lagranges_equations()
+    speeds = [sympy.diff(c, me.dynamicsymbols._t) for c in coords]
+    values = {**dict(zip(speeds, qd)), **dict(zip(coords, q))}
+    m = np.array(method.mass_matrix.xreplace(values).evalf(), dtype=float)
+    h = -np.array(method.forcing.xreplace(values).evalf(), dtype=float).reshape(-1)
+    return m, h
+
+
+def test_manipulator_agrees_with_lagrange() -> None:
+    model = _elaborated("manipulator")
+    rng = np.random.default_rng(7)
+    q, qd = rng.uniform(-2, 2, 3), rng.uniform(-2, 2, 3)
+    m, h, names = dynamics.joint_space(model, q, qd)
+    m_ref, h_ref = lagrange_joint_space(model, names, q, qd)
+    _close(m, m_ref)
+    _close(h, h_ref)
+
+
+@settings(max_examples=3, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(random_trees(), st.integers(0, 2**32 - 1))
+def test_small_random_trees_agree_with_lagrange(model: ElaboratedModel, seed: int) -> None:
+    # One joint: SymPy's Lagrange method on two random frames takes minutes (measured); the
+    # manipulator's three-joint chain is checked above.
+    model.joints[:], model.fixed[:] = model.joints[:1], []
+    kept = {model.links[0].name} | {j.child.name for j in model.joints}
+    model.links[:] = [link for link in model.links if link.name in kept]
+    for joint in model.joints:
+        if joint.parent.name not in kept:
+            joint.parent = model.links[0]
+            joint.local_pose = joint.child.pose.compose(joint.pose).relative_to(
+                model.links[0].pose)
+    rng = np.random.default_rng(seed)
+    tree = dynamics.kinematic_tree(model)
+    q, qd = rng.uniform(-3, 3, len(tree)), rng.uniform(-3, 3, len(tree))
+    m, h, names = dynamics.joint_space(tree, q, qd)
+    m_ref, h_ref = lagrange_joint_space(model, names, q, qd)
+    _close(m, m_ref)
+    _close(h, h_ref)
+
+
+# ----------------------------------------------------------------------------- double pendulum
+
+def double_pendulum(m1=1.0, m2=0.5, l1=1.0, l2=0.7) -> ElaboratedModel:
+    """Two point masses on massless rods hanging from hinges about −y (the angle grows
+    towards +x), the textbook double pendulum."""
+    model = ElaboratedModel("P", None)  # type: ignore[arg-type]
+    zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    base = Link(("P", "Base"), _SPAN, pose=Pose.identity(),
+                inertial=Inertial(1.0, Pose.identity(), (1, 0, 0, 1, 0, 1)))
+    upper = Link(("P", "Upper"), _SPAN, pose=Pose.identity(),
+                 inertial=Inertial(m1, Pose.at((0, 0, -l1)), zero))
+    lower = Link(("P", "Lower"), _SPAN, pose=Pose.at((0, 0, -l1)),
+                 inertial=Inertial(m2, Pose.at((0, 0, -l2)), zero))
+    model.links += [base, upper, lower]
+    for name, parent, child in [("Hip", base, upper), ("Knee", upper, lower)]:
+        model.joints.append(Joint(("P", parent.qname[-1], name), _SPAN, parent=parent,
+                                  child=child, pose=Pose.identity(),
+                                  local_pose=child.pose.relative_to(parent.pose),
+                                  axis=np.array([0.0, -1.0, 0.0]), definition="Revolute"))
+    return model
+
+
+def test_double_pendulum_matches_the_textbook_equations() -> None:
+    from scipy.integrate import solve_ivp
+
+    m1, m2, l1, l2, g = 1.0, 0.5, 1.0, 0.7, 9.81
+    tree = dynamics.kinematic_tree(double_pendulum(m1, m2, l1, l2))
+
+    def ours(_t, x):
+        return np.concatenate([x[2:], dynamics.forward_dynamics(tree, x[:2], x[2:],
+                                                                np.zeros(2))])
+
+    def textbook(_t, x):  # absolute angles from the downward vertical
+        a, b, wa, wb = x
+        d = a - b
+        den = 2 * m1 + m2 - m2 * np.cos(2 * d)
+        aa = (-g * (2 * m1 + m2) * np.sin(a) - m2 * g * np.sin(a - 2 * b)
+              - 2 * np.sin(d) * m2 * (wb**2 * l2 + wa**2 * l1 * np.cos(d))) / (l1 * den)
+        bb = (2 * np.sin(d) * (wa**2 * l1 * (m1 + m2) + g * (m1 + m2) * np.cos(a)
+                               + wb**2 * l2 * m2 * np.cos(d))) / (l2 * den)
+        return [wa, wb, aa, bb]
+
+    start = np.array([1.2, -0.4, 0.0, 0.5])  # relative angles: hip, knee
+    times = np.linspace(0, 2, 41)
+    mine = solve_ivp(ours, (0, 2), start, t_eval=times, method="DOP853", rtol=1e-12,
+                     atol=1e-12)
+    absolute = [start[0], start[0] + start[1], start[2], start[2] + start[3]]
+    ref = solve_ivp(textbook, (0, 2), absolute, t_eval=times, method="DOP853", rtol=1e-12,
+                    atol=1e-12)
+    assert np.abs(mine.y[0] - ref.y[0]).max() < 1e-6
+    assert np.abs(mine.y[0] + mine.y[1] - ref.y[1]).max() < 1e-6
+    assert np.abs(ref.y[0]).max() > 0.5  # it really swings
