@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
 from cyphy import collector
-from cyphy.diagnostics import Report
+from cyphy.diagnostics import Report, Span
 from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
 from cyphy.lang.workspace import Workspace, load_workspace
@@ -177,7 +177,7 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
     except AssemblyError as err:
         from cyphy.semantics.equations import ASSEMBLY
 
-        report.report(ASSEMBLY, err.message, err.span, err.hint)
+        report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
         return result
     result.reduced = reduce_system(result.system)
     report_obstacles(result.reduced, report)
@@ -186,6 +186,68 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
             and not result.reduced.obstacles:
         inputs = {f"der_{n}": 0 for n in result.system.inputs}
         result.closed_form = closed_form(result.reduced, inputs)
+    return result
+
+
+@dataclass(frozen=True)
+class SimulateOptions:
+    model: str | None = None
+    consts: dict[str, object] = field(default_factory=dict)
+    search_paths: tuple[str, ...] = ()
+    simulation: Any = None  # cyphy.backends.simulate.SimulationOptions (defaults when None)
+    numeric: bool = False  # the kinematic tree alone, articulated-body algorithm
+
+
+@dataclass
+class SimulateResult:
+    elaboration: ElaborateResult
+    trajectory: Any = None  # cyphy.backends.simulate.Trajectory
+    numeric: bool = False  # whether the numeric (tree-only) path ran
+
+    @property
+    def report(self) -> Report:
+        return self.elaboration.report
+
+
+def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOptions()
+             ) -> SimulateResult:
+    """Integrate the model's explicit ODEs (``cyphy solve``'s) with SciPy, or, with
+    ``numeric`` or for a tree beyond ``dynamics.SYMBOLIC_LIMIT`` joints, the kinematic tree
+    alone with the articulated-body algorithm."""
+    from cyphy.backends import simulate as sim
+    from cyphy.semantics import dynamics
+    from cyphy.semantics.equations import ASSEMBLY, AssemblyError
+
+    elaborated = elaborate(paths, ElaborateOptions(options.model, options.consts,
+                                                   options.search_paths))
+    result = SimulateResult(elaborated)
+    model = elaborated.model
+    if model is None:
+        return result
+    report = elaborated.report
+    settings = options.simulation or sim.SimulationOptions()
+    try:
+        numeric = options.numeric
+        if not numeric:
+            tree = dynamics.kinematic_tree(model)
+            numeric = len(tree) > dynamics.SYMBOLIC_LIMIT
+        if numeric:
+            result.numeric = True
+            result.trajectory = sim.simulate_tree(dynamics.kinematic_tree(model), settings)
+            return result
+        from cyphy.backends.reduce import reduce_system, report_obstacles
+        from cyphy.semantics.equations import assemble
+
+        reduced = reduce_system(assemble(model))
+        if reduced.obstacles:
+            report_obstacles(reduced, report)
+            return result
+        result.trajectory = sim.simulate_reduced(reduced, settings)
+    except AssemblyError as err:
+        report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
+    except sim.SimulationError as err:
+        report.report(sim.SIMULATE, err.message, getattr(err, "span", None) or
+                      Span.unknown(str(paths[0])), err.hint)
     return result
 
 

@@ -346,3 +346,68 @@ def test_double_pendulum_matches_the_textbook_equations() -> None:
     assert np.abs(mine.y[0] - ref.y[0]).max() < 1e-6
     assert np.abs(mine.y[0] + mine.y[1] - ref.y[1]).max() < 1e-6
     assert np.abs(ref.y[0]).max() > 0.5  # it really swings
+
+
+# ----------------------------------------------------------------------------- cyphy solve
+
+def test_solve_dcmotor_shaft_follows_the_motor_torque(capsys) -> None:
+    import json
+
+    import sympy
+
+    from cyphy import api
+    from cyphy.cli import main
+
+    assert main(["solve", str(EXAMPLES / "dcmotor"), "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert {"Shaft_theta", "Shaft_v"} <= set(out["states"])
+    reduced = api.solve([EXAMPLES / "dcmotor"], api.SolveOptions(closed_form=False)).reduced
+    # Shaft_v' = Motor_T / J with J the flywheel's izz (0.001 kg m², on the axis)
+    difference = reduced.rhs["Shaft_v"] - reduced.outputs["Motor_T"] / sympy.Float(0.001)
+    assert sympy.expand(difference).xreplace(
+        {f: 0 for f in sympy.expand(difference).atoms(sympy.Float) if abs(f) < 1e-9}) == 0
+    assert reduced.rhs["Shaft_v"].has(sympy.Symbol("Motor_i", real=True))
+
+
+def test_solve_marxbot_exits_0() -> None:
+    from cyphy.cli import main
+
+    assert main(["solve", str(EXAMPLES / "marxbot"), "--model", "marXbotBase"]) == 0
+
+
+def test_undriven_joint_effort_is_an_input(tmp_path: Path) -> None:
+    from cyphy import api
+
+    (tmp_path / "p.rsm").write_text(PENDULUM)
+    reduced = api.solve([tmp_path], api.SolveOptions(closed_form=False)).reduced
+    assert reduced.inputs == ["Hinge_tau"] and not reduced.obstacles
+    import sympy
+
+    theta, tau = sympy.Symbol("Hinge_theta", real=True), sympy.Symbol("Hinge_tau", real=True)
+    # a point-like bob of 2 kg at 0.5 m below a hinge about y (izz-type moment 0.01):
+    # J = 0.01 + 2 * 0.25 = 0.51, gravity torque -2 * 9.81 * 0.5 * sin(theta)
+    expected = (tau - 2 * 9.81 * 0.5 * sympy.sin(theta)) / 0.51
+    values = {theta: 0.7, tau: 0.3, sympy.Symbol("Hinge_v", real=True): 1.1}
+    assert float(reduced.rhs["Hinge_v"].subs(values)) == pytest.approx(
+        float(expected.subs(values)), rel=1e-12)
+
+
+PENDULUM = """
+import physmod::math::*
+import physmod::joints::Revolute
+
+pmodel P {
+    local link Base {
+        def { inertial information { mass 1.0 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+        jref Hinge = Revolute {
+            pose { x = 0 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
+            instantiation AXIS = (|0, 1, 0|)
+            flexibly connected to Bob
+        }
+    }
+    local link Bob {
+        pose { x = 0 y = 0 z = -0.5 roll = 0 pitch = 0 yaw = 0 }
+        def { inertial information { mass 2.0 inertia matrix { ixx 0.01 ixy 0 ixz 0 iyy 0.01 iyz 0 izz 0.01 } } }
+    }
+}
+"""

@@ -35,6 +35,7 @@ from cyphy.diagnostics import Span
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
 from cyphy.model.inertia import Inertial, combine, tensor
 from cyphy.model.poses import Pose
+from cyphy.semantics.equations import AssemblyError
 
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
 
@@ -42,12 +43,12 @@ TREE = codes.code("E-DYNAMICS", codes.E,
                   "the kinematic tree has no well-defined equations of motion")
 
 
-class DynamicsError(Exception):
-    """Why the model's tree has no equations of motion, at the element to blame."""
+class DynamicsError(AssemblyError):
+    """Why the model's tree has no equations of motion, at the element to blame (an
+    ``AssemblyError``, so every command that assembles equations reports it; ``code`` says
+    which diagnostic)."""
 
-    def __init__(self, message: str, span: Span, hint: str) -> None:
-        super().__init__(message)
-        self.message, self.span, self.hint = message, span, hint
+    code = TREE
 
 
 @dataclass(frozen=True)
@@ -423,3 +424,75 @@ def joint_space(model: ElaboratedModel | KinematicTree, q: Sequence[Any], qd: Se
     """
     tree = model if isinstance(model, KinematicTree) else kinematic_tree(model, gravity)
     return mass_matrix(tree, q), bias_forces(tree, q, qd), tree.names
+
+
+# ----------------------------------------------------------------------------- model equations
+
+SYMBOLIC_LIMIT = 6
+"""The largest tree (in joints) whose equations of motion are written out symbolically: the
+expressions of ``M(q)`` and ``h(q, q̇)`` grow quickly with depth, and SymPy's reduction with
+them. Larger trees are left to the numeric path (``cyphy simulate``)."""
+
+_JOINT_PORTS = ("theta", "v", "a", "tau")
+
+
+def motion_equations(model: ElaboratedModel,
+                     gravity: Sequence[float] = STANDARD_GRAVITY) -> list[tuple[Any, TreeJoint]]:
+    """The model's equations of motion as equations of the expression AST, one per joint in
+    tree order with the joint it belongs to: ``J_tau == Σⱼ M_ij(q)·Jⱼ_a + h_i(q, v)`` in the
+    joints' own variables (``physmod::joints``: ``theta``, ``v``, ``a``, ``tau``).
+
+    Empty when the model has no moving joint, or when a joint's definition lacks one of these
+    variables (then nothing here can name its motion). Raises ``DynamicsError`` for a tree
+    that has no equations of motion, or one larger than ``SYMBOLIC_LIMIT``."""
+    import sympy
+
+    from cyphy import expr as ex
+    from cyphy.backends.sympy import to_expr  # SymPy to the shared AST (no printer state)
+
+    tree = kinematic_tree(model, gravity)
+    if not len(tree):
+        return []
+    for joint in tree.joints:
+        device = joint.element.device
+        if device is None or any(device.port(p) is None for p in _JOINT_PORTS):
+            return []
+    if len(tree) > SYMBOLIC_LIMIT:
+        first = tree.joints[0].element
+        raise DynamicsError(
+            f"the kinematic tree has {len(tree)} joints: its equations of motion are too large "
+            f"to write out symbolically (at most {SYMBOLIC_LIMIT})", first.span,
+            "simulate it with `cyphy simulate` (numeric, articulated-body algorithm), or "
+            "restrict the system with --element")
+
+    def port(joint: TreeJoint, name: str) -> str:
+        return joint.element.device.port(name).mangled  # type: ignore[union-attr]
+
+    q = [sympy.Symbol(port(j, "theta"), real=True) for j in tree.joints]
+    qd = [sympy.Symbol(port(j, "v"), real=True) for j in tree.joints]
+    qdd = [sympy.Symbol(port(j, "a"), real=True) for j in tree.joints]
+    matrix = mass_matrix(tree, q)
+    bias = bias_forces(tree, q, qd)
+    out = []
+    for i, joint in enumerate(tree.joints):
+        total = sum((matrix[i, j] * qdd[j] for j in range(len(tree))), sympy.Integer(0))
+        rhs = _chop(sympy.expand(total + bias[i]))
+        span = joint.element.span
+        out.append((ex.BinOp("==", ex.Name((port(joint, "tau"),), span=span),
+                             to_expr(rhs, decimals=True), span=span), joint))
+    return out
+
+
+def _chop(value: Any) -> Any:
+    """``value`` without the float noise of the transforms (``1e-19·v²`` where a term
+    cancels exactly): coefficients below 1e-12 of the largest are dropped."""
+    import sympy
+
+    floats = [abs(float(f)) for f in value.atoms(sympy.Float)]
+    if not floats:
+        return value
+    limit = 1e-12 * max(floats)
+    terms = value.as_ordered_terms() if isinstance(value, sympy.Add) else [value]
+    kept = [t for t in terms if not (t.as_coeff_Mul()[0].is_Float
+                                     and abs(float(t.as_coeff_Mul()[0])) < limit)]
+    return sympy.Add(*kept)

@@ -56,6 +56,8 @@ def assemble(model: ElaboratedModel, elements: list[str] | None = None,
     devices = _devices(model, elements)
     for device in devices:
         _add_device(system, device)
+    if not elements:
+        _add_motion(system, model)
     known = {p.mangled for d in devices for p in d.ports}
     for relation in model.relations:
         names = {n.text for n in relation.walk() if isinstance(n, ex.Name)}
@@ -93,6 +95,15 @@ def _add_device(system: System, device: Device) -> None:
             system.kinds[p.mangled] = p.kind.value.lower()
     for e in device.equations:
         system.equations.append(Equation(e, device.prefix, e.span))
+
+
+def _add_motion(system: System, model: ElaboratedModel) -> None:
+    """The equations of motion of the kinematic tree (:mod:`cyphy.semantics.dynamics`), which
+    relate each joint's effort to the accelerations of the bodies it moves."""
+    from cyphy.semantics.dynamics import motion_equations
+
+    for equation, joint in motion_equations(model):
+        system.equations.append(Equation(equation, f"{joint.prefix} motion", equation.span))
 
 
 def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.PlatformMapping,
