@@ -196,6 +196,7 @@ class SimulateOptions:
     search_paths: tuple[str, ...] = ()
     simulation: Any = None  # cyphy.backends.simulate.SimulationOptions (defaults when None)
     numeric: bool = False  # the kinematic tree alone, articulated-body algorithm
+    scenario: str | None = None  # a Flow* scenario whose controller and environment run
 
 
 @dataclass
@@ -213,11 +214,15 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
              ) -> SimulateResult:
     """Integrate the model's explicit ODEs (``cyphy solve``'s) with SciPy, or, with
     ``numeric`` or for a tree beyond ``dynamics.SYMBOLIC_LIMIT`` joints, the kinematic tree
-    alone with the articulated-body algorithm."""
+    alone with the articulated-body algorithm. With a ``scenario`` (TOML, as for
+    ``gen --flowstar``), its ``[controller]`` runs at the d-model cycle, its environment
+    drives the sensor inputs and its ``[init]`` intervals start at their midpoints."""
     from cyphy.backends import simulate as sim
     from cyphy.semantics import dynamics
     from cyphy.semantics.equations import ASSEMBLY, AssemblyError
 
+    if options.scenario is not None:
+        return _simulate_scenario(paths, options)
     elaborated = elaborate(paths, ElaborateOptions(options.model, options.consts,
                                                    options.search_paths))
     result = SimulateResult(elaborated)
@@ -248,6 +253,61 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
     except sim.SimulationError as err:
         report.report(sim.SIMULATE, err.message, getattr(err, "span", None) or
                       Span.unknown(str(paths[0])), err.hint)
+    return result
+
+
+def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
+                       ) -> SimulateResult:
+    """The scenario's problem as ``gen --flowstar`` builds it (reduced ODEs with the
+    environment, the effects of each state's calls, the events' predicates), integrated
+    cycle by cycle under the ``[controller]`` table."""
+    import dataclasses
+
+    from cyphy.backends import simulate as sim
+    from cyphy.flowstar.controller import ScenarioController, effects_by_calls
+    from cyphy.flowstar.export import build_problem
+    from cyphy.flowstar.scenario import load_scenario
+
+    report = Report()
+    empty = ElaborateResult(CheckResult(None, report), None)  # type: ignore[arg-type]
+    scenario = load_scenario(options.scenario, report)  # type: ignore[arg-type]
+    if scenario is None:
+        return SimulateResult(empty)
+    problem, sources = build_problem(paths, scenario, report, options.search_paths)
+    empty.check.sources.update(sources)
+    if problem is None:
+        return SimulateResult(empty)
+    settings = options.simulation or sim.SimulationOptions(t_end=scenario.horizon)
+    init = {n: (lo + hi) / 2 for n, (lo, hi) in scenario.init.items()}
+    init = {n: v for n, v in init.items() if n in problem.states}
+    init.update(settings.init)
+    settings = dataclasses.replace(settings, init=init)
+    result = SimulateResult(empty)
+    try:
+        controller = ScenarioController(scenario)
+        table = effects_by_calls(controller, problem.effects)
+
+        def effects(calls: sim.Calls) -> dict[str, float]:
+            if calls not in table:
+                raise sim.SimulationError(f"the calls {calls} are not those of a state of the "
+                                          "scenario", "only the scenario's call combinations "
+                                          "have solved effects")
+            return table[calls]
+
+        def events(_t: float, values: dict[str, float]) -> dict[str, object]:
+            import sympy
+
+            subs = {sympy.Symbol(n, real=True): v for n, v in values.items()}
+            return {name: (True if bool(pred.xreplace(subs)) else None)
+                    for name, pred in problem.events.items()}
+
+        reduced = dataclasses.make_dataclass("Problem", ["states", "rhs", "inputs", "outputs"])(
+            problem.states, problem.rhs, problem.inputs, problem.outputs)
+        result.trajectory = sim.simulate_reduced(reduced, settings, controller, effects,
+                                                 scenario.period, events)
+    except (sim.SimulationError, ValueError) as err:
+        report.report(sim.SIMULATE, getattr(err, "message", str(err)),
+                      scenario.span("controller"), getattr(err, "hint", ""))
     return result
 
 

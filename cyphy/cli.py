@@ -77,8 +77,13 @@ def _parser() -> argparse.ArgumentParser:
     )
     simulate.add_argument("paths", nargs="+", metavar="PATH", help="model file or folder")
     simulate.add_argument("--model", metavar="NAME", help="the p-model to simulate")
-    simulate.add_argument("--t-end", type=float, default=1.0, metavar="T",
-                          help="simulated time in seconds (default 1)")
+    simulate.add_argument("--scenario", metavar="FILE",
+                          help="a Flow* scenario (TOML, as for gen --flowstar): its "
+                          "[controller] runs at the d-model cycle, its [environment] drives "
+                          "the sensor inputs, its [init] intervals start at their midpoints")
+    simulate.add_argument("--t-end", type=float, metavar="T",
+                          help="simulated time in seconds (default 1, or the scenario's "
+                          "horizon)")
     simulate.add_argument("--init", action="append", default=[], metavar="NAME=VALUE",
                           help="initial value of a state (default 0); repeatable")
     simulate.add_argument("--input", action="append", default=[], metavar="NAME=EXPR",
@@ -400,6 +405,8 @@ def _simulate(args: argparse.Namespace) -> int:
     except ValueError:
         sys.stderr.write("cyphy simulate: error: --init takes a number: NAME=0.5\n")
         return 2
+    if args.t_end is None:
+        args.t_end = _scenario_horizon(args.scenario) if args.scenario else 1.0
     if not args.t_end > 0 or args.samples < 2:
         sys.stderr.write("cyphy simulate: error: --t-end must be positive and --samples at "
                          "least 2\n")
@@ -408,7 +415,7 @@ def _simulate(args: argparse.Namespace) -> int:
                                      args.atol, args.samples,
                                      sim.progress_to_stderr if sys.stderr.isatty() else None)
     result = simulate(args.paths, SimulateOptions(args.model, _consts(args), tuple(args.path),
-                                                  settings, args.numeric))
+                                                  settings, args.numeric, args.scenario))
     diagnostics = result.report.diagnostics
     if diagnostics:
         sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))
@@ -429,6 +436,15 @@ def _simulate(args: argparse.Namespace) -> int:
     else:
         sys.stdout.write(text)
     return 0
+
+
+def _scenario_horizon(path: str) -> float:
+    """The scenario's horizon, or 1 when the file cannot be read (simulate reports why)."""
+    from cyphy.diagnostics import Report
+    from cyphy.flowstar.scenario import load_scenario
+
+    scenario = load_scenario(path, Report())
+    return scenario.horizon if scenario is not None else 1.0
 
 
 def _path_option(parser: argparse.ArgumentParser) -> None:

@@ -80,3 +80,34 @@ def test_bad_options_are_diagnosed(tmp_path: Path, capsys, args, text) -> None:
     assert main(["simulate", str(tmp_path), *args]) == 1
     captured = capsys.readouterr()
     assert text in captured.err and "E-SIMULATE" in captured.err and captured.out == ""
+
+
+# ----------------------------------------------------------------------------- scenarios
+
+def test_scenario_controller_stops_the_motor_at_the_sampled_event(capsys) -> None:
+    folder = EXAMPLES / "dcmotor"
+    assert main(["simulate", str(folder), "--scenario", str(folder / "sampled_stop.toml"),
+                 "--samples", "21"]) == 0
+    columns = _csv(capsys.readouterr().out)
+    t, speed, distance = columns["t"], columns["Motor_av"], columns["Range_distance"]
+    assert t[-1] == pytest.approx(2.0)  # the scenario's horizon
+    # distance from 3.05 (the [init] midpoint) at -2 m/s: 1.05 at t = 1.0, 0.85 at t = 1.1,
+    # so the event `near` (range <= 1) is first sampled at t = 1.1
+    assert distance[np.isclose(t, 1.0)][0] == pytest.approx(1.05)
+    assert speed[np.isclose(t, 1.1)][0] == pytest.approx(10.0, abs=0.5)  # cruising
+    demand = columns["Motor_e"] + speed  # e = das - av: the demanded speed
+    assert np.allclose(demand[t < 1.1 - 1e-9], 10.0) and np.allclose(demand[t > 1.1], 0.0)
+    assert abs(speed[-1]) < 1.0  # stopped
+
+
+def test_scenario_controller_cycle_semantics() -> None:
+    from cyphy.diagnostics import Report
+    from cyphy.flowstar.controller import ScenarioController
+    from cyphy.flowstar.scenario import load_scenario
+
+    scenario = load_scenario(EXAMPLES / "dcmotor" / "sampled_stop.toml", Report())
+    controller = ScenarioController(scenario)
+    assert controller.cycle({"near": True}) == (("drive", (10.0,)),)  # time 0: initial calls
+    assert controller.cycle({"near": None}) == (("drive", (10.0,)),)
+    assert controller.cycle({"near": True}) == (("stop", ()),)
+    assert controller.cycle({"near": None}) == (("stop", ()),)  # no way back

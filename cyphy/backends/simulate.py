@@ -190,7 +190,8 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
         inside = grid[(grid >= start) & (grid < stop)]
         local = np.unique(np.concatenate([[start], inside, [stop]]))
         times, xs = _integrate(f, x, local, options, offset=(start, options.t_end))
-        keep = np.isin(times, inside) | (times == start)
+        keep = np.isin(times, inside) | (times == start) | \
+            ((times == stop) & (stop >= options.t_end))
         all_t.append(times[keep])
         all_rows.append(observe(times[keep], xs[:, keep]))
         x, start, k = xs[:, -1], stop, k + 1
