@@ -411,3 +411,79 @@ pmodel P {
     }
 }
 """
+
+
+def test_show_lists_the_motion_per_body(capsys) -> None:
+    import json
+
+    from cyphy.cli import main
+
+    assert main(["show", str(EXAMPLES / "manipulator"), "--format", "json"]) == 0
+    motion = json.loads(capsys.readouterr().out)["motion"]
+    assert [b["joint"].split("::")[-1] for b in motion] == ["Shoulder", "Slide", "Lift"]
+    assert [b["mass"] for b in motion] == [0.8, 0.4, pytest.approx(0.21)]
+    assert motion[2]["links"] == ["Manipulator::Gripper"] and motion[2]["parent"].endswith(
+        "Slide")
+    assert motion[2]["screw"] == [0, 0, 0, 0, 0, -1]
+    # the gripper: a 0.15 kg palm at 0 and two 0.03 kg fingers 0.04 m below
+    assert motion[2]["com"][2] == pytest.approx(-2 * 0.03 * 0.04 / 0.21)
+    assert "Lift_tau == transpose(F_Lift) * A_Lift" in motion[2]["equations"]
+
+
+# ----------------------------------------------------------------------------- bad trees
+
+_LINK = """
+    local link {name} {{
+        pose {{ x = 0 y = 0 z = {z} roll = 0 pitch = 0 yaw = 0 }}
+        def {{ {inertial} }}
+        {inside}
+    }}"""
+_INERTIAL = ("inertial information { mass 1.0 inertia matrix "
+             "{ ixx 0.1 ixy 0 ixz 0 iyy 0.1 iyz 0 izz 0.1 } }")
+_JOINT = """
+        jref {name} = Revolute {{
+            pose {{ x = 0 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }}
+            instantiation AXIS = {axis}
+            flexibly connected to {child}
+        }}"""
+
+
+def _bad_model(tmp_path: Path, links: str) -> Path:
+    (tmp_path / "m.rsm").write_text("import physmod::math::*\nimport physmod::joints::Revolute"
+                                    "\npmodel M {" + links + "\n}\n")
+    return tmp_path
+
+
+@pytest.mark.parametrize("case, message", [
+    ("zero-axis", "axis of zero length"),
+    ("no-inertia", "has no mass properties"),
+    ("loop", "closes a kinematic loop"),
+])
+def test_bad_trees_are_diagnosed(tmp_path: Path, capsys, case: str, message: str) -> None:
+    from cyphy.cli import main
+
+    axis = "(|0, 0, 0|)" if case == "zero-axis" else "(|0, 0, 1|)"
+    child = "" if case == "no-inertia" else _INERTIAL
+    joints = _JOINT.format(name="J", axis=axis, child="B")
+    if case == "loop":
+        joints += _JOINT.format(name="K", axis=axis, child="B")
+    links = _LINK.format(name="A", z=0, inertial=_INERTIAL, inside=joints) + \
+        _LINK.format(name="B", z=0.5, inertial=child, inside="")
+    folder = _bad_model(tmp_path, links)
+    assert main(["solve", str(folder)]) == 1
+    err = capsys.readouterr().err
+    assert "E-DYNAMICS" in err and message in err, err
+    assert "m.rsm:" in err and "hint:" in err and "Traceback" not in err
+
+
+def test_a_singular_mass_matrix_is_diagnosed_at_its_joint() -> None:
+    # Point masses on both hinges' axis: nothing resists turning the hip. The value checks (V1)
+    # refuse such an inertia in a model file; the dynamics still guard models built otherwise.
+    model = double_pendulum()
+    model.links[1].inertial = Inertial(1.0, Pose.identity(), (0, 0, 0, 0, 0, 0))
+    model.links[2].inertial = Inertial(1.0, Pose.at((0, 0, 1.0)), (0, 0, 0, 0, 0, 0))
+    model.links[2].pose = Pose.identity()
+    model.joints[1].local_pose = Pose.identity()
+    tree = dynamics.kinematic_tree(model)
+    with pytest.raises(dynamics.DynamicsError, match="mass matrix is singular at joint P::Base::Hip"):
+        dynamics.forward_dynamics(tree, [0.0, 0.0], [0.0, 0.0], [0.0, 0.0])

@@ -72,6 +72,22 @@ class TreeJoint:
     body: tuple[str, ...]  # the links the joint moves as one body (child link first)
     element: Joint
 
+    @property
+    def turn(self) -> np.ndarray:
+        """``[a]`` of the axis (Rodrigues' formula), computed once."""
+        cached = self.__dict__.get("_turn")
+        if cached is None:
+            cached = skew(self.axis).astype(float)
+            object.__setattr__(self, "_turn", cached)
+            object.__setattr__(self, "_turn2", cached @ cached)
+        return cached
+
+    @property
+    def turn2(self) -> np.ndarray:
+        """``[a]²``, computed once."""
+        self.turn  # noqa: B018 - fills the cache
+        return self.__dict__["_turn2"]
+
 
 @dataclass(frozen=True)
 class KinematicTree:
@@ -298,6 +314,35 @@ def _parent_to_child(joint: TreeJoint, q: Any, cos: Any, sin: Any) -> np.ndarray
     return adjoint(inverse_r, -(inverse_r @ position))
 
 
+def _numeric_parent_to_child(joint: TreeJoint, q: float) -> np.ndarray:
+    """``_parent_to_child`` for a float ``q``, built entry by entry: the recursive algorithms
+    call it once per joint and step, where NumPy's per-call overhead dominates."""
+    base_r, base_p = joint.placement[:3, :3], joint.placement[:3, 3]
+    if joint.kind == "revolute":
+        k = joint.turn
+        r = np.eye(3) + k * math.sin(q) + joint.turn2 * (1.0 - math.cos(q))
+        p = joint.point - r @ joint.point
+    else:
+        r = None
+        p = joint.axis * q
+    rotation = base_r @ r if r is not None else base_r
+    e = rotation.T
+    x, y, z = (-(e @ (base_r @ p + base_p))).tolist()
+    out = np.zeros((6, 6))
+    out[:3, :3] = e
+    out[3:, 3:] = e
+    out[3:, :3] = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]]) @ e
+    return out
+
+
+def _ad_numeric(twist: np.ndarray) -> np.ndarray:
+    """``ad(V)`` of a float twist in one array construction."""
+    a, b, c, d, e, f = twist.tolist()
+    return np.array([[0.0, -c, b, 0.0, 0.0, 0.0], [c, 0.0, -a, 0.0, 0.0, 0.0],
+                     [-b, a, 0.0, 0.0, 0.0, 0.0], [0.0, -f, e, 0.0, -c, b],
+                     [f, 0.0, -d, c, 0.0, -a], [-e, d, 0.0, -b, a, 0.0]])
+
+
 def _math(values: Sequence[Any]) -> tuple[Any, Any, bool]:
     """``cos`` and ``sin`` for the scalars given, and whether they are symbolic."""
     if any(not isinstance(v, (int, float, np.floating, np.integer)) for v in values):
@@ -374,14 +419,16 @@ def forward_dynamics(tree: KinematicTree, q: Sequence[float], qd: Sequence[float
     base = np.concatenate([np.zeros(3), -tree.gravity])
     xs, vs, cs, inertias, biases = [], [], [], [], []
     for i, joint in enumerate(tree.joints):
-        x = _parent_to_child(joint, float(q[i]), math.cos, math.sin)
-        v_parent = vs[joint.parent] if joint.parent >= 0 else np.zeros(6)
-        v = x @ v_parent + joint.screw * qd[i]
+        x = _numeric_parent_to_child(joint, float(q[i]))
+        v = joint.screw * float(qd[i])
+        if joint.parent >= 0:
+            v = x @ vs[joint.parent] + v
+        cross = _ad_numeric(v)
         xs.append(x)
         vs.append(v)
-        cs.append(ad(v) @ joint.screw * qd[i])
-        inertias.append(np.array(joint.inertia, dtype=float))
-        biases.append(-ad(v).T @ (joint.inertia @ v))
+        cs.append(cross @ joint.screw * float(qd[i]))
+        inertias.append(joint.inertia.copy())
+        biases.append(-(cross.T @ (joint.inertia @ v)))
     us, ds, uu = [None] * n, np.zeros(n), np.zeros(n)
     for i in range(n - 1, -1, -1):
         joint = tree.joints[i]
@@ -457,6 +504,7 @@ def motion_equations(model: ElaboratedModel,
         device = joint.element.device
         if device is None or any(device.port(p) is None for p in _JOINT_PORTS):
             return []
+    forward_dynamics(tree, [0.0] * len(tree), [0.0] * len(tree), [0.0] * len(tree))  # singular?
     if len(tree) > SYMBOLIC_LIMIT:
         first = tree.joints[0].element
         raise DynamicsError(
