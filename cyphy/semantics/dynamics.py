@@ -73,6 +73,16 @@ class TreeJoint:
     element: Joint
 
     @property
+    def scale(self) -> float:
+        """The largest entry of the body's spatial inertia: what "zero" inertia along the axis
+        is measured against."""
+        cached = self.__dict__.get("_scale")
+        if cached is None:
+            cached = max(float(np.abs(self.inertia).max()), 1e-300)
+            object.__setattr__(self, "_scale", cached)
+        return cached
+
+    @property
     def turn(self) -> np.ndarray:
         """``[a]`` of the axis (Rodrigues' formula), computed once."""
         cached = self.__dict__.get("_turn")
@@ -314,13 +324,16 @@ def _parent_to_child(joint: TreeJoint, q: Any, cos: Any, sin: Any) -> np.ndarray
     return adjoint(inverse_r, -(inverse_r @ position))
 
 
+_EYE3 = np.eye(3)
+
+
 def _numeric_parent_to_child(joint: TreeJoint, q: float) -> np.ndarray:
     """``_parent_to_child`` for a float ``q``, built entry by entry: the recursive algorithms
     call it once per joint and step, where NumPy's per-call overhead dominates."""
     base_r, base_p = joint.placement[:3, :3], joint.placement[:3, 3]
     if joint.kind == "revolute":
         k = joint.turn
-        r = np.eye(3) + k * math.sin(q) + joint.turn2 * (1.0 - math.cos(q))
+        r = _EYE3 + k * math.sin(q) + joint.turn2 * (1.0 - math.cos(q))
         p = joint.point - r @ joint.point
     else:
         r = None
@@ -434,8 +447,7 @@ def forward_dynamics(tree: KinematicTree, q: Sequence[float], qd: Sequence[float
         joint = tree.joints[i]
         u_vec = inertias[i] @ joint.screw
         d = float(joint.screw @ u_vec)
-        scale = max(float(np.abs(inertias[i]).max()), 1e-300)
-        if not d > 1e-12 * scale:
+        if not d > 1e-12 * joint.scale:
             raise DynamicsError(f"the mass matrix is singular at joint {joint.name}: nothing "
                                 "it moves has inertia along its axis", joint.element.span,
                                 "give the links it moves mass and inertia")
