@@ -140,6 +140,7 @@ class SolveOptions:
     consts: dict[str, object] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
     closed_form: bool = True
+    gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
 
 
 @dataclass
@@ -173,7 +174,8 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
             mapping, call, params = mapping_operation(
                 elaborated.check.workspace, elaborated.check.resolution, model,
                 options.mapping_call)
-        result.system = assemble(model, list(options.elements) or None, mapping, call, params)
+        result.system = assemble(model, list(options.elements) or None, mapping, call, params,
+                                 options.gravity)
     except AssemblyError as err:
         from cyphy.semantics.equations import ASSEMBLY
 
@@ -197,6 +199,7 @@ class SimulateOptions:
     simulation: Any = None  # cyphy.backends.simulate.SimulationOptions (defaults when None)
     numeric: bool = False  # the kinematic tree alone, articulated-body algorithm
     scenario: str | None = None  # a Flow* scenario whose controller and environment run
+    gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
 
 
 @dataclass
@@ -233,17 +236,16 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
     settings = options.simulation or sim.SimulationOptions()
     try:
         numeric = options.numeric
-        if not numeric:
-            tree = dynamics.kinematic_tree(model)
-            numeric = len(tree) > dynamics.SYMBOLIC_LIMIT
-        if numeric:
+        gravity = options.gravity or dynamics.STANDARD_GRAVITY
+        tree = dynamics.kinematic_tree(model, gravity)
+        if numeric or len(tree) > dynamics.SYMBOLIC_LIMIT:
             result.numeric = True
-            result.trajectory = sim.simulate_tree(dynamics.kinematic_tree(model), settings)
+            result.trajectory = sim.simulate_tree(tree, settings)
             return result
         from cyphy.backends.reduce import reduce_system, report_obstacles
         from cyphy.semantics.equations import assemble
 
-        reduced = reduce_system(assemble(model))
+        reduced = reduce_system(assemble(model, gravity=options.gravity))
         if reduced.obstacles:
             report_obstacles(reduced, report)
             return result

@@ -63,6 +63,7 @@ def _parser() -> argparse.ArgumentParser:
                        "marXbotBase::Core::LHinge::LMotor")
     solve.add_argument("--mapping-call", metavar="CALL",
                        help="add the effect of a mapping operation, e.g. 'move(0.1, 0)'")
+    _gravity_option(solve)
     _const_options(solve)
     solve.add_argument("--format", choices=("text", "latex", "json"), default="text")
     _path_option(solve)
@@ -103,6 +104,7 @@ def _parser() -> argparse.ArgumentParser:
     simulate.add_argument("--plot", metavar="FILE.png", help="also plot to this PNG")
     simulate.add_argument("--plot-var", action="append", default=[], metavar="NAME",
                           help="a column to plot (repeatable; default the first 8)")
+    _gravity_option(simulate)
     _const_options(simulate)
     _path_option(simulate)
     gen = sub.add_parser(
@@ -369,7 +371,7 @@ def _solve(args: argparse.Namespace) -> int:
     from cyphy.diagnostics import render_text
 
     options = SolveOptions(args.model, tuple(args.element), args.mapping_call, _consts(args),
-                           tuple(args.path))
+                           tuple(args.path), gravity=args.gravity)
     result = solve(args.paths, options)
     diagnostics = result.report.diagnostics
     if diagnostics:
@@ -415,7 +417,8 @@ def _simulate(args: argparse.Namespace) -> int:
                                      args.atol, args.samples,
                                      sim.progress_to_stderr if sys.stderr.isatty() else None)
     result = simulate(args.paths, SimulateOptions(args.model, _consts(args), tuple(args.path),
-                                                  settings, args.numeric, args.scenario))
+                                                  settings, args.numeric, args.scenario,
+                                                  args.gravity))
     diagnostics = result.report.diagnostics
     if diagnostics:
         sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))
@@ -445,6 +448,21 @@ def _scenario_horizon(path: str) -> float:
 
     scenario = load_scenario(path, Report())
     return scenario.horizon if scenario is not None else 1.0
+
+
+def _gravity(text: str) -> tuple[float, float, float]:
+    """``--gravity 0,0,-1.62`` as three floats (argparse reports a bad value, exit 2)."""
+    parts = text.split(",")
+    try:
+        x, y, z = (float(p) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not three numbers x,y,z") from None
+    return (x, y, z)
+
+
+def _gravity_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--gravity", type=_gravity, metavar="X,Y,Z",
+                        help="gravity in m/s² in the model frame (default 0,0,-9.81)")
 
 
 def _path_option(parser: argparse.ArgumentParser) -> None:

@@ -487,3 +487,21 @@ def test_a_singular_mass_matrix_is_diagnosed_at_its_joint() -> None:
     tree = dynamics.kinematic_tree(model)
     with pytest.raises(dynamics.DynamicsError, match="mass matrix is singular at joint P::Base::Hip"):
         dynamics.forward_dynamics(tree, [0.0, 0.0], [0.0, 0.0], [0.0, 0.0])
+
+
+def test_gravity_option(tmp_path: Path, capsys) -> None:
+    import json
+
+    from cyphy.cli import main
+
+    (tmp_path / "p.rsm").write_text(PENDULUM)
+    assert main(["solve", str(tmp_path), "--gravity", "0,0,0", "--format", "json"]) == 0
+    odes = json.dumps(json.loads(capsys.readouterr().out))
+    assert "sin" not in odes  # no gravity: nothing depends on the angle
+    with pytest.raises(SystemExit) as usage:
+        main(["solve", str(tmp_path), "--gravity", "0,0"])
+    assert usage.value.code == 2 and "three numbers" in capsys.readouterr().err
+    m, h, _ = dynamics.joint_space(double_pendulum(), [0.3, 0.2], [0.0, 0.0],
+                                   gravity=(0.0, 0.0, -1.62))
+    m2, h2, _ = dynamics.joint_space(double_pendulum(), [0.3, 0.2], [0.0, 0.0])
+    _close(h * 9.81 / 1.62, h2)
