@@ -253,8 +253,17 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
     except AssemblyError as err:
         report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
     except sim.SimulationError as err:
-        report.report(sim.SIMULATE, err.message, getattr(err, "span", None) or
-                      Span.unknown(str(paths[0])), err.hint)
+        hint = err.hint
+        if err.message.startswith("constants without a value"):
+            qualified = sorted({f"{e.definition.split('::')[-1]}::{p.name}"
+                                for e in [*model.joints, *model.sensors, *model.actuators]
+                                if e.device is not None and e.definition
+                                for p in e.device.ports if p.mangled in err.message}
+                               & set(model.missing))
+            if qualified:
+                hint = "give them values: " + " ".join(f"--const {n}=VALUE" for n in qualified)
+        span = getattr(model.pmodel, "span", None) or Span.unknown(str(paths[0]))
+        report.report(sim.SIMULATE, err.message, span, hint)
     return result
 
 

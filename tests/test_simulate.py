@@ -111,3 +111,22 @@ def test_scenario_controller_cycle_semantics() -> None:
     assert controller.cycle({"near": None}) == (("drive", (10.0,)),)
     assert controller.cycle({"near": True}) == (("stop", ()),)
     assert controller.cycle({"near": None}) == (("stop", ()),)  # no way back
+
+
+MOTOR = ["R=1", "L=0.1", "Kt=0.05", "Ke=0.05", "b=0.01", "J=0.01", "Kp=2", "Ki=5", "Kd=0"]
+
+
+def test_marxbot_needs_its_motor_constants_then_simulates(tmp_path: Path, capsys) -> None:
+    folder = str(EXAMPLES / "marxbot")
+    assert main(["simulate", folder, "--model", "marXbotBase", "--samples", "3"]) == 1
+    err = capsys.readouterr().err
+    assert "E-SIMULATE" in err and "--const SpeedControlMotor::J=VALUE" in err
+    consts = [a for c in MOTOR for a in ("--const", f"SpeedControlMotor::{c}")]
+    png = tmp_path / "m.png"
+    assert main(["simulate", folder, "--model", "marXbotBase", "--samples", "11", "--t-end",
+                 "0.2", "--input", "LMotor_das=5", *consts, "--plot", str(png),
+                 "--plot-var", "LHinge_v"]) == 0
+    columns = _csv(capsys.readouterr().out)
+    # the left wheel turns (its motor drives it), the right one has no demand and stays
+    assert columns["LHinge_v"][-1] > 1.0 and np.allclose(columns["RHinge_v"], 0.0)
+    assert png.stat().st_size > 1000
