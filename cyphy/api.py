@@ -200,6 +200,7 @@ class SimulateOptions:
     numeric: bool = False  # the kinematic tree alone, articulated-body algorithm
     scenario: str | None = None  # a Flow* scenario whose controller and environment run
     gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
+    controller: Any = None  # with a scenario: a Controller run instead of its [controller]
 
 
 @dataclass
@@ -219,7 +220,10 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
     ``numeric`` or for a tree beyond ``dynamics.SYMBOLIC_LIMIT`` joints, the kinematic tree
     alone with the articulated-body algorithm. With a ``scenario`` (TOML, as for
     ``gen --flowstar``), its ``[controller]`` runs at the d-model cycle, its environment
-    drives the sensor inputs and its ``[init]`` intervals start at their midpoints."""
+    drives the sensor inputs and its ``[init]`` intervals start at their midpoints. A
+    ``controller`` (:class:`cyphy.backends.simulate.Controller`, e.g. a state-machine
+    interpreter) replaces the ``[controller]`` table; its calls must be among those the
+    table's states issue, whose effects the scenario's problem solves."""
     from cyphy.backends import simulate as sim
     from cyphy.semantics import dynamics
     from cyphy.semantics.equations import ASSEMBLY, AssemblyError
@@ -275,7 +279,7 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
     import dataclasses
 
     from cyphy.backends import simulate as sim
-    from cyphy.flowstar.controller import ScenarioController, effects_by_calls
+    from cyphy.flowstar.controller import CallEffects, ScenarioController
     from cyphy.flowstar.export import build_problem
     from cyphy.flowstar.scenario import load_scenario
 
@@ -295,15 +299,8 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
     settings = dataclasses.replace(settings, init=init)
     result = SimulateResult(empty)
     try:
-        controller = ScenarioController(scenario)
-        table = effects_by_calls(controller, problem.effects)
-
-        def effects(calls: sim.Calls) -> dict[str, float]:
-            if calls not in table:
-                raise sim.SimulationError(f"the calls {calls} are not those of a state of the "
-                                          "scenario", "only the scenario's call combinations "
-                                          "have solved effects")
-            return table[calls]
+        controller = options.controller or ScenarioController(scenario)
+        effects = CallEffects(problem.call_effects, scenario.consts)
 
         def events(_t: float, values: dict[str, float]) -> dict[str, object]:
             import sympy

@@ -130,3 +130,28 @@ def test_marxbot_needs_its_motor_constants_then_simulates(tmp_path: Path, capsys
     # the left wheel turns (its motor drives it), the right one has no demand and stays
     assert columns["LHinge_v"][-1] > 1.0 and np.allclose(columns["RHinge_v"], 0.0)
     assert png.stat().st_size > 1000
+
+
+def test_a_controller_object_replaces_the_scenario_table() -> None:
+    from cyphy import api
+
+    class StopAfterFive:
+        """Drives for five cycles, then stops, whatever the events say."""
+
+        def __init__(self) -> None:
+            self.cycles, self.seen = 0, []
+
+        def cycle(self, events):
+            self.seen.append(dict(events))
+            self.cycles += 1
+            return (("drive", (10.0,)),) if self.cycles <= 5 else (("stop", ()),)
+
+    folder = EXAMPLES / "dcmotor"
+    controller = StopAfterFive()
+    result = api.simulate([folder], api.SimulateOptions(
+        scenario=str(folder / "sampled_stop.toml"), controller=controller))
+    assert not result.report.has_errors and result.trajectory is not None
+    t = result.trajectory.times
+    demand = result.trajectory.column("Motor_e") + result.trajectory.column("Motor_av")
+    assert np.allclose(demand[t < 0.5 - 1e-9], 10.0) and np.allclose(demand[t > 0.5], 0.0)
+    assert controller.cycles == 20 and set(controller.seen[0]) == {"near"}

@@ -65,9 +65,24 @@ class ScenarioController:
         return self.calls[self.state]
 
 
-def effects_by_calls(controller: ScenarioController, effects: dict[str, dict[str, Any]]
-                     ) -> dict[Calls, dict[str, float]]:
-    """The actuator inputs each state's calls set (``Problem.effects``), keyed by the calls:
-    what a controller's calls do, for the combinations the scenario's states issue."""
-    return {controller.calls[state]: {u: float(v) for u, v in values.items()}
-            for state, values in effects.items()}
+class CallEffects:
+    """What a controller's calls do to the actuator inputs: each call's solved mapping
+    equations (``Problem.call_effects``, the calls the scenario's states issue), applied in
+    order, so any controller issuing those calls (a state-machine interpreter too) can run."""
+
+    def __init__(self, call_effects: Mapping[str, Mapping[str, Any]],
+                 consts: Mapping[str, Any]) -> None:
+        self.table = {parse_calls((text,), consts)[0]: {u: float(v) for u, v in values.items()}
+                      for text, values in call_effects.items()}
+
+    def __call__(self, calls: Calls) -> dict[str, float]:
+        out: dict[str, float] = {}
+        for call in calls:
+            key = (call[0], tuple(float(a) for a in call[1]))
+            if key not in self.table:
+                known = ", ".join(f"{op}({', '.join(f'{a:g}' for a in args)})"
+                                  for op, args in sorted(self.table))
+                raise ValueError(f"the call {call[0]}{call[1]} is not one the scenario's "
+                                 f"states issue, whose effects are solved ({known})")
+            out.update(self.table[key])
+        return out
