@@ -155,3 +155,11 @@ def test_a_controller_object_replaces_the_scenario_table() -> None:
     demand = result.trajectory.column("Motor_e") + result.trajectory.column("Motor_av")
     assert np.allclose(demand[t < 0.5 - 1e-9], 10.0) and np.allclose(demand[t > 0.5], 0.0)
     assert controller.cycles == 20 and set(controller.seen[0]) == {"near"}
+
+
+def test_output_is_byte_identical_across_runs(capsys) -> None:
+    args = ["simulate", str(EXAMPLES / "dcmotor"), "--input", "Motor_das=10", "--samples", "7"]
+    assert main(args) == 0
+    first = capsys.readouterr().out
+    assert main(args) == 0
+    assert capsys.readouterr().out == first

@@ -509,13 +509,14 @@ def motion_equations(model: ElaboratedModel,
     from cyphy import expr as ex
     from cyphy.backends.sympy import to_expr  # SymPy to the shared AST (no printer state)
 
-    tree = kinematic_tree(model, gravity)
-    if not len(tree):
-        return []
-    for joint in tree.joints:
-        device = joint.element.device
-        if device is None or any(device.port(p) is None for p in _JOINT_PORTS):
+    moving = [j for j in model.joints if j.parent is not None and j.child is not None
+              and joint_kind(j) != "fixed"]
+    for joint in moving:  # before the tree: a model whose joints cannot say it is left alone
+        if joint.device is None or any(joint.device.port(p) is None for p in _JOINT_PORTS):
             return []
+    if not moving:
+        return []
+    tree = kinematic_tree(model, gravity)
     forward_dynamics(tree, [0.0] * len(tree), [0.0] * len(tree), [0.0] * len(tree))  # singular?
     if len(tree) > SYMBOLIC_LIMIT:
         first = tree.joints[0].element
