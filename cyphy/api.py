@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
 from cyphy import collector
-from cyphy.diagnostics import Report
+from cyphy.diagnostics import Report, Span
 from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
 from cyphy.lang.workspace import Workspace, load_workspace
@@ -174,6 +174,7 @@ class SolveOptions:
     consts: dict[str, object] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
     closed_form: bool = True
+    gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
 
 
 @dataclass
@@ -207,11 +208,12 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
             mapping, call, params = mapping_operation(
                 elaborated.check.workspace, elaborated.check.resolution, model,
                 options.mapping_call)
-        result.system = assemble(model, list(options.elements) or None, mapping, call, params)
+        result.system = assemble(model, list(options.elements) or None, mapping, call, params,
+                                 options.gravity)
     except AssemblyError as err:
         from cyphy.semantics.equations import ASSEMBLY
 
-        report.report(ASSEMBLY, err.message, err.span, err.hint)
+        report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
         return result
     result.reduced = reduce_system(result.system)
     report_obstacles(result.reduced, report)
@@ -220,6 +222,134 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
             and not result.reduced.obstacles:
         inputs = {f"der_{n}": 0 for n in result.system.inputs}
         result.closed_form = closed_form(result.reduced, inputs)
+    return result
+
+
+@dataclass(frozen=True)
+class SimulateOptions:
+    model: str | None = None
+    consts: dict[str, object] = field(default_factory=dict)
+    search_paths: tuple[str, ...] = ()
+    simulation: Any = None  # cyphy.backends.simulate.SimulationOptions (defaults when None)
+    numeric: bool = False  # the kinematic tree alone, articulated-body algorithm
+    scenario: str | None = None  # a Flow* scenario whose controller and environment run
+    gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
+    controller: Any = None  # with a scenario: a Controller run instead of its [controller]
+
+
+@dataclass
+class SimulateResult:
+    elaboration: ElaborateResult
+    trajectory: Any = None  # cyphy.backends.simulate.Trajectory
+    numeric: bool = False  # whether the numeric (tree-only) path ran
+
+    @property
+    def report(self) -> Report:
+        return self.elaboration.report
+
+
+def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOptions()
+             ) -> SimulateResult:
+    """Integrate the model's explicit ODEs (``cyphy solve``'s) with SciPy, or, with
+    ``numeric`` or for a tree beyond ``dynamics.SYMBOLIC_LIMIT`` joints, the kinematic tree
+    alone with the articulated-body algorithm. With a ``scenario`` (TOML, as for
+    ``gen --flowstar``), its ``[controller]`` runs at the d-model cycle, its environment
+    drives the sensor inputs and its ``[init]`` intervals start at their midpoints. A
+    ``controller`` (:class:`cyphy.backends.simulate.Controller`, e.g. a state-machine
+    interpreter) replaces the ``[controller]`` table; its calls must be among those the
+    table's states issue, whose effects the scenario's problem solves."""
+    from cyphy.backends import simulate as sim
+    from cyphy.semantics import dynamics
+    from cyphy.semantics.equations import ASSEMBLY, AssemblyError
+
+    if options.scenario is not None:
+        return _simulate_scenario(paths, options)
+    elaborated = elaborate(paths, ElaborateOptions(options.model, options.consts,
+                                                   options.search_paths))
+    result = SimulateResult(elaborated)
+    model = elaborated.model
+    if model is None:
+        return result
+    report = elaborated.report
+    settings = options.simulation or sim.SimulationOptions()
+    try:
+        numeric = options.numeric
+        gravity = options.gravity or dynamics.STANDARD_GRAVITY
+        tree = dynamics.kinematic_tree(model, gravity)
+        if numeric or len(tree) > dynamics.SYMBOLIC_LIMIT:
+            result.numeric = True
+            result.trajectory = sim.simulate_tree(tree, settings)
+            return result
+        from cyphy.backends.reduce import reduce_system, report_obstacles
+        from cyphy.semantics.equations import assemble
+
+        reduced = reduce_system(assemble(model, gravity=options.gravity))
+        if reduced.obstacles:
+            report_obstacles(reduced, report)
+            return result
+        result.trajectory = sim.simulate_reduced(reduced, settings)
+    except AssemblyError as err:
+        report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
+    except sim.SimulationError as err:
+        hint = err.hint
+        if err.message.startswith("constants without a value"):
+            qualified = sorted({f"{e.definition.split('::')[-1]}::{p.name}"
+                                for e in [*model.joints, *model.sensors, *model.actuators]
+                                if e.device is not None and e.definition
+                                for p in e.device.ports if p.mangled in err.message}
+                               & set(model.missing))
+            if qualified:
+                hint = "give them values: " + " ".join(f"--const {n}=VALUE" for n in qualified)
+        span = getattr(model.pmodel, "span", None) or Span.unknown(str(paths[0]))
+        report.report(sim.SIMULATE, err.message, span, hint)
+    return result
+
+
+def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
+                       ) -> SimulateResult:
+    """The scenario's problem as ``gen --flowstar`` builds it (reduced ODEs with the
+    environment, the effects of each state's calls, the events' predicates), integrated
+    cycle by cycle under the ``[controller]`` table."""
+    import dataclasses
+
+    from cyphy.backends import simulate as sim
+    from cyphy.flowstar.controller import CallEffects, ScenarioController
+    from cyphy.flowstar.export import build_problem
+    from cyphy.flowstar.scenario import load_scenario
+
+    report = Report()
+    empty = ElaborateResult(CheckResult(None, report), None)  # type: ignore[arg-type]
+    scenario = load_scenario(options.scenario, report)  # type: ignore[arg-type]
+    if scenario is None:
+        return SimulateResult(empty)
+    problem, sources = build_problem(paths, scenario, report, options.search_paths)
+    empty.check.sources.update(sources)
+    if problem is None:
+        return SimulateResult(empty)
+    settings = options.simulation or sim.SimulationOptions(t_end=scenario.horizon)
+    init = {n: (lo + hi) / 2 for n, (lo, hi) in scenario.init.items()}
+    init = {n: v for n, v in init.items() if n in problem.states}
+    init.update(settings.init)
+    settings = dataclasses.replace(settings, init=init)
+    result = SimulateResult(empty)
+    try:
+        controller = options.controller or ScenarioController(scenario)
+        effects = CallEffects(problem.call_effects, scenario.consts)
+
+        def events(_t: float, values: dict[str, float]) -> dict[str, object]:
+            import sympy
+
+            subs = {sympy.Symbol(n, real=True): v for n, v in values.items()}
+            return {name: (True if bool(pred.xreplace(subs)) else None)
+                    for name, pred in problem.events.items()}
+
+        reduced = dataclasses.make_dataclass("Problem", ["states", "rhs", "inputs", "outputs"])(
+            problem.states, problem.rhs, problem.inputs, problem.outputs)
+        result.trajectory = sim.simulate_reduced(reduced, settings, controller, effects,
+                                                 scenario.period, events)
+    except (sim.SimulationError, ValueError) as err:
+        report.report(sim.SIMULATE, getattr(err, "message", str(err)),
+                      scenario.span("controller"), getattr(err, "hint", ""))
     return result
 
 

@@ -126,7 +126,7 @@ def test_show_text_and_json(capsys) -> None:
                  "--format", "json", "--const", "Kp=2", "--const", "IR::a=1e-3"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert set(data) == {"model", "links", "joints", "unconnected", "fixed", "devices",
-                         "relations", "constants", "missing"}
+                         "relations", "constants", "missing", "motion"}
     assert "SpeedControlMotor::Kp" not in data["missing"] and "IR::b" in data["missing"]
     motor = next(d for d in data["devices"] if d["prefix"] == "LMotor")
     assert {"name": "Kp", "kind": "const", "mangled": "LMotor_Kp", "value": 2} in motor["ports"]

@@ -6,7 +6,11 @@ JSON keys (documented in the README): ``model``, ``links`` (``name``, ``pose``,
 ``annotation``, ``axis``, ``device``), ``unconnected`` (joints without a flexible
 connection, same keys), ``fixed`` (``name``, ``parent``, ``child``),
 ``devices`` (``prefix``, ``ports`` [{``name``, ``kind``, ``mangled``, ``value``}],
-``equations``), ``relations``, ``constants`` and ``missing``. A pose is
+``equations``), ``relations``, ``constants``, ``missing`` and ``motion`` (the kinematic
+tree's equations of motion per moving body, in tree order: ``joint``, ``kind``, ``parent``
+joint or null for the world, ``links`` it moves as one body, ``mass``, ``com`` in the body
+frame, ``screw`` axis in the body frame, and ``equations``: the Newton–Euler equations in
+the joint's variables; or ``{"error": message}``). A pose is
 ``[x, y, z, roll, pitch, yaw]`` (metres, radians), or ``null`` when it depends on a constant
 without a value.
 """
@@ -115,7 +119,51 @@ def model_to_dict(m: ElaboratedModel) -> dict[str, Any]:
         "relations": [to_notation(r) for r in m.relations],
         "constants": {k: _value(v) for k, v in m.constants.items()},
         "missing": sorted(m.missing),
+        "motion": _motion(m),
     }
+
+
+def _motion(m: ElaboratedModel) -> list[dict[str, Any]] | dict[str, str]:
+    """Per moving body, its Newton–Euler equations (MR eqs. 8.47–8.53) in the body frame:
+    the twist ``V`` and its derivative from the parent's (``X`` the Adjoint of the parent's
+    pose in the body frame), the wrench ``F`` the joint transmits, balancing the body's
+    inertia ``G`` and its children's wrenches, and the joint effort as ``F`` along the axis.
+    ``cyphy solve`` writes them out in joint space, ``tau == M(q)*a + h(q, v)``."""
+    from cyphy.semantics import dynamics
+
+    try:
+        tree = dynamics.kinematic_tree(m)
+    except dynamics.DynamicsError as err:
+        return {"error": err.message}
+    out = []
+    for joint in tree.joints:
+        p = joint.prefix
+        parent = tree.joints[joint.parent].prefix if joint.parent >= 0 else None
+        children = [c.prefix for c in tree.joints if c.parent >= 0
+                    and tree.joints[c.parent] is joint]
+        up = f"X_{p} * V_{parent} + " if parent else ""
+        up_dot = f"X_{p} * dV_{parent}" if parent else f"X_{p} * (0, 0, 0, -g)"  # g: gravity
+        wrenches = "".join(f" + transpose(X_{c}) * F_{c}" for c in children)
+        mass = float(joint.inertia[3, 3])
+        com = [_number(v) for v in _com(joint.inertia, mass)]
+        out.append({
+            "joint": joint.name, "kind": joint.kind,
+            "parent": tree.joints[joint.parent].name if joint.parent >= 0 else None,
+            "links": list(joint.body), "mass": _number(mass), "com": com,
+            "screw": [_number(v) for v in joint.screw],
+            "equations": [
+                f"V_{p} == {up}A_{p} * {p}_v",
+                f"dV_{p} == {up_dot} + ad(V_{p}) * A_{p} * {p}_v + A_{p} * {p}_a",
+                f"F_{p} == G_{p} * dV_{p} - transpose(ad(V_{p})) * G_{p} * V_{p}{wrenches}",
+                f"{p}_tau == transpose(F_{p}) * A_{p}",
+            ]})
+    return out
+
+
+def _com(inertia: Any, mass: float) -> list[float]:
+    """The centre of mass from a spatial inertia's ``m[c]`` block."""
+    c = inertia[0:3, 3:6] / mass
+    return [float(c[2, 1]), float(c[0, 2]), float(c[1, 0])]
 
 
 def model_to_json(m: ElaboratedModel) -> str:
@@ -163,4 +211,14 @@ def model_to_text(m: ElaboratedModel) -> str:
         out.append(f"  relation {r}")
     if d["missing"]:
         out.append("  constants without values: " + ", ".join(d["missing"]))
+    motion = d["motion"]
+    if isinstance(motion, dict):
+        out.append(f"  no equations of motion: {motion['error']}")
+    for body in motion if isinstance(motion, list) else []:
+        out.append(f"  motion of {', '.join(body['links'])} (joint {body['joint']}, "
+                   f"{body['kind']}): mass {body['mass']:g}, com "
+                   f"{' '.join(f'{v:g}' for v in body['com'])}, screw A = "
+                   f"({', '.join(f'{v:g}' for v in body['screw'])})")
+        for e in body["equations"]:
+            out.append(f"    {e}")
     return "\n".join(out) + "\n"

@@ -23,7 +23,20 @@ _FUNCTIONS: dict[str, Callable[..., Any]] = {
     "exp": sympy.exp, "log": sympy.log, "abs": sympy.Abs, "sgn": sympy.sign,
     "transpose": lambda m: m.T, "inverse": lambda m: m.inv(), "det": lambda m: m.det(),
     "identity": lambda n: sympy.eye(int(n)),
+    "skew": lambda v: _skew(v), "ad": lambda v: _ad(v),
 }
+
+
+def _skew(v: Any) -> Any:
+    """``physmod::math::skew``: the matrix of ``v ×``."""
+    return sympy.Matrix([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+
+
+def _ad(v: Any) -> Any:
+    """``physmod::math::ad``: ``[[skew(w), 0], [skew(v), skew(w)]]`` of the twist
+    ``(w; v)`` (MR eq. 8.38), the velocity-product term's matrix."""
+    w, u = _skew(v[:3]), _skew(v[3:])
+    return sympy.Matrix(sympy.BlockMatrix([[w, sympy.zeros(3)], [u, w]]))
 _COMPARISONS = {"==": sympy.Eq, "!=": sympy.Ne, "<": sympy.Lt, "<=": sympy.Le,
                 ">": sympy.Gt, ">=": sympy.Ge}
 _CONNECTIVES = {"/\\": sympy.And, "\\/": sympy.Or, "=>": sympy.Implies,

@@ -59,6 +59,7 @@ class Problem:
     events: dict[str, Any]  # event name → predicate over the states and inputs
     unsafe: Any  # the unsafe set's conjunction
     qualified: dict[str, str] = field(default_factory=dict)  # mangled → qualified name
+    call_effects: dict[str, dict[str, Any]] = field(default_factory=dict)  # call → input → value
 
     @property
     def mode_inputs(self) -> list[str]:
@@ -146,6 +147,7 @@ class _Builder:
         self.elaborated, self.model = elaborated, elaborated.model
         self.s, self.report = scenario, report
         self.ports = _ports(self.model)
+        self.call_effects: dict[str, dict[str, Any]] = {}
 
     def fail(self, message: str, span: Span, hint: str = "") -> _Stop:
         self.report.report(EXPORT, message, span, hint)
@@ -204,7 +206,8 @@ class _Builder:
                   for name, (e, span) in event_exprs.items()}
         unsafe = self._unsafe(scope, unsafe_exprs)
         problem = Problem(self.model.name, s, states, rhs, inputs, outputs,
-                          effects, events, unsafe, {v: k for k, v in self.ports.items()})
+                          effects, events, unsafe, {v: k for k, v in self.ports.items()},
+                          dict(self.call_effects))
         self._check_init(problem)
         if s.settings.max_jumps is not None and s.settings.max_jumps < problem.required_jumps:
             raise self.fail(
@@ -331,6 +334,7 @@ class _Builder:
                     op = call.func.text if isinstance(call.func, ex.Name) else ""
                     eqs = [eq.expr for eq in system.equations if eq.origin == f"mapping {op}"]
                     cache[text] = self._solve_call(text, op, eqs, system, span, to_sympy)
+                    self.call_effects[text] = cache[text]
                 for u, v in cache[text].items():
                     if u in effects[state] and effects[state][u] != v:
                         raise self.fail(f"state {state}: its calls set {u} to two values",

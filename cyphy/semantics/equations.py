@@ -50,12 +50,17 @@ class AssemblyError(Exception):
 
 def assemble(model: ElaboratedModel, elements: list[str] | None = None,
              mapping: ast.PlatformMapping | None = None, call: ex.Call | None = None,
-             call_params: tuple[str, ...] = ()) -> System:
-    """The equations of the model (or of the named elements and what they contain)."""
+             call_params: tuple[str, ...] = (),
+             gravity: tuple[float, float, float] | None = None) -> System:
+    """The equations of the model (or of the named elements and what they contain); the
+    whole model's include the kinematic tree's equations of motion under ``gravity``
+    (default −9.81 m/s² along z)."""
     system = System()
     devices = _devices(model, elements)
     for device in devices:
         _add_device(system, device)
+    if not elements:
+        _add_motion(system, model, gravity)
     known = {p.mangled for d in devices for p in d.ports}
     for relation in model.relations:
         names = {n.text for n in relation.walk() if isinstance(n, ex.Name)}
@@ -93,6 +98,16 @@ def _add_device(system: System, device: Device) -> None:
             system.kinds[p.mangled] = p.kind.value.lower()
     for e in device.equations:
         system.equations.append(Equation(e, device.prefix, e.span))
+
+
+def _add_motion(system: System, model: ElaboratedModel,
+                gravity: tuple[float, float, float] | None) -> None:
+    """The equations of motion of the kinematic tree (:mod:`cyphy.semantics.dynamics`), which
+    relate each joint's effort to the accelerations of the bodies it moves."""
+    from cyphy.semantics.dynamics import STANDARD_GRAVITY, motion_equations
+
+    for equation, joint in motion_equations(model, gravity or STANDARD_GRAVITY):
+        system.equations.append(Equation(equation, f"{joint.prefix} motion", equation.span))
 
 
 def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.PlatformMapping,

@@ -1,0 +1,306 @@
+"""Numerical simulation of a model's explicit ODEs with SciPy (``cyphy simulate``, issue 16).
+
+Two paths, as for the equations of motion:
+
+- **symbolic**: the ODEs ``x' = f(x, u, p)`` that :mod:`cyphy.backends.reduce` derived from the
+  whole model (devices, relations and the kinematic tree's equations of motion), turned into
+  NumPy functions with ``lambdify``; states, inputs and outputs are the model's variables;
+- **numeric**: a tree too large to write out (``dynamics.SYMBOLIC_LIMIT``) is integrated with the
+  articulated-body algorithm at linear cost per step; its states are the joints'
+  ``<J>_theta`` and ``<J>_v`` and its inputs their efforts ``<J>_tau``, and the other devices'
+  equations are not part of it (the command says so).
+
+Inputs are expressions of ``t`` (``--input Motor_das=10*(t>1)`` is not accepted: no
+comparisons; ``--input 'Motor_das=10*sin(t)'`` is); an input that is not given is 0. A
+controller (:class:`Controller`) runs at every cycle boundary ``k·period``: it sees the events
+of that instant and what it does sets inputs until the next cycle.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Protocol, Sequence
+
+import numpy as np
+
+from cyphy import codes
+
+SIMULATE = codes.code("E-SIMULATE", codes.E, "the model cannot be simulated as asked")
+
+Calls = tuple[tuple[str, tuple[float, ...]], ...]
+
+
+class Controller(Protocol):
+    """A sampled controller: once per cycle it receives the input events of that instant
+    (event name → ``None`` when absent, ``True`` or the communicated value when present) and
+    returns the operation calls and output events it performs in that cycle, in order
+    (``(("drive", (10.0,)),)``). The scenario's ``[controller]`` table and a RoboSim state
+    machine both have this shape."""
+
+    def cycle(self, events: Mapping[str, object]) -> Calls: ...
+
+
+@dataclass
+class SimulationOptions:
+    t_end: float = 1.0
+    init: dict[str, float] = field(default_factory=dict)
+    inputs: dict[str, str] = field(default_factory=dict)  # name → expression of t
+    method: str = "LSODA"  # stiff-capable: switches between Adams and BDF
+    rtol: float = 1e-6
+    atol: float = 1e-9
+    samples: int = 201  # output instants, evenly spaced over [0, t_end]
+    progress: Callable[[float], None] | None = None  # called with the fraction done
+
+
+@dataclass
+class Trajectory:
+    """``times`` and one column per name (states first, then outputs), in ``values``."""
+
+    names: list[str]
+    times: np.ndarray
+    values: np.ndarray  # len(times) x len(names)
+
+    def column(self, name: str) -> np.ndarray:
+        return self.values[:, self.names.index(name)]
+
+
+class SimulationError(Exception):
+    """What stops a simulation (an unknown name, an input that cannot be read, the
+    integrator's failure), with a hint."""
+
+    def __init__(self, message: str, hint: str) -> None:
+        super().__init__(message)
+        self.message, self.hint = message, hint
+
+
+# ----------------------------------------------------------------------------- inputs
+
+def input_expression(text: str) -> Any:
+    """An input's value, ``10*sin(t)``, as a SymPy expression of ``t`` (read by cyphy's own
+    parser, so it accepts what RoboSim expressions accept, and nothing is evaluated)."""
+    import sympy
+
+    from cyphy.backends.sympy import SympyPrinter, UnsupportedNode
+    from cyphy.lang.parser import parse_text
+
+    result = parse_text(f"const input_value: real = {text}", "<--input>")
+    item = result.file.items[0] if result.file and result.file.items else None
+    if result.diagnostics or item is None or getattr(item, "value", None) is None:
+        raise SimulationError(f"cannot read the input value '{text}'",
+                              "write an expression of t, for example 10*sin(t)")
+    t = sympy.Symbol("t", real=True)
+    try:
+        value = SympyPrinter(symbols={"t": t}).doprint(item.value)
+    except (UnsupportedNode, TypeError, ValueError) as err:
+        raise SimulationError(f"cannot read the input value '{text}': {err}",
+                              "write an expression of t, for example 10*sin(t)") from None
+    unknown = sorted(str(s) for s in sympy.sympify(value).free_symbols if s != t)
+    if unknown:
+        raise SimulationError(f"the input value '{text}' names {', '.join(unknown)}",
+                              "an input may depend on t only")
+    return value
+
+
+def _input_functions(names: Sequence[str], given: Mapping[str, str]
+                     ) -> list[Callable[[float], float]]:
+    """One function of t per input name; ``der_X`` is the derivative of ``X``'s expression."""
+    import sympy
+
+    t = sympy.Symbol("t", real=True)
+    out = []
+    for name in names:
+        base = name[4:] if name.startswith("der_") and name not in given else name
+        expr = input_expression(given[base]) if base in given else sympy.Integer(0)
+        if base != name:
+            expr = sympy.diff(expr, t)
+        out.append(sympy.lambdify(t, expr, "math"))
+    return out
+
+
+# ----------------------------------------------------------------------------- symbolic path
+
+def simulate_reduced(reduced: Any, options: SimulationOptions,
+                     controller: Controller | None = None,
+                     effects: Callable[[Calls], dict[str, float]] | None = None,
+                     period: float | None = None,
+                     events: Callable[[float, Mapping[str, float]], Mapping[str, object]]
+                     | None = None) -> Trajectory:
+    """Integrate the reduced ODEs (:class:`cyphy.backends.reduce.Reduced`).
+
+    With a ``controller``, the run is cut at every ``period``: ``events(t, values)`` gives the
+    input events at that instant, the controller's calls go through ``effects`` to input
+    values that hold until the next cycle (they override ``options.inputs``)."""
+    import sympy
+
+    states = list(reduced.states)
+    inputs = list(reduced.inputs)
+    unknown = sorted(set(options.init) - set(states))
+    if unknown:
+        raise SimulationError(f"--init names {', '.join(unknown)}: not a state",
+                              "the states are: " + ", ".join(states))
+    symbol = {n: sympy.Symbol(n, real=True) for n in [*states, *inputs]}
+    t = sympy.Symbol("t", real=True)
+    outputs = sorted(reduced.outputs)
+    args = [symbol[n] for n in states] + [symbol[n] for n in inputs] + [t]
+    rhs_expr = [reduced.rhs[s] for s in states]
+    leftover = sorted({str(s) for e in rhs_expr for s in sympy.sympify(e).free_symbols}
+                      - {str(a) for a in args})
+    if leftover:
+        raise SimulationError(f"constants without a value: {', '.join(leftover)}",
+                              "give them values with --const NAME=VALUE")
+    rhs = sympy.lambdify(args, rhs_expr, "numpy")
+    out_exprs = [reduced.outputs[o] for o in outputs]
+    out_ok = [not ({str(s) for s in sympy.sympify(e).free_symbols} - {str(a) for a in args})
+              for e in out_exprs]
+    outputs = [o for o, ok in zip(outputs, out_ok) if ok]
+    out_fn = sympy.lambdify(args, [e for e, ok in zip(out_exprs, out_ok) if ok], "numpy")
+    given = _input_functions(inputs, options.inputs)
+    held: dict[str, float] = {}
+
+    def u(tt: float) -> list[float]:
+        return [held[n] if n in held else f(tt) for n, f in zip(inputs, given)]
+
+    def f(tt: float, x: np.ndarray) -> np.ndarray:
+        return np.asarray(rhs(*x, *u(tt), tt), dtype=float).reshape(-1)
+
+    x0 = np.array([float(options.init.get(s, 0.0)) for s in states])
+
+    def observe(times: np.ndarray, xs: np.ndarray) -> np.ndarray:
+        rows = []
+        for k, tt in enumerate(times):
+            x = xs[:, k]
+            ys = out_fn(*x, *u(tt), tt) if outputs else []
+            rows.append([*x, *(float(np.asarray(y, dtype=float)) for y in ys)])
+        return np.array(rows, dtype=float).reshape(len(times), len(states) + len(outputs))
+
+    grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
+    if controller is None or period is None:
+        times, xs = _integrate(f, x0, grid, options)
+        return Trajectory([*states, *outputs], times, observe(times, xs))
+    all_t, all_rows = [], []
+    start, x, k = 0.0, x0, 0
+    while start < options.t_end - 1e-12:
+        stop = min((k + 1) * period, options.t_end)
+        values = dict(zip(states, x))
+        values.update(zip(inputs, u(start)))
+        calls = controller.cycle(events(start, values) if events else {})
+        held.update((effects or (lambda _c: {}))(calls))
+        inside = grid[(grid >= start) & (grid < stop)]
+        local = np.unique(np.concatenate([[start], inside, [stop]]))
+        times, xs = _integrate(f, x, local, options, offset=(start, options.t_end))
+        keep = np.isin(times, inside) | (times == start) | \
+            ((times == stop) & (stop >= options.t_end))
+        all_t.append(times[keep])
+        all_rows.append(observe(times[keep], xs[:, keep]))
+        x, start, k = xs[:, -1], stop, k + 1
+    times = np.concatenate(all_t)
+    rows = np.vstack(all_rows)
+    order = np.unique(times, return_index=True)[1]
+    return Trajectory([*states, *outputs], times[order], rows[order])
+
+
+def _integrate(f: Callable[[float, np.ndarray], np.ndarray], x0: np.ndarray,
+               times: np.ndarray, options: SimulationOptions,
+               offset: tuple[float, float] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    from scipy.integrate import solve_ivp
+
+    if len(x0) == 0:
+        return times, np.zeros((0, len(times)))
+    total = offset[1] if offset else times[-1]
+    last = [time.monotonic()]
+
+    def tracked(tt: float, x: np.ndarray) -> np.ndarray:
+        if options.progress is not None and time.monotonic() - last[0] > 1.0:
+            last[0] = time.monotonic()
+            options.progress(min(tt / total, 1.0) if total > 0 else 1.0)
+        return f(tt, x)
+
+    solution = solve_ivp(tracked, (times[0], times[-1]), x0, method=options.method,
+                         t_eval=times, rtol=options.rtol, atol=options.atol)
+    if not solution.success:
+        raise SimulationError(f"the integrator stopped at t = {solution.t[-1]:g}: "
+                              f"{solution.message}",
+                              "try another --method (BDF, Radau) or looser tolerances")
+    return solution.t, solution.y
+
+
+# ----------------------------------------------------------------------------- numeric path
+
+def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
+    """Integrate a kinematic tree alone with the articulated-body algorithm: states
+    ``<J>_theta`` and ``<J>_v`` (tree order), inputs the efforts ``<J>_tau``."""
+    from cyphy.semantics.dynamics import forward_dynamics
+
+    n = len(tree)
+    thetas = [f"{p}_theta" for p in tree.prefixes]
+    speeds = [f"{p}_v" for p in tree.prefixes]
+    states = [*thetas, *speeds]
+    unknown = sorted(set(options.init) - set(states))
+    if unknown:
+        raise SimulationError(f"--init names {', '.join(unknown)}, which is not a state "
+                              "of the tree", "the states are: " + ", ".join(states))
+    efforts = [f"{p}_tau" for p in tree.prefixes]
+    unknown = sorted(set(options.inputs) - set(efforts))
+    if unknown:
+        raise SimulationError(f"--input names {', '.join(unknown)}, which is not an input "
+                              "of the tree", "the inputs are: " + ", ".join(efforts))
+    given = _input_functions(efforts, options.inputs)
+    constant = all(name not in options.inputs for name in efforts)
+    zero = np.zeros(n)
+
+    def f(tt: float, x: np.ndarray) -> np.ndarray:
+        tau = zero if constant else np.array([g(tt) for g in given])
+        return np.concatenate([x[n:], forward_dynamics(tree, x[:n], x[n:], tau)])
+
+    x0 = np.array([float(options.init.get(s, 0.0)) for s in states])
+    grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
+    times, xs = _integrate(f, x0, grid, options)
+    return Trajectory(states, times, xs.T.copy())
+
+
+# ----------------------------------------------------------------------------- output
+
+def to_csv(trajectory: Trajectory) -> str:
+    """``t`` then one column per name; values as Python prints floats (round-trip exact)."""
+    lines = [",".join(["t", *trajectory.names])]
+    for tt, row in zip(trajectory.times, trajectory.values):
+        lines.append(",".join(repr(float(v)) for v in [tt, *row]))
+    return "\n".join(lines) + "\n"
+
+
+def to_json(trajectory: Trajectory) -> str:
+    import json
+
+    return json.dumps({"t": [float(v) for v in trajectory.times],
+                       "columns": {n: [float(v) for v in trajectory.column(n)]
+                                   for n in trajectory.names}}, indent=1) + "\n"
+
+
+def plot(trajectory: Trajectory, path: str, names: Sequence[str] = ()) -> None:
+    """A PNG of the chosen columns over time (all states when none is chosen; at most 8)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    chosen = list(names) or trajectory.names[:8]
+    missing = [n for n in chosen if n not in trajectory.names]
+    if missing:
+        raise SimulationError(f"--plot-var names {', '.join(missing)}, which is not simulated",
+                              "choose among: " + ", ".join(trajectory.names))
+    figure, axes = plt.subplots(figsize=(7, 4), dpi=80)
+    for name in chosen:
+        axes.plot(trajectory.times, trajectory.column(name), label=name)
+    axes.set_xlabel("t (s)")
+    axes.grid(True, alpha=0.3)
+    axes.legend(fontsize="small")
+    figure.tight_layout()
+    figure.savefig(path, metadata={"Software": None})
+    plt.close(figure)
+
+
+def progress_to_stderr(fraction: float) -> None:
+    sys.stderr.write(f"cyphy simulate: {100 * fraction:5.1f}%\r")
+    sys.stderr.flush()
