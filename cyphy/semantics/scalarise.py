@@ -30,6 +30,36 @@ SCALAR_FUNCTIONS = frozenset({"sin", "cos", "tan", "asin", "acos", "atan", "arct
                               "ceil"})
 
 
+#: Entries of ``physmod::math::skew(v)`` (the matrix of ``v ×``): ``(i, j) -> (sign, k)``, the
+#: entry being ``sign * v[k]`` (from 0); entries not listed are 0.
+_SKEW = {(0, 1): (-1, 2), (0, 2): (1, 1), (1, 0): (1, 2), (1, 2): (-1, 0), (2, 0): (-1, 1),
+         (2, 1): (1, 0)}
+
+
+def _skew_entry(i: int, j: int) -> tuple[int, int] | None:
+    return _SKEW.get((i, j))
+
+
+def _ad_entry(i: int, j: int) -> tuple[int, int] | None:
+    """``physmod::math::ad(V)`` of the twist ``V = (w, v)`` is ``[[skew(w), 0], [skew(v),
+    skew(w)]]`` (Lynch and Park, 8.2.2; the SymPy backend's ``_ad`` is the same matrix)."""
+    block = (i // 3, j // 3)
+    if block == (0, 1):
+        return None
+    entry = _skew_entry(i % 3, j % 3)
+    if entry is None:
+        return None
+    return entry[0], entry[1] + (3 if block == (1, 0) else 0)
+
+
+#: Matrix-valued library functions of one vector whose entries are (signed) components of
+#: the argument: name -> (argument size, result shape, entry).
+ARRAY_FUNCTIONS: dict[str, tuple[int, Shape, Callable[[int, int], tuple[int, int] | None]]] = {
+    "skew": (3, (3, 3), _skew_entry),
+    "ad": (6, (6, 6), _ad_entry),
+}
+
+
 class ScalariseError(Exception):
     """An expression whose shapes do not fit, or that has no component form; ``node`` is
     where (its span points at the source)."""
@@ -37,6 +67,10 @@ class ScalariseError(Exception):
     def __init__(self, node: ex.Expr, message: str) -> None:
         super().__init__(message)
         self.node = node
+
+
+def _is_zero(e: ex.Expr) -> bool:
+    return isinstance(e, ex.Num) and e.text == "0"
 
 
 def shape_of_type(t: c.Type) -> Shape | None:
@@ -170,6 +204,12 @@ class Scalariser:
         if name == "transpose" and len(shapes) == 1:
             m = _as_matrix(shapes[0]) if shapes[0] else (1, 1)
             return (m[1], m[0])
+        if name in ARRAY_FUNCTIONS and len(shapes) == 1:
+            size, result, _ = ARRAY_FUNCTIONS[name]
+            if _size(shapes[0]) != size or len(shapes[0]) != 1:
+                raise ScalariseError(e, f"{name} takes a vector of {size}, not "
+                                     f"{_describe(shapes[0])}")
+            return result
         if any(_size(s) != 1 for s in shapes if s):
             raise ScalariseError(e, f"{name or 'a function'} applied to a vector or matrix has "
                                  "no component form here (only +, -, *, /, transpose and "
@@ -268,7 +308,14 @@ class Scalariser:
             return ex.Derivative(self._at(e.operand, index), span=e.span)
         if isinstance(e, ex.Integral):
             return ex.Integral(self._at(e.operand, index), span=e.span)
-        if isinstance(e, ex.Call):  # transpose: the only array-valued call shape() allows
+        if isinstance(e, ex.Call) and isinstance(e.func, ex.Name) \
+                and e.func.text in ARRAY_FUNCTIONS:
+            entry = ARRAY_FUNCTIONS[e.func.text][2](*index)
+            if entry is None:
+                return ex.Num("0", span=e.span)
+            item = self.component(e.args[0], (entry[1],))
+            return item if entry[0] > 0 else ex.UnaryOp("-", item, span=e.span)
+        if isinstance(e, ex.Call):  # transpose: the other array-valued call shape() allows
             inner = self.shape(e.args[0])
             if len(inner) == 1:
                 return self.component(e.args[0], (index[-1],))
@@ -293,6 +340,9 @@ class Scalariser:
                           self.component(e.right, (k, j) if len(right) == 2 else (k,)),
                           span=e.span)
                  for k in range(inner)]
+        # a product with a structural zero (an entry of skew or ad) is left out
+        terms = [t for t in terms if not (_is_zero(t.left) or _is_zero(t.right))] \
+            or [ex.Num("0", span=e.span)]
         out = terms[0]
         for t in terms[1:]:
             out = ex.BinOp("+", out, t, span=e.span)
