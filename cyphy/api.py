@@ -106,6 +106,7 @@ class ElaborateOptions:
     model: str | None = None
     consts: dict[str, object] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
+    despite_value_errors: bool = False  # `cyphy show`: elaborate a model with V1-V5/E-EVAL
 
 
 @dataclass
@@ -125,11 +126,21 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
     from cyphy.model.elaborate import elaborate as run
 
     checked = check(paths, CheckOptions(search_paths=options.search_paths))
-    if checked.report.has_errors or checked.resolution is None:
+    if checked.resolution is None or (checked.report.has_errors and not (
+            options.despite_value_errors
+            and all(_value_error(d) for d in checked.report.errors))):
         return ElaborateResult(checked, None)
     model = run(checked.workspace, checked.resolution, checked.report, options.model,
                 options.consts)  # type: ignore[arg-type]
     return ElaborateResult(checked, model)
+
+
+def _value_error(d: Any) -> bool:
+    """Whether an error concerns only values (``V1``-``V5``, ``E-EVAL``): the model can
+    still be elaborated and shown, with the error reported; generators refuse it."""
+    import re
+
+    return d.code.id == "E-EVAL" or re.fullmatch(r"V\d+", d.code.id) is not None
 
 
 @dataclass(frozen=True)

@@ -344,6 +344,10 @@ def _solve(args: argparse.Namespace) -> int:
 def _path_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--path", action="append", default=[], metavar="DIR",
                         help="another folder of model files to resolve names against")
+    # Every command that reads models takes --path, and so the limit on copies.
+    parser.add_argument("--max-copies", type=_positive_int, metavar="N",
+                        help="most copies that index ranges may make in one model (default "
+                        "100000, or $CYPHY_MAX_COPIES)")
 
 
 def _const_options(parser: argparse.ArgumentParser) -> None:
@@ -372,7 +376,8 @@ def _show(args: argparse.Namespace) -> int:
     from cyphy.diagnostics import render_text
 
     consts = _consts(args)
-    result = elaborate(args.paths, ElaborateOptions(args.model, consts, tuple(args.path)))
+    result = elaborate(args.paths, ElaborateOptions(args.model, consts, tuple(args.path),
+                                                    despite_value_errors=True))
     diagnostics = result.report.diagnostics
     if diagnostics:
         sys.stderr.write(render_text(diagnostics, dict(result.check.sources)))
@@ -435,14 +440,14 @@ def _check(args: argparse.Namespace) -> int:
                                             consistency=args.consistency,
                                             z3_timeout_ms=args.z3_timeout))
     diagnostics = result.report.diagnostics
-    if args.format == "json":
+    if args.format == "json":  # the document asked for: the command's output
         sys.stdout.write(render_json(diagnostics))
-    else:
-        sys.stdout.write(render_text(diagnostics, dict(result.sources)))
+    else:  # diagnostics go to stderr, as every command's do
+        sys.stderr.write(render_text(diagnostics, dict(result.sources)))
         errors = sum(1 for d in diagnostics if d.severity.value == "ERROR")
         warnings = len(diagnostics) - errors
         files = len(result.workspace.targets)
-        sys.stdout.write(f"{files} file{'s' if files != 1 else ''} checked: "
+        sys.stderr.write(f"{files} file{'s' if files != 1 else ''} checked: "
                          f"{errors} error{'s' if errors != 1 else ''}, "
                          f"{warnings} warning{'s' if warnings != 1 else ''}\n")
     return result.report.exit_code
@@ -453,17 +458,23 @@ def run() -> NoReturn:
     Freeing a large model object by object, and the final collection before it, take seconds
     on a 10,000-link model; everything has been written and closed by then, and the standard
     streams are flushed here (mypy ends the same way)."""
-    code = main()
+    from cyphy.deep import run_deep
+
     try:
+        code = run_deep(main)  # deeply nested models need a deep stack (cyphy/deep.py)
         sys.stdout.flush()
         sys.stderr.flush()
     except BrokenPipeError:  # `cyphy show … | head`: the reader has gone
         pass
+    except KeyboardInterrupt:  # Ctrl-C while waiting, or while the output is flushed
+        code = 130
     os._exit(code)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    if getattr(args, "max_copies", None):
+        os.environ["CYPHY_MAX_COPIES"] = str(args.max_copies)  # read by cyphy.limits
     try:
         if args.command == "check":
             return _check(args)
@@ -477,6 +488,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _reach(args)
     except KeyboardInterrupt:
         return 130
+    except RecursionError:
+        sys.stderr.write(TOO_DEEP)
+        return 1
     except Exception as err:  # a bug of ours: say so plainly, without a traceback
         sys.stderr.write(f"cyphy: internal error ({type(err).__name__}: {err}); please report "
                          "it with the model that caused it (set CYPHY_TRACEBACK=1 for "
@@ -485,6 +499,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise
         return 70
     return 2
+
+
+TOO_DEEP = ("cyphy: error: the model nests too deeply (expressions, blocks or parts nested "
+            "thousands of levels deep)\n")
 
 
 def _latex_options(parser: argparse.ArgumentParser) -> None:

@@ -152,6 +152,20 @@ def _from_env(name: str, value: object) -> Value:
     )
 
 
+def literal_value(text: str) -> int | float:
+    """The value of a numeric literal. One beyond the range of a double (``1e309``, a
+    400-digit integer) is an error, not infinity: every later computation and SDF would
+    carry it (ValueError)."""
+    try:
+        value: int | float = int(text) if text.isdigit() else float(text)
+        if not math.isfinite(float(value)):
+            raise OverflowError
+    except (OverflowError, ValueError):
+        shown = text if len(text) <= 24 else text[:20] + "…"
+        raise ValueError(f"the number {shown} is too large (beyond ±1.8e308)") from None
+    return value
+
+
 def _require_finite(value: Value) -> None:
     """Overflow and NaN are errors, not values: SDF has no way to write ``inf``."""
     if isinstance(value, float) and not math.isfinite(value):
@@ -628,7 +642,7 @@ class _Evaluator:
         raise ValueError(f"{type(node).__name__} expressions cannot be evaluated to a number")
 
     def _eval_Num(self, node: Num) -> Value:
-        return int(node.text) if node.is_integer else float(node.text)
+        return literal_value(node.text)
 
     def _eval_Str(self, node: Str) -> Value:
         return node.value
@@ -787,7 +801,7 @@ def _compile(node: Expr) -> Compiled | None:
     """A closure computing ``node`` with the interpreter's own operations, for the node kinds
     that dominate repeated evaluation (poses of indexed blocks); None for anything else."""
     if isinstance(node, Num):
-        value: Value = int(node.text) if node.is_integer else float(node.text)
+        value: Value = literal_value(node.text)
         return lambda env: value
     if isinstance(node, Name):
         key = node.text

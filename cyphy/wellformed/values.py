@@ -21,15 +21,23 @@ GEOMETRY_TOL = 1e-9
 
 def _models(ctx: WFContext) -> list[Any]:
     """The elaborated top-level p-models, built once per check run (cached on the context).
-    Elaboration diagnostics are not reported here: a check reports conditions, and the
-    generators report evaluation problems when they need the values."""
+    Of the elaboration's diagnostics, those about values that cannot be computed (``E-EVAL``:
+    division by zero, overflow, a constant defined in terms of itself) and ranges that make
+    too many copies (``E-INDEX``) are reported, so that
+    ``cyphy check`` rejects what the generators reject; the others (a model that cannot be
+    chosen, constants without values) concern generation only."""
     if "elaborated" not in ctx.cache:
-        from cyphy.model.elaborate import elaborate_pmodel, top_level_pmodels
+        from cyphy.model.elaborate import EVAL, INDEX, elaborate_pmodel, top_level_pmodels
 
-        ctx.cache["elaborated"] = [
-            elaborate_pmodel(ctx.workspace, ctx.resolution, Report(), pm, f, ctx.consts,
-                             devices=False)
-            for pm, f in top_level_pmodels(ctx.workspace)]
+        models = []
+        for pm, f in top_level_pmodels(ctx.workspace):
+            scratch = Report()
+            models.append(elaborate_pmodel(ctx.workspace, ctx.resolution, scratch, pm, f,
+                                           ctx.consts, devices=False))
+            ix1 = {d.span for d in ctx.report.reported_since(0) if d.code.id == "IX1"}
+            ctx.report.extend(d for d in scratch.reported_since(0) if d.code is EVAL
+                              or (d.code is INDEX and d.span not in ix1))
+        ctx.cache["elaborated"] = models
     return ctx.cache["elaborated"]
 
 
