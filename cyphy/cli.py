@@ -145,15 +145,29 @@ GENERATORS: dict[str, tuple[Callable[[argparse.Namespace], "Generated"], str,
 
 
 def _sdf_pose(text: str) -> tuple[float, float, float, float, float, float]:
+    import math
+
     parts = text.split(",")
     try:
         values = tuple(float(p) for p in parts)
     except ValueError:
         values = ()
-    if len(values) != 6:
-        raise argparse.ArgumentTypeError(f"expected six numbers x,y,z,roll,pitch,yaw, not "
-                                         f"{text!r}")
+    if len(values) != 6 or not all(math.isfinite(v) for v in values):
+        raise argparse.ArgumentTypeError(f"expected six finite numbers x,y,z,roll,pitch,yaw, "
+                                         f"not {text!r}")
     return values  # type: ignore[return-value]
+
+
+def _joined_values(argv: Sequence[str]) -> list[str]:
+    """``--pose -1,0,0,0,0,0`` as ``--pose=-1,…``: argparse takes a value that starts with
+    ``-`` and is not a plain number for an option, and would refuse the pose."""
+    out: list[str] = []
+    for i, arg in enumerate(argv):
+        if i > 0 and argv[i - 1] == "--pose" and arg.startswith("-") and "," in arg:
+            out[-1] = f"--pose={arg}"
+        else:
+            out.append(arg)
+    return out
 
 
 def _sdf_options(gen: argparse.ArgumentParser) -> None:
@@ -472,7 +486,7 @@ def run() -> NoReturn:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    args = _parser().parse_args(argv)
+    args = _parser().parse_args(_joined_values(sys.argv[1:] if argv is None else argv))
     if getattr(args, "max_copies", None):
         os.environ["CYPHY_MAX_COPIES"] = str(args.max_copies)  # read by cyphy.limits
     try:

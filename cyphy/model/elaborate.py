@@ -731,8 +731,11 @@ class _Elaborator:
         for a in inst.args:
             if isinstance(a.value, ast.TemplateInstance):
                 args.append((a.name, self._evaluate_template(a.value, env)))
-            elif isinstance(a.value, ex.Name) and a.value.text not in env:
-                args.append((a.name, a.value.parts))  # an element path: Rod::my_body
+            elif isinstance(a.value, ex.Name) and a.value.text not in env \
+                    and not isinstance(env._find(a.value.text), _Binding):
+                # An element path (Rod::my_body); a constant without a value is not one:
+                # evaluating it records it as missing (E-CONST when SDF needs it).
+                args.append((a.name, a.value.parts))
             else:
                 args.append((a.name, self.ctx.evaluate(a.value, env)))
         return AnnotationValue((template,), tuple(args), inst.span)
