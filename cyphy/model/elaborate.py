@@ -314,7 +314,7 @@ def choose_pmodel(ws: Workspace, name: str | None, report: Report
                   "::".join(c[1].package + (c[0].name,)) == name]
         if not chosen:
             names = ", ".join(sorted(c[0].name for c in candidates)) or "(none)"
-            report.report(MODEL, f"no p-model named '{name}'", Span.unknown(name),
+            report.report(MODEL, f"no p-model named '{name}'", _files_span(ws),
                           f"the p-models are: {names}")
             return None
         return chosen[0]
@@ -322,13 +322,21 @@ def choose_pmodel(ws: Workspace, name: str | None, report: Report
     if len(top) == 1:
         return top[0]
     if not candidates:
-        report.report(MODEL, "no p-model in the given files", Span.unknown(),
+        report.report(MODEL, "no p-model in the given files", _files_span(ws),
                       "name a file or folder that declares a pmodel")
         return None
-    names = ", ".join(sorted(c[0].name for c in (top or candidates)))
-    report.report(MODEL, "several p-models could be meant", Span.unknown(),
-                  f"choose one with --model: {names}")
+    meant = sorted(top or candidates, key=lambda c: (c[0].span.file, c[0].span.line))
+    names = ", ".join(sorted(c[0].name for c in meant))
+    report.report(MODEL, "several p-models could be meant", meant[0][0].span,
+                  f"choose one with --model: {names}",
+                  [f"p-model {pm.name} is declared at {pm.span}" for pm, _ in meant[1:]])
     return None
+
+
+def _files_span(ws: Workspace) -> Span:
+    """Where a problem with the whole selection of files is reported: the first file given
+    (no line), or nowhere when there is none."""
+    return Span.unknown(str(ws.targets[0])) if ws.targets else Span.unknown()
 
 
 def elaborate(ws: Workspace, resolution: Resolution, report: Report, model: str | None = None,
