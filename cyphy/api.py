@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
-from cyphy import collector
+from cyphy import collector, progress
 from cyphy.diagnostics import Report
 from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
@@ -57,6 +57,7 @@ def _front_end(paths: Sequence[str | Path], options: CheckOptions) -> CheckResul
     if options.neighbours_as_targets:
         ws.targets = _with_dependencies(ws)
     check_placement(ws.user_files(), report)
+    progress.stage("resolving names")
     result.resolution = check_scopes(ws, report)
     if options.wellformedness:
         from cyphy.wellformed import RULES, WFContext, check_wellformed
@@ -143,6 +144,26 @@ def _value_error(d: Any) -> bool:
     return d.code.id == "E-EVAL" or re.fullmatch(r"V\d+", d.code.id) is not None
 
 
+class UsageError(ValueError):
+    """An option that names nothing in the model (``solve --element Nope::X``): the caller's
+    mistake, not the model's, so not a diagnostic; the CLI exits with status 2."""
+
+
+def unknown_elements(model: "ElaboratedModel", elements: Sequence[str]) -> str | None:
+    """Why some of ``elements`` (qualified names) name no element with equations of
+    ``model``, or None when each names one (or contains some)."""
+    from cyphy.diagnostics import did_you_mean
+
+    names = {e.name for e in [*model.joints, *model.unconnected, *model.sensors,
+                              *model.actuators]}
+    for q in elements:
+        if not any(n == q or n.startswith(q + "::") for n in names):
+            return (f"'{q}' names no element of {model.name}; "
+                    + (did_you_mean(q, names) or f"qualified names start with "
+                       f"{model.name}::"))
+    return None
+
+
 @dataclass(frozen=True)
 class SolveOptions:
     model: str | None = None
@@ -178,6 +199,9 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
     if model is None:
         return result
     report = elaborated.report
+    unknown = unknown_elements(model, options.elements)
+    if unknown:
+        raise UsageError(unknown)
     try:
         mapping, call, params = (None, None, ())
         if options.mapping_call is not None:

@@ -79,12 +79,34 @@ def _parser() -> argparse.ArgumentParser:
                              help=flag_help)
     gen.add_argument("-o", "--output", metavar="DIR", help="output folder")
     gen.add_argument("--model", metavar="NAME", help="the p-model (or mapping) to generate for")
+    gen.add_argument("--format", choices=("text", "json"), default="text",
+                     help="json: print one JSON document (files written, diagnostics) on "
+                     "stdout instead of text")
     _const_options(gen)
     _path_option(gen)
     for _, _, add_options in GENERATORS.values():
         add_options(gen)
     _add_reach(sub)
+    parser.add_argument("--version", action="version", version=f"cyphy {_version()}")
+    _common_options(parser, False)
+    for command in sub.choices.values():  # also after the command: `cyphy check -q …`
+        _common_options(command, argparse.SUPPRESS)
     return parser
+
+
+def _version() -> str:
+    from cyphy import __version__
+
+    return __version__
+
+
+def _common_options(parser: argparse.ArgumentParser, default: object) -> None:
+    """Options of every command, accepted before and after its name (a subcommand's copy
+    does not override what was given before it)."""
+    parser.add_argument("-q", "--quiet", action="store_true", default=default,
+                        help="print errors only: no warnings, progress or summary lines")
+    parser.add_argument("--warnings-as-errors", action="store_true", default=default,
+                        help="exit with status 1 when there are warnings (gen writes nothing)")
 
 
 def _gen(args: argparse.Namespace) -> int:
@@ -100,21 +122,37 @@ def _gen(args: argparse.Namespace) -> int:
     run, _, _ = GENERATORS[args.target]
     generated = run(args)
     diagnostics = generated.report.diagnostics
-    if diagnostics:
+    as_json = getattr(args, "format", "text") == "json"
+    if diagnostics and not as_json:
         sys.stderr.write(render_text(diagnostics, dict(generated.sources)))
-    if generated.report.has_errors or not generated.files:
-        sys.stderr.write("cyphy gen: nothing written: the model has errors\n")
-        return 1
-    folder = getattr(args, "default_folder", args.target)  # a generator may choose another
-    out_dir = Path(args.output) if args.output else default_output_dir(args.paths, folder)
-    try:
-        written = write_all(generated.files, out_dir)
-    except OutputError as err:
-        sys.stderr.write(f"cyphy gen: error: {err}\n")
-        return 1
-    for path in written:
-        sys.stdout.write(f"wrote {path}\n")
-    return generated.report.exit_code
+    refused = args.warnings_as_errors and any(d.severity.value == "WARNING"
+                                              for d in diagnostics)
+    written: list[Path] = []
+    problem = None
+    if generated.report.has_errors or not generated.files or refused:
+        problem = "nothing written: the model has " + ("warnings (--warnings-as-errors)"
+                                                       if refused else "errors")
+    else:
+        folder = getattr(args, "default_folder", args.target)  # a generator may choose
+        out_dir = Path(args.output) if args.output else default_output_dir(args.paths, folder)
+        try:
+            written = write_all(generated.files, out_dir)
+        except OutputError as err:
+            problem = f"error: {err}"
+    if as_json:  # one document on stdout: what was written and every diagnostic
+        import json
+
+        from cyphy.diagnostics import diagnostics_json
+
+        sys.stdout.write(json.dumps({"written": [str(p) for p in written], "error": problem,
+                                     "diagnostics": diagnostics_json(diagnostics)},
+                                    indent=2) + "\n")
+    elif problem:
+        sys.stderr.write(f"cyphy gen: {problem}\n")
+    elif not args.quiet:
+        for path in written:
+            sys.stdout.write(f"wrote {path}\n")
+    return 1 if problem else generated.report.exit_code
 
 
 def _options_of_other_targets(args: argparse.Namespace) -> str | None:
@@ -316,6 +354,10 @@ def _isabelle(args: argparse.Namespace) -> "Generated":
 
     from cyphy.api import generate_isabelle
 
+    if args.isabelle_element and args.isabelle_dialect != "axiomatic":
+        sys.stderr.write("cyphy gen: error: --isabelle-element needs --isabelle-dialect "
+                         "axiomatic (the utp dialect keeps every equation)\n")
+        raise SystemExit(2)
     options = _semantics_gen_options(args)
     if args.isabelle_dialect == "axiomatic":
         args.default_folder = "isabelle-axiomatic"  # beside isabelle-gen/, never mixed in
@@ -338,13 +380,17 @@ GENERATORS["isabelle"] = (_isabelle, "an Isabelle/UTP session of the CyPhyCircus
                           "of a platform mapping (isabelle-gen/)", _isabelle_options)
 
 def _solve(args: argparse.Namespace) -> int:
-    from cyphy.api import SolveOptions, solve
+    from cyphy.api import SolveOptions, UsageError, solve
     from cyphy.backends.odes import odes_to_json, odes_to_latex, odes_to_text
     from cyphy.diagnostics import render_text
 
     options = SolveOptions(args.model, tuple(args.element), args.mapping_call, _consts(args),
                            tuple(args.path))
-    result = solve(args.paths, options)
+    try:
+        result = solve(args.paths, options)
+    except UsageError as err:
+        sys.stderr.write(f"cyphy solve: error: --element {err}\n")
+        return 2
     diagnostics = result.report.diagnostics
     if diagnostics:
         sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))
@@ -461,9 +507,10 @@ def _check(args: argparse.Namespace) -> int:
         errors = sum(1 for d in diagnostics if d.severity.value == "ERROR")
         warnings = len(diagnostics) - errors
         files = len(result.workspace.targets)
-        sys.stderr.write(f"{files} file{'s' if files != 1 else ''} checked: "
-                         f"{errors} error{'s' if errors != 1 else ''}, "
-                         f"{warnings} warning{'s' if warnings != 1 else ''}\n")
+        if not args.quiet:
+            sys.stderr.write(f"{files} file{'s' if files != 1 else ''} checked: "
+                             f"{errors} error{'s' if errors != 1 else ''}, "
+                             f"{warnings} warning{'s' if warnings != 1 else ''}\n")
     return result.report.exit_code
 
 
@@ -472,10 +519,15 @@ def run() -> NoReturn:
     Freeing a large model object by object, and the final collection before it, take seconds
     on a 10,000-link model; everything has been written and closed by then, and the standard
     streams are flushed here (mypy ends the same way)."""
+    from cyphy import progress
     from cyphy.deep import run_deep
 
     try:
-        code = run_deep(main)  # deeply nested models need a deep stack (cyphy/deep.py)
+        progress.start()
+        try:  # deeply nested models need a deep stack (cyphy/deep.py)
+            code = run_deep(main, progress.tick)
+        finally:
+            progress.finish()
         sys.stdout.flush()
         sys.stderr.flush()
     except BrokenPipeError:  # `cyphy show … | head`: the reader has gone
@@ -486,9 +538,23 @@ def run() -> NoReturn:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    from cyphy.diagnostics import RENDERING
+
     args = _parser().parse_args(_joined_values(sys.argv[1:] if argv is None else argv))
     if getattr(args, "max_copies", None):
         os.environ["CYPHY_MAX_COPIES"] = str(args.max_copies)  # read by cyphy.limits
+    RENDERING.quiet, RENDERING.warnings_seen = args.quiet, 0
+    code = _command(args)
+    if code == 0 and args.warnings_as_errors and RENDERING.warnings_seen:
+        sys.stderr.write(f"cyphy: error: {RENDERING.warnings_seen} warning"
+                         f"{'s' if RENDERING.warnings_seen != 1 else ''} "
+                         "(--warnings-as-errors)\n")
+        return 1
+    return code
+
+
+def _command(args: argparse.Namespace) -> int:
+    """The chosen command's exit status; what it raises becomes a status too."""
     try:
         if args.command == "check":
             return _check(args)

@@ -23,10 +23,11 @@ DEPTH = 40_000
 STACK_BYTES = 512 * 1024 * 1024
 
 
-def run_deep(fn: Callable[[], T]) -> T:
+def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
     """``fn()`` in a thread with a large stack and a high recursion limit; what it raises
     (``SystemExit`` too) is raised here. A ``KeyboardInterrupt`` reaches the caller while it
-    waits; the thread is a daemon, so it does not keep the process alive."""
+    waits; the thread is a daemon, so it does not keep the process alive. ``tick`` is called
+    about five times a second while ``fn`` runs (progress)."""
     outcome: list[tuple[bool, object]] = []
 
     def body() -> None:
@@ -46,6 +47,8 @@ def run_deep(fn: Callable[[], T]) -> T:
     try:
         while thread.is_alive():
             thread.join(0.2)  # a timed wait, so that Ctrl-C is seen at once
+            if tick is not None and thread.is_alive():
+                tick()
     finally:
         sys.setrecursionlimit(old_limit)
     ok, value = outcome[0]

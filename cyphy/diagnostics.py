@@ -173,12 +173,30 @@ def _excerpt(line: str, column: int, width: int) -> tuple[str, int, int]:
     return text, caret, max(1, min(len(marked), len(text) - caret))
 
 
+@dataclass
+class Rendering:
+    """How the command line shows diagnostics, set once by ``cyphy -q`` and
+    ``--warnings-as-errors`` for whichever command runs: ``quiet`` leaves warnings out of
+    :func:`render_text`; ``warnings_seen`` counts those it was given, so that the command's
+    exit status can treat them as errors."""
+
+    quiet: bool = False
+    warnings_seen: int = 0
+
+
+RENDERING = Rendering()
+
+
 def render_text(diagnostics: Iterable[Diagnostic], sources: dict[str, str] | None = None) -> str:
     """Render like rustc or mypy: location, severity and code, the source line with a caret.
     What comes from the model is escaped and cut (``printable``, :data:`EXCERPT_WIDTH`)."""
     sources = sources if sources is not None else {}
     out: list[str] = []
     for d in diagnostics:
+        if d.severity is Severity.WARNING:
+            RENDERING.warnings_seen += 1
+            if RENDERING.quiet:
+                continue
         out.append(f"{_location(d.span)}{d.severity.value} {d.code.id}: "
                    f"{_shortened(d.message)}")
         text = sources.get(d.span.file)
@@ -216,7 +234,14 @@ def _location(span: Span) -> str:
 
 
 def render_json(diagnostics: Iterable[Diagnostic]) -> str:
-    return json.dumps([d.to_json() for d in diagnostics], indent=2) + "\n"
+    return json.dumps(diagnostics_json(diagnostics), indent=2) + "\n"
+
+
+def diagnostics_json(diagnostics: Iterable[Diagnostic]) -> list[dict[str, object]]:
+    """The diagnostics as JSON values (all of them: ``quiet`` concerns text only)."""
+    out = [d.to_json() for d in diagnostics]
+    RENDERING.warnings_seen += sum(1 for d in out if d["severity"] == "WARNING")
+    return out
 
 
 def did_you_mean(name: str, candidates: Iterable[str]) -> str:

@@ -85,6 +85,9 @@ def write_all(files: Mapping[str, str | bytes], out_dir: Path) -> list[Path]:
         staging = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-", dir=out_dir))
     except OSError as err:
         raise OutputError(f"cannot create {out_dir}: {err.strerror or err}") from None
+    from cyphy import progress
+
+    progress.stage(f"writing {len(files)} file{'s' if len(files) != 1 else ''} into {out_dir}")
     try:
         for rel, content in files.items():
             target = staging / rel

@@ -12,6 +12,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
+from cyphy import progress
 from cyphy.diagnostics import Code, Report, Severity
 from cyphy.lang import ast
 from cyphy.wellformed.registry import WFContext, rule
@@ -31,6 +32,7 @@ def _models(ctx: WFContext) -> list[Any]:
 
         models = []
         for pm, f in top_level_pmodels(ctx.workspace):
+            progress.stage(f"elaborating {pm.name}")
             scratch = Report()
             models.append(elaborate_pmodel(ctx.workspace, ctx.resolution, scratch, pm, f,
                                            ctx.consts, devices=False))
