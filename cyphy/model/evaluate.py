@@ -36,6 +36,7 @@ from __future__ import annotations
 import functools
 import inspect
 import math
+import sys
 import numbers
 from types import MappingProxyType
 from typing import Callable, Mapping, TypeAlias, Union
@@ -166,10 +167,15 @@ def literal_value(text: str) -> int | float:
     return value
 
 
+_LARGEST = int(sys.float_info.max)
+
+
 def _require_finite(value: Value) -> None:
     """Overflow and NaN are errors, not values: SDF has no way to write ``inf``."""
     if isinstance(value, float) and not math.isfinite(value):
         raise ValueError("the result is not a finite number (overflow)")
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > _LARGEST:
+        raise ValueError("the result is too large (beyond ±1.8e308)")
     if isinstance(value, np.ndarray) and not np.all(np.isfinite(value)):
         raise ValueError("the result has an entry that is not a finite number (overflow)")
 
@@ -801,7 +807,10 @@ def _compile(node: Expr) -> Compiled | None:
     """A closure computing ``node`` with the interpreter's own operations, for the node kinds
     that dominate repeated evaluation (poses of indexed blocks); None for anything else."""
     if isinstance(node, Num):
-        value: Value = literal_value(node.text)
+        try:
+            value: Value = literal_value(node.text)
+        except ValueError:
+            return None  # the interpreter reports it
         return lambda env: value
     if isinstance(node, Name):
         key = node.text
