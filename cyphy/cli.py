@@ -1,7 +1,8 @@
 """The ``cyphy`` command line: arguments in, rendered diagnostics and an exit status out.
 
 Heavy libraries are imported by the subcommands that need them, so ``cyphy --help`` and
-``cyphy check`` start fast. Exit status: 0 no errors (warnings allowed), 1 errors, 2 usage.
+``cyphy check`` start fast. Exit status: 0 no errors (warnings allowed), 1 errors, 2 usage,
+70 an internal error (a bug), 130 interrupted. Diagnostics go to stderr.
 """
 
 from __future__ import annotations
