@@ -88,17 +88,23 @@ def _parser() -> argparse.ArgumentParser:
     for _, _, add_options in GENERATORS.values():
         add_options(gen)
     _add_reach(sub)
-    parser.add_argument("--version", action="version", version=f"cyphy {_version()}")
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="print cyphy's version and exit")
     _common_options(parser, False)
     for command in sub.choices.values():  # also after the command: `cyphy check -q …`
         _common_options(command, argparse.SUPPRESS)
     return parser
 
 
-def _version() -> str:
-    from cyphy import __version__
+class _Version(argparse.Action):
+    """``--version``, reading the package metadata only when asked (it costs a start)."""
 
-    return __version__
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: object, option_string: str | None = None) -> None:
+        import cyphy
+
+        sys.stdout.write(f"cyphy {cyphy.__version__}\n")
+        parser.exit()
 
 
 def _common_options(parser: argparse.ArgumentParser, default: object) -> None:
