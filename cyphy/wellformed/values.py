@@ -26,7 +26,8 @@ def _models(ctx: WFContext) -> list[Any]:
     division by zero, overflow, a constant defined in terms of itself) and ranges that make
     too many copies (``E-INDEX``) are reported, so that
     ``cyphy check`` rejects what the generators reject; the others (a model that cannot be
-    chosen, constants without values) concern generation only."""
+    chosen, constants without values) concern generation only. Evaluation errors are reported
+    when the model has no other errors, as ``gen`` reports them."""
     if "elaborated" not in ctx.cache:
         from cyphy.model.elaborate import EVAL, INDEX, elaborate_pmodel, top_level_pmodels
 
@@ -36,9 +37,12 @@ def _models(ctx: WFContext) -> list[Any]:
             scratch = Report()
             models.append(elaborate_pmodel(ctx.workspace, ctx.resolution, scratch, pm, f,
                                            ctx.consts, devices=False))
-            ix1 = {d.span for d in ctx.report.reported_since(0) if d.code.id == "IX1"}
-            ctx.report.extend(d for d in scratch.reported_since(0) if d.code is EVAL
-                              or (d.code is INDEX and d.span not in ix1))
+            # After other errors, these are often their consequence (a boolean given for a
+            # real constant: P3, then E-EVAL; a real bound: IX1, then E-INDEX): `gen` reports
+            # them only once the model has no other errors, and so does `check`.
+            if not any(d.severity is Severity.ERROR for d in ctx.report.reported_since(0)):
+                ctx.report.extend(d for d in scratch.reported_since(0)
+                                  if d.code is EVAL or d.code is INDEX)
         ctx.cache["elaborated"] = models
     return ctx.cache["elaborated"]
 
