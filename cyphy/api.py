@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
-from cyphy import collector
+from cyphy import collector, progress
 from cyphy.diagnostics import Report, Span
 from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
@@ -58,6 +58,7 @@ def _front_end(paths: Sequence[str | Path], options: CheckOptions) -> CheckResul
     if options.neighbours_as_targets:
         ws.targets = _with_dependencies(ws)
     check_placement(ws.user_files(), report)
+    progress.stage("resolving names")
     result.resolution = check_scopes(ws, report)
     if options.wellformedness:
         from cyphy.wellformed import RULES, WFContext, check_wellformed
@@ -140,6 +141,7 @@ class ElaborateOptions:
     model: str | None = None
     consts: dict[str, object] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
+    despite_value_errors: bool = False  # `cyphy show`: elaborate a model with V1-V5/E-EVAL
 
 
 @dataclass
@@ -159,11 +161,41 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
     from cyphy.model.elaborate import elaborate as run
 
     checked = check(paths, CheckOptions(search_paths=options.search_paths))
-    if checked.report.has_errors or checked.resolution is None:
+    if checked.resolution is None or (checked.report.has_errors and not (
+            options.despite_value_errors
+            and all(_value_error(d) for d in checked.report.errors))):
         return ElaborateResult(checked, None)
     model = run(checked.workspace, checked.resolution, checked.report, options.model,
                 options.consts)  # type: ignore[arg-type]
     return ElaborateResult(checked, model)
+
+
+def _value_error(d: Any) -> bool:
+    """Whether an error concerns only values (``V1``-``V5``, ``E-EVAL``): the model can
+    still be elaborated and shown, with the error reported; generators refuse it."""
+    import re
+
+    return d.code.id == "E-EVAL" or re.fullmatch(r"V\d+", d.code.id) is not None
+
+
+class UsageError(ValueError):
+    """An option that names nothing in the model (``solve --element Nope::X``): the caller's
+    mistake, not the model's, so not a diagnostic; the CLI exits with status 2."""
+
+
+def unknown_elements(model: "ElaboratedModel", elements: Sequence[str]) -> str | None:
+    """Why some of ``elements`` (qualified names) name no element with equations of
+    ``model``, or None when each names one (or contains some)."""
+    from cyphy.diagnostics import did_you_mean
+
+    names = {e.name for e in [*model.joints, *model.unconnected, *model.sensors,
+                              *model.actuators]}
+    for q in elements:
+        if not any(n == q or n.startswith(q + "::") for n in names):
+            return (f"'{q}' names no element of {model.name}; "
+                    + (did_you_mean(q, names) or f"qualified names start with "
+                       f"{model.name}::"))
+    return None
 
 
 @dataclass(frozen=True)
@@ -202,6 +234,9 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
     if model is None:
         return result
     report = elaborated.report
+    unknown = unknown_elements(model, options.elements)
+    if unknown:
+        raise UsageError(unknown)
     try:
         mapping, call, params = (None, None, ())
         if options.mapping_call is not None:

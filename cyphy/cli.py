@@ -1,7 +1,8 @@
 """The ``cyphy`` command line: arguments in, rendered diagnostics and an exit status out.
 
 Heavy libraries are imported by the subcommands that need them, so ``cyphy --help`` and
-``cyphy check`` start fast. Exit status: 0 no errors (warnings allowed), 1 errors, 2 usage.
+``cyphy check`` start fast. Exit status: 0 no errors (warnings allowed), 1 errors, 2 usage,
+70 an internal error (a bug), 130 interrupted. Diagnostics go to stderr.
 """
 
 from __future__ import annotations
@@ -126,12 +127,20 @@ def _parser() -> argparse.ArgumentParser:
                              help=flag_help)
     gen.add_argument("-o", "--output", metavar="DIR", help="output folder")
     gen.add_argument("--model", metavar="NAME", help="the p-model (or mapping) to generate for")
+    gen.add_argument("--format", choices=("text", "json"), default="text",
+                     help="json: print one JSON document (files written, diagnostics) on "
+                     "stdout instead of text")
     _const_options(gen)
     _path_option(gen)
     for _, _, add_options in GENERATORS.values():
         add_options(gen)
     _add_reach(sub)
     _add_view(sub)
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="print cyphy's version and exit")
+    _common_options(parser, False)
+    for command in sub.choices.values():  # also after the command: `cyphy check -q …`
+        _common_options(command, argparse.SUPPRESS)
     return parser
 
 
@@ -198,6 +207,26 @@ def _view(args: argparse.Namespace) -> int:
     return generated.report.exit_code
 
 
+class _Version(argparse.Action):
+    """``--version``, reading the package metadata only when asked (it costs a start)."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: object, option_string: str | None = None) -> None:
+        import cyphy
+
+        sys.stdout.write(f"cyphy {cyphy.__version__}\n")
+        parser.exit()
+
+
+def _common_options(parser: argparse.ArgumentParser, default: object) -> None:
+    """Options of every command, accepted before and after its name (a subcommand's copy
+    does not override what was given before it)."""
+    parser.add_argument("-q", "--quiet", action="store_true", default=default,
+                        help="print errors only: no warnings, progress or summary lines")
+    parser.add_argument("--warnings-as-errors", action="store_true", default=default,
+                        help="exit with status 1 when there are warnings (gen writes nothing)")
+
+
 def _gen(args: argparse.Namespace) -> int:
     from pathlib import Path
 
@@ -211,21 +240,37 @@ def _gen(args: argparse.Namespace) -> int:
     run, _, _ = GENERATORS[args.target]
     generated = run(args)
     diagnostics = generated.report.diagnostics
-    if diagnostics:
+    as_json = getattr(args, "format", "text") == "json"
+    if diagnostics and not as_json:
         sys.stderr.write(render_text(diagnostics, dict(generated.sources)))
-    if generated.report.has_errors or not generated.files:
-        sys.stderr.write("cyphy gen: nothing written: the model has errors\n")
-        return 1
-    folder = getattr(args, "default_folder", args.target)  # a generator may choose another
-    out_dir = Path(args.output) if args.output else default_output_dir(args.paths, folder)
-    try:
-        written = write_all(generated.files, out_dir)
-    except OutputError as err:
-        sys.stderr.write(f"cyphy gen: error: {err}\n")
-        return 1
-    for path in written:
-        sys.stdout.write(f"wrote {path}\n")
-    return generated.report.exit_code
+    refused = args.warnings_as_errors and any(d.severity.value == "WARNING"
+                                              for d in diagnostics)
+    written: list[Path] = []
+    problem = None
+    if generated.report.has_errors or not generated.files or refused:
+        problem = "nothing written: the model has " + ("warnings (--warnings-as-errors)"
+                                                       if refused else "errors")
+    else:
+        folder = getattr(args, "default_folder", args.target)  # a generator may choose
+        out_dir = Path(args.output) if args.output else default_output_dir(args.paths, folder)
+        try:
+            written = write_all(generated.files, out_dir)
+        except OutputError as err:
+            problem = f"error: {err}"
+    if as_json:  # one document on stdout: what was written and every diagnostic
+        import json
+
+        from cyphy.diagnostics import diagnostics_json
+
+        sys.stdout.write(json.dumps({"written": [str(p) for p in written], "error": problem,
+                                     "diagnostics": diagnostics_json(diagnostics)},
+                                    indent=2) + "\n")
+    elif problem:
+        sys.stderr.write(f"cyphy gen: {problem}\n")
+    elif not args.quiet:
+        for path in written:
+            sys.stdout.write(f"wrote {path}\n")
+    return 1 if problem else generated.report.exit_code
 
 
 def _options_of_other_targets(args: argparse.Namespace) -> str | None:
@@ -256,15 +301,29 @@ GENERATORS: dict[str, tuple[Callable[[argparse.Namespace], "Generated"], str,
 
 
 def _sdf_pose(text: str) -> tuple[float, float, float, float, float, float]:
+    import math
+
     parts = text.split(",")
     try:
         values = tuple(float(p) for p in parts)
     except ValueError:
         values = ()
-    if len(values) != 6:
-        raise argparse.ArgumentTypeError(f"expected six numbers x,y,z,roll,pitch,yaw, not "
-                                         f"{text!r}")
+    if len(values) != 6 or not all(math.isfinite(v) for v in values):
+        raise argparse.ArgumentTypeError(f"expected six finite numbers x,y,z,roll,pitch,yaw, "
+                                         f"not {text!r}")
     return values  # type: ignore[return-value]
+
+
+def _joined_values(argv: Sequence[str]) -> list[str]:
+    """``--pose -1,0,0,0,0,0`` as ``--pose=-1,…``: argparse takes a value that starts with
+    ``-`` and is not a plain number for an option, and would refuse the pose."""
+    out: list[str] = []
+    for i, arg in enumerate(argv):
+        if i > 0 and argv[i - 1] == "--pose" and arg.startswith("-") and "," in arg:
+            out[-1] = f"--pose={arg}"
+        else:
+            out.append(arg)
+    return out
 
 
 def _sdf_options(gen: argparse.ArgumentParser) -> None:
@@ -514,6 +573,10 @@ def _isabelle(args: argparse.Namespace) -> "Generated":
 
     from cyphy.api import generate_isabelle
 
+    if args.isabelle_element and args.isabelle_dialect != "axiomatic":
+        sys.stderr.write("cyphy gen: error: --isabelle-element needs --isabelle-dialect "
+                         "axiomatic (the utp dialect keeps every equation)\n")
+        raise SystemExit(2)
     options = _semantics_gen_options(args)
     if args.isabelle_dialect == "axiomatic":
         args.default_folder = "isabelle-axiomatic"  # beside isabelle-gen/, never mixed in
@@ -536,13 +599,17 @@ GENERATORS["isabelle"] = (_isabelle, "an Isabelle/UTP session of the CyPhyCircus
                           "of a platform mapping (isabelle-gen/)", _isabelle_options)
 
 def _solve(args: argparse.Namespace) -> int:
-    from cyphy.api import SolveOptions, solve
+    from cyphy.api import SolveOptions, UsageError, solve
     from cyphy.backends.odes import odes_to_json, odes_to_latex, odes_to_text
     from cyphy.diagnostics import render_text
 
     options = SolveOptions(args.model, tuple(args.element), args.mapping_call, _consts(args),
                            tuple(args.path), gravity=args.gravity)
-    result = solve(args.paths, options)
+    try:
+        result = solve(args.paths, options)
+    except UsageError as err:
+        sys.stderr.write(f"cyphy solve: error: --element {err}\n")
+        return 2
     diagnostics = result.report.diagnostics
     if diagnostics:
         sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))
@@ -638,6 +705,10 @@ def _gravity_option(parser: argparse.ArgumentParser) -> None:
 def _path_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--path", action="append", default=[], metavar="DIR",
                         help="another folder of model files to resolve names against")
+    # Every command that reads models takes --path, and so the limit on copies.
+    parser.add_argument("--max-copies", type=_positive_int, metavar="N",
+                        help="most copies that index ranges may make in one model (default "
+                        "100000, or $CYPHY_MAX_COPIES)")
 
 
 def _const_options(parser: argparse.ArgumentParser) -> None:
@@ -668,7 +739,8 @@ def _show(args: argparse.Namespace) -> int:
     if args.dmodel:
         return _show_dmodel(args)
     consts = _consts(args)
-    result = elaborate(args.paths, ElaborateOptions(args.model, consts, tuple(args.path)))
+    result = elaborate(args.paths, ElaborateOptions(args.model, consts, tuple(args.path),
+                                                    despite_value_errors=True))
     diagnostics = result.report.diagnostics
     if diagnostics:
         sys.stderr.write(render_text(diagnostics, dict(result.check.sources)))
@@ -773,16 +845,17 @@ def _check(args: argparse.Namespace) -> int:
                                             consistency=args.consistency,
                                             z3_timeout_ms=args.z3_timeout))
     diagnostics = result.report.diagnostics
-    if args.format == "json":
+    if args.format == "json":  # the document asked for: the command's output
         sys.stdout.write(render_json(diagnostics))
-    else:
-        sys.stdout.write(render_text(diagnostics, dict(result.sources)))
+    else:  # diagnostics go to stderr, as every command's do
+        sys.stderr.write(render_text(diagnostics, dict(result.sources)))
         errors = sum(1 for d in diagnostics if d.severity.value == "ERROR")
         warnings = len(diagnostics) - errors
         files = len(result.workspace.targets)
-        sys.stdout.write(f"{files} file{'s' if files != 1 else ''} checked: "
-                         f"{errors} error{'s' if errors != 1 else ''}, "
-                         f"{warnings} warning{'s' if warnings != 1 else ''}\n")
+        if not args.quiet:
+            sys.stderr.write(f"{files} file{'s' if files != 1 else ''} checked: "
+                             f"{errors} error{'s' if errors != 1 else ''}, "
+                             f"{warnings} warning{'s' if warnings != 1 else ''}\n")
     return result.report.exit_code
 
 
@@ -791,17 +864,42 @@ def run() -> NoReturn:
     Freeing a large model object by object, and the final collection before it, take seconds
     on a 10,000-link model; everything has been written and closed by then, and the standard
     streams are flushed here (mypy ends the same way)."""
-    code = main()
+    from cyphy import progress
+    from cyphy.deep import run_deep
+
     try:
+        progress.start()
+        try:  # deeply nested models need a deep stack (cyphy/deep.py)
+            code = run_deep(main, progress.tick)
+        finally:
+            progress.finish()
         sys.stdout.flush()
         sys.stderr.flush()
     except BrokenPipeError:  # `cyphy show … | head`: the reader has gone
         pass
+    except KeyboardInterrupt:  # Ctrl-C while waiting, or while the output is flushed
+        code = 130
     os._exit(code)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    args = _parser().parse_args(argv)
+    from cyphy.diagnostics import RENDERING
+
+    args = _parser().parse_args(_joined_values(sys.argv[1:] if argv is None else argv))
+    if getattr(args, "max_copies", None):
+        os.environ["CYPHY_MAX_COPIES"] = str(args.max_copies)  # read by cyphy.limits
+    RENDERING.quiet, RENDERING.warnings_seen = args.quiet, 0
+    code = _command(args)
+    if code == 0 and args.warnings_as_errors and RENDERING.warnings_seen:
+        sys.stderr.write(f"cyphy: error: {RENDERING.warnings_seen} warning"
+                         f"{'s' if RENDERING.warnings_seen != 1 else ''} "
+                         "(--warnings-as-errors)\n")
+        return 1
+    return code
+
+
+def _command(args: argparse.Namespace) -> int:
+    """The chosen command's exit status; what it raises becomes a status too."""
     try:
         if args.command == "check":
             return _check(args)
@@ -819,6 +917,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _view(args)
     except KeyboardInterrupt:
         return 130
+    except RecursionError:
+        sys.stderr.write(TOO_DEEP)
+        return 1
     except Exception as err:  # a bug of ours: say so plainly, without a traceback
         sys.stderr.write(f"cyphy: internal error ({type(err).__name__}: {err}); please report "
                          "it with the model that caused it (set CYPHY_TRACEBACK=1 for "
@@ -827,6 +928,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise
         return 70
     return 2
+
+
+TOO_DEEP = ("cyphy: error: the model nests too deeply (expressions, blocks or parts nested "
+            "thousands of levels deep)\n")
 
 
 def _latex_options(parser: argparse.ArgumentParser) -> None:

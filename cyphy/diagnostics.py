@@ -137,12 +137,68 @@ class Report:
         return 1 if self.has_errors else 0
 
 
+#: The longest source excerpt and message printed: a model may hold a 5 MB line.
+EXCERPT_WIDTH = 160
+MESSAGE_WIDTH = 1000
+
+
+def printable(text: str) -> str:
+    """``text`` with control characters (terminal escape sequences, NUL, bidirectional
+    overrides) written as escapes (``\\x1b``), so a model's bytes never act on the terminal."""
+    return "".join(ch if ch.isprintable() or ch == " " else _escape(ch) for ch in text)
+
+
+def _escape(ch: str) -> str:
+    code = ord(ch)
+    return f"\\x{code:02x}" if code < 0x100 else f"\\u{code:04x}" if code < 0x10000 \
+        else f"\\U{code:08x}"
+
+
+def _shortened(text: str, limit: int = MESSAGE_WIDTH) -> str:
+    text = printable(text)
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
+def _excerpt(line: str, column: int, width: int) -> tuple[str, int, int]:
+    """The part of a source line to print, escaped, and where the caret goes in it (column
+    from 0, width): a window of :data:`EXCERPT_WIDTH` characters around ``column``."""
+    line = line.replace("\t", " ")
+    start = max(0, min(column - 1 - EXCERPT_WIDTH // 3, len(line) - EXCERPT_WIDTH))
+    end = min(len(line), start + EXCERPT_WIDTH)
+    before = printable(line[start:column - 1])
+    marked = printable(line[column - 1:column - 1 + width])
+    text = ("…" if start > 0 else "") + printable(line[start:end]) + ("…" if end < len(line)
+                                                                        else "")
+    caret = len(before) + (1 if start > 0 else 0)
+    return text, caret, max(1, min(len(marked), len(text) - caret))
+
+
+@dataclass
+class Rendering:
+    """How the command line shows diagnostics, set once by ``cyphy -q`` and
+    ``--warnings-as-errors`` for whichever command runs: ``quiet`` leaves warnings out of
+    :func:`render_text`; ``warnings_seen`` counts those it was given, so that the command's
+    exit status can treat them as errors."""
+
+    quiet: bool = False
+    warnings_seen: int = 0
+
+
+RENDERING = Rendering()
+
+
 def render_text(diagnostics: Iterable[Diagnostic], sources: dict[str, str] | None = None) -> str:
-    """Render like rustc or mypy: location, severity and code, the source line with a caret."""
+    """Render like rustc or mypy: location, severity and code, the source line with a caret.
+    What comes from the model is escaped and cut (``printable``, :data:`EXCERPT_WIDTH`)."""
     sources = sources if sources is not None else {}
     out: list[str] = []
     for d in diagnostics:
-        out.append(f"{d.span}: {d.severity.value} {d.code.id}: {d.message}")
+        if d.severity is Severity.WARNING:
+            RENDERING.warnings_seen += 1
+            if RENDERING.quiet:
+                continue
+        out.append(f"{_location(d.span)}{d.severity.value} {d.code.id}: "
+                   f"{_shortened(d.message)}")
         text = sources.get(d.span.file)
         if text is None and d.span.line > 0:
             try:
@@ -153,22 +209,39 @@ def render_text(diagnostics: Iterable[Diagnostic], sources: dict[str, str] | Non
         if text is not None and d.span.line > 0:
             lines = text.splitlines()
             if d.span.line <= len(lines):
-                src = lines[d.span.line - 1].replace("\t", " ")
                 width = 1
                 if d.span.end_line == d.span.line and d.span.end_column > d.span.column:
                     width = d.span.end_column - d.span.column
+                src, caret, width = _excerpt(lines[d.span.line - 1], d.span.column, width)
                 gutter = f"{d.span.line:>5} | "
                 out.append(gutter + src)
-                out.append(" " * (len(gutter) + d.span.column - 1) + "^" * max(1, width))
+                out.append(" " * (len(gutter) + caret) + "^" * width)
         for note in d.notes:
-            out.append(f"  note: {note}")
+            out.append(f"  note: {_shortened(note)}")
         if d.hint:
-            out.append(f"  hint: {d.hint}")
+            out.append(f"  hint: {_shortened(d.hint)}")
     return "\n".join(out) + ("\n" if out else "")
 
 
+def _location(span: Span) -> str:
+    """``file:line:column: `` — the file alone when no line is known, nothing when neither
+    is (never ``<unknown>:0:0``)."""
+    if span.file in ("", "<unknown>"):
+        return ""
+    if span.line <= 0:
+        return f"{printable(span.file)}: "
+    return f"{printable(span.file)}:{span.line}:{span.column}: "
+
+
 def render_json(diagnostics: Iterable[Diagnostic]) -> str:
-    return json.dumps([d.to_json() for d in diagnostics], indent=2) + "\n"
+    return json.dumps(diagnostics_json(diagnostics), indent=2) + "\n"
+
+
+def diagnostics_json(diagnostics: Iterable[Diagnostic]) -> list[dict[str, object]]:
+    """The diagnostics as JSON values (all of them: ``quiet`` concerns text only)."""
+    out = [d.to_json() for d in diagnostics]
+    RENDERING.warnings_seen += sum(1 for d in out if d["severity"] == "WARNING")
+    return out
 
 
 def did_you_mean(name: str, candidates: Iterable[str]) -> str:

@@ -3,12 +3,15 @@
 A generator returns its files as an ordered mapping of relative paths to text. They are
 written into a fresh temporary folder beside the destination first and moved into place
 only when every one of them has been written, so a failure (a full disk, a bad path) never
-leaves a half-written output behind.
+leaves a half-written output behind. A run killed while staging (SIGTERM, SIGKILL) cannot
+clean up after itself: its staging folder, named for its process id, is removed by the next
+run that writes into the same folder once that process is gone.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import tempfile
 from pathlib import Path
@@ -25,6 +28,37 @@ DEFAULT_FOLDERS = {
     "urdf": "urdf-gen",
     "mjcf": "mjcf-gen",
 }
+
+
+#: Staging folders are ``.cyphy-staging-<pid>-<random>``: the pid tells whether their writer
+#: still runs.
+STAGING_PREFIX = ".cyphy-staging-"
+_STAGING = re.compile(re.escape(STAGING_PREFIX) + r"(\d+)-[A-Za-z0-9_]+$")
+
+
+def remove_abandoned_staging(out_dir: Path) -> None:
+    """Remove the staging folders in ``out_dir`` left by runs that were killed (their
+    process no longer exists); folders of runs still going, and anything else, are kept."""
+    try:
+        entries = list(os.scandir(out_dir))
+    except OSError:
+        return
+    for entry in entries:
+        found = _STAGING.match(entry.name)
+        if found and entry.is_dir(follow_symlinks=False) and not _running(int(found[1])):
+            shutil.rmtree(entry.path, ignore_errors=True)
+
+
+def _running(pid: int) -> bool:
+    if pid == os.getpid() or os.name == "nt":  # Windows: os.kill would end the process
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OSError, OverflowError):
+        return True  # another user's process, or cannot tell: leave it alone
+    return True
 
 
 class OutputError(Exception):
@@ -49,9 +83,13 @@ def write_all(files: Mapping[str, str | bytes], out_dir: Path) -> list[Path]:
             raise OutputError(f"refusing to write {rel!r} outside {out_dir}")
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=".cyphy-", dir=out_dir))
+        remove_abandoned_staging(out_dir)
+        staging = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-", dir=out_dir))
     except OSError as err:
         raise OutputError(f"cannot create {out_dir}: {err.strerror or err}") from None
+    from cyphy import progress
+
+    progress.stage(f"writing {len(files)} file{'s' if len(files) != 1 else ''} into {out_dir}")
     try:
         for rel, content in files.items():
             target = staging / rel

@@ -17,14 +17,15 @@ BROKEN = "pmodel P {\n  local link L {\n    def { }\n    jref J = Revolte { }\n 
 
 def test_check_clean_example_exits_0(capsys) -> None:
     assert main(["check", str(EXAMPLES / "marxbot")]) == 0
-    assert "4 files checked: 0 errors, 0 warnings" in capsys.readouterr().out
+    out, err = capsys.readouterr()
+    assert "4 files checked: 0 errors, 0 warnings" in err and out == ""  # diagnostics: stderr
 
 
 def test_check_errors_exit_1_with_caret_and_hint(tmp_path: Path, capsys) -> None:
     model = tmp_path / "broken.rsm"
     model.write_text(BROKEN)
     assert main(["check", str(model)]) == 1
-    out = capsys.readouterr().out
+    out = capsys.readouterr().err
     assert f"{model}:4:5: ERROR S1: unknown joint definition 'Revolte'" in out
     assert "    4 |     jref J = Revolte { }\n" in out
     assert "hint: did you mean 'Revolute'? (import physmod::joints::Revolute)" in out
@@ -59,7 +60,7 @@ def test_search_path(tmp_path: Path, capsys) -> None:
 
 def test_missing_path_is_an_error(tmp_path: Path, capsys) -> None:
     assert main(["check", str(tmp_path / "nope.rsm")]) == 1
-    assert "E-IO" in capsys.readouterr().out
+    assert "E-IO" in capsys.readouterr().err
 
 
 def test_usage_error_exits_2() -> None:

@@ -136,7 +136,6 @@ WAIVED: dict[str | tuple[str, str], Reason] = {
     # files (LR_IR, RangeAndBearing, RotatingScanner, Treel) are compared: G1 evaluates sin/cos.
     ("marXbot", "BaseModule"): G1,
     ("marXbot", "Marxbot"): G1,
-    "marXbot": INVALID,  # Treel Top/Bottom boxes of height 0
     # sin/cos in poses: link positions (§4 lists 15; 49 has the same `(0.085*cos(…))m` form),
     # joint positions of the indexed Prismatic jrefs (§4 lists IJ, IJFIL, IJTIL).
     "15_LinkRefIndex": TRIG,
@@ -147,11 +146,10 @@ WAIVED: dict[str | tuple[str, str], Reason] = {
     # §4 lists marXbot_simple: RSModule's `x = (0.044*cos(i*PI/2))m`, in two outputs.
     **{("marXbot_simple", f"{prefix}longrange::{i}::BBody"): TRIG
        for prefix in ("RotatingScanner::", "marXbot::p3::") for i in range(4)},
-    # RoboTool's examples with §6 invalid values: our V1/V2 checks reject them.
+    # RoboTool's examples with §6 invalid values: our V1/V2 checks reject them (the Treel's
+    # zero-height boxes are a V2 warning since issue 20: simulators load them).
     "14_LinkRef": INVALID,  # non-PD inertia
-    "21_BaseModule": INVALID,  # Treel Top/Bottom boxes of height 0
     "29_testvar": INVALID,  # mass −18
-    "marXbot_simple": INVALID,  # Treel Top/Bottom boxes of height 0
     "TwoLinksPlusFixedConnection": INVALID,  # non-PD inertia
     # ixx = 0 (second_link); TwoBodiesPlusInertia: the non-PD inertia is its body's (Tip::bd),
     # which RoboTool ignores anyway (§1.3 "Body-level inertial information is ignored").

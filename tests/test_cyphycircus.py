@@ -364,3 +364,22 @@ def test_latex_pdf(tmp_path: Path) -> None:
     second = _gen(tmp_path / "again", "--latex", "--pdf")
     assert second.returncode == 0
     assert (tmp_path / "again" / "M.pdf").read_bytes() == pdf  # reproducible
+
+
+@pytest.mark.skipif(shutil.which("pdflatex") is None, reason="pdflatex is not installed")
+def test_latex_string_constants_are_escaped(tmp_path: Path) -> None:
+    """Issue 20: `$ % # & ^ _ ~ }` were written raw, and the document did not typeset."""
+    from cyphy import expr as ex
+    from cyphy.backends.circus_latex import STYLE, LatexExpression
+
+    hostile = 'cost $5 100% #1 a&b x^2 my_var ~ {x} \\end{document} <a|b> "q"\x1b[31m'
+    printed = LatexExpression().print(ex.Str(hostile))
+    (tmp_path / "cyphycircus.sty").write_text(STYLE, encoding="utf-8")
+    (tmp_path / "s.tex").write_text(
+        "\\documentclass{article}\n\\usepackage{cyphycircus}\n\\begin{document}\n"
+        f"\\begin{{zed}} s == {printed} \\end{{zed}}\n\\end{{document}}\n", encoding="utf-8")
+    run = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "s.tex"],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stdout[-3000:]
+    assert "\x1b" not in printed and "end{document}" not in printed.replace(
+        "\\textbackslash{}end\\{document\\}", "")

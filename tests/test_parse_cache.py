@@ -112,9 +112,62 @@ def test_stale_fingerprint_folders_are_removed(cache: Path) -> None:
     old, recent = cache / "parse-old", cache / "parse-recent"
     for folder in (old, recent):
         folder.mkdir(parents=True)
+        (folder / parse_cache.MARKER).write_text("Signature: 8a477f597d28d172789f06886806bc55")
+        (folder / "0123.pickle").write_bytes(b"x")
     os.utime(old, (0, 0))
     parse_cache.parse(GOOD, "m.rsm")
     assert not old.exists() and recent.exists()
+    assert (cache / f"parse-{parse_cache.fingerprint()}" / parse_cache.MARKER).is_file()
+
+
+def test_cleanup_leaves_what_cyphy_did_not_make(cache: Path) -> None:
+    """A stale folder without cyphy's marker is someone's data (issue 20: it was deleted);
+    in a marked one, only cyphy's entries go."""
+    theirs, mixed = cache / "parse-results", cache / "parse-mixed"
+    theirs.mkdir(parents=True)
+    (theirs / "data.csv").write_text("1,2\n")
+    mixed.mkdir()
+    (mixed / parse_cache.MARKER).write_text("Signature: 8a477f597d28d172789f06886806bc55")
+    (mixed / "0123.pickle").write_bytes(b"x")
+    (mixed / "notes.txt").write_text("mine")
+    for folder in (theirs, mixed):
+        os.utime(folder, (0, 0))
+    parse_cache.parse(GOOD, "m.rsm")
+    assert (theirs / "data.csv").read_text() == "1,2\n"
+    assert (mixed / "notes.txt").is_file() and not (mixed / "0123.pickle").exists()
+
+
+def test_a_pickle_of_another_type_is_a_miss(cache: Path) -> None:
+    """A valid pickle that is not a parse result (issue 20: every run then exited 70)."""
+    import hashlib
+    import pickle
+
+    parse_cache.parse(GOOD, "m.rsm")
+    (entry,) = entries(cache)
+    entry.write_bytes(hashlib.sha256(GOOD.encode()).digest() + pickle.dumps({"a": 1}))
+    entry.chmod(0o600)
+    parsed = parse_cache.parse(GOOD, "m.rsm")
+    assert isinstance(parsed, ParseResult) and parsed.file == parse_text(GOOD, "m.rsm").file
+    assert main_check_exit(entry.parent.parent) == 0
+
+
+def main_check_exit(cache_dir: Path) -> int:
+    proc = subprocess.run([sys.executable, "-m", "cyphy", "check", str(EXAMPLES / "marxbot")],
+                          capture_output=True, text=True, cwd=ROOT,
+                          env={**os.environ, "CYPHY_CACHE_DIR": str(cache_dir),
+                               "PYTHONPATH": str(ROOT)})
+    return proc.returncode
+
+
+def test_the_cache_is_kept_under_its_size_limit(cache: Path,
+                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("CYPHY_CACHE_MAX_MB", "0.004")  # about 4 kB: two or three entries
+    monkeypatch.setattr(parse_cache, "_sizes", {})
+    for i in range(12):
+        parse_cache.parse(GOOD, f"m{i}.rsm")
+        os.utime(entries(cache)[-1].parent / parse_cache.MARKER)
+    total = sum(p.stat().st_size for p in entries(cache))
+    assert 0 < total <= 4.1 * 1024 and len(entries(cache)) < 12
 
 
 def test_a_cached_workspace_checks_like_a_parsed_one(cache: Path,

@@ -577,3 +577,67 @@ def test_pybullet_target_writes_a_gearbox_as_a_revolute_joint(tmp_path, sdf_chec
     assert "<xyz>1 0 0</xyz>" in joint_xml
     assert "axis2" not in joint_xml and "gearbox" not in joint_xml
     valid(sdf_checker, pybullet_loader, tmp_path / "out.sdf", 1)
+
+
+@pytest.mark.parametrize("member, annotation, name", [
+    ("sensor S", "annotation IMU { update_rate = G }", "G"),  # corpus 17_testSensorVar
+    ("sensor S", "annotation Sonar { sonar = SonarDetails { min = G } }", "G"),
+    ("joint J", "annotation Gearbox { gearbox_ratio = G }", "G"),
+])
+def test_an_annotation_naming_a_constant_without_value_is_E_CONST(
+        tmp_path: Path, capsys, member: str, annotation: str, name: str) -> None:
+    """Issue 20: the name was written verbatim (`<update_rate>G</update_rate>`)."""
+    extra = "flexibly connected to L2" if member.startswith("joint") else ""
+    model = tmp_path / "m.rsm"
+    model.write_text(HEADER + f"""pmodel M {{
+  local link L {{
+    def {{ inertial information {{ mass 1 }} }}
+    local {member} {{
+      def {{
+        const {name}: real
+        {annotation}
+      }}
+      {extra}
+    }}
+  }}
+  local link L2 {{ def {{ inertial information {{ mass 1 }} }} }}
+}}
+""")
+    out = tmp_path / "out"
+    assert main(["gen", "--sdf", "-o", str(out), str(model)]) == 1
+    err = capsys.readouterr().err
+    assert "E-CONST" in err and f"::{name}" in err and not out.exists()
+    assert main(["gen", "--sdf", "-o", str(out), "--const", f"{name}=0.5", str(model)]) == 0
+    assert f">{name}<" not in next(out.glob("*.sdf")).read_text()
+
+
+@pytest.mark.parametrize("pose", ["nan,0,0,0,0,0", "0,0,inf,0,0,0", "0,0,0,0,0,-inf"])
+def test_a_pose_that_is_not_finite_is_a_usage_error(tmp_path: Path, capsys, pose: str) -> None:
+    with pytest.raises(SystemExit) as exit:
+        main(["gen", "--sdf", "--pose", pose, "-o", str(tmp_path / "o"),
+              str(EXAMPLES / "marxbot")])
+    assert exit.value.code == 2 and "finite" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_negative_pose_needs_no_equals_sign(tmp_path: Path) -> None:
+    out = tmp_path / "o"
+    assert main(["gen", "--sdf", "--pose", "-1,0,0.5,0,0,-1.5", "-o", str(out),
+                 str(EXAMPLES / "marxbot")]) == 0
+    root = ET.parse(out / "marXbotBase.sdf").getroot()
+    assert root.find("model/pose").text == "-1 0 0.5 0 0 -1.5"
+
+
+def test_zero_size_box_gives_sdf_that_libsdformat_accepts(tmp_path: Path,
+                                                          sdf_checker) -> None:
+    """A plate of height 0 (the marXbot's tracks): a warning, and SDF is written."""
+    from sdf_tools.validate import check_sdf
+
+    result, sdf = generate(tmp_path, """
+        pmodel M { local link L { def { } local body Plate { def {
+          box(length = 0.2, width = 0.05, height = 0)
+          inertial information { mass 0.1 } } } } }
+        """)
+    assert [(d.code.id, d.severity.value) for d in result.report.diagnostics] == \
+        [("V2", "WARNING")]
+    assert check_sdf([tmp_path / "out.sdf"]) == {tmp_path / "out.sdf": []}

@@ -317,10 +317,14 @@ def test_PMap11_library_functions_may_be_called(tmp_path: Path) -> None:
     assert check(tmp_path, mapping=remap(STOP, stop)) == []
 
 
-def test_PMap12_input_event_without_predicate(tmp_path: Path) -> None:
+def test_PMap12_input_event_without_predicate_occurs_every_cycle(tmp_path: Path) -> None:
+    """RoboTool's newer mappings (issue 20): accepted, with a warning saying what is assumed;
+    the semantics then tests `true`."""
     diags = check(tmp_path, mapping=remap(OBSTACLE, "  input event obstacle { }\n"))
     assert ids(diags) == [("PMap12", OBSTACLE_LINE)]
+    assert diags[0].severity.value == "WARNING"
     assert "input event obstacle has no predicate" in diags[0].message
+    assert "occurs in every cycle (predicate true)" in diags[0].message
 
 
 def test_PMap12_predicate_over_an_actuator_port(tmp_path: Path) -> None:
@@ -369,3 +373,22 @@ def test_every_pmap_rule_is_registered(rule: str) -> None:
     from cyphy.wellformed import RULES
 
     assert rule in RULES and RULES[rule].check.__module__ == "cyphy.wellformed.mappings"
+
+
+def test_an_input_event_without_predicate_generates_as_true(tmp_path: Path) -> None:
+    import shutil
+
+    from cyphy import api
+    from conftest import EXAMPLES
+
+    folder = tmp_path / "marxbot"
+    shutil.copytree(EXAMPLES / "marxbot", folder)
+    mapping = folder / "Mapping.rsm"
+    mapping.write_text(mapping.read_text().replace(
+        "predicate Core::Proximity[1].voltage >= 3.0", ""))
+    generated = api.generate_cyphycircus([mapping], "text")
+    assert [d.code.id for d in generated.report.diagnostics] == ["PMap12"]
+    text = generated.files["M.cpc"]
+    assert "ObstacleToDModel ≙" in text
+    obstacle = text[text.index("ObstacleToDModel ≙"):].split("\n")[0]
+    assert obstacle.startswith("ObstacleToDModel ≙ if true then registerRead.obstacle!true")

@@ -55,8 +55,8 @@ def test_clean_model(tmp_path: Path) -> None:
     ({"link_def": "inertial information { mass -2 }"}, "V1", 4, "mass of link V::A is -2"),
     ({"link_def": "inertial information { mass 2 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 3 } }"},
      "V1", 4, "inertia matrix of link V::A"),
-    ({"body1": "box(length = 1, width = 1, height = 0)"}, "V2", 6,
-     "box of body V::A::B1 has height = 0"),
+    ({"body1": "box(length = 1, width = -1, height = 1)"}, "V2", 6,
+     "box of body V::A::B1 has width = -1"),
     ({"body1": 'mesh { shape "meshes/arm.dae" }'}, "V2", 6,
      "mesh 'meshes/arm.dae' of body V::A::B1 does not exist"),
     ({"body2": "sphere(radius = 0.5) bounce { restitution coefficient 1.5 }"}, "V3", 7,
@@ -87,5 +87,44 @@ def test_values_from_const_option(tmp_path: Path) -> None:
     text = text.replace("pmodel V {", "const H: real\npmodel V {")
     (tmp_path / "v.rsm").write_text(text)
     assert api.check([tmp_path / "v.rsm"]).report.diagnostics == []  # H unknown: skipped
-    found = api.check([tmp_path / "v.rsm"], api.CheckOptions(consts={"H": 0})).report
+    found = api.check([tmp_path / "v.rsm"], api.CheckOptions(consts={"H": -1})).report
     assert [d.code.id for d in found.diagnostics] == ["V2"]
+
+
+def test_a_zero_size_is_a_warning(tmp_path: Path) -> None:
+    """Degenerate but loadable (libsdformat, PyBullet; the marXbot's track plates): issue 20."""
+    (tmp_path / "v.rsm").write_text(TEMPLATE.format(
+        **{**GOOD, "body1": "box(length = 1, width = 1, height = 0)"}))
+    found = api.check([tmp_path / "v.rsm"]).report
+    assert [(d.code.id, d.severity.value) for d in found.diagnostics] == [("V2", "WARNING")]
+    assert "height = 0" in found.diagnostics[0].message and not found.has_errors
+
+
+@pytest.mark.parametrize("uri, why", [
+    ("../../etc/passwd", "a path that leaves the model's folder"),
+    ("meshes/../../secret.dae", "a path that leaves the model's folder"),
+    ("/etc/passwd", "an absolute path"),
+    ("/nonexistent/arm.dae", "an absolute path"),
+    ("C:\\\\models\\\\arm.dae", "an absolute path"),
+    ("http://example.org/arm.dae", "a URL"),
+    ("file:///etc/passwd", "a URL"),
+])
+def test_a_mesh_outside_the_folder_is_a_warning_that_reveals_nothing(
+        tmp_path: Path, uri: str, why: str) -> None:
+    """Whether the file exists must not change the diagnostic (issue 20)."""
+    found = diags(tmp_path, body1=f'mesh {{ shape "{uri}" }}')
+    assert [(c, l) for c, l, _ in found] == [("V2", 6)]
+    assert why in found[0][2] and "does not exist" not in found[0][2]
+    report = api.check([tmp_path / "v.rsm"]).report
+    assert not report.has_errors
+
+
+def test_mesh_place_is_judged_from_the_text() -> None:
+    from cyphy.model.mesh_paths import outside_model_folder
+
+    assert outside_model_folder("meshes/arm.dae") is None
+    assert outside_model_folder("./a/../arm.stl") is None
+    assert outside_model_folder("model://robot/meshes/arm.dae") is None
+    assert outside_model_folder("package://robot/arm.dae") is None
+    assert outside_model_folder("..") == "a path that leaves the model's folder"
+    assert outside_model_folder("https://x/y.dae") == "a URL"

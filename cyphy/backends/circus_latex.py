@@ -27,6 +27,20 @@ def name(text: str) -> str:
     return text.replace("_", "\\_")
 
 
+#: LaTeX's special characters in text mode, each as the command that prints it.
+_TEXT_ESCAPES = {"\\": "\\textbackslash{}", "{": "\\{", "}": "\\}", "$": "\\$", "%": "\\%",
+                 "#": "\\#", "&": "\\&", "_": "\\_", "^": "\\textasciicircum{}",
+                 "~": "\\textasciitilde{}", "<": "\\textless{}", ">": "\\textgreater{}",
+                 "|": "\\textbar{}"}
+
+
+def text_mode(text: str) -> str:
+    """A string constant as LaTeX text that prints it as written: special characters
+    escaped, control characters (which TeX cannot print) as ``?``."""
+    return "".join(_TEXT_ESCAPES.get(ch, "?" if ord(ch) < 32 or ord(ch) == 127 else ch)
+                   for ch in text)
+
+
 def channel_name(channel: str, tag: str | None) -> str:
     return name(channel if tag is None else f"{channel}_{tag}")
 
@@ -50,7 +64,7 @@ class LatexExpression(NotationPrinter):
         return ("\\true" if e.value else "\\false"), ATOM
 
     def _print_Str(self, e: ex.Str) -> tuple[str, int]:
-        return "\\mbox{``" + e.value.replace("\\", "") + "''}", ATOM
+        return "\\mbox{``" + text_mode(e.value) + "''}", ATOM
 
     def _print_Name(self, e: ex.Name) -> tuple[str, int]:
         return name(e.text) + ("'" if e.text in self.primed else ""), ATOM

@@ -11,10 +11,15 @@ not even imported). So every successful parse is stored, as mypy and pytest keep
   its storage (the grammar, the parser, the syntax-tree and expression classes, diagnostics,
   codes, how they are pickled, and this module), so a changed cyphy never meets an old
   tree; folders of other fingerprints untouched for a week are removed when a new entry is
-  written;
+  written, but only folders that cyphy made (they hold the marker file ``CACHEDIR.TAG``) and
+  in them only cyphy's own entries: ``CYPHY_CACHE_DIR`` may point at a folder that holds
+  other data;
+* the entries of one folder are kept under ``$CYPHY_CACHE_MAX_MB`` (default 512 MB): when a
+  write passes it, the least recently written entries are removed;
 * files with syntax errors are not stored (their diagnostics are cheap to recompute);
 * the cache is only ever an optimisation: an unreadable, corrupt or unwritable cache is
-  ignored, silently, and the file is parsed.
+  ignored, silently, and the file is parsed; so is an entry that does not hold a parse
+  result.
 
 Location: ``$CYPHY_CACHE_DIR``, else ``$XDG_CACHE_HOME/cyphy``, else ``~/.cache/cyphy``.
 ``CYPHY_NO_CACHE=1`` turns it off. Entries are pickles: one is read only when this user
@@ -26,7 +31,6 @@ from __future__ import annotations
 import hashlib
 import os
 import pickle
-import shutil
 import tempfile
 import time
 from functools import lru_cache
@@ -38,6 +42,14 @@ _PACKAGE = Path(__file__).resolve().parent.parent
 _SOURCES = ("lang/robosim.lark", "lang/parser.py", "lang/ast.py", "expr.py", "diagnostics.py",
             "codes.py", "pickling.py", "lang/parse_cache.py")
 _STALE_AFTER_S = 7 * 24 * 3600
+#: The file that marks a folder as cyphy's (the Cache Directory Tagging format, which backup
+#: tools also honour); only folders holding it are ever cleaned.
+MARKER = "CACHEDIR.TAG"
+_MARKER_TEXT = ("Signature: 8a477f597d28d172789f06886806bc55\n"
+                "# This folder is a cache of cyphy's parser (see cyphy/lang/parse_cache.py).\n")
+_ENTRY_SUFFIXES = (".pickle", ".tmp")
+_DEFAULT_MAX_MB = 512
+_sizes: dict[Path, int] = {}  # bytes in each folder written to by this process
 
 
 @lru_cache(maxsize=1)
@@ -72,7 +84,9 @@ def parse(text: str, path: str) -> ParseResult:
     try:
         with entry.open("rb") as f:  # the text's hash, then the pickled result
             if _trusted(os.fstat(f.fileno())) and f.read(len(digest)) == digest:
-                return pickle.load(f)
+                loaded = pickle.load(f)
+                if isinstance(loaded, ParseResult):
+                    return loaded
     except Exception:  # missing, corrupt or from an incompatible run: parse instead
         pass
     parsed = _parse(text, path)
@@ -99,28 +113,68 @@ def _parse(text: str, path: str) -> ParseResult:
 def _store(folder: Path, entry: Path, digest: bytes, parsed: ParseResult) -> None:
     """Write one entry atomically (a concurrent reader sees the old entry or the new one)."""
     try:
-        if not folder.is_dir():
+        if not (folder / MARKER).is_file():
             folder.mkdir(parents=True, exist_ok=True)
+            (folder / MARKER).write_text(_MARKER_TEXT, encoding="utf-8")
             _remove_stale(folder)
         fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
         try:
             with os.fdopen(fd, "wb") as f:
                 f.write(digest)  # read first: a changed file costs no unpickling
                 pickle.dump(parsed, f, protocol=pickle.HIGHEST_PROTOCOL)
+                written = f.tell()
             os.replace(tmp, entry)
         except BaseException:
             os.unlink(tmp)
             raise
-    except (OSError, pickle.PicklingError):
-        pass
+        _cap(folder, written)
+    except (OSError, pickle.PicklingError, RecursionError):
+        pass  # a tree too deep to pickle is parsed again next time
+
+
+def _entries(folder: Path) -> list[os.DirEntry[str]]:
+    with os.scandir(folder) as it:
+        return [e for e in it if e.is_file(follow_symlinks=False)
+                and e.name.endswith(_ENTRY_SUFFIXES)]
+
+
+def _cap(folder: Path, written: int) -> None:
+    """Keep the folder's entries under the size limit, removing the oldest first (down to
+    three quarters of it, so that the next writes do not each scan the folder)."""
+    limit = int(float(os.environ.get("CYPHY_CACHE_MAX_MB") or _DEFAULT_MAX_MB) * 1024 * 1024)
+    if folder not in _sizes:
+        _sizes[folder] = sum(e.stat().st_size for e in _entries(folder))
+    else:
+        _sizes[folder] += written
+    if _sizes[folder] <= limit:
+        return
+    entries = sorted(_entries(folder), key=lambda e: e.stat().st_mtime)
+    total = sum(e.stat().st_size for e in entries)
+    for e in entries:
+        if total <= limit * 3 // 4:
+            break
+        try:
+            size = e.stat().st_size
+            os.unlink(e.path)
+            total -= size
+        except OSError:
+            continue
+    _sizes[folder] = sum(e.stat().st_size for e in _entries(folder))
 
 
 def _remove_stale(current: Path) -> None:
-    """Remove the folders of other fingerprints that nobody has written to for a week."""
+    """Remove the entries of other fingerprints' folders that nobody has written to for a
+    week, and those folders when that empties them. A folder without cyphy's marker is not
+    cyphy's and is left alone, whatever its name."""
     limit = time.time() - _STALE_AFTER_S
     for other in current.parent.glob("parse-*"):
         try:
-            if other != current and other.stat().st_mtime < limit:
-                shutil.rmtree(other, ignore_errors=True)
+            if other == current or not (other / MARKER).is_file() \
+                    or other.stat().st_mtime >= limit:
+                continue
+            for e in _entries(other):
+                os.unlink(e.path)
+            (other / MARKER).unlink()
+            other.rmdir()  # fails, harmlessly, when something else is in it
         except OSError:
             pass

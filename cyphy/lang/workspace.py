@@ -13,7 +13,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Iterable, Iterator
 
-from cyphy import codes
+from cyphy import codes, progress
 from cyphy.diagnostics import Report, Span
 from cyphy.lang import ast
 from cyphy.lang import parse_cache
@@ -128,11 +128,13 @@ def load_workspace(
                           "give a folder of model files")
 
     seen: set[Path] = set()
-    for p in targets + neighbours:
+    every = targets + neighbours
+    for i, p in enumerate(every):
         key = p.resolve()
         if key in seen:
             continue
         seen.add(key)
+        progress.stage(f"reading {p.name} ({i + 1}/{len(every)})")
         text = _read(p, report)
         if text is None:
             continue

@@ -11,6 +11,8 @@ after it, and a part may connect a joint of its own p-model (``joint J flexibly 
 
 from __future__ import annotations
 
+import math
+
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -22,12 +24,15 @@ from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
 from cyphy.lang.scopes import Scopes, is_constant, is_template
 from cyphy.lang.workspace import Workspace
+from cyphy.limits import max_copies
 from cyphy.model import inertia as inertia_math
 from cyphy.model.elements import (
     Actuator, AnnotationValue, Body, Device, ElaboratedModel, FixedJoint, Joint, Link, Port,
     Sensor, glued,
 )
-from cyphy.model.evaluate import EvalError, UnboundName, Value, coerce, evaluate_fast
+from cyphy.model.evaluate import (
+    EvalError, UnboundName, Value, coerce, evaluate_fast, literal_value,
+)
 from cyphy.model.poses import Pose
 
 MODEL = codes.code("E-MODEL", codes.E, "the p-model to elaborate cannot be chosen")
@@ -238,7 +243,11 @@ class _Context:
         if e is None:
             return None
         if isinstance(e, ex.Num):  # most values are literals: skip the evaluator
-            return int(e.text) if e.is_integer else float(e.text)
+            try:
+                return literal_value(e.text)
+            except ValueError as err:
+                self.report.report(EVAL, str(err), e.span, "write a smaller number")
+                return None
         if isinstance(e, (ex.Vector, ex.Matrix)) and _numbers_only(e):
             # A literal axis or matrix is written once per joint of a model, thousands of
             # times over: one value (read-only) per distinct literal.
@@ -305,7 +314,7 @@ def choose_pmodel(ws: Workspace, name: str | None, report: Report
                   "::".join(c[1].package + (c[0].name,)) == name]
         if not chosen:
             names = ", ".join(sorted(c[0].name for c in candidates)) or "(none)"
-            report.report(MODEL, f"no p-model named '{name}'", Span.unknown(name),
+            report.report(MODEL, f"no p-model named '{name}'", _files_span(ws),
                           f"the p-models are: {names}")
             return None
         return chosen[0]
@@ -313,13 +322,21 @@ def choose_pmodel(ws: Workspace, name: str | None, report: Report
     if len(top) == 1:
         return top[0]
     if not candidates:
-        report.report(MODEL, "no p-model in the given files", Span.unknown(),
+        report.report(MODEL, "no p-model in the given files", _files_span(ws),
                       "name a file or folder that declares a pmodel")
         return None
-    names = ", ".join(sorted(c[0].name for c in (top or candidates)))
-    report.report(MODEL, "several p-models could be meant", Span.unknown(),
-                  f"choose one with --model: {names}")
+    meant = sorted(top or candidates, key=lambda c: (c[0].span.file, c[0].span.line))
+    names = ", ".join(sorted(c[0].name for c in meant))
+    report.report(MODEL, "several p-models could be meant", meant[0][0].span,
+                  f"choose one with --model: {names}",
+                  [f"p-model {pm.name} is declared at {pm.span}" for pm, _ in meant[1:]])
     return None
+
+
+def _files_span(ws: Workspace) -> Span:
+    """Where a problem with the whole selection of files is reported: the first file given
+    (no line), or nowhere when there is none."""
+    return Span.unknown(str(ws.targets[0])) if ws.targets else Span.unknown()
 
 
 def elaborate(ws: Workspace, resolution: Resolution, report: Report, model: str | None = None,
@@ -357,6 +374,8 @@ class _Elaborator:
             int, tuple[ast.TemplateInstance, AnnotationValue, bool | None]] = {}
         self.relation_queue: list[tuple[ex.Expr, ast.Block, Device | None,
                                         dict[str, int]]] = []
+        self.copies = 0  # of indexed blocks and parts, against limits.max_copies()
+        self.too_many = False
 
     def run(self, pm: ast.PModel, file: ast.SourceFile) -> ElaboratedModel:
         self.model = ElaboratedModel(pm.name, pm)
@@ -449,6 +468,17 @@ class _Elaborator:
                                    f"[{lo}, {hi}{']' if index.closed else ')'}, not integers",
                                    index.span, "use integer bounds")
             return
+        count = max(0, hi - lo + (1 if index.closed else 0))  # type: ignore[operator]
+        if self.copies + count > max_copies():
+            if not self.too_many:
+                self.too_many = True
+                self.ctx.report.report(INDEX, f"index {index.var} of {node.name} would make "
+                                       f"{self.copies + count} copies in all, more than the "
+                                       f"limit of {max_copies()}", index.span,
+                                       "use smaller ranges, or raise the limit with "
+                                       "--max-copies N")
+            return
+        self.copies += count
         for v in range(lo, hi + 1 if index.closed else hi):  # type: ignore[operator]
             yield {index.var: v}, env.child({index.var: v})
 
@@ -555,6 +585,12 @@ class _Elaborator:
         solid = _solid(body, float(mass)) if body is not None else None
         if solid is None:
             return inertia_math.Inertial(float(mass), com, (0.0,) * 6)
+        if not all(math.isfinite(v) for v in solid):
+            assert body is not None
+            self.ctx.report.report(EVAL, f"the inertia of body {body.name} (mass {mass:g}, "
+                                   "from its size) is not a finite number (overflow)", m.span,
+                                   "give the body a size and mass of a physical object")
+            return None
         return inertia_math.Inertial(float(mass), com, solid)
 
     def _link_inertial(self, block: ast.Block, link: Link, env: Env) -> None:
@@ -703,8 +739,11 @@ class _Elaborator:
         for a in inst.args:
             if isinstance(a.value, ast.TemplateInstance):
                 args.append((a.name, self._evaluate_template(a.value, env)))
-            elif isinstance(a.value, ex.Name) and a.value.text not in env:
-                args.append((a.name, a.value.parts))  # an element path: Rod::my_body
+            elif isinstance(a.value, ex.Name) and a.value.text not in env \
+                    and not isinstance(env._find(a.value.text), _Binding):
+                # An element path (Rod::my_body); a constant without a value is not one:
+                # evaluating it records it as missing (E-CONST when SDF needs it).
+                args.append((a.name, a.value.parts))
             else:
                 args.append((a.name, self.ctx.evaluate(a.value, env)))
         return AnnotationValue((template,), tuple(args), inst.span)
@@ -866,6 +905,8 @@ def _solid(body: Body, mass: float) -> inertia_math.InertiaEntries | None:
             return inertia_math.solid_sphere(mass, float(size["radius"]))
     except (KeyError, TypeError, ValueError):
         return None
+    except OverflowError:  # a size near 1e155 squared: the caller reports it
+        return (math.inf,) * 6
     return None
 
 

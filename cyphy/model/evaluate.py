@@ -36,6 +36,7 @@ from __future__ import annotations
 import functools
 import inspect
 import math
+import sys
 import numbers
 from types import MappingProxyType
 from typing import Callable, Mapping, TypeAlias, Union
@@ -152,10 +153,29 @@ def _from_env(name: str, value: object) -> Value:
     )
 
 
+def literal_value(text: str) -> int | float:
+    """The value of a numeric literal. One beyond the range of a double (``1e309``, a
+    400-digit integer) is an error, not infinity: every later computation and SDF would
+    carry it (ValueError)."""
+    try:
+        value: int | float = int(text) if text.isdigit() else float(text)
+        if not math.isfinite(float(value)):
+            raise OverflowError
+    except (OverflowError, ValueError):
+        shown = text if len(text) <= 24 else text[:20] + "…"
+        raise ValueError(f"the number {shown} is too large (beyond ±1.8e308)") from None
+    return value
+
+
+_LARGEST = int(sys.float_info.max)
+
+
 def _require_finite(value: Value) -> None:
     """Overflow and NaN are errors, not values: SDF has no way to write ``inf``."""
     if isinstance(value, float) and not math.isfinite(value):
         raise ValueError("the result is not a finite number (overflow)")
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > _LARGEST:
+        raise ValueError("the result is too large (beyond ±1.8e308)")
     if isinstance(value, np.ndarray) and not np.all(np.isfinite(value)):
         raise ValueError("the result has an entry that is not a finite number (overflow)")
 
@@ -628,7 +648,7 @@ class _Evaluator:
         raise ValueError(f"{type(node).__name__} expressions cannot be evaluated to a number")
 
     def _eval_Num(self, node: Num) -> Value:
-        return int(node.text) if node.is_integer else float(node.text)
+        return literal_value(node.text)
 
     def _eval_Str(self, node: Str) -> Value:
         return node.value
@@ -787,7 +807,10 @@ def _compile(node: Expr) -> Compiled | None:
     """A closure computing ``node`` with the interpreter's own operations, for the node kinds
     that dominate repeated evaluation (poses of indexed blocks); None for anything else."""
     if isinstance(node, Num):
-        value: Value = int(node.text) if node.is_integer else float(node.text)
+        try:
+            value: Value = literal_value(node.text)
+        except ValueError:
+            return None  # the interpreter reports it
         return lambda env: value
     if isinstance(node, Name):
         key = node.text

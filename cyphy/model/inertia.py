@@ -122,6 +122,8 @@ def is_physical(inertia: Sequence[float] | np.ndarray, tol: float = PHYSICAL_TOL
         slack = tol * max(abs(a), abs(c), np.finfo(float).tiny)
         return a > 0.0 and a + b >= c - slack
     matrix = tensor(inertia) if np.shape(inertia) == (6,) else np.asarray(inertia, dtype=float)
+    if not np.all(np.isfinite(matrix)):
+        return False  # overflow or NaN: no rigid body (and LAPACK fails on it)
     slack = tol * max(float(np.abs(matrix).max()), np.finfo(float).tiny)
     if matrix.shape != (3, 3) or not np.allclose(matrix, matrix.T, rtol=0.0, atol=slack):
         return False

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any, Callable, Union
 from cyphy import expr as ex
 from cyphy.diagnostics import Code, Report, Severity, Span
 from cyphy.lang import ast
+from cyphy.limits import max_copies
 from cyphy.lang.scopes import is_constant, is_value
 from cyphy.lang.typing import Kind, TypeChecker, Ty, same_shape, type_of_declared
 from cyphy.wellformed.registry import BlockSite, WFContext, rule
@@ -291,7 +292,8 @@ def _what(node: Indexed) -> str:
     return f"part {node.name}" if isinstance(node, ast.Part) else f"{node.kind.value} {node.name}"
 
 
-@rule("IX1", "an index range has integer constant bounds with a <= b")
+@rule("IX1", "an index range has integer constant bounds with a <= b, and at most "
+      "--max-copies values")
 def check_IX1_index_range(ctx: WFContext) -> None:
     """An index range ``[a, b)`` or ``[a, b]`` has bounds that are integer constant
     expressions, with ``a <= b``. An empty range (``[a, a)``) is a warning: the block has no
@@ -333,6 +335,11 @@ def check_IX1_index_range(ctx: WFContext) -> None:
             ctx.error("IX1", index, f"index {index.var} of {_what(node)} ranges over "
                       f"[{lo}, {hi}{close}: the lower bound is greater than the upper bound",
                       "write the smaller bound first")
+        elif hi - lo + (1 if index.closed else 0) > max_copies():
+            ctx.error("IX1", index, f"index {index.var} of {_what(node)} ranges over "
+                      f"[{lo}, {hi}{close}: {hi - lo + (1 if index.closed else 0)} copies, "
+                      f"more than the limit of {max_copies()}",
+                      "use a smaller range, or raise the limit with --max-copies N")
         elif lo == hi and not index.closed:
             ctx.report.report(_IX1_EMPTY, f"index {index.var} of {_what(node)} ranges over the "
                               f"empty range [{lo}, {hi}): {node.name} has no copies", index.span,

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from typing import Iterator, Union
 
 from cyphy import expr as ex
-from cyphy.diagnostics import Span, did_you_mean
+from cyphy.diagnostics import Code, Severity, Span, did_you_mean
 from cyphy.lang import ast
 from cyphy.lang.notation import to_notation, type_to_notation
 from cyphy.lang.resolve import block_children, path_roots, steps_of
@@ -819,11 +819,19 @@ def _dmodel_operation(ctx: WFContext, file: ast.SourceFile, name: tuple[str, ...
     return None
 
 
-@rule("PMap12", "an input event mapping has a predicate over sensor outputs and locals")
+#: RoboTool's newer mappings leave the predicate out of an event that occurs in every cycle:
+#: accepted, with a warning that says so (the semantics then uses ``true``, Rule 4).
+_PMAP12_NO_PREDICATE = Code("PMap12", Severity.WARNING,
+                            "an input event mapping without a predicate occurs every cycle")
+
+
+@rule("PMap12", "an input event mapping has at most one predicate, over sensor outputs and "
+      "locals (none: the event occurs every cycle, a warning)")
 def check_PMap12_input_event_predicate(ctx: WFContext) -> None:
-    """An input event mapping has a predicate (when the event occurs), exactly one, and it is
+    """An input event mapping has a predicate (when the event occurs), at most one, and it is
     a boolean expression over sensor outputs, the mapping's locals and constants (its
-    booleanness is checked with the other types, S3)."""
+    booleanness is checked with the other types, S3). Without one, the event occurs in every
+    cycle: a warning, since the paper's mappings always give one."""
     for site in _sites(ctx):
         for member in site.mapping.events:
             if member.direction != "input":
@@ -831,9 +839,12 @@ def check_PMap12_input_event_predicate(ctx: WFContext) -> None:
             preds = member.predicates
             label = _label(member)
             if not preds:
-                ctx.error("PMap12", member, f"the mapping of {label} has no predicate",
-                          f"add 'predicate …' saying when {member.name} occurs, over sensor "
-                          "outputs (e.g. 'predicate S.voltage >= 3.0')")
+                ctx.report.report(_PMAP12_NO_PREDICATE, f"the mapping of {label} has no "
+                                  f"predicate: cyphy assumes that {member.name} occurs in "
+                                  "every cycle (predicate true), as RoboTool's newer mappings "
+                                  "mean", member.span, f"add 'predicate …' if {member.name} "
+                                  "occurs only sometimes, over sensor outputs (e.g. "
+                                  "'predicate S.voltage >= 3.0')")
                 continue
             for extra in preds[1:]:
                 ctx.error("PMap12", extra, f"the mapping of {label} has more than one predicate",

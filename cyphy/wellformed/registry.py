@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator
 
-from cyphy import codes, collector
+from cyphy import codes, collector, progress
 from cyphy.diagnostics import Code, Report, Severity, Span
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
@@ -166,4 +166,5 @@ def check_wellformed(ctx: WFContext, only: set[str] | None = None) -> None:
     with collector.paused():
         for r in RULES.values():
             if only is None or r.id in only:
+                progress.stage(f"checking {r.id}: {r.summary}")
                 r.check(ctx)

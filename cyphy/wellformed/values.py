@@ -12,7 +12,8 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
-from cyphy.diagnostics import Report, Severity
+from cyphy import progress
+from cyphy.diagnostics import Code, Report, Severity
 from cyphy.lang import ast
 from cyphy.wellformed.registry import WFContext, rule
 
@@ -21,15 +22,28 @@ GEOMETRY_TOL = 1e-9
 
 def _models(ctx: WFContext) -> list[Any]:
     """The elaborated top-level p-models, built once per check run (cached on the context).
-    Elaboration diagnostics are not reported here: a check reports conditions, and the
-    generators report evaluation problems when they need the values."""
+    Of the elaboration's diagnostics, those about values that cannot be computed (``E-EVAL``:
+    division by zero, overflow, a constant defined in terms of itself) and ranges that make
+    too many copies (``E-INDEX``) are reported, so that
+    ``cyphy check`` rejects what the generators reject; the others (a model that cannot be
+    chosen, constants without values) concern generation only. Evaluation errors are reported
+    when the model has no other errors, as ``gen`` reports them."""
     if "elaborated" not in ctx.cache:
-        from cyphy.model.elaborate import elaborate_pmodel, top_level_pmodels
+        from cyphy.model.elaborate import EVAL, INDEX, elaborate_pmodel, top_level_pmodels
 
-        ctx.cache["elaborated"] = [
-            elaborate_pmodel(ctx.workspace, ctx.resolution, Report(), pm, f, ctx.consts,
-                             devices=False)
-            for pm, f in top_level_pmodels(ctx.workspace)]
+        models = []
+        for pm, f in top_level_pmodels(ctx.workspace):
+            progress.stage(f"elaborating {pm.name}")
+            scratch = Report()
+            models.append(elaborate_pmodel(ctx.workspace, ctx.resolution, scratch, pm, f,
+                                           ctx.consts, devices=False))
+            # After other errors, these are often their consequence (a boolean given for a
+            # real constant: P3, then E-EVAL; a real bound: IX1, then E-INDEX): `gen` reports
+            # them only once the model has no other errors, and so does `check`.
+            if not any(d.severity is Severity.ERROR for d in ctx.report.reported_since(0)):
+                ctx.report.extend(d for d in scratch.reported_since(0)
+                                  if d.code is EVAL or d.code is INDEX)
+        ctx.cache["elaborated"] = models
     return ctx.cache["elaborated"]
 
 
@@ -69,23 +83,47 @@ def _given_inertials(m: Any) -> Iterator[tuple[Any, Any, str]]:
             yield body, body.inertial, "body"
 
 
-@rule("V2", "geometry sizes are positive; mesh files exist")
+#: A zero size: degenerate but loadable (libsdformat and PyBullet accept a box of height 0,
+#: and RoboTool writes the marXbot's track plates so); a negative one is an error.
+_V2_ZERO = Code("V2", Severity.WARNING, "a geometry has a zero size")
+#: A mesh outside the model's folder: not part of the model (see cyphy/model/mesh_paths.py).
+_V2_OUTSIDE = Code("V2", Severity.WARNING, "a mesh lies outside the model's folder")
+
+
+@rule("V2", "geometry sizes are positive (zero: a warning); meshes exist in the model's folder")
 def check_V2_geometry(ctx: WFContext) -> None:
-    """A box of zero height or a cylinder of zero radius cannot be simulated (and a zero-size
-    collision is a common slip, as in the marXbot's tracks); a mesh file must exist,
-    relative to the model's folder."""
+    """A negative size cannot be simulated; a zero size (a plate of height 0, as the
+    marXbot's tracks) is degenerate but simulators load it: a warning. A mesh file must exist,
+    relative to the model's folder; a mesh outside that folder (an absolute path, ``..``, a
+    URL) is a warning, and whether it exists is not looked at, so that no diagnostic tells
+    which files exist elsewhere on this machine."""
+    from cyphy.model.mesh_paths import outside_model_folder
+
     for m in _models(ctx):
         for body in m.bodies:
             if isinstance(body.geometry, ast.Shape):
                 for name, value in body.size.items():
                     v = _number(value)
-                    if v is not None and v <= 0:
+                    if v is not None and v < 0:
                         ctx.error("V2", body, f"the {body.geometry.kind} of body {body.name} "
                                   f"has {name} = {v:g}", f"give the {body.geometry.kind} a "
                                   f"positive {name}")
+                    elif v == 0:
+                        ctx.report.report(_V2_ZERO, f"the {body.geometry.kind} of body "
+                                          f"{body.name} has {name} = 0: it has no volume",
+                                          body.span, "simulators load it, but it cannot "
+                                          f"collide as a solid; give it a positive {name} "
+                                          "unless a flat plate is meant")
             elif isinstance(body.geometry, ast.Mesh):
                 uri = body.mesh_uri
-                if uri and not _mesh_exists(uri, body.span.file):
+                outside = outside_model_folder(uri) if uri else None
+                if uri and outside:
+                    ctx.report.report(_V2_OUTSIDE, f"the mesh of body {body.name} is "
+                                      f"{outside} ('{_shown(uri)}'), outside the model's "
+                                      "folder: the generated files refer to it as written",
+                                      body.span, "copy the mesh into the model's folder and "
+                                      "give its path relative to it, or a model:// URI")
+                elif uri and not _mesh_exists(uri, body.span.file):
                     ctx.error("V2", body, f"the mesh '{uri}' of body {body.name} does not "
                               "exist", "give a path relative to the model's folder, or a "
                               "model:// URI")
@@ -95,11 +133,15 @@ def check_V2_geometry(ctx: WFContext) -> None:
                               f"{scale:g}", "give a positive scaling")
 
 
+def _shown(text: str, limit: int = 80) -> str:
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
 def _mesh_exists(uri: str, model_file: str) -> bool:
-    if "://" in uri and not uri.startswith("file://"):
+    """Whether a mesh inside the model's folder exists (``outside_model_folder`` is None)."""
+    if "://" in uri:
         return True  # model:// and package:// URIs are resolved by the simulator
-    path = Path(uri.removeprefix("file://"))
-    return (path if path.is_absolute() else Path(model_file).parent / path).exists()
+    return (Path(model_file).parent / uri).exists()
 
 
 SURFACE_RANGES = {

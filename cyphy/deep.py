@@ -1,0 +1,57 @@
+"""Running a command where deeply nested models fit: a thread with a large stack.
+
+The syntax tree, the expression tree and the elaborated parts are recursive structures, and
+so are the functions that walk them (typing, evaluation, pickling for the parse cache). A
+500-term sum is a left-nested tree 500 deep; Python's default limit of 1000 frames is then
+reached by walks that take two frames per level. Rather than rewrite every walk, a command
+runs in a thread whose stack holds :data:`DEPTH` frames; deeper input still ends in a
+:class:`RecursionError`, which the CLI reports as a model nested too deeply.
+"""
+
+from __future__ import annotations
+
+import sys
+import threading
+from typing import Callable, TypeVar
+
+T = TypeVar("T")
+
+#: The recursion limit while a command runs (Python's default is 1000).
+DEPTH = 40_000
+#: The stack of the thread that runs it: room for :data:`DEPTH` frames that recurse through C
+#: (pickling, hashing of frozen dataclasses). It is address space, used only as it is reached.
+STACK_BYTES = 512 * 1024 * 1024
+
+
+def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
+    """``fn()`` in a thread with a large stack and a high recursion limit; what it raises
+    (``SystemExit`` too) is raised here. A ``KeyboardInterrupt`` reaches the caller while it
+    waits; the thread is a daemon, so it does not keep the process alive. ``tick`` is called
+    about five times a second while ``fn`` runs (progress)."""
+    outcome: list[tuple[bool, object]] = []
+
+    def body() -> None:
+        try:
+            outcome.append((True, fn()))
+        except BaseException as err:  # noqa: BLE001 - handed to the caller as it is
+            outcome.append((False, err))
+
+    old_limit, old_stack = sys.getrecursionlimit(), threading.stack_size()
+    try:
+        threading.stack_size(STACK_BYTES)
+        thread = threading.Thread(target=body, name="cyphy", daemon=True)
+        thread.start()
+    finally:
+        threading.stack_size(old_stack)
+    sys.setrecursionlimit(max(old_limit, DEPTH))
+    try:
+        while thread.is_alive():
+            thread.join(0.2)  # a timed wait, so that Ctrl-C is seen at once
+            if tick is not None and thread.is_alive():
+                tick()
+    finally:
+        sys.setrecursionlimit(old_limit)
+    ok, value = outcome[0]
+    if not ok:
+        raise value  # type: ignore[misc]
+    return value  # type: ignore[return-value]
