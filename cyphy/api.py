@@ -540,9 +540,9 @@ class TreeGenOptions:
 def robot(paths: Sequence[str | Path], options: TreeGenOptions, target: str
           ) -> tuple[Generated, Any, Any]:
     """The checked model as trees of links for ``target`` (``urdf``, ``mjcf``):
-    ``(generated, robot or None, elaborated model)``; mesh warnings are reported here."""
+    ``(generated, robot or None, elaborated model)``. A mesh outside the model's folder is
+    V2's warning, reported by the check for every target."""
     from cyphy.semantics.robot_tree import build_robot
-    from cyphy.backends.urdf import report_meshes
 
     checked, generated, model = _geometric_model(paths, options.model, options.consts,
                                                  options.search_paths,
@@ -550,7 +550,6 @@ def robot(paths: Sequence[str | Path], options: TreeGenOptions, target: str
     if model is None:
         return generated, None, None
     built = build_robot(model, checked.workspace, checked.report, target)
-    report_meshes(built, checked.report, model.pmodel.span)
     return generated, built, model
 
 

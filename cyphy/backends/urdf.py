@@ -25,16 +25,12 @@ from cyphy import codes
 from cyphy.backends.sdf_xml import number, xyz_rpy
 from cyphy.diagnostics import Report, Span
 from cyphy.model.poses import Pose
-from cyphy.semantics.robot_tree import Robot, RobotJoint, RobotLink, Shape, Tree, mesh_escapes
+from cyphy.semantics.robot_tree import Robot, RobotJoint, RobotLink, Shape, Tree
 from cyphy.semantics.sdf_tree import Node
 
 SPLIT = codes.code("W-URDF-JOINT", codes.W,
                    "a joint type URDF lacks: written as revolute joints (ball, universal, "
                    "revolute2 through massless links; screw without its pitch)")
-MESH_OUTSIDE = codes.code("W-MESH-OUTSIDE", codes.W,
-                          "a mesh path leaves the model's folder: the exported file depends "
-                          "on where the model sits")
-
 
 @dataclass(frozen=True)
 class MeshPaths:
@@ -54,20 +50,6 @@ class MeshPaths:
         if self.package is not None:
             return f"package://{self.package}/{posixpath.normpath(path)}"
         return posixpath.normpath(posixpath.join(self.to_output, path))
-
-
-def report_meshes(robot: Robot, report: Report, span: Span) -> None:
-    """W-MESH-OUTSIDE once per mesh path that leaves the model folder."""
-    seen: set[str] = set()
-    for tree in robot.trees:
-        for link in tree.links:
-            for shape in link.shapes:
-                if shape.kind == "mesh" and shape.uri not in seen and mesh_escapes(shape.uri):
-                    seen.add(shape.uri)
-                    report.report(MESH_OUTSIDE, f"body {shape.qualified}: mesh '{shape.uri}' is "
-                                  "outside the model's folder", span,
-                                  "copy the mesh into the model's folder and give its path "
-                                  "relative to it")
 
 
 def robot_to_urdf(robot: Robot, meshes: MeshPaths, report: Report, span: Span

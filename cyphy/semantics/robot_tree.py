@@ -279,18 +279,6 @@ def _joint(node: Node, links: dict[str, RobotLink], qualified: dict[str, str],
     return joint
 
 
-def mesh_escapes(uri: str) -> bool:
-    """Whether a mesh path leaves the model's folder (absolute, or ``..`` above it): the
-    exported files then depend on where the model sits. URIs with a scheme other than
-    ``file://`` (``model://``, ``package://``) are the simulator's to resolve."""
-    import posixpath
-
-    if "://" in uri and not uri.startswith("file://"):
-        return False
-    path = uri.removeprefix("file://")
-    return posixpath.isabs(path) or posixpath.normpath(path).startswith("..")
-
-
 def moved(robot: Robot, positions: dict[str, float]) -> dict[str, Pose]:
     """Forward kinematics: for each link, the rigid motion ``D`` that takes its model-frame
     poses (link, bodies, centre of mass) at rest to where they are with the joints at
