@@ -142,7 +142,7 @@ def test_bad_machine_exits_1_with_spans(tmp_path, capsys):
     f.write_text(HEADER + GOOD.replace("to Nowhere", "").replace("from B to A exec",
                                                                  "from B to Nowhere exec"))
     assert main(["check", str(f)]) == 1
-    out = capsys.readouterr().out
+    out = capsys.readouterr().err
     assert f"m.rst:{HEADER_LINES + 15}:29: ERROR STM1" in out
 
 
