@@ -8,16 +8,14 @@ the export's name table (``<Model>.names.json``, exported name → qualified nam
 the URDF and MJCF writers name joints by.
 
 The bias forces ``h(q, q̇)`` (gravity, Coriolis, centrifugal) come the same way, as
-``(joint names, h)``. URDF has no pose for its root link: the URDF world is the root link's
-frame, so the tools that read URDF get gravity expressed in that frame (:func:`root_gravity`);
-MJCF places the root in the model frame and keeps MuJoCo's gravity.
+``(joint names, h)``, with every tool's default gravity (−9.81 m/s² along z): the URDF's and the
+MJCF's world is the model frame, as cyphy's.
 """
 
 from __future__ import annotations
 
 import json
 import subprocess
-import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
@@ -164,19 +162,6 @@ def mujoco_bias(mjcf: Path, q: dict[str, float], qd: dict[str, float]) -> Bias:
             data.qvel[model.jnt_dofadr[j]] = qd.get(name, 0.0)
     mujoco.mj_forward(model, data)
     return names, data.qfrc_bias[dofs].copy()
-
-
-def root_gravity(urdf: Path, table: dict[str, str], model: Any,
-                 gravity: Sequence[float] = STANDARD_GRAVITY) -> np.ndarray:
-    """``gravity`` (model frame) in the URDF's world frame: the frame of its root link, the
-    link no joint has as child, whose pose the elaborated ``model`` gives (``table``: the
-    export's name table)."""
-    robot = ET.parse(urdf).getroot()
-    children = {j.find("child").get("link") for j in robot.iter("joint")}  # type: ignore
-    (root,) = [link.get("name") for link in robot.iter("link") if link.get("name")
-               not in children]
-    pose = {link.name: link.pose for link in model.links}[table[root]]  # type: ignore[index]
-    return np.array(pose.rotation).T @ np.asarray(gravity, dtype=float)
 
 
 def names_table(path: Path) -> dict[str, str]:
