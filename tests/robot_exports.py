@@ -2,19 +2,29 @@
 
 Every source of a mass matrix is a function ``(file, positions) → (joint names, M)`` over the
 moving one-degree-of-freedom joints; :func:`compare` lines the matrices up by joint name,
-so another source (cyphy's own equations of motion) plugs in as one more entry of the dict.
+so another source plugs in as one more entry of the dict. cyphy's own equations of motion
+(:func:`cyphy_source`) are one: their qualified joint names become the exported names through
+the export's name table (``<Model>.names.json``, exported name → qualified name), the table
+the URDF and MJCF writers name joints by.
+
+The bias forces ``h(q, q̇)`` (gravity, Coriolis, centrifugal) come the same way, as
+``(joint names, h)``, with every tool's default gravity (−9.81 m/s² along z): the URDF's and the
+MJCF's world is the model frame, as cyphy's.
 """
 
 from __future__ import annotations
 
+import json
 import subprocess
 from pathlib import Path
-from typing import Callable
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
 MassMatrix = tuple[list[str], np.ndarray]
 Source = Callable[[Path, dict[str, float]], MassMatrix]
+Bias = tuple[list[str], np.ndarray]
+STANDARD_GRAVITY = np.array([0.0, 0.0, -9.81])
 
 
 def check_urdf(path: Path) -> str:
@@ -23,11 +33,12 @@ def check_urdf(path: Path) -> str:
     return "" if done.returncode == 0 else (done.stdout + done.stderr)[-500:]
 
 
-def pinocchio_mass(urdf: Path, q: dict[str, float]) -> MassMatrix:
+def _pinocchio(urdf: Path, q: dict[str, float]) -> tuple[Any, list[str], np.ndarray]:
+    """Pinocchio's model of the URDF, its one-degree-of-freedom joints' names and the
+    configuration vector for the positions ``q`` (joint name → value)."""
     import pinocchio
 
     model = pinocchio.buildModelFromUrdf(str(urdf))
-    data = model.createData()
     names = [model.names[i] for i in range(1, model.njoints) if model.joints[i].nv == 1]
     config = pinocchio.neutral(model)
     for i in range(1, model.njoints):
@@ -36,6 +47,14 @@ def pinocchio_mass(urdf: Path, q: dict[str, float]) -> MassMatrix:
             config[at] = value
         elif model.joints[i].nv == 1:  # unbounded (URDF continuous): (cos q, sin q)
             config[at:at + 2] = (np.cos(value), np.sin(value))
+    return model, names, config
+
+
+def pinocchio_mass(urdf: Path, q: dict[str, float]) -> MassMatrix:
+    import pinocchio
+
+    model, names, config = _pinocchio(urdf, q)
+    data = model.createData()
     M = pinocchio.crba(model, data, config)
     M = np.triu(M) + np.triu(M, 1).T
     order = [model.joints[model.getJointId(n)].idx_v for n in names]
@@ -81,14 +100,111 @@ def mujoco_mass(mjcf: Path, q: dict[str, float]) -> MassMatrix:
     return names, full[np.ix_(dofs, dofs)]
 
 
-def compare(matrices: dict[str, MassMatrix]) -> float:
-    """The largest relative difference between any source's matrix and the first's, in the
-    first's joint order (every source must name the same joints)."""
-    (first, (names, reference)), *others = matrices.items()
-    scale = max(float(np.abs(reference).max()), 1e-300)
+def pinocchio_bias(urdf: Path, q: dict[str, float], qd: dict[str, float],
+                   gravity: Sequence[float] = STANDARD_GRAVITY) -> Bias:
+    """``h(q, q̇)`` = Pinocchio's ``rnea(model, data, q, v, 0)``, ``gravity`` in the URDF's
+    world frame (the root link's)."""
+    import pinocchio
+
+    model, names, config = _pinocchio(urdf, q)
+    model.gravity.linear = np.asarray(gravity, dtype=float)
+    velocity = np.zeros(model.nv)
+    for n in names:
+        velocity[model.joints[model.getJointId(n)].idx_v] = qd.get(n, 0.0)
+    h = pinocchio.rnea(model, model.createData(), config, velocity, np.zeros(model.nv))
+    return names, np.array([h[model.joints[model.getJointId(n)].idx_v] for n in names])
+
+
+def pybullet_bias(urdf: Path, q: dict[str, float], qd: dict[str, float],
+                  gravity: Sequence[float] = STANDARD_GRAVITY) -> Bias:
+    """``h(q, q̇)`` = PyBullet's ``calculateInverseDynamics`` at zero acceleration (fixed
+    base, the file's inertias), ``gravity`` in the URDF's world frame."""
+    import pybullet as p
+
+    client = p.connect(p.DIRECT)
+    try:
+        body = p.loadURDF(str(urdf), useFixedBase=True, flags=p.URDF_USE_INERTIA_FROM_FILE,
+                          physicsClientId=client)
+        # PyBullet's inverse dynamics has the root link's inertial frame for world:
+        # gravity is turned into it.
+        turn = p.getDynamicsInfo(body, -1, physicsClientId=client)[4]
+        rotation = np.array(p.getMatrixFromQuaternion(turn)).reshape(3, 3)
+        p.setGravity(*(rotation.T @ np.asarray(gravity, dtype=float)).tolist(),
+                     physicsClientId=client)
+        names = []
+        for i in range(p.getNumJoints(body, physicsClientId=client)):
+            info = p.getJointInfo(body, i, physicsClientId=client)
+            if info[2] in (p.JOINT_REVOLUTE, p.JOINT_PRISMATIC):
+                names.append(info[1].decode())
+        h = p.calculateInverseDynamics(body, [q.get(n, 0.0) for n in names],
+                                       [qd.get(n, 0.0) for n in names], [0.0] * len(names),
+                                       physicsClientId=client)
+        return names, np.array(h)
+    finally:
+        p.disconnect(client)
+
+
+def mujoco_bias(mjcf: Path, q: dict[str, float], qd: dict[str, float]) -> Bias:
+    """``h(q, q̇)`` = MuJoCo's ``qfrc_bias`` (gravity, Coriolis and centrifugal forces; the
+    model's own gravity, −9.81 m/s² along the model's z)."""
+    import mujoco
+
+    model = mujoco.MjModel.from_xml_path(str(mjcf))
+    data = mujoco.MjData(model)
+    names, dofs = [], []
+    for j in range(model.njnt):
+        if int(model.jnt_type[j]) in (int(mujoco.mjtJoint.mjJNT_HINGE),
+                                      int(mujoco.mjtJoint.mjJNT_SLIDE)):
+            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j)
+            names.append(name)
+            dofs.append(int(model.jnt_dofadr[j]))
+            data.qpos[model.jnt_qposadr[j]] = q.get(name, 0.0)
+            data.qvel[model.jnt_dofadr[j]] = qd.get(name, 0.0)
+    mujoco.mj_forward(model, data)
+    return names, data.qfrc_bias[dofs].copy()
+
+
+def names_table(path: Path) -> dict[str, str]:
+    """The export's name table: exported (URDF, MJCF) name → qualified RoboSim name."""
+    return json.loads(path.read_text())
+
+
+def cyphy_joint_space(model: Any, table: dict[str, str], q: dict[str, float],
+                      qd: dict[str, float]) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """cyphy's ``joint_space`` of the elaborated ``model`` in the exported joint names
+    (through the export's name ``table``): ``(names, M(q), h(q, q̇))``, the positions and
+    velocities keyed by exported name (0 when not given)."""
+    from cyphy.semantics import dynamics
+
+    exported = {qualified: name for name, qualified in table.items()}
+    tree = dynamics.kinematic_tree(model)
+    names = [exported[n] for n in tree.names]
+    M, h, _ = dynamics.joint_space(tree, [q.get(n, 0.0) for n in names],
+                                   [qd.get(n, 0.0) for n in names])
+    return names, np.asarray(M, dtype=float), np.asarray(h, dtype=float)
+
+
+def cyphy_source(model: Any) -> Source:
+    """cyphy's mass matrix of the elaborated ``model`` as a source: its file is the
+    export's name table."""
+    def source(table: Path, q: dict[str, float]) -> MassMatrix:
+        names, M, _ = cyphy_joint_space(model, names_table(table), q, {})
+        return names, M
+
+    return source
+
+
+def compare(values: dict[str, MassMatrix], floor: float = 0.0) -> float:
+    """The largest relative difference between any source's matrix (or vector: bias forces)
+    and the first's, in the first's joint order (every source must name the same joints),
+    relative to the first's largest entry, or to ``floor`` when that is larger (bias forces
+    that vanish, a wheel on a vertical axis, are measured against a force scale)."""
+    (first, (names, reference)), *others = values.items()
+    scale = max(float(np.abs(reference).max()), floor, 1e-300)
     worst = 0.0
-    for source, (their_names, M) in others:
+    for source, (their_names, value) in others:
         assert sorted(their_names) == sorted(names), (first, names, source, their_names)
         order = [their_names.index(n) for n in names]
-        worst = max(worst, float(np.abs(M[np.ix_(order, order)] - reference).max()) / scale)
+        lined_up = value[np.ix_(order, order)] if value.ndim == 2 else value[order]
+        worst = max(worst, float(np.abs(lined_up - reference).max()) / scale)
     return worst
