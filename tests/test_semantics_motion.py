@@ -209,3 +209,23 @@ def test_isabelle_and_latex_carry_the_equations_of_motion(case: str, tmp_path: P
         assert "(uop sin $Knee_theta)" in theory and "(uop cos $Knee_theta)" in theory
         assert '"HOL.Transcendental"' in session.files["CyPhyCircus_Prelude.thy"]
         assert "sin(Knee\\_theta)" in latex and "cos(Knee\\_theta)" in latex
+
+
+def test_a_tree_without_equations_of_motion_is_a_warning_not_a_silent_cut(
+        tmp_path: Path, capsys) -> None:
+    from cyphy.cli import main
+
+    lower = ("def { inertial information { mass 0.7 inertia matrix { ixx 0.01 ixy 0 ixz 0 "
+             "iyy 0.015 iyz 0 izz 0.005 } } }")
+    assert lower in ARM
+    (tmp_path / "arm.rsm").write_text(ARM.replace(lower, "def { }"))
+    assert main(["gen", str(tmp_path / "arm.rsm"), "--cyphycircus", "-o",
+                 str(tmp_path / "out")]) == 0
+    err = capsys.readouterr().err
+    assert "W-SEMANTICS-MOTION" in err and "Arm::Lower has no mass properties" in err
+    program = read_program((tmp_path / "out" / "ArmMapping.cpc").read_text())
+    tau = {e.left.text for e in _evolve(program).equations
+           if isinstance(e, ex.BinOp) and isinstance(e.left, ex.Name)}
+    assert {"Hip_tau", "Knee_tau"} <= tau  # the library's tau = transpose(F) * A stays
+    assert not any(ex.Name(("Knee_a",)) in set(e.walk()) and isinstance(e.left, ex.Name)
+                   and e.left.text.endswith("_tau") for e in _evolve(program).equations)

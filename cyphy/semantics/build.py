@@ -36,7 +36,6 @@ class SemanticsOptions:
     system_name: str | None = None  # the name of N (default: the mapping's)
     tscale: float | None = None
     consts: dict[str, object] | None = None
-    gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
 
 
 @dataclass
@@ -73,7 +72,7 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
 
     ctx = Context(model, mapping, dmodel, NameTable(),
                   options.system_name or mapping.name, options.tscale,
-                  port_index(model), _motion(model, options.gravity, report))
+                  port_index(model), _motion(model, report))
     try:
         program = rule1_program(ctx)
     except SemanticsError as err:
@@ -82,17 +81,18 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
     return Semantics(program, ctx.names, mapping, model)
 
 
-def _motion(model: ElaboratedModel, gravity: tuple[float, float, float] | None,
-            report: Report) -> tuple[ex.Expr, ...]:
+def _motion(model: ElaboratedModel, report: Report) -> tuple[ex.Expr, ...]:
     """The kinematic tree's equations of motion for ``Evolve``: the very equations ``cyphy
-    solve`` assembles (the root fixed to the world, ``gravity`` default −9.81 m/s² along z).
-    A tree that has none (a link without mass, a loop, more joints than the symbolic limit)
-    leaves them out with a warning: the rest of the semantics does not depend on them."""
+    solve`` assembles by default, the root fixed to the world and gravity −9.81 m/s² along the
+    model's z (the semantics has no option for either: the axiomatic Isabelle dialect reduces
+    the same default equations). A tree that has none (a link without mass, a loop, more
+    joints than the symbolic limit) leaves them out with a warning: the rest of the semantics
+    does not depend on them."""
     from cyphy.semantics.dynamics import DynamicsError
     from cyphy.semantics.equations import motion
 
     try:
-        return tuple(e.expr for e in motion(model, gravity))
+        return tuple(e.expr for e in motion(model))
     except DynamicsError as err:
         report.report(NO_MOTION, f"Evolve has no equations of motion: {err.message}", err.span,
                       err.hint)
