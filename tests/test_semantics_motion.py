@@ -51,7 +51,8 @@ import physmod::actuators::SpeedControlMotor
 
 pmodel Arm {
   local link Base {
-    def { inertial information { mass 1.0 inertia matrix { ixx 0.01 ixy 0 ixz 0 iyy 0.01 iyz 0 izz 0.01 } } }
+    def { inertial information { mass 1.0
+      inertia matrix { ixx 0.01 ixy 0 ixz 0 iyy 0.01 iyz 0 izz 0.01 } } }
     jref Hip = Revolute {
       pose { x = 0 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
       instantiation AXIS = (|0, 1, 0|)
@@ -60,7 +61,8 @@ pmodel Arm {
   }
   local link Upper {
     pose { x = 0 y = 0 z = -0.4 roll = 0 pitch = 0 yaw = 0 }
-    def { inertial information { mass 1.5 inertia matrix { ixx 0.02 ixy 0 ixz 0 iyy 0.03 iyz 0 izz 0.01 } } }
+    def { inertial information { mass 1.5
+      inertia matrix { ixx 0.02 ixy 0 ixz 0 iyy 0.03 iyz 0 izz 0.01 } } }
     jref Knee = Revolute {
       pose { x = 0 y = 0 z = -0.2 roll = 0 pitch = 0 yaw = 0 }
       instantiation AXIS = (|0, 1, 0|)
@@ -69,7 +71,8 @@ pmodel Arm {
   }
   local link Lower {
     pose { x = 0.05 y = 0 z = -0.9 roll = 0 pitch = 0 yaw = 0 }
-    def { inertial information { mass 0.7 inertia matrix { ixx 0.01 ixy 0 ixz 0 iyy 0.015 iyz 0 izz 0.005 } } }
+    def { inertial information { mass 0.7
+      inertia matrix { ixx 0.01 ixy 0 ixz 0 iyy 0.015 iyz 0 izz 0.005 } } }
   }
 }
 
@@ -215,8 +218,8 @@ def test_a_tree_without_equations_of_motion_is_a_warning_not_a_silent_cut(
         tmp_path: Path, capsys) -> None:
     from cyphy.cli import main
 
-    lower = ("def { inertial information { mass 0.7 inertia matrix { ixx 0.01 ixy 0 ixz 0 "
-             "iyy 0.015 iyz 0 izz 0.005 } } }")
+    lower = ("def { inertial information { mass 0.7\n      inertia matrix { ixx 0.01 ixy 0 "
+             "ixz 0 iyy 0.015 iyz 0 izz 0.005 } } }")
     assert lower in ARM
     (tmp_path / "arm.rsm").write_text(ARM.replace(lower, "def { }"))
     assert main(["gen", str(tmp_path / "arm.rsm"), "--cyphycircus", "-o",
