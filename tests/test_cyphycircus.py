@@ -119,7 +119,14 @@ def test_evolve_has_every_equation_once_and_timer(marxbot: c.Program) -> None:
 
     model = elaborate([EXAMPLES / "marxbot"], ElaborateOptions("marXbotBase")).model
     assert model is not None
-    expected = [e for d in model.devices for e in d.equations] + list(model.relations)
+    from cyphy.semantics.equations import motion
+    from cyphy.semantics.values import si_units
+
+    # the two hinges' equations of motion (their values: tests/test_semantics_motion.py)
+    motion_equations = [si_units(e.expr) for e in motion(model)]
+    assert [e.left.text for e in motion_equations] == ["LHinge_tau", "RHinge_tau"]
+    expected = [e for d in model.devices for e in d.equations] + list(model.relations) + \
+        motion_equations
     evolution = _actions(marxbot)["Evolve"].body
     assert isinstance(evolution, c.Evolution)
     assert evolution.state == "marXbotBaseState" and evolution.locals == "marXbotBaseLocal"

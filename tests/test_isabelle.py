@@ -193,11 +193,14 @@ def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:
     # are state (rates $x\<acute>), set-points are held
     assert "transpose" not in text and "DerC" not in text.split("section")[-1]
     assert "  LHinge_fA_3 :: real\n" in text and "  LHinge_theta :: real\n" in text
-    # fA = pA + ad(fV)·A·v + A·a, row 3: ad's row 3 is (-w2, w1, 0, 0, 0, 0) for fV = (w, v)
-    assert ("($LHinge_fA_3 =\\<^sub>u (($LHinge_pA_3 + ((((- $LHinge_fV_2) * \\<guillemotleft>"
-            "(LHinge_A ! 0)\\<guillemotright>) + ($LHinge_fV_1 * \\<guillemotleft>(LHinge_A ! 1)"
-            "\\<guillemotright>)) * $LHinge_v)) + \\<guillemotleft>((LHinge_A ! 2) * LHinge_a)"
-            "\\<guillemotright>))") in text
+    # fA = pA + ad(fV)*A*v + A*a, component 3: ad's third row is (-fV_2, fV_1, 0, 0, 0, 0)
+    assert ("($LHinge_fA_3 =\\<^sub>u (($LHinge_pA_3 + ((((- $LHinge_fV_2) * "
+            "\\<guillemotleft>(LHinge_A ! 0)\\<guillemotright>) + ($LHinge_fV_1 * "
+            "\\<guillemotleft>(LHinge_A ! 1)\\<guillemotright>)) * $LHinge_v)) + "
+            "\\<guillemotleft>((LHinge_A ! 2) * LHinge_a)\\<guillemotright>))") in text
+    # the hinges' equations of motion (tests/test_semantics_motion.py checks their values)
+    assert "($LHinge_tau =\\<^sub>u \\<guillemotleft>(0.000006262506249999999 * " \
+        "LHinge_a)\\<guillemotright>)" in text
     assert "($LHinge_theta\\<acute> =\\<^sub>u $LHinge_v)" in text
     assert "($LMotor_das\\<acute> =\\<^sub>u 0)" in text
     assert "are held: LMotor_das, RMotor_das' = 0 in Evolve" in " ".join(text.split())

@@ -26,6 +26,8 @@ NO_MAPPING = codes.code("E-MAPPING", codes.E,
 NO_PDF = codes.code("E-PDF", codes.E, "the LaTeX output cannot be typeset to PDF")
 UNTRANSLATABLE = codes.code("E-SEMANTICS", codes.E,
                             "the mapping cannot be translated to CyPhyCircus")
+NO_MOTION = codes.code("W-SEMANTICS-MOTION", codes.W,
+                       "Evolve leaves out the equations of motion of the kinematic tree")
 
 
 @dataclass(frozen=True)
@@ -70,13 +72,31 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
 
     ctx = Context(model, mapping, dmodel, NameTable(),
                   options.system_name or mapping.name, options.tscale,
-                  port_index(model))
+                  port_index(model), _motion(model, report))
     try:
         program = rule1_program(ctx)
     except SemanticsError as err:
         report.report(UNTRANSLATABLE, err.message, err.span, err.hint)
         return None
     return Semantics(program, ctx.names, mapping, model)
+
+
+def _motion(model: ElaboratedModel, report: Report) -> tuple[ex.Expr, ...]:
+    """The kinematic tree's equations of motion for ``Evolve``: the very equations ``cyphy
+    solve`` assembles by default, the root fixed to the world and gravity −9.81 m/s² along the
+    model's z (the semantics has no option for either: the axiomatic Isabelle dialect reduces
+    the same default equations). A tree that has none (a link without mass, a loop, more
+    joints than the symbolic limit) leaves them out with a warning: the rest of the semantics
+    does not depend on them."""
+    from cyphy.semantics.dynamics import DynamicsError
+    from cyphy.semantics.equations import motion
+
+    try:
+        return tuple(e.expr for e in motion(model))
+    except DynamicsError as err:
+        report.report(NO_MOTION, f"Evolve has no equations of motion: {err.message}", err.span,
+                      err.hint)
+        return ()
 
 
 def _choose_mapping(ws: Workspace, report: Report, wanted: str | None

@@ -102,12 +102,21 @@ def _add_device(system: System, device: Device) -> None:
 
 def _add_motion(system: System, model: ElaboratedModel,
                 gravity: tuple[float, float, float] | None) -> None:
+    system.equations.extend(motion(model, gravity))
+
+
+def motion(model: ElaboratedModel,
+           gravity: tuple[float, float, float] | None = None) -> list[Equation]:
     """The equations of motion of the kinematic tree (:mod:`cyphy.semantics.dynamics`), which
-    relate each joint's effort to the accelerations of the bodies it moves."""
+    relate each joint's effort to the accelerations of the bodies it moves: one
+    ``<Joint>_tau == M(q)*a + h(q, v)`` per joint in tree order, the root fixed to the world,
+    under ``gravity`` (default −9.81 m/s² along z). The one source of these equations for
+    ``cyphy solve`` (through :func:`assemble`) and the CyPhyCircus ``Evolve``; raises
+    ``DynamicsError`` when the tree has none."""
     from cyphy.semantics.dynamics import STANDARD_GRAVITY, motion_equations
 
-    for equation, joint in motion_equations(model, gravity or STANDARD_GRAVITY):
-        system.equations.append(Equation(equation, f"{joint.prefix} motion", equation.span))
+    return [Equation(equation, f"{joint.prefix} motion", equation.span)
+            for equation, joint in motion_equations(model, gravity or STANDARD_GRAVITY)]
 
 
 def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.PlatformMapping,

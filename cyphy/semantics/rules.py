@@ -65,6 +65,7 @@ class Context:
     system_name: str
     tscale: float | None = None
     ports: dict[tuple[str, ...], str] = field(default_factory=dict)
+    motion: tuple[ex.Expr, ...] = ()  # the kinematic tree's equations of motion (build.py)
 
 
 # --------------------------------------------------------------------------- Rule 1
@@ -233,11 +234,14 @@ def init_action(ctx: Context, state: c.Schema) -> c.ActionDef:
 def evolve(ctx: Context, state: c.Schema, local: c.Schema) -> c.ActionDef:
     """Rule 2's ``Evolve``: ``[Λ PState | ∃ PLocal • e1 ∧ … ∧ en ∧ timer' = 1]``: every
     equation of every device instance (indexed ones once per index) and every relation on
-    containment, in model order."""
+    containment, in model order, then (ours, issue 16) the kinematic tree's equations of
+    motion, one ``<Joint>_tau = M(q)·a + h(q, v)`` per joint in tree order, which tie each
+    joint's effort to the accelerations of the bodies it moves."""
     equations: list[ex.Expr] = []
     for _, device in _device_elements(ctx.model):
         equations.extend(si_units(e) for e in device.equations)
     equations.extend(si_units(r) for r in ctx.model.relations)
+    equations.extend(si_units(m) for m in ctx.motion)
     equations.append(ex.BinOp("==", ex.Derivative(ex.Name((TIMER,))), ex.Num("1")))
     return c.ActionDef("Evolve", (), c.Evolution(state.name, local.name if local.fields
                                                  else None, tuple(equations)))

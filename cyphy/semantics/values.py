@@ -92,9 +92,12 @@ def _number(value: float) -> ex.Expr:
 def si_units(e: ex.Expr) -> ex.Expr:
     """The expression as CyPhyCircus sees it: every quantity replaced by its value in SI
     units (``0.06m`` → ``0.06``, ``90 deg`` → ``1.5707963267948966``; an expression value is
-    multiplied), vectors and matrices as sequences (a matrix a sequence of rows)."""
+    multiplied), vectors and matrices as sequences (a matrix a sequence of rows), numbers
+    with an exponent positional (``1e-5`` → ``0.00001``: CyPhyCircus numerals have none)."""
 
     def swap(node: ex.Expr) -> ex.Expr | None:
+        if isinstance(node, ex.Num) and ("e" in node.text or "E" in node.text):
+            return _number(float(node.text))
         if isinstance(node, (ex.Vector, ex.Matrix)):
             rows = tuple(ex.Seq(r, span=node.span) for r in node.rows)
             return rows[0] if len(rows) == 1 else ex.Seq(rows, span=node.span)
