@@ -181,3 +181,65 @@ def test_marxbot_under_smovement_cruises_stops_at_the_obstacle_and_turns(capsys)
     assert np.all(np.abs(c["LMotor_av"][(t > 1.0) & (t < stop)] - cruise) < 0.1)
     # turning on the spot leaves the obstacle's distance as it is
     assert np.ptp(d[t >= 2.3]) < 2e-3 and d.min() > 0.05
+
+
+def test_chosen_hinges_bring_their_equations_of_motion() -> None:
+    """``elements`` naming a joint keeps the tree's equation of motion of that joint when
+    it names only chosen joints (the marXbot's wheels: each its own); motors alone, none."""
+    from cyphy import api
+    from cyphy.semantics.equations import assemble
+
+    model = api.elaborate([MARXBOT], api.ElaborateOptions("marXbotBase")).model
+    assert model is not None
+    hinges = assemble(model, ["marXbotBase::Core::LHinge", "marXbotBase::Core::RHinge"])
+    origins = {eq.origin for eq in hinges.equations}
+    assert {"LHinge motion", "RHinge motion"} <= origins
+    assert "LHinge_tau" not in hinges.inputs  # the relation LMotor.T == LHinge.tau gives it
+    motors = assemble(model, ["marXbotBase::Core::LHinge::LMotor"])
+    assert not any(o.endswith(" motion") for o in {eq.origin for eq in motors.equations})
+
+
+def test_marxbot_with_the_hinges_dynamics_spins_the_wheels_by_the_motor_torque(capsys) -> None:
+    scenario = MARXBOT / "avoid_obstacle_dynamics.toml"
+    assert main(["simulate", str(MARXBOT), "--scenario", str(scenario), "--samples", "251",
+                 "--rtol", "1e-9", "--atol", "1e-12"]) == 0
+    c = _csv(capsys.readouterr().out)
+    t = c["t"]
+    # the wheel's speed integrates the motor torque through the wheel's inertia about its
+    # axis: Treel.rsm's solid cylinder, izz = 0.02 kg * (1.001 * 0.05 m / 2)^2 / 2
+    inertia = 0.02 * (1.001 * 0.05 / 2) ** 2 / 2
+    torque, speed = c["LMotor_T"], c["LHinge_v"]
+    integral = np.concatenate([[0], np.cumsum(np.diff(t) * (torque[1:] + torque[:-1]) / 2)])
+    assert np.abs(speed - integral / inertia).max() < 5e-3 * np.abs(speed).max()
+    # the machine's phases are those without the hinges (the travel follows the motors)
+    d = c["Proximity1_distance"]
+    assert t[np.isclose(t, np.round(t, 1)) & (d <= 0.09)][0] == pytest.approx(1.8)
+    dl = c["LMotor_e"] + c["LMotor_av"]
+    assert np.allclose(dl[t > 1.9 + 1e-9], 0.5 * 0.03 / 0.025025)
+
+
+def test_marxbot_dynamics_scenario_exports_the_hinges_motion() -> None:
+    """The Flow* problem of avoid_obstacle_dynamics.toml (its verdict with the real Flow*,
+    SAFE in 30 s, is recorded in examples/marxbot/README.md): the hinges' speeds are states
+    whose derivative is the motor torque over the wheel's inertia about its axis."""
+    import sympy
+
+    from cyphy.diagnostics import Report
+    from cyphy.flowstar.export import build_problem, render
+    from cyphy.flowstar.scenario import load_scenario
+
+    report = Report()
+    scenario = load_scenario(MARXBOT / "avoid_obstacle_dynamics.toml", report)
+    problem, _ = build_problem([MARXBOT], scenario, report)
+    assert problem is not None, [d.message for d in report.diagnostics]
+    assert {"LHinge_theta", "LHinge_v", "RHinge_theta", "RHinge_v"} <= set(problem.states)
+    inertia = 0.02 * (1.001 * 0.05 / 2) ** 2 / 2  # Treel.rsm's wheel: izz of a cylinder
+    for side in "LR":
+        torque = problem.outputs[f"{side}Motor_T"]
+        point = {x: 0.3 + 0.1 * k for k, x in enumerate(sorted(
+            problem.rhs[f"{side}Hinge_v"].free_symbols | torque.free_symbols, key=str))}
+        assert float(problem.rhs[f"{side}Hinge_v"].subs(point)) == pytest.approx(
+            float((torque / inertia).subs(point)), rel=1e-12)
+        assert problem.rhs[f"{side}Hinge_theta"] == sympy.Symbol(f"{side}Hinge_v", real=True)
+    text = render(problem, "avoid_obstacle_dynamics")
+    assert "LHinge_v'" in text and "RHinge_theta'" in text

@@ -300,9 +300,21 @@ class _Builder:
                 self._known_names(value, system, env.span)
                 eq = ex.BinOp("==", ex.Derivative(var, span=env.span), value, span=env.span)
             else:
-                eq = ex.BinOp("==", var, ex.Num(repr(env.value)), span=env.span)
+                eq = ex.BinOp("==", var, self._constant(env.value, system.variables.get(name)),
+                              span=env.span)
             system.equations.append(Equation(eq, "environment", env.span))
             system.inputs.discard(name)
+
+    @staticmethod
+    def _constant(value: float, type_: Any) -> ex.Expr:
+        """``{ value = v }`` for an input of that type: a number, or a vector of fixed size
+        with every entry v (a joint's parent twist on a base fixed to the world: 0)."""
+        from cyphy.lang import ast
+
+        number = ex.Num(repr(value))
+        if isinstance(type_, ast.VectorType) and isinstance(type_.size, ex.Num):
+            return ex.Vector(((number,) * int(float(type_.size.text)),))
+        return number
 
     def _known_names(self, e: ex.Expr, system: Any, span: Span) -> None:
         known = set(system.variables) | set(system.parameters) | {CLOCK}

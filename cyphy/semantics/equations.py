@@ -59,9 +59,8 @@ def assemble(model: ElaboratedModel, elements: list[str] | None = None,
     devices = _devices(model, elements)
     for device in devices:
         _add_device(system, device)
-    if not elements:
-        _add_motion(system, model, gravity)
     known = {p.mangled for d in devices for p in d.ports}
+    _add_motion(system, model, gravity, None if not elements else known)
     for relation in model.relations:
         names = {n.text for n in relation.walk() if isinstance(n, ex.Name)}
         if names <= known | set(system.parameters):
@@ -101,13 +100,23 @@ def _add_device(system: System, device: Device) -> None:
 
 
 def _add_motion(system: System, model: ElaboratedModel,
-                gravity: tuple[float, float, float] | None) -> None:
+                gravity: tuple[float, float, float] | None, known: set[str] | None) -> None:
     """The equations of motion of the kinematic tree (:mod:`cyphy.semantics.dynamics`), which
-    relate each joint's effort to the accelerations of the bodies it moves."""
+    relate each joint's effort to the accelerations of the bodies it moves. For chosen
+    elements (``known``: their ports), a joint's equation enters when every joint variable it
+    names is among them, as a relation does: a wheel whose motion depends on its own joint
+    only keeps it, a link coupled to joints left out does not."""
     from cyphy.semantics.dynamics import STANDARD_GRAVITY, motion_equations
 
+    if known is not None and not any(j.device is not None and
+                                     any(p.mangled in known for p in j.device.ports)
+                                     for j in model.joints):
+        return  # no joint chosen: nothing to derive (and no tree to build)
     for equation, joint in motion_equations(model, gravity or STANDARD_GRAVITY):
-        system.equations.append(Equation(equation, f"{joint.prefix} motion", equation.span))
+        names = {n.text for n in equation.walk() if isinstance(n, ex.Name)}
+        if known is None or names <= known | set(system.parameters):
+            system.equations.append(Equation(equation, f"{joint.prefix} motion",
+                                             equation.span))
 
 
 def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.PlatformMapping,
