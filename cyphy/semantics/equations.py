@@ -105,14 +105,22 @@ def _add_motion(system: System, model: ElaboratedModel,
     relate each joint's effort to the accelerations of the bodies it moves. For chosen
     elements (``known``: their ports), a joint's equation enters when every joint variable it
     names is among them, as a relation does: a wheel whose motion depends on its own joint
-    only keeps it, a link coupled to joints left out does not."""
-    from cyphy.semantics.dynamics import STANDARD_GRAVITY, motion_equations
+    only keeps it, a link coupled to joints left out does not. A tree without equations of
+    motion (too large to write out, a link without mass elsewhere) is then reported only for
+    the whole model: chosen elements keep the equations they had before."""
+    from cyphy.semantics.dynamics import STANDARD_GRAVITY, DynamicsError, motion_equations
 
     if known is not None and not any(j.device is not None and
                                      any(p.mangled in known for p in j.device.ports)
                                      for j in model.joints):
         return  # no joint chosen: nothing to derive (and no tree to build)
-    for equation, joint in motion_equations(model, gravity or STANDARD_GRAVITY):
+    try:
+        motion = motion_equations(model, gravity or STANDARD_GRAVITY)
+    except DynamicsError:
+        if known is None:
+            raise
+        return
+    for equation, joint in motion:
         names = {n.text for n in equation.walk() if isinstance(n, ex.Name)}
         if known is None or names <= known | set(system.parameters):
             system.equations.append(Equation(equation, f"{joint.prefix} motion",
