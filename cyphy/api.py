@@ -270,6 +270,7 @@ class SimulateOptions:
     scenario: str | None = None  # a Flow* scenario whose controller and environment run
     gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
     controller: Any = None  # with a scenario: a Controller run instead of its [controller]
+    machine: str | None = None  # with a scenario without [controller]: the d-model machine
 
 
 @dataclass
@@ -292,7 +293,10 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
     drives the sensor inputs and its ``[init]`` intervals start at their midpoints. A
     ``controller`` (:class:`cyphy.backends.simulate.Controller`, e.g. a state-machine
     interpreter) replaces the ``[controller]`` table; its calls must be among those the
-    table's states issue, whose effects the scenario's problem solves."""
+    table's states issue, whose effects the scenario's problem solves. A scenario without
+    ``[controller]`` runs the d-model's state machine (``machine`` names it when there are
+    several), as ``reach`` does: its interpreter is the controller, one cycle per
+    ``cycle × tscale`` seconds, and the mapping's operations give its calls' effects."""
     from cyphy.backends import simulate as sim
     from cyphy.semantics import dynamics
     from cyphy.semantics.equations import ASSEMBLY, AssemblyError
@@ -344,19 +348,31 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
                        ) -> SimulateResult:
     """The scenario's problem as ``gen --flowstar`` builds it (reduced ODEs with the
     environment, the effects of each state's calls, the events' predicates), integrated
-    cycle by cycle under the ``[controller]`` table."""
+    cycle by cycle under the ``[controller]`` table, or the d-model's state machine run by
+    its interpreter (:mod:`cyphy.semantics.machine`) when the scenario has none."""
     import dataclasses
 
     from cyphy.backends import simulate as sim
     from cyphy.flowstar.controller import CallEffects, ScenarioController
     from cyphy.flowstar.export import build_problem
-    from cyphy.flowstar.scenario import load_scenario
+    from cyphy.flowstar.scenario import SCENARIO, load_scenario
 
     report = Report()
     empty = ElaborateResult(CheckResult(None, report), None)  # type: ignore[arg-type]
     scenario = load_scenario(options.scenario, report)  # type: ignore[arg-type]
     if scenario is None:
         return SimulateResult(empty)
+    if options.model is not None:
+        scenario.model = options.model
+    if options.machine is not None:
+        if scenario.states:
+            report.report(SCENARIO, f"--machine {options.machine}: the scenario has a "
+                          "[controller], which is the controller", scenario.span("controller"),
+                          "remove the [controller] table to use the machine")
+            empty.check.sources[scenario.path] = scenario.text
+            return SimulateResult(empty)
+        scenario.machine = options.machine
+    scenario.consts.update(options.consts)
     problem, sources = build_problem(paths, scenario, report, options.search_paths)
     empty.check.sources.update(sources)
     if problem is None:
@@ -368,8 +384,8 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
     settings = dataclasses.replace(settings, init=init)
     result = SimulateResult(empty)
     try:
-        controller = options.controller or ScenarioController(scenario)
-        effects = CallEffects(problem.call_effects, scenario.consts)
+        controller = options.controller or problem.machine or ScenarioController(scenario)
+        effects = CallEffects(problem.call_effects, scenario.consts, problem.operation_effects)
 
         def events(_t: float, values: dict[str, float]) -> dict[str, object]:
             import sympy

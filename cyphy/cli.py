@@ -86,7 +86,11 @@ def _parser() -> argparse.ArgumentParser:
     simulate.add_argument("--scenario", metavar="FILE",
                           help="a Flow* scenario (TOML, as for gen --flowstar): its "
                           "[controller] runs at the d-model cycle, its [environment] drives "
-                          "the sensor inputs, its [init] intervals start at their midpoints")
+                          "the sensor inputs, its [init] intervals start at their midpoints; "
+                          "without [controller] the d-model's state machine runs")
+    simulate.add_argument("--machine", metavar="NAME",
+                          help="the d-model's state machine that is the controller when the "
+                          "scenario has no [controller]")
     simulate.add_argument("--t-end", type=float, metavar="T",
                           help="simulated time in seconds (default 1, or the scenario's "
                           "horizon)")
@@ -644,6 +648,10 @@ def _simulate(args: argparse.Namespace) -> int:
     except ValueError:
         sys.stderr.write("cyphy simulate: error: --init takes a number: NAME=0.5\n")
         return 2
+    if args.machine is not None and args.scenario is None:
+        sys.stderr.write("cyphy simulate: error: --machine needs --scenario (a scenario "
+                         "without [controller])\n")
+        return 2
     if args.t_end is None:
         args.t_end = _scenario_horizon(args.scenario) if args.scenario else 1.0
     if not args.t_end > 0 or args.samples < 2:
@@ -655,7 +663,7 @@ def _simulate(args: argparse.Namespace) -> int:
                                      sim.progress_to_stderr if sys.stderr.isatty() else None)
     result = simulate(args.paths, SimulateOptions(args.model, _consts(args), tuple(args.path),
                                                   settings, args.numeric, args.scenario,
-                                                  args.gravity))
+                                                  args.gravity, machine=args.machine))
     diagnostics = result.report.diagnostics
     if diagnostics:
         sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))

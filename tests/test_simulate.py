@@ -100,19 +100,6 @@ def test_scenario_controller_stops_the_motor_at_the_sampled_event(capsys) -> Non
     assert abs(speed[-1]) < 1.0  # stopped
 
 
-def test_scenario_controller_cycle_semantics() -> None:
-    from cyphy.diagnostics import Report
-    from cyphy.flowstar.controller import ScenarioController
-    from cyphy.flowstar.scenario import load_scenario
-
-    scenario = load_scenario(EXAMPLES / "dcmotor" / "sampled_stop.toml", Report())
-    controller = ScenarioController(scenario)
-    assert controller.cycle({"near": True}) == (("drive", (10.0,)),)  # time 0: initial calls
-    assert controller.cycle({"near": None}) == (("drive", (10.0,)),)
-    assert controller.cycle({"near": True}) == (("stop", ()),)
-    assert controller.cycle({"near": None}) == (("stop", ()),)  # no way back
-
-
 MOTOR = ["R=1", "L=0.1", "Kt=0.05", "Ke=0.05", "b=0.01", "J=0.01", "Kp=2", "Ki=5", "Kd=0"]
 
 

@@ -66,23 +66,35 @@ class ScenarioController:
 
 
 class CallEffects:
-    """What a controller's calls do to the actuator inputs: each call's solved mapping
-    equations (``Problem.call_effects``, the calls the scenario's states issue), applied in
-    order, so any controller issuing those calls (a state-machine interpreter too) can run."""
+    """What a controller's calls do to the actuator inputs, applied in order: each call's
+    solved mapping equations (``Problem.call_effects``: the calls the scenario's states
+    issue) and, for a state machine, each operation's equations solved for any arguments
+    (``Problem.operation_effects``), so that a machine whose cycles compute their
+    arguments runs too."""
 
     def __init__(self, call_effects: Mapping[str, Mapping[str, Any]],
-                 consts: Mapping[str, Any]) -> None:
+                 consts: Mapping[str, Any],
+                 operations: Mapping[str, tuple[tuple[Any, ...], Mapping[str, Any]]]
+                 | None = None) -> None:
         self.table = {parse_calls((text,), consts)[0]: {u: float(v) for u, v in values.items()}
                       for text, values in call_effects.items()}
+        self.operations = dict(operations or {})
 
     def __call__(self, calls: Calls) -> dict[str, float]:
         out: dict[str, float] = {}
         for call in calls:
             key = (call[0], tuple(float(a) for a in call[1]))
-            if key not in self.table:
-                known = ", ".join(f"{op}({', '.join(f'{a:g}' for a in args)})"
-                                  for op, args in sorted(self.table))
-                raise ValueError(f"the call {call[0]}{call[1]} is not one the scenario's "
-                                 f"states issue, whose effects are solved ({known})")
-            out.update(self.table[key])
+            if key in self.table:
+                out.update(self.table[key])
+            elif key[0] in self.operations and \
+                    len(self.operations[key[0]][0]) == len(key[1]):
+                params, values = self.operations[key[0]]
+                bound = dict(zip(params, key[1]))
+                out.update({u: float(v.xreplace(bound)) for u, v in values.items()})
+            else:
+                known = ", ".join([f"{op}({', '.join(f'{a:g}' for a in args)})"
+                                   for op, args in sorted(self.table)] +
+                                  [f"{op}(…)" for op in sorted(self.operations)])
+                raise ValueError(f"the call {call[0]}{call[1]} has no effect the mapping "
+                                 f"determines (solved: {known})")
         return out

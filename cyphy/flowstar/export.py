@@ -60,6 +60,12 @@ class Problem:
     unsafe: Any  # the unsafe set's conjunction
     qualified: dict[str, str] = field(default_factory=dict)  # mangled → qualified name
     call_effects: dict[str, dict[str, Any]] = field(default_factory=dict)  # call → input → value
+    # The d-model's state machine when it is the controller (a MachineInterpreter), and the
+    # effect of each operation it may call, for any arguments: operation → (parameter
+    # symbols, actuator input → value in them), from the mapping's equations.
+    machine: Any = None
+    operation_effects: dict[str, tuple[tuple[Any, ...], dict[str, Any]]] = \
+        field(default_factory=dict)
 
     @property
     def mode_inputs(self) -> list[str]:
@@ -127,13 +133,15 @@ def build_problem(paths: Sequence[str | Path], scenario: Scenario, report: Repor
     sources[scenario.path] = scenario.text
     if result.model is None:
         return None, sources
+    machine = None
     if not scenario.states:  # no [controller]: the d-model's state machine is the controller
         from cyphy.flowstar.machine import machine_controller
 
-        if not machine_controller(result.check, result.model.name, scenario, report):
+        machine = machine_controller(result.check, result.model.name, scenario, report)
+        if machine is None:
             return None, sources
     try:
-        return _Builder(result, scenario, report).build(), sources
+        return _Builder(result, scenario, report, machine).build(), sources
     except _Stop:
         return None, sources
 
@@ -143,9 +151,10 @@ class _Stop(Exception):
 
 
 class _Builder:
-    def __init__(self, elaborated: Any, scenario: Scenario, report: Report) -> None:
+    def __init__(self, elaborated: Any, scenario: Scenario, report: Report,
+                 machine: Any = None) -> None:
         self.elaborated, self.model = elaborated, elaborated.model
-        self.s, self.report = scenario, report
+        self.s, self.report, self.machine = scenario, report, machine
         self.ports = _ports(self.model)
         self.call_effects: dict[str, dict[str, Any]] = {}
 
@@ -207,7 +216,8 @@ class _Builder:
         unsafe = self._unsafe(scope, unsafe_exprs)
         problem = Problem(self.model.name, s, states, rhs, inputs, outputs,
                           effects, events, unsafe, {v: k for k, v in self.ports.items()},
-                          dict(self.call_effects))
+                          dict(self.call_effects), self.machine,
+                          self._operation_effects(frame) if self.machine else {})
         self._check_init(problem)
         if s.settings.max_jumps is not None and s.settings.max_jumps < problem.required_jumps:
             raise self.fail(
@@ -290,9 +300,21 @@ class _Builder:
                 self._known_names(value, system, env.span)
                 eq = ex.BinOp("==", ex.Derivative(var, span=env.span), value, span=env.span)
             else:
-                eq = ex.BinOp("==", var, ex.Num(repr(env.value)), span=env.span)
+                eq = ex.BinOp("==", var, self._constant(env.value, system.variables.get(name)),
+                              span=env.span)
             system.equations.append(Equation(eq, "environment", env.span))
             system.inputs.discard(name)
+
+    @staticmethod
+    def _constant(value: float, type_: Any) -> ex.Expr:
+        """``{ value = v }`` for an input of that type: a number, or a vector of fixed size
+        with every entry v (a joint's parent twist on a base fixed to the world: 0)."""
+        from cyphy.lang import ast
+
+        number = ex.Num(repr(value))
+        if isinstance(type_, ast.VectorType) and isinstance(type_.size, ex.Num):
+            return ex.Vector(((number,) * int(float(type_.size.text)),))
+        return number
 
     def _known_names(self, e: ex.Expr, system: Any, span: Span) -> None:
         known = set(system.variables) | set(system.parameters) | {CLOCK}
@@ -346,14 +368,68 @@ class _Builder:
 
     def _solve_call(self, text: str, op: str, eqs: list[ex.Expr], system: Any, span: Span,
                     to_sympy: Any) -> dict[str, Any]:
+        solved = self._solve_equations(eqs, op, system, to_sympy)
+        if solved is None:
+            frame = ", ".join(self._frame(eqs, system))
+            raise self.fail(f"the call {text} does not determine "
+                            f"{frame or 'any actuator input'} uniquely",
+                            span, "the mapping's equations of the operation must fix each "
+                            "actuator input it constrains")
+        for u, v in solved.items():
+            if v.is_number and not (v.is_finite and math.isfinite(float(v))):
+                raise self.fail(f"the call {text} sets {u} beyond what a double holds", span,
+                                "give the call finite arguments")
+            if not v.is_number:
+                raise self.fail(f"the call {text} leaves {u} = {v}, not a number", span,
+                                "give the call numbers, or names defined in [consts]")
+        return solved
+
+    @staticmethod
+    def _frame(eqs: list[ex.Expr], system: Any) -> list[str]:
+        """The actuator inputs the equations name."""
+        return sorted({n.text for e in eqs for n in e.walk() if isinstance(n, ex.Name)
+                       and system.kinds.get(n.text) == "input"})
+
+    def _operation_effects(self, frame: list[str]
+                           ) -> dict[str, tuple[tuple[Any, ...], dict[str, Any]]]:
+        """Each operation the machine may call that the mapping defines, solved once for the
+        actuator inputs with its arguments as symbols (``move(lv, av)`` → ``LMotor_das =
+        (lv + 0.03*av)/0.025025``, …): the simulator evaluates it for whatever arguments a
+        cycle computes. An operation whose equations do not fix its inputs uniquely, or set
+        inputs the export's frame lacks, is left out (a call of it is then reported)."""
+        from cyphy.backends.sympy import to_sympy
+        from cyphy.semantics.equations import AssemblyError, assemble, mapping_operation
+
+        check = self.elaborated.check
+        out: dict[str, tuple[tuple[Any, ...], dict[str, Any]]] = {}
+        for op in sorted(self.machine.machine.platform.operations):
+            try:
+                params = mapping_operation(check.workspace, check.resolution, self.model,
+                                           f"{op}()")[2]
+                args = tuple(f"cyphy_arg_{p}" for p in params)
+                mapping, call, params = mapping_operation(
+                    check.workspace, check.resolution, self.model, f"{op}({', '.join(args)})")
+                system = assemble(self.model, list(self.s.elements) or None, mapping, call,
+                                  params)
+            except AssemblyError:
+                continue
+            eqs = [eq.expr for eq in system.equations if eq.origin == f"mapping {op}"]
+            solved = self._solve_equations(eqs, op, system, to_sympy, frozenset(args))
+            if solved is not None and set(solved) <= set(frame):
+                out[op] = (tuple(symbol(a) for a in args), solved)
+        return out
+
+    def _solve_equations(self, eqs: list[ex.Expr], op: str, system: Any, to_sympy: Any,
+                         free: frozenset[str] = frozenset()) -> dict[str, Any] | None:
+        """The actuator inputs an operation's equations constrain, solved (values in the
+        symbols ``free`` only); None when they are not determined uniquely."""
         values = {symbol(n): sympy.Rational(repr(float(v))) for n, v in
                   system.parameters.items() if isinstance(v, (int, float))
                   and not isinstance(v, bool)}
         values.update({symbol(n): sympy.Rational(repr(float(v))) for n, v in
                        self.s.consts.items() if isinstance(v, (int, float))
                        and not isinstance(v, bool) and "::" not in n})
-        frame = sorted({n.text for e in eqs for n in e.walk() if isinstance(n, ex.Name)
-                        and system.kinds.get(n.text) == "input"})
+        frame = self._frame(eqs, system)
         locals_ = sorted({n.text for e in eqs for n in e.walk() if isinstance(n, ex.Name)
                           and n.text.startswith(f"{op}_") and system.kinds.get(n.text)
                           == "local"})
@@ -364,20 +440,10 @@ class _Builder:
         unknowns = [symbol(n) for n in [*frame, *locals_]]
         solutions = sympy.solve(relations, unknowns, dict=True) if unknowns else []
         if len(solutions) != 1 or any(symbol(u) not in solutions[0] for u in frame):
-            raise self.fail(f"the call {text} does not determine "
-                            f"{', '.join(frame) or 'any actuator input'} uniquely",
-                            span, "the mapping's equations of the operation must fix each "
-                            "actuator input it constrains")
-        out = {}
-        for u in frame:
-            v = sympy.nsimplify(solutions[0][symbol(u)])
-            if v.is_number and not (v.is_finite and math.isfinite(float(v))):
-                raise self.fail(f"the call {text} sets {u} beyond what a double holds", span,
-                                "give the call finite arguments")
-            if not v.is_number:
-                raise self.fail(f"the call {text} leaves {u} = {v}, not a number", span,
-                                "give the call numbers, or names defined in [consts]")
-            out[u] = v
+            return None
+        out = {u: sympy.nsimplify(solutions[0][symbol(u)]) for u in frame}
+        if free and any({str(x) for x in v.free_symbols} - set(free) for v in out.values()):
+            return None
         return out
 
     # ----- events and the unsafe set

@@ -3,19 +3,25 @@
 ``machine = NAME`` / ``--machine NAME``), compiled under RoboSim's cycle semantics
 (:mod:`cyphy.semantics.machine_automaton`), and written into the scenario's ``initial``,
 ``states`` (mode → calls) and ``transitions`` (guards: conjunctions of event literals), the
-structure a ``[controller]`` table gives, so the export treats both alike."""
+structure a ``[controller]`` table gives, so the export treats both alike. The interpreter
+itself is returned too: ``cyphy simulate`` runs it, cycle by cycle, as the sampled controller."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from cyphy.diagnostics import Report, Span
 from cyphy.flowstar.scenario import Scenario, Transition
 
+if TYPE_CHECKING:
+    from cyphy.semantics.machine import MachineInterpreter
 
-def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Report) -> bool:
-    """Fill the scenario's controller from the d-model's machine; False (with diagnostics)
-    when there is none to choose, or it cannot be compiled."""
+
+def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Report
+                       ) -> "MachineInterpreter | None":
+    """Fill the scenario's controller from the d-model's machine and return the machine's
+    interpreter (reset to its start); None (with diagnostics) when there is none to choose,
+    or it cannot be compiled."""
     from cyphy.flowstar.export import EXPORT
     from cyphy.lang.scopes import Scopes
     from cyphy.model.machines import global_constants, select_machine
@@ -29,7 +35,7 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
         message, hint = problem
         report.report(EXPORT, message if scenario.machine else
                       f"the scenario has no [controller], and {message}", span, hint)
-        return False
+        return None
     consts = {n: v for n, v in scenario.consts.items() if "::" not in n and
               isinstance(v, (int, float)) and not isinstance(v, bool)}
     try:
@@ -39,7 +45,9 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
     except MachineError as err:
         report.report(EXPORT, f"state machine {machine.name}: {err.message}", err.span,
                       err.hint)
-        return False
+        return None
+    if not _same_cycle(interpreter, scenario, report):
+        return None
     scenario.initial = automaton.initial
     scenario.states = {mode.name: tuple(_call_text(n, args) for n, args in mode.calls)
                        for mode in automaton.modes}
@@ -47,6 +55,35 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
         Transition(e.source, e.target, e.guard[0][0] if e.guard else "",
                    e.guard[0][1] if e.guard else False, machine.decl.span, e.guard[1:])
         for e in automaton.edges]
+    interpreter.reset()  # the compilation explored its configurations
+    return interpreter
+
+
+def _same_cycle(interpreter: "MachineInterpreter", scenario: Scenario, report: Report
+                ) -> bool:
+    """The controller runs every ``cycle × tscale`` seconds with the machine's own cycle
+    (``cycleDef cycle == k``): a scenario without ``cycle`` takes it; one that gives another
+    is reported, as is a cycle that is not a whole number of time units."""
+    import tomllib
+
+    from cyphy.flowstar.export import EXPORT
+
+    period = interpreter.period
+    name = interpreter.machine.name
+    if period != int(period):
+        report.report(EXPORT, f"the cycle of {name} is {period:g} time units; the scenario's "
+                      "cycle must be a whole number of them", interpreter.machine.decl.span,
+                      "give the machine a whole cycle (cycleDef cycle == 1) and scale time "
+                      "with the scenario's tscale")
+        return False
+    if "cycle" not in tomllib.loads(scenario.text):
+        scenario.cycle = int(period)
+    elif scenario.cycle != int(period):
+        report.report(EXPORT, f"cycle = {scenario.cycle}, but {name} runs every "
+                      f"{int(period)} time unit{'s' if period != 1 else ''} "
+                      f"(cycleDef cycle == {int(period)})", scenario.span("cycle"),
+                      f"remove 'cycle' (the machine's is used) or write cycle = {int(period)}")
+        return False
     return True
 
 

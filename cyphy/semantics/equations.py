@@ -59,9 +59,8 @@ def assemble(model: ElaboratedModel, elements: list[str] | None = None,
     devices = _devices(model, elements)
     for device in devices:
         _add_device(system, device)
-    if not elements:
-        _add_motion(system, model, gravity)
     known = {p.mangled for d in devices for p in d.ports}
+    _add_motion(system, model, gravity, None if not elements else known)
     for relation in model.relations:
         names = {n.text for n in relation.walk() if isinstance(n, ex.Name)}
         if names <= known | set(system.parameters):
@@ -101,8 +100,29 @@ def _add_device(system: System, device: Device) -> None:
 
 
 def _add_motion(system: System, model: ElaboratedModel,
-                gravity: tuple[float, float, float] | None) -> None:
-    system.equations.extend(motion(model, gravity))
+                gravity: tuple[float, float, float] | None, known: set[str] | None) -> None:
+    """The equations of motion (:func:`motion`) that the system takes. For chosen elements
+    (``known``: their ports), a joint's equation enters when every joint variable it names is
+    among them, as a relation does: a wheel whose motion depends on its own joint only keeps
+    it, a link coupled to joints left out does not. A tree without equations of motion (too
+    large to write out, a link without mass elsewhere) is then reported only for the whole
+    model: chosen elements keep the equations they had before."""
+    from cyphy.semantics.dynamics import DynamicsError
+
+    if known is not None and not any(j.device is not None and
+                                     any(p.mangled in known for p in j.device.ports)
+                                     for j in model.joints):
+        return  # no joint chosen: nothing to derive (and no tree to build)
+    try:
+        equations = motion(model, gravity)
+    except DynamicsError:
+        if known is None:
+            raise
+        return
+    for equation in equations:
+        names = {n.text for n in equation.expr.walk() if isinstance(n, ex.Name)}
+        if known is None or names <= known | set(system.parameters):
+            system.equations.append(equation)
 
 
 def motion(model: ElaboratedModel,
