@@ -26,6 +26,7 @@ from conftest import EXAMPLES, ROOT
 
 sys.path.insert(0, str(Path(__file__).parent))
 from flowstar_sim import interpret, simulate_direct  # noqa: E402
+from dcmotor_scenarios import SSPEED_TABLE
 
 SPEC = ROOT.parent / "shared" / "spec" / "flowstar-examples"
 DCMOTOR = (EXAMPLES / "dcmotor", EXAMPLES / "dcmotor" / "sampled_stop.toml")
@@ -315,23 +316,7 @@ def _diagnose(tmp_path, text, folder=EXAMPLES / "dcmotor"):
             if d.severity.value == "ERROR"]
 
 
-# The example's scenario with the hand-written controller it had before it used SSpeed.
-HAND_CONTROLLER = """
-[controller]
-initial = "cruise"
-
-[controller.states.cruise]
-calls = ["drive(10)"]
-
-[controller.states.stopped]
-calls = ["stop()"]
-
-[[controller.transitions]]
-from = "cruise"
-to = "stopped"
-when = "near"
-"""
-BASE = (EXAMPLES / "dcmotor" / "sampled_stop.toml").read_text() + HAND_CONTROLLER
+BASE = (EXAMPLES / "dcmotor" / "sampled_stop.toml").read_text() + SSPEED_TABLE
 
 
 @pytest.mark.parametrize("edit, code, words", [

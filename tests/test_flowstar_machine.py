@@ -19,23 +19,9 @@ from cyphy.lang.scopes import Scopes
 from cyphy.model.machines import global_constants, machines_of
 from cyphy.semantics.machine import MachineError, MachineInterpreter
 from cyphy.semantics.machine_automaton import compile_machine, describe
+from dcmotor_scenarios import SSPEED_TABLE
 
 SCENARIO = EXAMPLES / "dcmotor" / "sampled_stop.toml"
-HAND_CONTROLLER = """
-[controller]
-initial = "cruise"
-
-[controller.states.cruise]
-calls = ["drive(10)"]
-
-[controller.states.stopped]
-calls = ["stop()"]
-
-[[controller.transitions]]
-from = "cruise"
-to = "stopped"
-when = "near"
-"""
 
 
 def automaton_of(paths: list[Path], name: str, consts: dict | None = None):
@@ -162,7 +148,7 @@ def _export(tmp_path: Path, text: str, name: str) -> str:
 def test_dcmotor_export_under_sspeed_equals_the_hand_written_controller(tmp_path):
     machine = SCENARIO.read_text()
     assert "\n[controller]" not in machine
-    hand = _export(tmp_path, machine + HAND_CONTROLLER, "hand")
+    hand = _export(tmp_path, machine + SSPEED_TABLE, "hand")
     compiled = _export(tmp_path, machine, "machine")
     renamed = hand.replace("cruise", "Cruise").replace("stopped", "Stopped").replace(
         "hand.toml", "machine.toml")
@@ -171,7 +157,7 @@ def test_dcmotor_export_under_sspeed_equals_the_hand_written_controller(tmp_path
 
 def test_scenario_with_both_controller_and_machine_is_an_error(tmp_path):
     path = tmp_path / "s.toml"
-    path.write_text('machine = "SSpeed"\n' + SCENARIO.read_text() + HAND_CONTROLLER)
+    path.write_text('machine = "SSpeed"\n' + SCENARIO.read_text() + SSPEED_TABLE)
     report = Report()
     assert load_scenario(path, report) is None
     assert [d.code.id for d in report.diagnostics] == ["E-SCENARIO"]
@@ -189,7 +175,7 @@ def test_unknown_machine_is_reported(tmp_path, capsys):
 
 def test_machine_option_with_a_controller_table_is_an_error(tmp_path, capsys):
     path = tmp_path / "s.toml"
-    path.write_text(SCENARIO.read_text() + HAND_CONTROLLER)
+    path.write_text(SCENARIO.read_text() + SSPEED_TABLE)
     code = main(["gen", str(EXAMPLES / "dcmotor"), "--flowstar", "--scenario", str(path),
                  "--machine", "SSpeed", "-o", str(tmp_path / "out")])
     assert code == 1
@@ -201,7 +187,7 @@ def test_machine_option_with_a_controller_table_is_an_error(tmp_path, capsys):
 def test_real_flowstar_verdicts_under_sspeed_match_the_hand_written_controller(
         tmp_path, capsys, bound, verdict, code):
     text = SCENARIO.read_text().replace('"Motor_av >= 20"', f'"Motor_av >= {bound}"')
-    for name, scenario in (("machine", text), ("hand", text + HAND_CONTROLLER)):
+    for name, scenario in (("machine", text), ("hand", text + SSPEED_TABLE)):
         path = tmp_path / f"{name}.toml"
         path.write_text(scenario)
         rc = main(["reach", str(EXAMPLES / "dcmotor"), "--scenario", str(path),

@@ -14,28 +14,12 @@ import numpy as np
 import pytest
 
 from cyphy.cli import main
+from dcmotor_scenarios import SSPEED_TABLE
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 DCMOTOR = EXAMPLES / "dcmotor"
 MARXBOT = EXAMPLES / "marxbot"
 
-# SSpeed of DCMotorSoftware.rsm written by hand as a [controller] table (what the scenario
-# held before the machine drove it).
-SSPEED_TABLE = """
-[controller]
-initial = "cruise"
-
-[controller.states.cruise]
-calls = ["drive(10)"]
-
-[controller.states.stopped]
-calls = ["stop()"]
-
-[[controller.transitions]]
-from = "cruise"
-to = "stopped"
-when = "near"
-"""
 
 
 def _csv(text: str) -> dict[str, np.ndarray]:
