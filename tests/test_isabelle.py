@@ -193,8 +193,11 @@ def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:
     # are state (rates $x\<acute>), set-points are held
     assert "transpose" not in text and "DerC" not in text.split("section")[-1]
     assert "  LHinge_fA_3 :: real\n" in text and "  LHinge_theta :: real\n" in text
-    assert ("($LHinge_fA_3 =\\<^sub>u ($LHinge_pA_3 + \\<guillemotleft>((LHinge_A ! 2) * "
-            "LHinge_a)\\<guillemotright>))") in text
+    # the velocity-product term ad(fV) * A * v is written out (row 3 of ad(fV): -fV_2, fV_1)
+    assert ("($LHinge_fA_3 =\\<^sub>u (($LHinge_pA_3 + ((((- $LHinge_fV_2) * "
+            "\\<guillemotleft>(LHinge_A ! 0)\\<guillemotright>) + ($LHinge_fV_1 * "
+            "\\<guillemotleft>(LHinge_A ! 1)\\<guillemotright>)) * $LHinge_v)) + "
+            "\\<guillemotleft>((LHinge_A ! 2) * LHinge_a)\\<guillemotright>))") in text
     assert "($LHinge_theta\\<acute> =\\<^sub>u $LHinge_v)" in text
     assert "($LMotor_das\\<acute> =\\<^sub>u 0)" in text
     assert "are held: LMotor_das, RMotor_das' = 0 in Evolve" in " ".join(text.split())
