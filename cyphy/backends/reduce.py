@@ -361,10 +361,12 @@ class Reducer:
                         tuple(residuals[defined_by[v]][1] for v in block)))
                 blocked.update(block)
                 continue
-            try:
-                solution = sympy.solve(eqs, objs, dict=True)
-            except (NotImplementedError, ValueError) as err:
-                solution, _ = [], err
+            solution = _linear_one(eqs, objs)
+            if solution is None:
+                try:
+                    solution = sympy.solve(eqs, objs, dict=True)
+                except (NotImplementedError, ValueError) as err:
+                    solution, _ = [], err
             if len(solution) != 1 or set(solution[0]) != set(objs):
                 if not quiet:
                     result.obstacles.append(Obstacle(
@@ -422,6 +424,21 @@ def _match(equations: list[tuple[int, set[str]]]) -> dict[str, int]:
     for v in names:
         augment(v, set())
     return {v: equations[k][0] for k, v in sorted(owner.items())}
+
+
+def _linear_one(eqs: list[Any], objs: list[Any]) -> list[dict[Any, Any]] | None:
+    """The solution of one equation linear in its one unknown, ``a·x + b = 0`` with ``a``
+    free of ``x`` and not zero: ``x = -b/a`` (what ``sympy.solve`` gives, without its
+    general machinery: most blocks are of this kind); None for anything else."""
+    if len(eqs) != 1:
+        return None
+    [r], [x] = eqs, objs
+    if any(d.has(x) for d in r.atoms(sympy.Derivative)):
+        return None
+    a = sympy.expand(sympy.diff(r, x))
+    if a == 0 or a.has(x):
+        return None
+    return [{x: -r.xreplace({x: 0}) / a}]
 
 
 def _shown(v: str) -> str:
