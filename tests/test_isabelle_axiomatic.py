@@ -181,14 +181,72 @@ def test_the_default_dialect_is_unchanged() -> None:
 
 
 def test_equations_that_cannot_be_reduced_are_refused() -> None:
-    # The equations of motion now determine the hinges (issue 16), but the joints' twists
-    # are vectors, which the axiomatic printer does not write (issue 15's scalarisation).
-    generated = axiomatic([MARXBOT], elements=())
+    # a hinge cut from the tree that moves it: nothing relates its effort to its motion
+    generated = axiomatic([MARXBOT], elements=("marXbotBase::Core::LHinge",))
     errors = [d for d in generated.report.diagnostics if d.code.id == "E-ISABELLE-ODE"]
     assert errors and generated.files == {}
-    assert any("LHinge_fA" in d.message for d in errors)
+    assert any("no equation determines LHinge_" in d.message for d in errors)
     assert all("/physmod/" in d.span.file for d in errors)  # the offending equation
     assert all("--isabelle-dialect utp" in d.hint for d in errors)
+
+
+# ---------------------------------------------------------------- whole models (issue 16)
+
+
+@pytest.fixture(scope="module", params=["dcmotor", "marxbot"])
+def whole(request) -> tuple[str, api.Generated]:
+    generated = axiomatic([EXAMPLES / request.param], elements=())
+    assert not generated.report.has_errors, generated.report.diagnostics
+    return request.param, generated
+
+
+WHOLE = {"dcmotor": ("DCMotorBase", {"Shaft_theta", "Shaft_v"}),
+         "marxbot": ("marXbotBase", {"LHinge_theta", "LHinge_v", "RHinge_theta", "RHinge_v"})}
+
+
+def test_whole_model_evolve_is_the_reduction_of_cyphy_solve(whole) -> None:
+    """Without --isabelle-element: the equations of motion determine the joints, vectors are
+    components on both sides, and every ODE is cyphy solve's (states) or its chain rule
+    (state fields the reduction solves)."""
+    example, generated = whole
+    pmodel, joints = WHOLE[example]
+    theory = f"{pmodel}_AxCyPhyCircus.thy"
+    text = check_static(generated.files, theory)
+    printed = odes(text, "Evolve_v")
+    solved = api.solve([EXAMPLES / example], api.SolveOptions(model=pmodel,
+                                                               closed_form=False))
+    reduced = solved.reduced
+    assert reduced is not None and not reduced.obstacles
+    assert joints <= set(reduced.states)
+    zero = {s: 0 for n, s in reduced.symbols.items() if n.startswith("der_")}
+    for state in reduced.states:
+        assert sympy.simplify(hol_to_sympy(printed[state])
+                              - reduced.rhs[state].xreplace(zero)) == 0, state
+    # the joints' twists are state fields per component; those the equations give as
+    # functions of the states follow them by the chain rule
+    sym = {s: sympy.Symbol(s, real=True) for s in reduced.states}
+    prefix = sorted(joints)[0].split("_")[0]
+    twist = [f"{prefix}_fV_{k}" for k in range(1, 7)]
+    assert set(twist) <= set(printed)
+    for name in twist:
+        if name in reduced.outputs:
+            g = reduced.outputs[name].xreplace(zero)
+            expected = sum(sympy.diff(g, sym[s]) * reduced.rhs[s].xreplace(zero)
+                           for s in reduced.states)
+            assert sympy.simplify(hol_to_sympy(printed[name]) - expected) == 0, name
+    # the rotating axis's component of the child twist is the joint speed's rate
+    assert any(sympy.simplify(hol_to_sympy(printed[n])
+                              - reduced.rhs[f"{prefix}_v"].xreplace(zero)) == 0
+               for n in twist)
+    assert f"  {prefix}_fA_3 :: real\n" in text and f"{prefix}_fA ::" not in text
+    assert "transpose" not in text and "ad(" not in text
+    assert printed["timer"] == "1"
+
+
+def test_whole_model_generation_is_deterministic(whole) -> None:
+    example, generated = whole
+    again = axiomatic([EXAMPLES / example], elements=())
+    assert again.files == generated.files
 
 
 def test_an_unknown_element_is_refused() -> None:
@@ -210,9 +268,14 @@ def test_cli_writes_the_session_beside_the_model(tmp_path: Path, capsys) -> None
     assert not (tmp_path / "isabelle-gen").exists()
     readme = (out / "README").read_text()
     assert "CyPhyCircus_Toolkit" in readme and "not in any public repository" in readme
+    # the whole model, without --isabelle-element (issue 16)
+    whole = tmp_path / "whole"
+    assert main(args[:5] + ["-o", str(whole)]) == 0
+    assert (whole / THEORY).exists()
     # not reducible: the error, and nothing written
     other = tmp_path / "other"
-    assert main(args[:5] + ["-o", str(other)]) == 1
+    assert main(args[:5] + ["--isabelle-element", "marXbotBase::Core::LHinge",
+                            "-o", str(other)]) == 1
     assert "E-ISABELLE-ODE" in capsys.readouterr().err
     assert not other.exists()
 

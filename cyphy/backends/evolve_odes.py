@@ -3,9 +3,11 @@
 The CyPhyCircus ``Evolve`` holds the model's equations as a DAE with existentially quantified
 locals; Ax_CyPhyCircus's evolution takes one explicit derivative per continuous variable
 (``../shared/spec/isabelle.md`` section 1.3). The equations are reduced by the path that
-``cyphy solve`` and the Flow* exporter take (:func:`cyphy.semantics.equations.assemble`,
-then :func:`cyphy.backends.reduce.reduce_system`), and the result is put back into the
-expression AST for the Isabelle printer:
+``cyphy solve`` and the Flow* exporter take (:func:`cyphy.semantics.equations.assemble`, with
+the whole model's equations of motion, then :func:`cyphy.backends.reduce.reduce_system`), and
+the result is put back into the expression AST for the Isabelle printer. Both sides are
+scalar by the same pass (:mod:`cyphy.semantics.scalarise`): the theory's state has a field
+``X_k`` per component of a vector ``X``, and the reduction names its components so:
 
 - every reduced state gets its ODE (device locals such as ``LMotor_av`` and the states that
   stand for integrals, ``LMotor_int1``, are no state-schema fields: the caller adds them to
@@ -28,13 +30,13 @@ import sympy
 
 from cyphy import codes
 from cyphy import expr as ex
-from cyphy.backends.reduce import Reduced, reduce_system
+from cyphy.backends.reduce import Reduced, reduce_system, type_shape
 from cyphy.backends.sympy import T, NotAnExpression, to_expr
 from cyphy.diagnostics import Report, Span, did_you_mean
-from cyphy.lang import ast
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics import circus as c
 from cyphy.semantics.equations import System, assemble
+from cyphy.semantics.scalarise import components
 
 NOT_EXPLICIT = codes.code("E-ISABELLE-ODE", codes.E,
                           "Evolve cannot be written as the explicit ODE of the axiomatic "
@@ -68,7 +70,8 @@ def explicit_odes(model: ElaboratedModel, evolution: c.Evolution, state_fields: 
     if not _check_elements(model, elements, report, where):
         return None
     system = assemble(model, list(elements) or None)
-    reduced = reduce_system(system)
+    fields = {k for n in state_fields for k in _components(system, n)}
+    reduced = reduce_system(system, frozenset(fields))
     if reduced.obstacles:
         for o in reduced.obstacles:
             span = o.equations[0].span if o.equations else where
@@ -77,7 +80,7 @@ def explicit_odes(model: ElaboratedModel, evolution: c.Evolution, state_fields: 
                           f"{o.message}", span, HINT, notes)
         return None
     ports = {p.mangled for d in model.devices for p in d.ports}
-    return _build(system, reduced, evolution, state_fields, ports, report, where)
+    return _build(system, reduced, evolution, fields, ports, report, where)
 
 
 def _check_elements(model: ElaboratedModel, elements: tuple[str, ...], report: Report,
@@ -99,8 +102,6 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
     zero = {s: 0 for name, s in reduced.symbols.items() if name.startswith("der_")}
     symbol = {name: reduced.symbols.get(name, sympy.Symbol(name, real=True))
               for name in [*reduced.states, *reduced.outputs]}
-    vector_fields = {n for n in system.variables if n in state_fields
-                     and not _scalar(system, n)}
     out = EvolveOdes()
     rhs: dict[str, Any] = {}
     failed = False
@@ -111,12 +112,9 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
         report.report(NOT_EXPLICIT, message, _span_of(system, name, where), HINT)
 
     for s in reduced.states:
-        if s not in system.variables:
-            fail(f"the state {s} is a component of a vector: the axiomatic printer writes "
-                 "scalar ODEs only", s)
-            continue
         rhs[s] = sympy.expand(reduced.rhs[s].xreplace(zero))
-    known = {symbol[s] for s in rhs} | {sympy.Symbol(u, real=True) for u in system.variables}
+    known = {symbol[s] for s in rhs} | {sympy.Symbol(k, real=True) for u in system.variables
+                                        for k in _components(system, u)}
     known |= {sympy.Symbol(p, real=True) for p in system.parameters}
     for s, f in rhs.items():
         if f.has(T):
@@ -125,11 +123,6 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
         if extra:
             fail(f"the ODE of {s} needs {', '.join(extra)}, which no equation determines", s)
     for name in sorted(reduced.outputs):
-        base = name.rpartition("_")[0]
-        if base in vector_fields:
-            fail(f"{base} is a vector the equations determine: the axiomatic printer "
-                 "writes scalar ODEs only", base)
-            continue
         if name not in state_fields or name in rhs:
             continue
         g = reduced.outputs[name].xreplace(zero)
@@ -160,9 +153,9 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
     return out
 
 
-def _scalar(system: System, name: str) -> bool:
-    t = system.variables.get(name)
-    return not isinstance(t, (ast.VectorType, ast.MatrixType))
+def _components(system: System, name: str) -> list[str]:
+    """The scalar variables of ``name`` as the scalarisation names them (itself if scalar)."""
+    return components(name, type_shape(system.variables.get(name)) or ())
 
 
 def _span_of(system: System, name: str, where: Span) -> Span:

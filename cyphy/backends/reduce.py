@@ -1,7 +1,9 @@
 """From assembled equations to explicit first-order ODEs ``x' = f(x, u, p)`` with SymPy.
 
-1. Every equation becomes scalar residuals (vectors and matrices component by component,
-   constants with values substituted exactly).
+1. Every equation becomes scalar residuals: vectors and matrices component by component by
+   the one scalarisation pass that the Isabelle printers use
+   (:mod:`cyphy.semantics.scalarise`, components ``X_1`` … ``X_n``), constants with values
+   substituted exactly, component by component.
 2. Differentiated variables are the candidate states; a residual that mentions no unknown is a
    constraint among states (``e == das - av`` where ``derivative(e)`` appears): the
    constrained variable is solved from it and stops being a state, its derivative obtained by
@@ -30,6 +32,7 @@ from cyphy.backends.sympy import T, SympyPrinter, UnsupportedNode
 from cyphy.lang import ast
 from cyphy.diagnostics import Report, Span
 from cyphy.semantics.equations import OBSTACLE, Equation, System
+from cyphy.semantics.scalarise import ScalariseError, Scalariser, components
 
 
 @dataclass(frozen=True)
@@ -52,7 +55,8 @@ class Reduced:
     closed_form: dict[str, Any] | None = None  # state → expression of t and x0
 
 
-def _shape(t: ast.TypeRef | None) -> tuple[int, ...] | None:
+def type_shape(t: ast.TypeRef | None) -> tuple[int, ...] | None:
+    """The shape a declared vector or matrix type of literal sizes fixes (None otherwise)."""
     def size(e: ex.Expr | None) -> int | None:
         return int(e.text) if isinstance(e, ex.Num) and e.is_integer else None
 
@@ -78,24 +82,33 @@ def _exact(v: Any) -> Any:
 
 
 class Reducer:
-    def __init__(self, system: System) -> None:
+    """``wanted``: algebraic variables to solve as outputs even where no state derivative
+    needs them (what cannot be solved among them is left out, not an obstacle)."""
+
+    def __init__(self, system: System, wanted: frozenset[str] = frozenset()) -> None:
         self.system = system
+        self.wanted = wanted
         self.funcs: dict[str, Any] = {}  # scalar variable → f(t)
-        symbols: dict[str, Any] = {}
+        shapes: dict[str, tuple[int, ...]] = {}
         for name, t in system.variables.items():
-            shape = _shape(t)
-            if shape is None:
-                continue
-            comps = [f"{name}_{k + 1}" for k in range(int(np.prod(shape)))]
-            funcs = [self._func(c) for c in comps]
-            symbols[name] = sympy.Matrix(funcs) if len(shape) == 1 else sympy.Matrix(
-                shape[0], shape[1], funcs)
-        for name in system.variables:
-            if name not in symbols:
-                symbols[name] = self._func(name)
+            shape = type_shape(t)
+            if shape is not None:
+                shapes[name] = shape
+        symbols: dict[str, Any] = {}
         for name, value in system.parameters.items():
             exact = _exact(value) if value is not None else None
-            symbols[name] = exact if exact is not None else sympy.Symbol(name, real=True)
+            if isinstance(exact, sympy.MatrixBase):
+                shapes[name] = tuple(np.shape(value))
+                for k, item in zip(components(name, shapes[name]), list(exact)):
+                    symbols[k] = item
+            else:
+                symbols[name] = exact if exact is not None else sympy.Symbol(name, real=True)
+        # variables and valued constants become their components; a constant without a
+        # value stays one symbol
+        self.scalariser = Scalariser(shapes, frozenset(shapes))
+        for name in system.variables:
+            for k in components(name, shapes.get(name, ())):
+                symbols[k] = self._func(k)
         self.printer = SympyPrinter(symbols=symbols)
         self.inputs = {c for n in system.inputs for c in self._components(n)}
         self.input_derivatives: dict[Any, Any] = {}
@@ -107,10 +120,7 @@ class Reducer:
         return f
 
     def _components(self, name: str) -> list[str]:
-        shape = _shape(self.system.variables.get(name))
-        if shape is None:
-            return [name]
-        return [f"{name}_{k + 1}" for k in range(int(np.prod(shape)))]
+        return components(name, self.scalariser.shapes.get(name, ()))
 
     # ----- step 1: residuals
     def residuals(self, obstacles: list[Obstacle]) -> list[tuple[Any, Equation]]:
@@ -122,15 +132,15 @@ class Reducer:
                                           "is not lhs == rhs", (), (eq,)))
                 continue
             try:
-                left, right = self.printer.doprint(e.left), self.printer.doprint(e.right)
-            except (UnsupportedNode, TypeError, ValueError, sympy.ShapeError) as err:
+                scalar = self.scalariser.predicate(e)
+                sides = [(self.printer.doprint(q.left), self.printer.doprint(q.right))
+                         for q in scalar if isinstance(q, ex.BinOp)]
+            except (ScalariseError, UnsupportedNode, TypeError, ValueError,
+                    sympy.ShapeError) as err:
                 obstacles.append(Obstacle("unsupported", f"cannot convert an equation of "
                                           f"{eq.origin}: {err}", (), (eq,)))
                 continue
-            left, right = _scalar(left), _scalar(right)
-            diff = left - right
-            items = list(diff) if isinstance(diff, sympy.MatrixBase) else [diff]
-            out.extend((sympy.expand(r.doit()), eq) for r in items)
+            out.extend((sympy.expand((left - right).doit()), eq) for left, right in sides)
         return out
 
     def _derivative_symbol(self, f: Any) -> Any:
@@ -305,17 +315,23 @@ class Reducer:
             for other in sorted(self._unknown_names(residuals[i][0], unknown_of)):
                 if other != name:
                     deps.add_edge(other, name)
-        needed: set[str] = set()
-        frontier = [f"d_{s}" for s in dsyms.values()]
-        while frontier:
-            v = frontier.pop()
-            if v in needed:
-                continue
-            needed.add(v)
-            if v in defined_by:
-                frontier.extend(self._unknown_names(residuals[defined_by[v]][0], unknown_of))
+
+        def closure(frontier: list[str]) -> set[str]:
+            seen: set[str] = set()
+            while frontier:
+                v = frontier.pop()
+                if v in seen:
+                    continue
+                seen.add(v)
+                if v in defined_by:
+                    frontier.extend(self._unknown_names(residuals[defined_by[v]][0],
+                                                        unknown_of))
+            return seen
+
+        needed = closure([f"d_{s}" for s in dsyms.values()])
+        extra = closure([v for v in sorted(self.wanted) if v in by_name]) - needed
         missing = sorted(v for v in needed if v not in defined_by)
-        blocked: set[str] = set()
+        blocked: set[str] = {v for v in extra if v not in defined_by}
         for v in missing:
             users = [residuals[i][1] for n, i in defined_by.items()
                      if v in self._unknown_names(residuals[i][0], unknown_of)]
@@ -325,33 +341,39 @@ class Reducer:
                 tuple(dict.fromkeys(users))))
             blocked.add(v)
         solved: dict[Any, Any] = {}
-        sub = deps.subgraph(needed & set(defined_by))
+        sub = deps.subgraph((needed | extra) & set(defined_by))
         for block in _blocks_in_order(sub):
             if any(p in blocked for b in block for p in deps.predecessors(b)):
                 blocked.update(block)
                 continue
+            quiet = not needed.intersection(block)  # only wanted: no obstacle
             eqs = [residuals[defined_by[v]][0].xreplace(solved) for v in block]
             objs = [by_name[v] for v in block]
             functions = [f for e in eqs for f in e.atoms(AppliedUndef)
                          if f.func.__name__ not in self.funcs and any(f.has(o) for o in objs)]
             if functions:
-                result.obstacles.append(Obstacle(
-                    "unknown-function", f"{', '.join(sorted({str(f.func) for f in functions}))}"
-                    f" has no definition: {', '.join(_shown(v) for v in block)} cannot be "
-                    "solved through it", tuple(_shown(v) for v in block),
-                    tuple(residuals[defined_by[v]][1] for v in block)))
+                if not quiet:
+                    undefined = ", ".join(sorted({str(f.func) for f in functions}))
+                    result.obstacles.append(Obstacle(
+                        "unknown-function", f"{undefined} has no definition: "
+                        f"{', '.join(_shown(v) for v in block)} cannot be solved through it",
+                        tuple(_shown(v) for v in block),
+                        tuple(residuals[defined_by[v]][1] for v in block)))
                 blocked.update(block)
                 continue
-            try:
-                solution = sympy.solve(eqs, objs, dict=True)
-            except (NotImplementedError, ValueError) as err:
-                solution, _ = [], err
+            solution = _linear_one(eqs, objs)
+            if solution is None:
+                try:
+                    solution = sympy.solve(eqs, objs, dict=True)
+                except (NotImplementedError, ValueError) as err:
+                    solution, _ = [], err
             if len(solution) != 1 or set(solution[0]) != set(objs):
-                result.obstacles.append(Obstacle(
-                    "algebraic-loop", "SymPy cannot solve " + ", ".join(
-                        _shown(v) for v in block) + " from their equations (a "
-                    "non-invertible algebraic loop)", tuple(_shown(v) for v in block),
-                    tuple(residuals[defined_by[v]][1] for v in block)))
+                if not quiet:
+                    result.obstacles.append(Obstacle(
+                        "algebraic-loop", "SymPy cannot solve " + ", ".join(
+                            _shown(v) for v in block) + " from their equations (a "
+                        "non-invertible algebraic loop)", tuple(_shown(v) for v in block),
+                        tuple(residuals[defined_by[v]][1] for v in block)))
                 blocked.update(block)
                 continue
             for obj, value in solution[0].items():
@@ -404,14 +426,23 @@ def _match(equations: list[tuple[int, set[str]]]) -> dict[str, int]:
     return {v: equations[k][0] for k, v in sorted(owner.items())}
 
 
+def _linear_one(eqs: list[Any], objs: list[Any]) -> list[dict[Any, Any]] | None:
+    """The solution of one equation linear in its one unknown, ``a·x + b = 0`` with ``a``
+    free of ``x`` and not zero: ``x = -b/a`` (what ``sympy.solve`` gives, without its
+    general machinery: most blocks are of this kind); None for anything else."""
+    if len(eqs) != 1:
+        return None
+    [r], [x] = eqs, objs
+    if any(d.has(x) for d in r.atoms(sympy.Derivative)):
+        return None
+    a = sympy.expand(sympy.diff(r, x))
+    if a == 0 or a.has(x):
+        return None
+    return [{x: -r.xreplace({x: 0}) / a}]
+
+
 def _shown(v: str) -> str:
     return v[2:] + "'" if v.startswith("d_") else v
-
-
-def _scalar(v: Any) -> Any:
-    if isinstance(v, sympy.MatrixBase) and v.shape == (1, 1):
-        return v[0, 0]
-    return v
 
 
 def _blocks_in_order(graph: nx.DiGraph) -> list[list[str]]:
@@ -438,8 +469,10 @@ def report_obstacles(reduced: Reduced, report: Report) -> None:
         report.report(OBSTACLE, o.message, span, _OBSTACLE_HINTS[o.kind], notes)
 
 
-def reduce_system(system: System) -> Reduced:
-    return Reducer(system).reduce()
+def reduce_system(system: System, wanted: frozenset[str] = frozenset()) -> Reduced:
+    """The explicit ODEs of ``system``; ``wanted`` algebraic variables are solved as outputs
+    too where they can be (the axiomatic Isabelle dialect wants every state field)."""
+    return Reducer(system, wanted).reduce()
 
 
 def closed_form(reduced: Reduced, inputs: dict[str, Any] | None = None) -> dict[str, Any] | None:

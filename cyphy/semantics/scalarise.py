@@ -11,6 +11,12 @@ Components are named as ``cyphy solve`` names them (:mod:`cyphy.backends.reduce`
 vector or matrix variable ``X`` has the scalar variables ``X_1`` … ``X_n``, counted from 1,
 row by row. A constant keeps its one name and is indexed (``Index(A, (2,))`` is ``A``'s third
 item, counted from 0 as HOL's ``nth`` counts), so its definition stays one list.
+
+The library's vector and matrix functions whose components are arithmetic in their arguments'
+components (``physmod::math``: ``skew``, ``ad``, ``ScrewAxis``, ``cross``, ``dot``, ``norm``,
+``Rot``, ``Adjoint``, ``identity``, ``zeroes``) are written out as the literal they denote
+(:data:`EXPANSIONS`), so ``ad(fV) * A * v`` has a component form; products with a literal 0
+leave no term.
 """
 
 from __future__ import annotations
@@ -30,34 +36,91 @@ SCALAR_FUNCTIONS = frozenset({"sin", "cos", "tan", "asin", "acos", "atan", "arct
                               "ceil"})
 
 
-#: Entries of ``physmod::math::skew(v)`` (the matrix of ``v ×``): ``(i, j) -> (sign, k)``, the
-#: entry being ``sign * v[k]`` (from 0); entries not listed are 0.
-_SKEW = {(0, 1): (-1, 2), (0, 2): (1, 1), (1, 0): (1, 2), (1, 2): (-1, 0), (2, 0): (-1, 1),
-         (2, 1): (1, 0)}
+def _zero(e: ex.Expr) -> bool:
+    return isinstance(e, ex.Num) and e.text.replace(".", "", 1).strip("0") == ""
 
 
-def _skew_entry(i: int, j: int) -> tuple[int, int] | None:
-    return _SKEW.get((i, j))
+def _neg(e: ex.Expr) -> ex.Expr:
+    return e if _zero(e) else ex.UnaryOp("-", e)
 
 
-def _ad_entry(i: int, j: int) -> tuple[int, int] | None:
-    """``physmod::math::ad(V)`` of the twist ``V = (w, v)`` is ``[[skew(w), 0], [skew(v),
-    skew(w)]]`` (Lynch and Park, 8.2.2; the SymPy backend's ``_ad`` is the same matrix)."""
-    block = (i // 3, j // 3)
-    if block == (0, 1):
-        return None
-    entry = _skew_entry(i % 3, j % 3)
-    if entry is None:
-        return None
-    return entry[0], entry[1] + (3 if block == (1, 0) else 0)
+def _mul(a: ex.Expr, b: ex.Expr) -> ex.Expr:
+    return ex.Num("0") if _zero(a) or _zero(b) else ex.BinOp("*", a, b)
 
 
-#: Matrix-valued library functions of one vector whose entries are (signed) components of
-#: the argument: name -> (argument size, result shape, entry).
-ARRAY_FUNCTIONS: dict[str, tuple[int, Shape, Callable[[int, int], tuple[int, int] | None]]] = {
-    "skew": (3, (3, 3), _skew_entry),
-    "ad": (6, (6, 6), _ad_entry),
+def _sum(terms: list[ex.Expr]) -> ex.Expr:
+    """``a + b + …`` without the literal zeros (``0`` when nothing is left)."""
+    kept = [t for t in terms if not _zero(t)]
+    if not kept:
+        return ex.Num("0")
+    out = kept[0]
+    for t in kept[1:]:
+        out = ex.BinOp("+", out, t)
+    return out
+
+
+def _skew(v: list[ex.Expr]) -> list[list[ex.Expr]]:
+    """``physmod::math::skew``: the matrix of ``v ×``."""
+    zero = ex.Num("0")
+    return [[zero, _neg(v[2]), v[1]], [v[2], zero, _neg(v[0])], [_neg(v[1]), v[0], zero]]
+
+
+def _ad(v: list[ex.Expr]) -> list[list[ex.Expr]]:
+    """``physmod::math::ad``: ``[| skew(w), 0; skew(v), skew(w) |]`` of ``V = (w; v)``."""
+    w, u = _skew(v[:3]), _skew(v[3:])
+    zero = [ex.Num("0")] * 3
+    return [w[i] + zero for i in range(3)] + [u[i] + w[i] for i in range(3)]
+
+
+def _rot(w: list[ex.Expr], theta: ex.Expr) -> list[list[ex.Expr]]:
+    """``physmod::math::Rot``: Rodrigues' ``I + sin θ [w] + (1 - cos θ) [w]²``, with
+    ``([w]²)_ij = w_i w_j - δ_ij (w·w)``."""
+    k = _skew(w)
+    s = ex.Call(ex.Name(("sin",)), (theta,))
+    c1 = ex.BinOp("-", ex.Num("1"), ex.Call(ex.Name(("cos",)), (theta,)))
+    ww = _sum([_mul(x, x) for x in w])
+    rows = []
+    for i in range(3):
+        row = []
+        for j in range(3):
+            square = _mul(w[i], w[j]) if i != j else ex.BinOp("-", _mul(w[i], w[j]), ww)
+            terms = [ex.Num("1") if i == j else ex.Num("0"), _mul(s, k[i][j]),
+                     ex.BinOp("*", c1, square)]
+            row.append(_sum(terms))
+        rows.append(row)
+    return rows
+
+
+def _adjoint(t: list[list[ex.Expr]]) -> list[list[ex.Expr]]:
+    """``physmod::math::Adjoint``: ``[| R, 0; skew(p)*R, R |]`` of ``T = (R, p)``."""
+    r = [row[:3] for row in t[:3]]
+    k = _skew([t[i][3] for i in range(3)])
+    kr = [[_sum([_mul(k[i][m], r[m][j]) for m in range(3)]) for j in range(3)]
+          for i in range(3)]
+    zero = [ex.Num("0")] * 3
+    return [r[i] + zero for i in range(3)] + [kr[i] + r[i] for i in range(3)]
+
+
+#: Library functions written out as literals: name → (argument shapes, None for a scalar or
+#: a literal size; the literal as rows, or a scalar expression, from the arguments'
+#: components: a vector's as a list, a matrix's as rows, a scalar as itself).
+EXPANSIONS: dict[str, tuple[tuple[Shape | None, ...], Callable[..., object]]] = {
+    "skew": (((3,),), _skew),
+    "ad": (((6,),), _ad),
+    "ScrewAxis": (((3,), (3,)), lambda w, v: [w + v]),
+    "cross": (((3,), (3,)), lambda u, v: [[
+        ex.BinOp("-", _mul(u[1], v[2]), _mul(u[2], v[1])),
+        ex.BinOp("-", _mul(u[2], v[0]), _mul(u[0], v[2])),
+        ex.BinOp("-", _mul(u[0], v[1]), _mul(u[1], v[0]))]]),
+    "dot": ((None, None), lambda u, v: _sum([_mul(a, b) for a, b in zip(u, v)])),
+    "norm": ((None,), lambda v: ex.Call(ex.Name(("sqrt",)), (_sum([_mul(a, a) for a in v]),))),
+    "Rot": (((3,), ()), _rot),
+    "Adjoint": (((4, 4),), _adjoint),
+    "identity": (((),), lambda n: [[ex.Num("1" if i == j else "0") for j in range(n)]
+                                   for i in range(n)]),
+    "zeroes": (((), ()), lambda m, n: [[ex.Num("0")] * n for _ in range(m)]),
 }
+_SIZE_ARGUMENTS = frozenset({"identity", "zeroes"})
 
 
 class ScalariseError(Exception):
@@ -67,10 +130,6 @@ class ScalariseError(Exception):
     def __init__(self, node: ex.Expr, message: str) -> None:
         super().__init__(message)
         self.node = node
-
-
-def _is_zero(e: ex.Expr) -> bool:
-    return isinstance(e, ex.Num) and e.text == "0"
 
 
 def shape_of_type(t: c.Type) -> Shape | None:
@@ -130,6 +189,59 @@ class Scalariser:
 
     def __post_init__(self) -> None:
         self._memo: dict[int, tuple[ex.Expr, Shape]] = {}
+        self._expanded: dict[int, tuple[ex.Expr, ex.Expr]] = {}
+        self._produced: dict[int, ex.Index] = {}  # indices written by the pass (from 0)
+
+    def _indexed(self, base: ex.Expr, index: tuple[int, ...], span: object) -> ex.Index:
+        """A constant's item as HOL's ``nth`` counts (from 0), remembered as the pass's own
+        so that reading it again (inside an expanded literal) does not count it from 1."""
+        out = ex.Index(base, tuple(ex.Num(str(i)) for i in index), span=span)  # type: ignore
+        self._produced[id(out)] = out
+        return out
+
+    def expansion(self, e: ex.Expr) -> ex.Expr | None:
+        """The literal (or scalar expression) a library call of :data:`EXPANSIONS` denotes,
+        built from its arguments' components (memoised: shapes are asked of its nodes)."""
+        if not (isinstance(e, ex.Call) and isinstance(e.func, ex.Name)
+                and e.func.text in EXPANSIONS):
+            return None
+        found = self._expanded.get(id(e))
+        if found is not None and found[0] is e:
+            return found[1]
+        name = e.func.text
+        wanted, build = EXPANSIONS[name]
+        if len(e.args) != len(wanted):
+            raise ScalariseError(e, f"{name} takes {len(wanted)} argument"
+                                 f"{'s' if len(wanted) != 1 else ''}")
+        args: list[object] = []
+        for a, want in zip(e.args, wanted):
+            if name in _SIZE_ARGUMENTS:
+                if not (isinstance(a, ex.Num) and a.is_integer):
+                    raise ScalariseError(a, f"the size given to {name} is not a literal")
+                args.append(int(a.text))
+                continue
+            shape = self.shape(a)
+            fits = len(shape) == 1 if want is None else (
+                shape == want if not want or not shape else _as_matrix(shape) == _as_matrix(want))
+            if not fits:
+                expected = "a vector" if want is None else _describe(want)
+                raise ScalariseError(a, f"{name} takes {expected} here, not {_describe(shape)}")
+            if not shape:
+                args.append(self._scalar(a))
+            elif len(shape) == 1:
+                args.append([self.component(a, (k,)) for k in range(_size(shape))])
+            else:
+                args.append([[self.component(a, (i, j)) for j in range(shape[1])]
+                             for i in range(shape[0])])
+        value = build(*args)
+        out: ex.Expr
+        if isinstance(value, list):
+            rows = tuple(tuple(r) for r in value)
+            out = ex.Vector(rows, span=e.span) if len(rows) == 1 else ex.Matrix(rows, span=e.span)
+        else:
+            out = value  # type: ignore[assignment]
+        self._expanded[id(e)] = (e, out)
+        return out
 
     def shape(self, e: ex.Expr) -> Shape:
         """The shape of ``e`` (memoised per node: components ask it of every subterm)."""
@@ -150,6 +262,8 @@ class Scalariser:
     def has_arrays(self, e: ex.Expr) -> bool:
         """Whether ``e`` mentions a vector or matrix at all (most equations do not)."""
         return any(isinstance(n, (ex.Vector, ex.Matrix, ex.Seq, ex.Index))
+                   or (isinstance(n, ex.Call) and isinstance(n.func, ex.Name)
+                       and n.func.text in EXPANSIONS)
                    or (isinstance(n, ex.Name) and (n.text in self.shapes
                                                    or n.text in self.unsized))
                    for n in e.walk())
@@ -200,16 +314,13 @@ class Scalariser:
 
     def _shape_Call(self, e: ex.Call) -> Shape:
         name = e.func.text if isinstance(e.func, ex.Name) else None
+        expanded = self.expansion(e)
+        if expanded is not None:
+            return self.shape(expanded)
         shapes = [self.shape(a) for a in e.args]
         if name == "transpose" and len(shapes) == 1:
             m = _as_matrix(shapes[0]) if shapes[0] else (1, 1)
             return (m[1], m[0])
-        if name in ARRAY_FUNCTIONS and len(shapes) == 1:
-            size, result, _ = ARRAY_FUNCTIONS[name]
-            if _size(shapes[0]) != size or len(shapes[0]) != 1:
-                raise ScalariseError(e, f"{name} takes a vector of {size}, not "
-                                     f"{_describe(shapes[0])}")
-            return result
         if any(_size(s) != 1 for s in shapes if s):
             raise ScalariseError(e, f"{name or 'a function'} applied to a vector or matrix has "
                                  "no component form here (only +, -, *, /, transpose and "
@@ -278,12 +389,16 @@ class Scalariser:
                                  f"{_describe(shape)}")
         if shape is not None and base.text in self.split:
             return self._component(base, index)
-        return ex.Index(base, tuple(ex.Num(str(i)) for i in index), span=e.span)
+        return self._indexed(base, index, e.span)
 
     def _scalar(self, e: ex.Expr) -> ex.Expr:
         """A scalar expression whose subterms may be one-item arrays or indices."""
         if isinstance(e, ex.Index):
-            return self._index(e)
+            return e if self._produced.get(id(e)) is e else self._index(e)
+        expanded = self.expansion(e)
+        if expanded is not None:
+            return self._scalar(expanded) if not self.shape(expanded) else \
+                self.component(expanded, ())
         if not any(self.shape(ch) or isinstance(ch, ex.Index) for ch in e.walk()
                    if ch is not e):
             return e
@@ -296,7 +411,7 @@ class Scalariser:
             flat = index[0] if len(index) == 1 else index[0] * own[1] + index[1]
             if e.text in self.split:
                 return ex.Name((component_name(e.text, flat),), span=e.span)
-            return ex.Index(e, tuple(ex.Num(str(i)) for i in index), span=e.span)
+            return self._indexed(e, index, e.span)
         if isinstance(e, (ex.Vector, ex.Matrix)):
             row = e.rows[0] if len(e.rows) == 1 else e.rows[index[0]]
             return self.component(row[index[-1]], ())
@@ -308,14 +423,10 @@ class Scalariser:
             return ex.Derivative(self._at(e.operand, index), span=e.span)
         if isinstance(e, ex.Integral):
             return ex.Integral(self._at(e.operand, index), span=e.span)
-        if isinstance(e, ex.Call) and isinstance(e.func, ex.Name) \
-                and e.func.text in ARRAY_FUNCTIONS:
-            entry = ARRAY_FUNCTIONS[e.func.text][2](*index)
-            if entry is None:
-                return ex.Num("0", span=e.span)
-            item = self.component(e.args[0], (entry[1],))
-            return item if entry[0] > 0 else ex.UnaryOp("-", item, span=e.span)
-        if isinstance(e, ex.Call):  # transpose: the other array-valued call shape() allows
+        expanded = self.expansion(e)
+        if expanded is not None:
+            return self.component(expanded, index)
+        if isinstance(e, ex.Call):  # transpose: the only other array-valued call
             inner = self.shape(e.args[0])
             if len(inner) == 1:
                 return self.component(e.args[0], (index[-1],))
@@ -335,18 +446,10 @@ class Scalariser:
         # a product of two arrays: the sum over the inner index
         i, j = index if len(index) == 2 else (index[0], 0)
         inner = _as_matrix(left)[1]
-        terms = [ex.BinOp("*",
-                          self.component(e.left, (i, k) if len(left) == 2 else (i,)),
-                          self.component(e.right, (k, j) if len(right) == 2 else (k,)),
-                          span=e.span)
+        terms = [_mul(self.component(e.left, (i, k) if len(left) == 2 else (i,)),
+                      self.component(e.right, (k, j) if len(right) == 2 else (k,)))
                  for k in range(inner)]
-        # a product with a structural zero (an entry of skew or ad) is left out
-        terms = [t for t in terms if not (_is_zero(t.left) or _is_zero(t.right))] \
-            or [ex.Num("0", span=e.span)]
-        out = terms[0]
-        for t in terms[1:]:
-            out = ex.BinOp("+", out, t, span=e.span)
-        return out
+        return _sum(terms)
 
     # ------------------------------------------------------------------ predicates
 
