@@ -14,6 +14,8 @@ import sympy
 from hypothesis import HealthCheck, given, settings
 
 from conftest import EXAMPLES
+
+MAPPINGS = Path(__file__).resolve().parent / "mappings"
 from cyphy import api
 from cyphy.backends.isabelle_names import RESERVED, is_identifier
 from cyphy.cli import main
@@ -180,14 +182,35 @@ def test_the_default_dialect_is_unchanged() -> None:
 # ---------------------------------------------------------------- refusals
 
 
-def test_equations_that_cannot_be_reduced_are_refused() -> None:
-    # a hinge cut from the tree that moves it: nothing relates its effort to its motion
-    generated = axiomatic([MARXBOT], elements=("marXbotBase::Core::LHinge",))
+def _massless_wheel_robot(folder: Path) -> list[Path]:
+    """The mapping tests' two-wheeled robot with its left wheel massless: its kinematic tree
+    has no equations of motion, so nothing relates the hinge's effort to its motion."""
+    for name in ("Robot.rsm", "RobotSoftware.rsm", "Good.rsm"):
+        text = (MAPPINGS / name).read_text()
+        if name == "Robot.rsm":
+            start, end = text.index("local link LWheel"), text.index("local link RWheel")
+            wheel = text[start:end].replace("mass 0.1", "mass 0").replace("0.001", "0")
+            text = text[:start] + wheel + text[end:]
+        (folder / name).write_text(text)
+    return sorted(folder.glob("*.rsm"))
+
+
+def test_equations_that_cannot_be_reduced_are_refused(tmp_path: Path) -> None:
+    # a chosen hinge whose tree gives no equation of motion: its effort determines nothing
+    files = _massless_wheel_robot(tmp_path)
+    generated = axiomatic(files, elements=("Robot::Base::LHinge",))
     errors = [d for d in generated.report.diagnostics if d.code.id == "E-ISABELLE-ODE"]
     assert errors and generated.files == {}
     assert any("no equation determines LHinge_" in d.message for d in errors)
     assert all("/physmod/" in d.span.file for d in errors)  # the offending equation
     assert all("--isabelle-dialect utp" in d.hint for d in errors)
+
+
+def test_a_whole_model_without_equations_of_motion_is_a_located_error(tmp_path: Path) -> None:
+    generated = axiomatic(_massless_wheel_robot(tmp_path), elements=())
+    (error,) = [d for d in generated.report.diagnostics if d.severity.value == "ERROR"]
+    assert error.code.id == "E-DYNAMICS" and "LHinge" in error.message
+    assert error.span.file.endswith("Robot.rsm") and generated.files == {}
 
 
 # ---------------------------------------------------------------- whole models (issue 16)
@@ -272,10 +295,13 @@ def test_cli_writes_the_session_beside_the_model(tmp_path: Path, capsys) -> None
     whole = tmp_path / "whole"
     assert main(args[:5] + ["-o", str(whole)]) == 0
     assert (whole / THEORY).exists()
-    # not reducible: the error, and nothing written
+    # not reducible (the robot's wheel is massless): the error, and nothing written
     other = tmp_path / "other"
-    assert main(args[:5] + ["--isabelle-element", "marXbotBase::Core::LHinge",
-                            "-o", str(other)]) == 1
+    (tmp_path / "robot").mkdir()
+    robot = _massless_wheel_robot(tmp_path / "robot")
+    assert main(args[:4] + [str(p) for p in robot] + ["--isabelle-element",
+                                                      "Robot::Base::LHinge", "-o",
+                                                      str(other)]) == 1
     assert "E-ISABELLE-ODE" in capsys.readouterr().err
     assert not other.exists()
 

@@ -35,7 +35,7 @@ from cyphy.backends.sympy import T, NotAnExpression, to_expr
 from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics import circus as c
-from cyphy.semantics.equations import System, assemble
+from cyphy.semantics.equations import ASSEMBLY, AssemblyError, System, assemble
 from cyphy.semantics.scalarise import components
 
 NOT_EXPLICIT = codes.code("E-ISABELLE-ODE", codes.E,
@@ -69,7 +69,11 @@ def explicit_odes(model: ElaboratedModel, evolution: c.Evolution, state_fields: 
     the span for what no equation locates: the mapping's)."""
     if not _check_elements(model, elements, report, where):
         return None
-    system = assemble(model, list(elements) or None)
+    try:
+        system = assemble(model, list(elements) or None)
+    except AssemblyError as err:  # e.g. a kinematic tree without equations of motion
+        report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
+        return None
     fields = {k for n in state_fields for k in _components(system, n)}
     reduced = reduce_system(system, frozenset(fields))
     if reduced.obstacles:
