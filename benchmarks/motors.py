@@ -89,17 +89,10 @@ map MotorsMapping dmodel DCMotorSoftware to pmodel MotorsBase {{
 }}
 """
 
-_SCENARIO = """model = "MotorsBase"
-elements = [{elements}, "MotorsBase::Bench::Range"]
-horizon = {horizon}
-tscale = 0.1
-
-[init]
-{init}Range_distance = [3, 3.1]
-
-[environment]
-Range_distance = "-2"
-
+#: ``examples/dcmotor``'s machine ``SSpeed`` written by hand as a scenario ``[controller]``
+#: table (what ``sampled_stop.toml`` held before the machine drove it): the motors' controller
+#: here, and what the tests compare the machine with.
+SSPEED_TABLE = """
 [controller]
 initial = "cruise"
 
@@ -113,7 +106,20 @@ calls = ["stop()"]
 from = "cruise"
 to = "stopped"
 when = "near"
+"""
 
+_SCENARIO = """model = "MotorsBase"
+elements = [{elements}, "MotorsBase::Bench::Range"]
+horizon = {horizon}
+tscale = 0.1
+
+[init]
+{init}Range_distance = [3, 3.1]
+
+[environment]
+Range_distance = "-2"
+
+{controller}
 [unsafe]
 constraints = [{unsafe}]
 """
@@ -141,5 +147,5 @@ def write_motors(folder: Path, n: int, horizon: float = 1.5, every: bool = False
     path = folder / f"motors{n}.toml"
     path.write_text(_SCENARIO.format(
         elements=", ".join(f'"MotorsBase::Bench::Shaft{k}::Motor{k}"' for k in ks),
-        horizon=horizon, init=init, unsafe=unsafe))
+        horizon=horizon, init=init, unsafe=unsafe, controller=SSPEED_TABLE.lstrip()))
     return path

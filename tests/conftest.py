@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 import tempfile
 from pathlib import Path
 
@@ -14,6 +15,8 @@ os.environ["CYPHY_CACHE_DIR"] = tempfile.mkdtemp(prefix="cyphy-test-cache-")
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
+# benchmarks/motors.py builds models that tests use too (the motors bench, the SSpeed table)
+sys.path.insert(0, str(ROOT / "benchmarks"))
 CORPUS = ROOT.parent / "shared" / "corpus" / "pmodel-examples"
 
 needs_corpus = pytest.mark.skipif(

@@ -26,7 +26,7 @@ from conftest import EXAMPLES, ROOT
 
 sys.path.insert(0, str(Path(__file__).parent))
 from flowstar_sim import interpret, simulate_direct  # noqa: E402
-from dcmotor_scenarios import SSPEED_TABLE  # noqa: E402
+from motors import SSPEED_TABLE  # noqa: E402
 
 SPEC = ROOT.parent / "shared" / "spec" / "flowstar-examples"
 DCMOTOR = (EXAMPLES / "dcmotor", EXAMPLES / "dcmotor" / "sampled_stop.toml")

@@ -19,7 +19,7 @@ from cyphy.lang.scopes import Scopes
 from cyphy.model.machines import global_constants, machines_of
 from cyphy.semantics.machine import MachineError, MachineInterpreter
 from cyphy.semantics.machine_automaton import compile_machine, describe
-from dcmotor_scenarios import SSPEED_TABLE
+from motors import SSPEED_TABLE
 
 SCENARIO = EXAMPLES / "dcmotor" / "sampled_stop.toml"
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from cyphy.cli import main
-from dcmotor_scenarios import SSPEED_TABLE
+from motors import SSPEED_TABLE
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 DCMOTOR = EXAMPLES / "dcmotor"
