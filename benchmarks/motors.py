@@ -12,15 +12,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-_MOTOR = """
-		jref Shaft{k} = Revolute {{
-			pose {{ x = 0 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }}
-			annotation Revolute {{
-				axis = Axis {{ xyz = (|0,0,1|) }}
-			}}
-			instantiation AXIS = (|0,0,1|)
-			flexibly connected to Flywheel{k}
-			aref Motor{k} = SpeedControlMotor {{
+def speed_control_motor(motor: str, joint: str) -> str:
+    """An ``aref`` of the library's SpeedControlMotor with ``examples/dcmotor``'s constants,
+    whose torque drives ``joint``: the motor every synthetic bench model uses."""
+    return f"""
+			aref {motor} = SpeedControlMotor {{
 				instantiation R = 1.0
 				instantiation L = 0.1
 				instantiation Kt = 0.05
@@ -30,9 +26,21 @@ _MOTOR = """
 				instantiation Kp = 2.0
 				instantiation Ki = 5.0
 				instantiation Kd = 0.0
-				relation Motor{k}.T == Shaft{k}.tau
+				relation {motor}.T == {joint}.tau
+			}}"""
+
+
+def _motor(k: int) -> str:
+    return f"""
+		jref Shaft{k} = Revolute {{
+			pose {{ x = 0 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }}
+			annotation Revolute {{
+				axis = Axis {{ xyz = (|0,0,1|) }}
 			}}
+			instantiation AXIS = (|0,0,1|)
+			flexibly connected to Flywheel{k}{speed_control_motor(f"Motor{k}", f"Shaft{k}")}
 		}}"""
+
 
 _FLYWHEEL = """
 	local link Flywheel{k} {{
@@ -131,7 +139,7 @@ def write_motors(folder: Path, n: int, horizon: float = 1.5, every: bool = False
     folder.mkdir(parents=True, exist_ok=True)
     ks = range(1, n + 1)
     (folder / "MotorsBase.rsm").write_text(_BASE.format(
-        motors="".join(_MOTOR.format(k=k) for k in ks),
+        motors="".join(_motor(k) for k in ks),
         flywheels="".join(_FLYWHEEL.format(k=k, z=0.06 * k) for k in ks)))
     (folder / "Mapping.rsm").write_text(_MAPPING.format(
         drive="".join(f"\n\t\tequation Bench::Shaft{k}::Motor{k}.das == w" for k in ks),

@@ -24,22 +24,9 @@ from cyphy.backends.circus_text import program_to_text
 from cyphy.backends.isabelle_theory import generate_session
 from cyphy.semantics import circus as c
 from cyphy.semantics import dynamics
+from motors import speed_control_motor
 from test_dynamics import pin, pinocchio_model
 from test_isabelle import check_session, semantics
-
-MOTOR = """
-      aref {m} = SpeedControlMotor {{
-        instantiation R = 1.0
-        instantiation L = 0.1
-        instantiation Kt = 0.05
-        instantiation Ke = 0.05
-        instantiation b = 0.01
-        instantiation J = 0.01
-        instantiation Kp = 2.0
-        instantiation Ki = 5.0
-        instantiation Kd = 0.0
-        relation {m}.T == {j}.tau
-      }}"""
 
 # A two-link arm swinging in the x-z plane under gravity, each hinge driven by a motor: its
 # equations of motion have sin and cos of both joint angles.
@@ -56,7 +43,7 @@ pmodel Arm {
     jref Hip = Revolute {
       pose { x = 0 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
       instantiation AXIS = (|0, 1, 0|)
-      flexibly connected to Upper""" + MOTOR.format(m="HipMotor", j="Hip") + """
+      flexibly connected to Upper""" + speed_control_motor("HipMotor", "Hip") + """
     }
   }
   local link Upper {
@@ -66,7 +53,7 @@ pmodel Arm {
     jref Knee = Revolute {
       pose { x = 0 y = 0 z = -0.2 roll = 0 pitch = 0 yaw = 0 }
       instantiation AXIS = (|0, 1, 0|)
-      flexibly connected to Lower""" + MOTOR.format(m="KneeMotor", j="Knee") + """
+      flexibly connected to Lower""" + speed_control_motor("KneeMotor", "Knee") + """
     }
   }
   local link Lower {
