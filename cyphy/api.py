@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
 from cyphy import collector, progress
+from cyphy.deep import deep
 from cyphy.diagnostics import Report, Span
 from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
@@ -40,6 +41,7 @@ class CheckResult:
     sources: dict[str, str] = field(default_factory=dict)
 
 
+@deep
 def check(paths: Sequence[str | Path], options: CheckOptions = CheckOptions()) -> CheckResult:
     """Parse the files (or folders) and, unless ``syntax_only``, resolve names and check the
     scope conditions. Diagnostics of library files are never reported."""
@@ -104,6 +106,7 @@ def _with_dependencies(ws: Workspace) -> list[str]:
         targets = targets + new
 
 
+@deep
 def machine_interpreter(paths: Sequence[str | Path], name: str | None = None,
                         consts: dict[str, object] | None = None,
                         search_paths: tuple[str, ...] = (), pmodel: str | None = None
@@ -154,6 +157,7 @@ class ElaborateResult:
         return self.check.report
 
 
+@deep
 def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = ElaborateOptions()
               ) -> ElaborateResult:
     """Check the files, then elaborate one p-model. The model is None when the files have
@@ -221,6 +225,7 @@ class SolveResult:
         return self.elaboration.report
 
 
+@deep
 def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -> SolveResult:
     """Assemble the model's equations (optionally with one mapping call), reduce them to
     explicit ODEs with SymPy and, where SymPy finds one, give the closed form."""
@@ -284,6 +289,7 @@ class SimulateResult:
         return self.elaboration.report
 
 
+@deep
 def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOptions()
              ) -> SimulateResult:
     """Integrate the model's explicit ODEs (``cyphy solve``'s) with SciPy, or, with
@@ -420,6 +426,7 @@ class SemanticsGenOptions:
     elements: tuple[str, ...] = ()  # --isabelle axiomatic: the elements Evolve's ODE covers
 
 
+@deep
 def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = SemanticsGenOptions()
               ) -> tuple[CheckResult, Any]:
     """Check the files (and the files they use) and apply the paper's rules to the chosen
@@ -438,6 +445,7 @@ def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = Semant
     return checked, built
 
 
+@deep
 def generate_cyphycircus(paths: Sequence[str | Path], target: str,
                          options: SemanticsGenOptions = SemanticsGenOptions()) -> Generated:
     """``target`` ``"text"``: ``<N>.cpc`` (Unicode, reads like the paper's Figure 18);
@@ -488,6 +496,7 @@ class SdfGenOptions:
     split_trees: bool = False  # a <world> with one <model> per tree of links
 
 
+@deep
 def generate_sdf(paths: Sequence[str | Path], options: SdfGenOptions = SdfGenOptions()
                  ) -> Generated:
     """SDF 1.6 for one p-model (``cyphy gen --sdf``): ``<Model>.sdf`` and the name table
@@ -553,6 +562,7 @@ class TreeGenOptions:
     free_base: bool = False  # MJCF: each tree's root gets a free joint
 
 
+@deep
 def robot(paths: Sequence[str | Path], options: TreeGenOptions, target: str
           ) -> tuple[Generated, Any, Any]:
     """The checked model as trees of links for ``target`` (``urdf``, ``mjcf``):
@@ -580,6 +590,7 @@ def _mesh_paths(options: TreeGenOptions, model: "ElaboratedModel") -> Any:
     return MeshPaths(Path(os.path.relpath(folder, out)).as_posix(), options.package)
 
 
+@deep
 def generate_urdf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGenOptions()
                   ) -> Generated:
     """URDF 1.0 (``cyphy gen --urdf``): ``<Model>.urdf``, or one ``<Model>__<Root>.urdf`` per
@@ -599,6 +610,7 @@ def generate_urdf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
     return generated
 
 
+@deep
 def generate_mjcf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGenOptions()
                   ) -> Generated:
     """MuJoCo's MJCF (``cyphy gen --mjcf``): ``<Model>.xml`` with every tree of links, a
@@ -634,6 +646,7 @@ class ViewRequest:
     azimuth: float | None = None
 
 
+@deep
 def view(paths: Sequence[str | Path], request: ViewRequest = ViewRequest()
          ) -> tuple[Generated, Any]:
     """The picture of one p-model (``cyphy view``): ``(generated with <Model>.png, the
@@ -695,6 +708,7 @@ def _device_constant(model: "ElaboratedModel", name: str) -> bool:
                for e in [*model.joints, *model.sensors, *model.actuators])
 
 
+@deep
 def generate_isabelle(paths: Sequence[str | Path],
                       options: SemanticsGenOptions = SemanticsGenOptions()) -> Generated:
     """The Isabelle session of one platform mapping: ``ROOT``, the prelude, the theory, a

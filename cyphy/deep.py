@@ -5,22 +5,26 @@ so are the functions that walk them (typing, evaluation, pickling for the parse 
 500-term sum is a left-nested tree 500 deep; Python's default limit of 1000 frames is then
 reached by walks that take two frames per level. Rather than rewrite every walk, a command
 runs in a thread whose stack holds :data:`DEPTH` frames; deeper input still ends in a
-:class:`RecursionError`, which the CLI reports as a model nested too deeply.
+:class:`RecursionError`, which the CLI reports as a model nested too deeply. The public API's
+entry points (:func:`deep`) run there too, so a script gets what the command gets.
 """
 
 from __future__ import annotations
 
+import functools
 import sys
 import threading
-from typing import Callable, TypeVar
+from typing import Callable, ParamSpec, TypeVar
 
 T = TypeVar("T")
+P = ParamSpec("P")
 
 #: The recursion limit while a command runs (Python's default is 1000).
 DEPTH = 40_000
 #: The stack of the thread that runs it: room for :data:`DEPTH` frames that recurse through C
 #: (pickling, hashing of frozen dataclasses). It is address space, used only as it is reached.
 STACK_BYTES = 512 * 1024 * 1024
+_THREAD = "cyphy"
 
 
 def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
@@ -39,7 +43,7 @@ def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
     old_limit, old_stack = sys.getrecursionlimit(), threading.stack_size()
     try:
         threading.stack_size(STACK_BYTES)
-        thread = threading.Thread(target=body, name="cyphy", daemon=True)
+        thread = threading.Thread(target=body, name=_THREAD, daemon=True)
         thread.start()
     finally:
         threading.stack_size(old_stack)
@@ -55,3 +59,15 @@ def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
     if not ok:
         raise value  # type: ignore[misc]
     return value  # type: ignore[return-value]
+
+
+def deep(fn: Callable[P, T]) -> Callable[P, T]:
+    """An API entry point that runs with the deep stack: in a new thread of
+    :func:`run_deep`, or directly when it is called from one (the CLI, or another entry
+    point), so that nesting costs no further threads."""
+    @functools.wraps(fn)
+    def entry(*args: P.args, **kwargs: P.kwargs) -> T:
+        if threading.current_thread().name == _THREAD:
+            return fn(*args, **kwargs)
+        return run_deep(lambda: fn(*args, **kwargs))
+    return entry

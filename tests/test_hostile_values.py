@@ -113,6 +113,17 @@ def test_deep_nesting_is_handled(tmp_path: Path, what: str, text: str) -> None:
     assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr[-2000:]
 
 
+def test_deep_nesting_through_the_api(tmp_path: Path) -> None:
+    """A script calling the API gets the command's deep stack: 500-deep parts elaborate and
+    give SDF (Python's default stack ends this in a RecursionError)."""
+    from cyphy import api
+
+    path = write(tmp_path, nested_parts(500))
+    assert not api.check([path]).report.has_errors
+    sdf = api.generate_sdf([path], api.SdfGenOptions(model="M0"))
+    assert not sdf.report.has_errors and sdf.files
+
+
 def test_nesting_beyond_any_stack_is_an_error_not_a_crash(tmp_path: Path) -> None:
     path = write(tmp_path, box_model("\tconst K : real = " + "+".join(["1"] * 60000),
                                      "length = K, width = 0.1, height = 0.1"))
