@@ -16,7 +16,7 @@ import pytest
 
 from cyphy.cli import main
 from cyphy.diagnostics import Report
-from cyphy.flowstar.check import joint, parts, split
+from cyphy.flowstar.check import check, joint, parts, split
 from cyphy.flowstar.export import build_problem, render
 from cyphy.flowstar.scenario import load_scenario
 from cyphy.flowstar.simulate import BUDGET, Automaton, _Search, find_witness, unsafe_paths
@@ -103,6 +103,42 @@ def test_the_joint_problem_keeps_the_whole_conjunction_on_every_part_s_states(mo
                                      key=problem.states.index)
     assert together.unsafe == problem.unsafe
     assert "Motor1_theta" not in together.states  # what no atom needs stays out
+
+
+def _scripted_flowstar(tmp_path: Path, part1: str, part2: str, joint_: str) -> str:
+    """An executable that reads a model like Flow* and answers by what it holds: both
+    motors (the joint run), motor 1's part or motor 2's, counting its runs in a file."""
+    script = tmp_path / "flowstar"
+    script.write_text(
+        f"#!{sys.executable}\nimport sys\ntext = sys.stdin.read()\n"
+        f"open({str(tmp_path / 'runs')!r}, 'a').write('run\\n')\n"
+        "one, two = 'Motor1_av' in text, 'Motor2_av' in text\n"
+        f"word = {joint_!r} if one and two else {part1!r} if one else {part2!r}\n"
+        "print('Computation completed: 10 flowpipe(s) computed.')\n"
+        "print('Result of the safety verification on the computed flowpipes: ' + word)\n")
+    script.chmod(0o755)
+    return str(script)
+
+
+@pytest.mark.parametrize("answers, verdict, runs, jointly", [
+    (("SAFE", "UNKNOWN", "UNKNOWN"), "SAFE", 2, False),  # one part proves the conjunction
+    (("UNKNOWN", "UNKNOWN", "SAFE"), "SAFE", 2 + 8 + 1, True),  # parts, their boxes, joint
+    (("UNKNOWN", "UNKNOWN", "UNKNOWN"), "UNKNOWN", 2 + 8 + 1 + 4, False),  # never SAFE
+])
+def test_parts_then_boxes_then_the_joint_run(motors, tmp_path, answers, verdict, runs,
+                                             jointly):
+    """The combination rule, with a scripted Flow*: SAFE of one part suffices; parts that
+    are not proved leave the verdict open until the joint run proves it; the joint run
+    split into boxes too when it is open, and without any SAFE the verdict is UNKNOWN."""
+    folder, _, every = motors
+    problem = _problem(folder / "every", every)
+    result = check(problem, "every", _scripted_flowstar(tmp_path, *answers), jobs=1)
+    assert result.verdict == verdict, result.reason
+    assert len((tmp_path / "runs").read_text().splitlines()) == runs
+    assert ("jointly" in result.reason) == jointly
+    if verdict == "UNKNOWN":
+        assert result.reason.startswith("not proved: ")
+        assert sum("parts jointly" in d for d in result.details) == 4 + 1  # 4 boxes, 1 note
 
 
 def test_a_part_is_the_projection_of_the_whole_automaton(motors):
