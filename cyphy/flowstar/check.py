@@ -276,7 +276,7 @@ def _next_round(disjuncts: list[Problem], pieces: list[_Piece], proved: set[int]
     """What to run next for each disjunct not proved: its pieces whose one run ended open,
     on ``AUTO_SPLIT`` boxes (not a part whose own atoms a trajectory enters: the box of
     that trajectory's start would stay unsafe); when nothing is left to split, its parts
-    jointly (:func:`joint`)."""
+    jointly (:func:`joint`), unless one of them timed out."""
     pending: dict[int, tuple[_Piece, list[Task]]] = {}
     for j, d in enumerate(disjuncts):
         if j in proved:
@@ -295,8 +295,9 @@ def _next_round(disjuncts: list[Problem], pieces: list[_Piece], proved: set[int]
                              f"{AUTO_SPLIT} boxes")
                 pending[id(pc)] = (pc, ts)
                 split_now = True
-        if split_now or len(mine) < 2 or any(pc.joint for pc in mine):
-            continue
+        if split_now or len(mine) < 2 or any(pc.joint for pc in mine) or \
+                any(_timed_out(o) for pc in mine for o in pc.outcomes):
+            continue  # (the joint run, larger than a part that timed out, would too)
         whole = joint(d)
         where = f"disjunct {j + 1}/{len(disjuncts)}, " if len(disjuncts) > 1 else ""
         pc = _Piece(j, whole, f"{where}parts jointly [{', '.join(whole.states)}]", joint=True)
@@ -324,8 +325,11 @@ def _run_round(tasks: dict[Any, list[Task]], binary: str, timeout: float | None,
 
 def _open(outcome: Outcome) -> bool:
     """Whether smaller boxes may help: UNKNOWN or an unconfirmed UNSAFE, not a timeout."""
-    return outcome.verdict in ("UNKNOWN", "UNSAFE") and \
-        not outcome.reason.startswith("Flow* did not finish")
+    return outcome.verdict in ("UNKNOWN", "UNSAFE") and not _timed_out(outcome)
+
+
+def _timed_out(outcome: Outcome) -> bool:
+    return outcome.reason.startswith("Flow* did not finish")
 
 
 def _confirm(disjuncts: list[Problem], name: str, pieces: list[_Piece], several: set[int],
