@@ -351,12 +351,16 @@ def _confirm(disjuncts: list[Problem], name: str, pieces: list[_Piece], several:
             if outcome.verdict != "UNSAFE":
                 continue
             whole = _whole(disjuncts[pc.disjunct], task.problem)
-            hints = unsafe_paths(outcome.counterexample)
+            # Flow*'s paths name the whole automaton's modes unless the part dropped them
+            same = task.problem.scenario.states.keys() == whole.scenario.states.keys() and \
+                task.problem.scenario.transitions == whole.scenario.transitions
+            hints = unsafe_paths(outcome.counterexample) if same else []
             witness = search(render(whole, name), hints)
             if witness is not None:
                 return witness, [*whole.states, *whole.held_inputs], outcome
             if not pc.joint and pc.disjunct in several and not pc.reachable:
-                pc.reachable = search(render(task.problem, name), hints) is not None
+                pc.reachable = search(render(task.problem, name),
+                                      unsafe_paths(outcome.counterexample)) is not None
     return None
 
 
