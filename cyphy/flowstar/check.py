@@ -48,7 +48,7 @@ import sympy
 
 from cyphy.flowstar.constraints import dnf
 from cyphy.flowstar.export import CLOCK, TIMER, Problem, render, symbol
-from cyphy.flowstar.simulate import Witness, find_witness, unsafe_paths
+from cyphy.flowstar.simulate import BUDGET, Witness, find_witness, unsafe_paths
 from cyphy.flowstar.verdict import Outcome, run_text
 
 AUTO_SPLIT = 4  # boxes per part when a run without splitting ends UNKNOWN
@@ -343,10 +343,11 @@ def _confirm(disjuncts: list[Problem], name: str, pieces: list[_Piece], several:
 
     def search(text: str, hints: list[list[str]]) -> Witness | None:
         if text not in searched:
-            searched[text] = find_witness(text, hints)
+            searched[text] = find_witness(text, hints, budget)
         return searched[text]
 
     for pc in pieces:
+        budget = max(BUDGET // len(pc.tasks), 30)  # the boxes of a split share one budget
         for task, outcome in zip(pc.tasks, pc.outcomes):
             if outcome.verdict != "UNSAFE":
                 continue
