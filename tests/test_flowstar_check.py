@@ -16,10 +16,10 @@ import pytest
 
 from cyphy.cli import main
 from cyphy.diagnostics import Report
-from cyphy.flowstar.check import parts, split
+from cyphy.flowstar.check import check, joint, parts, split
 from cyphy.flowstar.export import build_problem, render
 from cyphy.flowstar.scenario import load_scenario
-from cyphy.flowstar.simulate import Automaton, find_witness, unsafe_paths
+from cyphy.flowstar.simulate import BUDGET, Automaton, _Search, find_witness, unsafe_paths
 from cyphy.flowstar.syntax import parse_model
 from cyphy.flowstar.verdict import decide, model_problems, run_text
 
@@ -59,6 +59,12 @@ BORDER = [("Range_distance = [3, 3.1]", "Range_distance = [3.00001, 3.1]"),
           ('constraints = ["Motor_av >= 20"]',
            'constraints = ["Motor_av <= 5", "t >= 1.15", "t <= 1.2"]')]
 SHORT = ("horizon = 2.0", "horizon = 1.3")
+# Unsafe only when the stop comes at t = 1.0 exactly (the speed is then between 1 and 5
+# rad/s in [1.15, 1.2]; an earlier stop leaves it below 1, a later one above 5): from
+# distances in (2.8, 3.0], 1% of the initial interval [0.6, 20.6].
+NARROW = [("Range_distance = [3, 3.1]", "Range_distance = [0.6, 20.6]"),
+          ('constraints = ["Motor_av >= 20"]',
+           'constraints = ["Motor_av >= 1", "Motor_av <= 5", "t >= 1.15", "t <= 1.2"]')]
 
 
 # --------------------------------------------------------------------------- decomposition
@@ -87,6 +93,52 @@ def test_a_conjunction_over_independent_motors_has_one_part_per_motor(motors):
     assert [p.states for p in pieces] == [
         ["Motor1_av", "Motor1_i", "Motor1_int1", "Range_distance"],
         ["Motor2_av", "Motor2_i", "Motor2_int2", "Range_distance"]]
+
+
+def test_the_joint_problem_keeps_the_whole_conjunction_on_every_part_s_states(motors):
+    folder, _, every = motors
+    problem = _problem(folder / "every", every)
+    together = joint(problem)
+    assert together.states == sorted({x for p in parts(problem) for x in p.states},
+                                     key=problem.states.index)
+    assert together.unsafe == problem.unsafe
+    assert "Motor1_theta" not in together.states  # what no atom needs stays out
+
+
+def _scripted_flowstar(tmp_path: Path, part1: str, part2: str, joint_: str) -> str:
+    """An executable that reads a model like Flow* and answers by what it holds: both
+    motors (the joint run), motor 1's part or motor 2's, counting its runs in a file."""
+    script = tmp_path / "flowstar"
+    script.write_text(
+        f"#!{sys.executable}\nimport sys\ntext = sys.stdin.read()\n"
+        f"open({str(tmp_path / 'runs')!r}, 'a').write('run\\n')\n"
+        "one, two = 'Motor1_av' in text, 'Motor2_av' in text\n"
+        f"word = {joint_!r} if one and two else {part1!r} if one else {part2!r}\n"
+        "print('Computation completed: 10 flowpipe(s) computed.')\n"
+        "print('Result of the safety verification on the computed flowpipes: ' + word)\n")
+    script.chmod(0o755)
+    return str(script)
+
+
+@pytest.mark.parametrize("answers, verdict, runs, jointly", [
+    (("SAFE", "UNKNOWN", "UNKNOWN"), "SAFE", 2, False),  # one part proves the conjunction
+    (("UNKNOWN", "UNKNOWN", "SAFE"), "SAFE", 2 + 8 + 1, True),  # parts, their boxes, joint
+    (("UNKNOWN", "UNKNOWN", "UNKNOWN"), "UNKNOWN", 2 + 8 + 1 + 4, False),  # never SAFE
+])
+def test_parts_then_boxes_then_the_joint_run(motors, tmp_path, answers, verdict, runs,
+                                             jointly):
+    """The combination rule, with a scripted Flow*: SAFE of one part suffices; parts that
+    are not proved leave the verdict open until the joint run proves it; the joint run
+    split into boxes too when it is open, and without any SAFE the verdict is UNKNOWN."""
+    folder, _, every = motors
+    problem = _problem(folder / "every", every)
+    result = check(problem, "every", _scripted_flowstar(tmp_path, *answers), jobs=1)
+    assert result.verdict == verdict, result.reason
+    assert len((tmp_path / "runs").read_text().splitlines()) == runs
+    assert ("jointly" in result.reason) == jointly
+    if verdict == "UNKNOWN":
+        assert result.reason.startswith("not proved: ")
+        assert sum("parts jointly" in d for d in result.details) == 4 + 1  # 4 boxes, 1 note
 
 
 def test_a_part_is_the_projection_of_the_whole_automaton(motors):
@@ -153,6 +205,47 @@ def test_no_witness_on_the_borderline_scenario(tmp_path):
         assert simulate_direct(problem, start, times)["Motor_av"][window].min() > 5
 
 
+def test_the_search_finds_a_violation_from_a_narrow_region_of_the_initial_set(tmp_path):
+    """41 evenly spaced starts all miss the region (checked by the direct simulation); the
+    search, deterministic, finds a start in it within its budget, twice the same."""
+    problem = _problem(DCMOTOR, _scenario(tmp_path, "narrow", *NARROW, SHORT))
+    times = np.append(np.arange(0.005, 1.3, 0.01), np.linspace(1.15, 1.2, 11))
+    window = (times >= 1.15 - 1e-12) & (times <= 1.2 + 1e-12)
+
+    def enters(d: float) -> bool:
+        start = {v: 0.0 for v in problem.states}
+        start["Range_distance"] = d
+        av = simulate_direct(problem, start, times)["Motor_av"][window]
+        return bool(np.any((av >= 1) & (av <= 5)))
+
+    assert not any(enters(d) for d in np.linspace(0.6, 20.6, 41))
+    text = render(problem, "narrow")
+    search = _Search(Automaton(text), [], BUDGET)
+    witness = search.run()
+    assert witness is not None and len(search.seen) < BUDGET
+    start = dict(witness.start.values)
+    assert 2.8 < start["Range_distance"] <= 3.0 and enters(start["Range_distance"])
+    assert [p.time for p in witness.switches] == pytest.approx([1.0])  # stopped at t = 1.0
+    entry = dict(witness.entry.values)
+    assert 1 <= entry["Motor_av"] <= 5 and 1.15 <= entry["t"] <= 1.2
+    again = find_witness(text)
+    assert again is not None and again.start == witness.start
+
+
+def test_the_search_is_drawn_to_the_path_flow_star_flagged(tmp_path):
+    """The guided score: a trajectory that follows Flow*'s unsafe path is scored on that
+    path's last flow; one that departs from it scores worse than any that follows it."""
+    automaton = Automaton(render(_problem(DCMOTOR, _scenario(tmp_path, "g", *NARROW, SHORT)),
+                                 "g"))
+    path = ["Cruise"] * 10 + ["Stopped"]  # the stop at t = 1.0
+    start = {v: 0.0 for v in automaton.variables}
+    on, off = dict(start, Range_distance=2.9), dict(start, Range_distance=10.0)
+    rho_on, guided_on = automaton.measure(on, [path])
+    rho_off, guided_off = automaton.measure(off, [path])
+    assert rho_on < 0 < rho_off  # the first enters the unsafe set, the other does not
+    assert guided_on == pytest.approx(rho_on) and guided_off > 1 > guided_on
+
+
 def test_a_decision_on_a_guard_boundary_is_no_witness(tmp_path):
     """From exactly 3.0 the distance reaches the threshold 1 m exactly at t = 1.0: the
     stop there is on the guard's boundary, so that trajectory proves nothing."""
@@ -207,6 +300,48 @@ def test_real_flowstar_unsafe_is_confirmed_and_printed(tmp_path, capsys):
     t = float(entry.split()[2])
     av = float(re.search(r"Motor_av = (\S+),", entry).group(1))
     assert 0.3 <= t <= 0.5 and av >= 5
+
+
+@needs_flowstar
+def test_real_flowstar_unsafe_from_a_narrow_region_is_confirmed(tmp_path, capsys):
+    """Flow* flags the box; the search finds the trajectory that stops at t = 1.0."""
+    rc, out, err = _reach(capsys, DCMOTOR, _scenario(tmp_path, "narrow", *NARROW, SHORT),
+                          tmp_path)
+    assert rc == 1, out + err
+    lines = out.splitlines()
+    assert lines[0].startswith("UNSAFE: a simulated trajectory from the initial set enters")
+    start = next(ln for ln in lines if re.match(r"\s+t = 0\s+start", ln))
+    assert 2.8 < float(re.search(r"Range_distance = (\S+)", start).group(1)) <= 3.0
+    jump = next(ln for ln in lines if re.match(r"\s+t = \S+\s+jump\s+Stopped", ln))
+    assert float(jump.split()[2]) == pytest.approx(1.0)
+
+
+@needs_flowstar
+def test_real_flowstar_proves_a_conjunction_jointly_when_no_part_does(tmp_path, capsys):
+    """Two identical motors: motor 1 above 8 rad/s and motor 2 below 2 rad/s at once. Each
+    atom alone is reached (a part is UNSAFE on its own), so no part proves it, and before
+    the joint fallback the verdict was UNKNOWN; together the speeds are equal, and Flow*
+    proves the conjunction on the joint problem."""
+    folder = tmp_path / "two"
+    path = write_motors(folder, 2, horizon=1.2, every=True)
+    path.write_text(path.read_text().replace(
+        '"Motor1_av >= 20", "Motor2_av >= 20"', '"Motor1_av >= 8", "Motor2_av <= 2"'))
+    rc, out, err = _reach(capsys, folder, path, tmp_path)
+    assert rc == 0, out + err
+    assert out.startswith("SAFE: Flow* proved the initial set safe (its independent parts "
+                          "jointly: none proved it alone) in 3 runs")
+    runs = out.split("Flow* runs:\n")[1].splitlines()
+    assert [r.split(": ")[0].strip() for r in runs] == [
+        "part 1/2 [Motor1_av, Motor1_i, Motor1_int1, Range_distance]",
+        "part 2/2 [Motor2_av, Motor2_i, Motor2_int2, Range_distance]",
+        "parts jointly [Motor1_av, Motor1_i, Motor1_int1, Motor2_av, Motor2_i, Motor2_int2, "
+        "Range_distance]"]
+    assert ": UNSAFE (" in runs[0] and ": UNSAFE (" in runs[1] and ": SAFE (" in runs[2]
+    # the parts' UNSAFE is real for their own atoms: a trajectory of each part enters them
+    for k, atom in ((1, "Motor1_av >= 8"), (2, "Motor2_av <= 2")):
+        problem = _problem(folder, path)
+        (part,) = [p for p in parts(problem) if f"Motor{k}_av" in p.states]
+        assert find_witness(render(part, f"p{k}")) is not None, atom
 
 
 @needs_flowstar

@@ -48,17 +48,18 @@ def test_dcmotor_machine_compiles_to_the_hand_written_controller():
         "Cruise -> Stopped when near"]
 
 
-def test_marxbot_machine_turns_for_seven_cycles():
-    # since(C) >= PI/0.5 = 6.28 first holds 7 cycles after the stop: modes Spinning..
-    # Spinning_6, each calling move(0, 0.5) (repeated calls set the same speeds).
+def test_marxbot_machine_turns_for_sixty_three_cycles():
+    # since(C) >= PI/(av*tu) = PI/(0.5*0.1) = 62.83 time units first holds 63 cycles after
+    # the stop: modes Spinning..Spinning_62, each calling move(0, 0.5) (repeated calls set
+    # the same speeds), 6.3 s of turning at 0.5 rad/s when a time unit is 0.1 s.
     lines = automaton_of([EXAMPLES / "marxbot" / "marXbotSoftware.rsm"], "SMovement").splitlines()
     assert lines[:4] == ["initial Cruising", "mode Cruising [move(0.1, 0)]",
                          "mode Stopped [stop()]", "mode Spinning [move(0, 0.5)]"]
+    spinning = ["Spinning"] + [f"Spinning_{k}" for k in range(2, 63)]
     assert [x for x in lines if "->" in x] == [
         "Cruising -> Stopped when obstacle", "Stopped -> Spinning when true",
-        "Spinning -> Spinning_2 when true", "Spinning_2 -> Spinning_3 when true",
-        "Spinning_3 -> Spinning_4 when true", "Spinning_4 -> Spinning_5 when true",
-        "Spinning_5 -> Spinning_6 when true", "Spinning_6 -> Cruising when true"]
+        *(f"{a} -> {b} when true" for a, b in zip(spinning, spinning[1:])),
+        "Spinning_62 -> Cruising when true"]
 
 
 @needs_corpus
@@ -203,8 +204,8 @@ def test_marxbot_avoid_obstacle_scenario_is_driven_by_smovement(tmp_path):
     scenario = load_scenario(path, report)
     problem, _ = build_problem([EXAMPLES / "marxbot"], scenario, report)
     assert problem is not None, [d.message for d in report.diagnostics]
-    assert list(problem.effects) == ["Cruising", "Stopped", "Spinning", "Spinning_2",
-                                     "Spinning_3", "Spinning_4", "Spinning_5", "Spinning_6"]
+    assert list(problem.effects) == ["Cruising", "Stopped", "Spinning",
+                                     *(f"Spinning_{k}" for k in range(2, 63))]
     # move(0.1, 0) drives both wheels at lv/r = 3.996 rad per time unit; move(0, 0.5) turns
     # them at +-av*axis/(2r) = +-0.5994; stop() sets both to 0.
     assert float(problem.effects["Cruising"]["LMotor_das"]) == pytest.approx(0.1 / 0.025025)

@@ -13,6 +13,19 @@ Why each step is sound:
   conjunction as soon as one part avoids its own atoms, so SAFE needs one part SAFE. States
   nothing needs are left out (the wheels' angles of a robot whose torque is checked).
   A part whose states do not depend on the mode keeps one mode and no jumps.
+  Formally: with R the reachable set of the whole automaton, S_k the set its part k's
+  atoms describe (clock atoms included) and pi_k the projection onto part k's states and
+  clocks, pi_k(R) is exactly the part's reachable set, and the unsafe set lies inside
+  pi_k^-1(S_k); so pi_k(R) disjoint from S_k implies R disjoint from the unsafe set. That
+  is the only sound combination: parts that are each UNSAFE or UNKNOWN say nothing of the
+  conjunction (each conjunct may be reached at other times or from other initial
+  states), and a part's UNSAFE is never the whole system's.
+- **Joint fallback.** A part alone cannot see relations between its states and another
+  part's (a common start, the same dynamics, timing), so when no part of a disjunct is
+  proved (after splitting) its parts are run together: the disjunct on the union of their
+  states, again an exact projection, whose SAFE proves the disjunct by the same argument.
+  A part whose own atoms a simulated trajectory of the part enters is not split first
+  (the box of that trajectory's start can never be SAFE): the joint run comes next.
 - **Splitting.** The initial set is the union of the boxes, so SAFE needs every box SAFE
   (each with a completed computation); the verdicts of the boxes are reported.
 - **UNSAFE** is only said with a concrete trajectory of the whole automaton from the
@@ -35,7 +48,7 @@ import sympy
 
 from cyphy.flowstar.constraints import dnf
 from cyphy.flowstar.export import CLOCK, TIMER, Problem, render, symbol
-from cyphy.flowstar.simulate import Witness, find_witness, unsafe_paths
+from cyphy.flowstar.simulate import BUDGET, Witness, find_witness, unsafe_paths
 from cyphy.flowstar.verdict import Outcome, run_text
 
 AUTO_SPLIT = 4  # boxes per part when a run without splitting ends UNKNOWN
@@ -172,77 +185,132 @@ def split(p: Problem, count: int) -> list[tuple[str, Problem]]:
 # --------------------------------------------------------------------------- running
 
 
+@dataclass
+class _Piece:
+    """What one Flow* verdict is sought for: an independent part of a disjunct, or (when its
+    parts do not each prove it) the joint problem of all its parts, with its runs so far."""
+
+    disjunct: int
+    problem: Problem
+    label: str
+    joint: bool = False
+    tasks: list[Task] = field(default_factory=list)
+    outcomes: list[Outcome] = field(default_factory=list)
+    split_done: bool = False
+    reachable: bool = False  # a simulated trajectory of the part alone enters its atoms
+
+    @property
+    def proved(self) -> bool:
+        return bool(self.outcomes) and all(o.verdict == "SAFE" for o in self.outcomes)
+
+
 def check(p: Problem, name: str, binary: str, timeout: float | None = None,
           boxes: int = 1, auto_split: bool = True, jobs: int | None = None) -> Result:
     """The verdict on ``p``: see the module's docstring. Every run of a round goes to one
     pool of ``jobs`` Flow* processes: the disjuncts of the unsafe set, their independent
-    parts, the boxes of each; a second round splits what the first left open."""
+    parts, the boxes of each; later rounds split what the first left open, then run the
+    parts of a disjunct that none of them proved jointly."""
     started = time.perf_counter()
     jobs = jobs or os.cpu_count() or 1
     disjuncts = p.disjuncts()
-    pieces = [parts(d) for d in disjuncts]
-    labels = [[_part_label(part, k, len(ps), j, len(disjuncts)) for k, part in enumerate(ps)]
-              for j, ps in enumerate(pieces)]
-    # state of each (disjunct, part): its tasks and outcomes so far
-    tasks = {(j, k): _tasks(part, name, labels[j][k], boxes)
-             for j, ps in enumerate(pieces) for k, part in enumerate(ps)}
-    outcomes = _run_round(tasks, binary, timeout, jobs)
-    notes: list[str] = []  # the runs a second round replaced by smaller boxes
+    pieces: list[_Piece] = []
+    for j, d in enumerate(disjuncts):
+        ps = parts(d)
+        pieces += [_Piece(j, part, _part_label(part, k, len(ps), j, len(disjuncts)))
+                   for k, part in enumerate(ps)]
+    pending = {id(pc): (pc, _tasks(pc.problem, name, pc.label, boxes)) for pc in pieces}
+    notes: list[str] = []  # the runs a later round replaced by smaller boxes
+    searched: dict[str, Witness | None] = {}  # witness searches done, by model text
 
     def details() -> list[str]:
-        return notes + _details(tasks, outcomes)
+        return notes + [f"  {t.label}: {o.verdict} ({o.reason})" for pc in pieces
+                        for t, o in zip(pc.tasks, pc.outcomes)]
 
-    for round_ in range(2):
-        found = _confirm(disjuncts, name, tasks, outcomes)
+    while pending:
+        outcomes = _run_round({key: ts for key, (_, ts) in pending.items()}, binary, timeout,
+                              jobs)
+        for key, (pc, ts) in pending.items():
+            pc.tasks, pc.outcomes = ts, outcomes[key]
+        several = {pc.disjunct for pc in pieces if not pc.joint and any(
+            q.disjunct == pc.disjunct and q is not pc and not q.joint for q in pieces)}
+        found = _confirm(disjuncts, name, [pc for pc, _ in pending.values()], several,
+                         searched)
         if found is not None:
             witness, names, outcome = found
             return Result("UNSAFE", "a simulated trajectory from the initial set enters the "
                           f"unsafe set at t = {witness.entry.time:.6g} (Flow*: "
                           f"{outcome.reason}{_paths(outcome)})",
                           time.perf_counter() - started, details(), witness, names)
-        errors = [o for outs in outcomes.values() for o in outs if o.verdict == "ERROR"]
+        errors = [o for pc in pieces for o in pc.outcomes if o.verdict == "ERROR"]
         if errors:
             return Result("ERROR", errors[0].reason, time.perf_counter() - started, details())
-        proved = {j for (j, k), outs in outcomes.items()
-                  if all(o.verdict == "SAFE" for o in outs)}
-        if len(proved) == len(disjuncts) or round_ == 1 or not auto_split or boxes > 1:
+        proved = {pc.disjunct for pc in pieces if pc.proved}
+        if len(proved) == len(disjuncts):
             break
-        retry = {key: _tasks(pieces[key[0]][key[1]], name, labels[key[0]][key[1]],
-                             AUTO_SPLIT)
-                 for key, outs in outcomes.items()
-                 if key[0] not in proved and len(outs) == 1 and _open(outs[0])}
-        retry = {key: ts for key, ts in retry.items() if len(ts) > 1}
-        if not retry:
-            break
-        for key in retry:
-            o = outcomes[key][0]
-            notes.append(f"  {tasks[key][0].label}: {o.verdict} ({o.reason}); split into "
-                         f"{AUTO_SPLIT} boxes")
-        again = _run_round(retry, binary, timeout, jobs)
-        tasks.update(retry)
-        outcomes.update(again)
+        pending = _next_round(disjuncts, pieces, proved, name, boxes, auto_split, notes)
     elapsed = time.perf_counter() - started
+    proved = {pc.disjunct for pc in pieces if pc.proved}
     if len(proved) == len(disjuncts):
-        count = sum(len(outs) for outs in outcomes.values())
+        count = sum(len(pc.outcomes) for pc in pieces)
         what = "every disjunct of the unsafe set" if len(disjuncts) > 1 else "the initial set"
-        return Result("SAFE", f"Flow* proved {what} safe in {count} run"
+        jointly = " (its independent parts jointly: none proved it alone)" if any(
+            pc.joint and pc.proved for pc in pieces) else ""
+        return Result("SAFE", f"Flow* proved {what} safe{jointly} in {count} run"
                       f"{'s' if count > 1 else ''}, every computation completed", elapsed,
                       details())
-    unsafe = [o for outs in outcomes.values() for o in outs if o.verdict == "UNSAFE"]
+    unsafe = [o for pc in pieces for o in pc.outcomes if o.verdict == "UNSAFE"]
     if unsafe:
         return Result("UNKNOWN", "Flow* found a flowpipe inside the unsafe set, but no "
                       "simulated trajectory from the initial set enters it: the flowpipe may "
                       "lie on a spurious branch (a jump its enclosure allows and no "
                       f"trajectory takes){_paths(unsafe[0])}", elapsed, details())
-    open_ = [t.label for key, ts in tasks.items() if key[0] not in proved
-             for t, o in zip(ts, outcomes[key]) if o.verdict != "SAFE"]
+    open_ = [t.label for pc in pieces if pc.disjunct not in proved
+             for t, o in zip(pc.tasks, pc.outcomes) if o.verdict != "SAFE"]
     return Result("UNKNOWN", "not proved: " + "; ".join(open_[:6]) +
                   (" …" if len(open_) > 6 else ""), elapsed, details())
 
 
-def _details(tasks: dict[Any, list[Task]], outcomes: dict[Any, list[Outcome]]) -> list[str]:
-    return [f"  {t.label}: {o.verdict} ({o.reason})" for key in tasks
-            for t, o in zip(tasks[key], outcomes[key])]
+def _next_round(disjuncts: list[Problem], pieces: list[_Piece], proved: set[int], name: str,
+                boxes: int, auto_split: bool, notes: list[str]
+                ) -> dict[int, tuple[_Piece, list[Task]]]:
+    """What to run next for each disjunct not proved: its pieces whose one run ended open,
+    on ``AUTO_SPLIT`` boxes (not a part whose own atoms a trajectory enters: the box of
+    that trajectory's start would stay unsafe); when nothing is left to split, its parts
+    jointly (:func:`joint`), unless one of them timed out."""
+    pending: dict[int, tuple[_Piece, list[Task]]] = {}
+    for j, d in enumerate(disjuncts):
+        if j in proved:
+            continue
+        mine = [pc for pc in pieces if pc.disjunct == j]
+        split_now = False
+        for pc in mine:
+            if not auto_split or boxes > 1 or pc.split_done or pc.reachable or \
+                    len(pc.outcomes) != 1 or not _open(pc.outcomes[0]):
+                continue
+            pc.split_done = True
+            ts = _tasks(pc.problem, name, pc.label, AUTO_SPLIT)
+            if len(ts) > 1:
+                o = pc.outcomes[0]
+                notes.append(f"  {pc.tasks[0].label}: {o.verdict} ({o.reason}); split into "
+                             f"{AUTO_SPLIT} boxes")
+                pending[id(pc)] = (pc, ts)
+                split_now = True
+        if split_now or len(mine) < 2 or any(pc.joint for pc in mine) or \
+                any(_timed_out(o) for pc in mine for o in pc.outcomes):
+            continue  # (the joint run, larger than a part that timed out, would too)
+        whole = joint(d)
+        where = f"disjunct {j + 1}/{len(disjuncts)}, " if len(disjuncts) > 1 else ""
+        pc = _Piece(j, whole, f"{where}parts jointly [{', '.join(whole.states)}]", joint=True)
+        pieces.append(pc)
+        pending[id(pc)] = (pc, _tasks(whole, name, pc.label, boxes))
+    return pending
+
+
+def joint(p: Problem) -> Problem:
+    """The conjunction ``p`` on the states all its parts need together: the one problem in
+    which Flow* can use relations between the parts' states (no part alone can)."""
+    need = set().union(*(set(part.states) for part in parts(p)))
+    return _restrict(p, need, p.unsafe)
 
 
 def _run_round(tasks: dict[Any, list[Task]], binary: str, timeout: float | None, jobs: int
@@ -257,22 +325,43 @@ def _run_round(tasks: dict[Any, list[Task]], binary: str, timeout: float | None,
 
 def _open(outcome: Outcome) -> bool:
     """Whether smaller boxes may help: UNKNOWN or an unconfirmed UNSAFE, not a timeout."""
-    return outcome.verdict in ("UNKNOWN", "UNSAFE") and \
-        not outcome.reason.startswith("Flow* did not finish")
+    return outcome.verdict in ("UNKNOWN", "UNSAFE") and not _timed_out(outcome)
 
 
-def _confirm(disjuncts: list[Problem], name: str, tasks: dict[Any, list[Task]],
-             outcomes: dict[Any, list[Outcome]]) -> tuple[Witness, list[str], Outcome] | None:
+def _timed_out(outcome: Outcome) -> bool:
+    return outcome.reason.startswith("Flow* did not finish")
+
+
+def _confirm(disjuncts: list[Problem], name: str, pieces: list[_Piece], several: set[int],
+             searched: dict[str, Witness | None]) -> tuple[Witness, list[str], Outcome] | None:
     """A witness for one of the runs Flow* called UNSAFE, searched on the whole automaton
-    (with that run's disjunct) from that run's box."""
-    for (j, _), outs in outcomes.items():
-        for task, outcome in zip(tasks[(j, _)], outs):
+    (with that run's disjunct) from that run's box, guided by Flow*'s unsafe paths. When
+    there is none and the run was of one of several parts (``several``: their disjuncts),
+    the part's own atoms are searched on the part alone: when a trajectory enters them,
+    splitting that part cannot prove it. ``searched`` keeps each model's search (the parts
+    of a disjunct share the whole automaton on the same box)."""
+
+    def search(text: str, hints: list[list[str]]) -> Witness | None:
+        if text not in searched:
+            searched[text] = find_witness(text, hints, budget)
+        return searched[text]
+
+    for pc in pieces:
+        budget = max(BUDGET // len(pc.tasks), 30)  # the boxes of a split share one budget
+        for task, outcome in zip(pc.tasks, pc.outcomes):
             if outcome.verdict != "UNSAFE":
                 continue
-            whole = _whole(disjuncts[j], task.problem)
-            witness = find_witness(render(whole, name))
+            whole = _whole(disjuncts[pc.disjunct], task.problem)
+            # Flow*'s paths name the whole automaton's modes unless the part dropped them
+            same = task.problem.scenario.states.keys() == whole.scenario.states.keys() and \
+                task.problem.scenario.transitions == whole.scenario.transitions
+            hints = unsafe_paths(outcome.counterexample) if same else []
+            witness = search(render(whole, name), hints)
             if witness is not None:
                 return witness, [*whole.states, *whole.held_inputs], outcome
+            if not pc.joint and pc.disjunct in several and not pc.reachable:
+                pc.reachable = search(render(task.problem, name),
+                                      unsafe_paths(outcome.counterexample)) is not None
     return None
 
 

@@ -9,12 +9,15 @@ the invariant forces it, the first jump in file order whose guard holds (the ord
 exporter gives the controller's transitions), and the unsafe set entered. A trajectory is a
 witness only if every decision on it is clear: each guard tested at a jump holds or fails
 by a margin, and the unsafe constraints hold by a margin, so that integration error cannot
-have made the choice.
+have made the choice. :func:`find_witness` searches the initial box for such a start,
+deterministically and within a budget of trajectories, guided by how close each trajectory
+comes to the unsafe set on the mode path Flow* flagged.
 """
 
 from __future__ import annotations
 
 import itertools
+import math
 import random
 import re
 from dataclasses import dataclass
@@ -25,6 +28,7 @@ from cyphy.flowstar.syntax import Constraint, FlowModel, parse_model
 
 RTOL, ATOL = 1e-10, 1e-12
 MARGIN = 1e-7  # relative margin a decision needs to count as clear
+BUDGET = 120  # trajectories a witness search simulates at most
 
 
 @dataclass(frozen=True)
@@ -87,6 +91,9 @@ class Automaton:
                       for j in model.jumps]
         self.unsafe = {m: [self._constraint(c) for c in cons]
                        for m, cons in (model.unsafe or {}).items()}
+        steps = model.settings.get("fixed steps") or \
+            (model.settings.get("adaptive steps") or ("0.01", "0.01"))[1]
+        self.step = float(steps)  # Flow*'s step: the trajectory is sampled at an eighth
 
     def _sympy(self, e: ex.Expr) -> Any:
         import sympy
@@ -150,9 +157,7 @@ class Automaton:
         mode = self.model.initial_mode
         first = self._point(0.0, mode, [start[v] for v in self.variables])
         switches: list[Point] = []
-        steps = self.model.settings.get("fixed steps") or \
-            (self.model.settings.get("adaptive steps") or ("0.01", "0.01"))[1]
-        step = float(steps)
+        step = self.step
         previous = mode
         for mode, sol, begin, end, jumps in self._segments(start, strict=True):
             if mode != previous:
@@ -171,6 +176,8 @@ class Automaton:
         out = {v: np.full(len(times), np.nan) for v in self.variables}
         for _, sol, begin, end, _ in self._segments(start, strict=False):
             inside = (times >= begin) & (times <= end)
+            if not inside.any():
+                continue
             values = sol.sol(times[inside])
             for k, v in enumerate(self.variables):
                 out[v][inside] = values[k]
@@ -241,41 +248,193 @@ class Automaton:
     def _point(self, time: float, mode: str, x: Any) -> Point:
         return Point(time, mode, tuple((v, float(x[k])) for k, v in enumerate(self.variables)))
 
-    def starts(self, count: int = 40, seed: int = 0) -> list[dict[str, float]]:
-        """Points of the initial box to try: its centre, corners (of at most 5 uncertain
-        coordinates), points spread along each uncertain coordinate, then seeded random
-        points: deterministic, so the verdict is the same on every run."""
-        box = {v: (float(lo), float(hi)) for v, (lo, hi) in
-               ((v, self.model.init.get(v, ("0", "0"))) for v in self.variables)}
-        wide = [v for v, (lo, hi) in box.items() if hi > lo]
+    def starts(self) -> list[dict[str, float]]:
+        """The first points tried, in order: the initial box's centre, its corners (of at
+        most 6 uncertain coordinates; seeded ones beyond), and 9 points along each uncertain
+        coordinate through the centre."""
+        box, wide = self.box(), self.uncertain()
         centre = {v: (lo + hi) / 2 for v, (lo, hi) in box.items()}
         points = [centre]
-        for corner in itertools.product((0, 1), repeat=min(len(wide), 5)):
-            p = dict(centre)
-            for v, side in zip(wide, corner):
-                p[v] = box[v][side]
-            points.append(p)
+        corners = list(itertools.product((0, 1), repeat=len(wide))) if len(wide) <= 6 else \
+            [tuple(random.Random(k).randint(0, 1) for _ in wide) for k in range(64)]
+        for corner in corners:
+            points.append({**centre, **{v: box[v][side] for v, side in zip(wide, corner)}})
         for v in wide:
-            for k in range(1, 8):
-                p = dict(centre)
-                p[v] = box[v][0] + (box[v][1] - box[v][0]) * k / 8
-                points.append(p)
-        rng = random.Random(seed)
-        while len(points) < count:
-            points.append({v: rng.uniform(lo, hi) if hi > lo else lo
-                           for v, (lo, hi) in box.items()})
-        return points[:max(count, 1 + 2 ** min(len(wide), 5))]
+            lo, hi = box[v]
+            points += [{**centre, v: lo + (hi - lo) * k / 8} for k in range(9)]
+        return points
+
+    def box(self) -> dict[str, tuple[float, float]]:
+        return {v: (float(lo), float(hi)) for v, (lo, hi) in
+                ((v, self.model.init.get(v, ("0", "0"))) for v in self.variables)}
+
+    def uncertain(self) -> list[str]:
+        return [v for v, (lo, hi) in self.box().items() if hi > lo]
+
+    # ----- how far a trajectory stays from the unsafe set
+    def measure(self, start: dict[str, float], paths: list[list[str]] = ()
+                ) -> tuple[float, float]:
+        """(robustness, guided score) of the trajectory from ``start`` (first jump in file
+        order on a guard's boundary). The robustness is the least, over the samples of every
+        flow, of the largest relative violation of an unsafe constraint: negative inside
+        the unsafe set. The guided score is that robustness on the flow that ends one of
+        Flow*'s unsafe ``paths`` when the trajectory follows that path's modes, and worse
+        (1 + the share of the path not followed + the robustness if positive) when it
+        departs from it: it draws the search to the branch Flow* flagged."""
+        try:
+            flows = [(mode, self._robustness(mode, sol, begin, end))
+                     for mode, sol, begin, end, _ in self._segments(start, strict=False)]
+        except (_Unclear, ValueError, ArithmeticError):
+            return math.inf, math.inf
+        rho = min((r for _, r in flows), default=math.inf)
+        if not paths:
+            return rho, rho
+        modes, guided = [m for m, _ in flows], math.inf
+        for path in paths:
+            same = next((k for k, (a, b) in enumerate(zip(modes, path)) if a != b),
+                        min(len(modes), len(path)))
+            if same == len(path):
+                guided = min(guided, flows[len(path) - 1][1])
+            else:
+                guided = min(guided, 1 + (len(path) - same) / len(path) + max(rho, 0.0))
+        return rho, guided
+
+    def _robustness(self, mode: str, sol: Any, start: float, end: float) -> float:
+        import numpy as np
+
+        cons = self.unsafe.get(mode)
+        if not cons:
+            return math.inf
+        samples = np.unique(np.concatenate([np.arange(start, end, self.step / 8), [end]]))
+        states = sol.sol(samples)
+        worst = np.full(samples.shape, -np.inf)
+        for f, rel, bounds in cons:
+            v = np.broadcast_to(np.asarray(f(*states), dtype=float), samples.shape)
+            scale = 1.0 + max(abs(b) for b in bounds)
+            if rel == "<=":
+                d = v - bounds[0]
+            elif rel == ">=":
+                d = bounds[0] - v
+            elif rel == "in":
+                d = np.maximum(bounds[0] - v, v - bounds[1])
+            else:
+                d = np.abs(v - bounds[0])
+            worst = np.maximum(worst, d / scale)
+        value = float(np.min(worst))
+        return value if math.isfinite(value) else math.inf
 
 
-def find_witness(text: str, count: int = 40) -> Witness | None:
+class _Found(Exception):
+    """A witness: ends the search (raised through SciPy's minimiser too)."""
+
+    def __init__(self, witness: Witness) -> None:
+        self.witness = witness
+
+
+class _Exhausted(Exception):
+    """The search's budget of trajectories is spent."""
+
+
+class _Search:
+    """The deterministic search of :func:`find_witness`, within ``budget`` trajectories."""
+
+    def __init__(self, automaton: Automaton, paths: list[list[str]], budget: int) -> None:
+        self.a, self.paths, self.budget = automaton, paths, budget
+        self.box = automaton.box()
+        self.wide = automaton.uncertain()
+        self.centre = {v: (lo + hi) / 2 for v, (lo, hi) in self.box.items()}
+        self.seen: dict[tuple[float, ...], tuple[float, float]] = {}
+
+    def point(self, x: Any) -> dict[str, float]:
+        out = dict(self.centre)
+        for v, value in zip(self.wide, x):
+            lo, hi = self.box[v]
+            out[v] = min(max(float(value), lo), hi)
+        return out
+
+    def key(self, start: dict[str, float]) -> tuple[float, ...]:
+        return tuple(start[v] for v in self.wide)
+
+    def score(self, start: dict[str, float]) -> float:
+        """The guided score of ``start``; raises _Found on a witness, _Exhausted when the
+        budget is spent."""
+        key = self.key(start)
+        if key in self.seen:
+            return self.seen[key][1]
+        if len(self.seen) >= self.budget:
+            raise _Exhausted
+        rho, guided = self.a.measure(start, self.paths)
+        self.seen[key] = (rho, guided)
+        if rho < 0:
+            witness = self.a.run(start)
+            if witness is not None:
+                raise _Found(witness)
+        return guided
+
+    def best(self, count: int) -> list[tuple[float, ...]]:
+        ranked = sorted(self.seen.items(), key=lambda kv: (kv[1][1], kv[1][0], kv[0]))
+        return [k for k, _ in ranked[:count]]
+
+    def run(self) -> Witness | None:
+        try:
+            for start in self.a.starts():
+                self.score(start)
+            if self.wide:
+                self.refine()
+                self.optimise()
+        except _Found as found:
+            return found.witness
+        except _Exhausted:
+            pass
+        return None
+
+    def refine(self) -> None:
+        """Grids around the best points so far, halving their spacing each level: for up
+        to 3 uncertain coordinates every point of the 3^d grid, beyond that the 2d points
+        along the axes. Uses up to half of the budget."""
+        stop = len(self.seen) + (self.budget - len(self.seen)) // 2
+        widths = [self.box[v][1] - self.box[v][0] for v in self.wide]
+        steps = (itertools.product((-1, 0, 1), repeat=len(self.wide)) if len(self.wide) <= 3
+                 else [tuple(s if i == k else 0 for i in range(len(self.wide)))
+                       for k in range(len(self.wide)) for s in (-1, 1)])
+        steps = [s for s in steps if any(s)]
+        for level in range(1, 40):
+            h = [w / (8 * 2 ** level) for w in widths]
+            for centre in self.best(3):
+                for s in steps:
+                    if len(self.seen) >= stop:
+                        return
+                    self.score(self.point([c + k * d for c, k, d in zip(centre, s, h)]))
+
+    def optimise(self) -> None:
+        """Nelder-Mead on the guided score from the best point, within the budget left."""
+        import numpy as np
+        from scipy.optimize import minimize
+
+        left = self.budget - len(self.seen)
+        if left <= 0:
+            return
+        lows = np.array([self.box[v][0] for v in self.wide])
+        highs = np.array([self.box[v][1] for v in self.wide])
+        x0 = np.array(self.best(1)[0])
+        simplex = [x0] + [np.clip(x0 + np.eye(len(x0))[k] * (highs - lows)[k] / 16, lows,
+                                  highs) for k in range(len(x0))]
+        minimize(lambda x: self.score(self.point(x)), x0, method="Nelder-Mead",
+                 bounds=list(zip(lows, highs)),
+                 options={"maxfev": left, "initial_simplex": np.array(simplex),
+                          "xatol": 1e-12 * float(np.max(highs - lows)), "fatol": 0.0})
+
+
+def find_witness(text: str, paths: list[list[str]] = (), budget: int = BUDGET
+                 ) -> Witness | None:
     """A trajectory of the model from its initial set that clearly enters the unsafe set,
-    trying :meth:`Automaton.starts` in order; None when none of them does."""
-    automaton = Automaton(text)
-    for start in automaton.starts(count):
-        witness = automaton.run(start)
-        if witness is not None:
-            return witness
-    return None
+    or None. Deterministic, within ``budget`` simulated trajectories: the centre, corners
+    and lines of points of :meth:`Automaton.starts`; then grids refined around the best
+    points so far (by :meth:`Automaton.measure`'s score, guided by Flow*'s unsafe
+    ``paths``); then Nelder-Mead (SciPy) on that score from the best point. A start whose
+    trajectory enters the unsafe set is confirmed by :meth:`Automaton.run` (every decision
+    clear) before it counts."""
+    return _Search(Automaton(text), list(paths), budget).run()
 
 
 _PATH = re.compile(r"computation path\s*\{\s*([^;{}]*);", re.S)
