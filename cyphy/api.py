@@ -396,8 +396,9 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
 
         reduced = dataclasses.make_dataclass("Problem", ["states", "rhs", "inputs", "outputs"])(
             problem.states, problem.rhs, problem.inputs, problem.outputs)
-        result.trajectory = sim.simulate_reduced(reduced, settings, controller, effects,
-                                                 scenario.period, events)
+        result.trajectory = sim.simulate_reduced(
+            reduced, settings, controller, effects, scenario.period, events,
+            getattr(controller, "observable", frozenset()))
     except (sim.SimulationError, ValueError) as err:
         report.report(sim.SIMULATE, getattr(err, "message", str(err)),
                       scenario.span("controller"), getattr(err, "hint", ""))

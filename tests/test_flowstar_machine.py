@@ -117,8 +117,6 @@ def test_clocks_saturate_and_variables_are_explored(tmp_path):
      "first cycle of M depends on its inputs"),
     (" initial i0 state S { } transition t0 { from i0 to S }", "event a: real",
      "typed input event a"),
-    (" initial i0 state S { entry $out } transition t0 { from i0 to S }", "event a",
-     "sends the output event out"),
     (" var x: real = 1 clock C initial i0 state S { } transition t0 { from i0 to S }\n"
      " transition t1 { from S to S exec condition since(C) > x }", "event a",
      "compared with something that is not a constant"),
