@@ -109,14 +109,15 @@ def machine_interpreter(paths: Sequence[str | Path], name: str | None = None,
                         search_paths: tuple[str, ...] = (), pmodel: str | None = None
                         ) -> tuple["MachineInterpreter | None", CheckResult]:
     """The d-model's state machine under RoboSim's cycle semantics, ready to run (the
-    sampled controller of a simulation): the machine ``name``, else the one the controller
-    of the module mapped onto ``pmodel`` runs, else the only one. None (with diagnostics,
+    sampled controller of a simulation), with the operation definitions it calls: the
+    machine ``name``, else the one the controller of the module mapped onto ``pmodel``
+    runs, else the only one. None (with diagnostics,
     code ``E-MACHINE`` for what is not a check) when the files have errors or there is no
     single machine to run."""
     from cyphy.diagnostics import Span
     from cyphy.lang.scopes import Scopes
-    from cyphy.model.machines import global_constants, select_machine
-    from cyphy.semantics.machine import MACHINE, MachineError, MachineInterpreter
+    from cyphy.model.machines import select_machine
+    from cyphy.semantics.machine import MACHINE, MachineError, interpreter_for
 
     checked = check(paths, CheckOptions(search_paths=search_paths))
     report = checked.report
@@ -127,9 +128,10 @@ def machine_interpreter(paths: Sequence[str | Path], name: str | None = None,
     if machine is None:
         report.report(MACHINE, message, Span.unknown(str(next(iter(paths), "<input>"))), hint)
         return None, checked
-    values = {**global_constants(machine, Scopes(checked.workspace)), **(consts or {})}
     try:
-        return MachineInterpreter(machine, values), checked
+        return interpreter_for(machine, list(checked.workspace.user_files()),
+                               checked.resolution, Scopes(checked.workspace), consts,
+                               pmodel), checked
     except MachineError as err:
         report.report(MACHINE, f"state machine {machine.name}: {err.message}", err.span,
                       err.hint)

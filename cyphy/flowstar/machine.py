@@ -26,8 +26,8 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
     or it cannot be compiled."""
     from cyphy.flowstar.export import EXPORT
     from cyphy.lang.scopes import Scopes
-    from cyphy.model.machines import global_constants, operation_definitions, select_machine
-    from cyphy.semantics.machine import MachineError, MachineInterpreter
+    from cyphy.model.machines import select_machine
+    from cyphy.semantics.machine import MachineError, interpreter_for
     from cyphy.semantics.machine_automaton import compile_machine
 
     files = list(check.workspace.user_files())
@@ -40,15 +40,9 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
         return None
     consts = {n: v for n, v in scenario.consts.items() if "::" not in n and
               isinstance(v, (int, float)) and not isinstance(v, bool)}
-    scopes = Scopes(check.workspace)
     try:
-        operations = operation_definitions(machine, files, check.resolution, scopes)
-        known: dict[str, object] = {}
-        for m in [machine, *operations.values()]:
-            known.update(global_constants(m, scopes))
-        interpreter = MachineInterpreter(machine, {**known, **consts},
-                                         operations=operations)
-        interpreter.observable = observable_events(interpreter, files, pmodel)
+        interpreter = interpreter_for(machine, files, check.resolution,
+                                      Scopes(check.workspace), consts, pmodel)
         automaton = compile_machine(interpreter)
     except MachineError as err:
         report.report(EXPORT, f"state machine {machine.name}: {err.message}", err.span,
@@ -65,22 +59,6 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
         for e in automaton.edges]
     interpreter.reset()  # the compilation explored its configurations
     return interpreter
-
-
-def observable_events(interpreter: "MachineInterpreter", files: list[Any], pmodel: str
-                      ) -> frozenset[str]:
-    """The output events the machine (or an operation it calls) may send that the platform
-    mapping of ``pmodel`` gives no effect: no mapping (a machine no module runs), or a
-    mapping without equations or actions (``output event alarm { }``). They reach no input
-    of the p-model: observable only (a simulation records them)."""
-    from cyphy.lang import ast
-
-    mapped = {e.name for f in files for item in f.items
-              if isinstance(item, ast.PlatformMapping) and item.pmodel[-1] == pmodel
-              for e in item.events if e.direction == "output" and (e.equations or e.actions)}
-    sent = {name for m in [interpreter.machine, *interpreter.operations.values()]
-            for name in m.platform.output_events}
-    return frozenset(sent - mapped)
 
 
 def _same_cycle(interpreter: "MachineInterpreter", scenario: Scenario, report: Report

@@ -526,6 +526,40 @@ class MachineInterpreter:
         return self.node
 
 
+def interpreter_for(machine: Machine, files: list[ast.SourceFile], resolution: Any,
+                    scopes: Any, consts: Mapping[str, object] | None = None,
+                    pmodel: str | None = None) -> MachineInterpreter:
+    """The interpreter of a machine of the checked files, with the operation definitions
+    it calls, the values of the outside constants they name (``PI``) overridden by
+    ``consts``, and, when the machine controls ``pmodel``, its observable output events
+    (:func:`observable_events`)."""
+    from cyphy.model.machines import global_constants, operation_definitions
+
+    operations = operation_definitions(machine, files, resolution, scopes)
+    known: dict[str, object] = {}
+    for m in [machine, *operations.values()]:
+        known.update(global_constants(m, scopes))
+    interpreter = MachineInterpreter(machine, {**known, **(consts or {})},
+                                     operations=operations)
+    if pmodel is not None:
+        interpreter.observable = observable_events(interpreter, files, pmodel)
+    return interpreter
+
+
+def observable_events(interpreter: MachineInterpreter, files: list[ast.SourceFile],
+                      pmodel: str) -> frozenset[str]:
+    """The output events the machine (or an operation it calls) may send that the platform
+    mapping of ``pmodel`` gives no effect: no mapping (an event of the machine's output
+    context that the robotic platform does not use), or one without equations or actions.
+    They reach no input of the p-model: observable only (a simulation records them)."""
+    mapped = {e.name for f in files for item in f.items
+              if isinstance(item, ast.PlatformMapping) and item.pmodel[-1] == pmodel
+              for e in item.events if e.direction == "output" and (e.equations or e.actions)}
+    sent = {name for m in [interpreter.machine, *interpreter.operations.values()]
+            for name in m.platform.output_events}
+    return frozenset(sent - mapped)
+
+
 def _frozen_vars(variables: Mapping[str, object]) -> tuple[tuple[str, Any], ...]:
     return tuple((n, _frozen(v)) for n, v in sorted(variables.items()))
 
