@@ -144,6 +144,9 @@ class ElaborateOptions:
     consts: dict[str, object] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
     despite_value_errors: bool = False  # `cyphy show`: elaborate a model with V1-V5/E-EVAL
+    # Links without inertial information get these defaults ("sdf": SDFormat's), with a
+    # warning each (cyphy.model.default_inertial); None: they stay without mass.
+    default_inertial: str | None = None
 
 
 @dataclass
@@ -169,6 +172,10 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
         return ElaborateResult(checked, None)
     model = run(checked.workspace, checked.resolution, checked.report, options.model,
                 options.consts)  # type: ignore[arg-type]
+    if model is not None and options.default_inertial is not None:
+        from cyphy.model.default_inertial import apply_default_inertial
+
+        apply_default_inertial(model, checked.report, options.default_inertial)
     return ElaborateResult(checked, model)
 
 
@@ -209,6 +216,7 @@ class SolveOptions:
     search_paths: tuple[str, ...] = ()
     closed_form: bool = True
     gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
+    default_inertial: str | None = None  # see ElaborateOptions
 
 
 @dataclass
@@ -229,8 +237,9 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
     from cyphy.backends.reduce import closed_form, reduce_system, report_obstacles
     from cyphy.semantics.equations import AssemblyError, assemble, mapping_operation
 
-    elaborated = elaborate(paths, ElaborateOptions(options.model, options.consts,
-                                                   options.search_paths))
+    elaborated = elaborate(paths, ElaborateOptions(
+        options.model, options.consts, options.search_paths,
+        default_inertial=options.default_inertial))
     result = SolveResult(elaborated)
     model = elaborated.model
     if model is None:
@@ -273,6 +282,7 @@ class SimulateOptions:
     gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
     controller: Any = None  # with a scenario: a Controller run instead of its [controller]
     machine: str | None = None  # with a scenario without [controller]: the d-model machine
+    default_inertial: str | None = None  # see ElaborateOptions (wins over the scenario's)
 
 
 @dataclass
@@ -305,8 +315,9 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
 
     if options.scenario is not None:
         return _simulate_scenario(paths, options)
-    elaborated = elaborate(paths, ElaborateOptions(options.model, options.consts,
-                                                   options.search_paths))
+    elaborated = elaborate(paths, ElaborateOptions(
+        options.model, options.consts, options.search_paths,
+        default_inertial=options.default_inertial))
     result = SimulateResult(elaborated)
     model = elaborated.model
     if model is None:
@@ -375,6 +386,8 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
             return SimulateResult(empty)
         scenario.machine = options.machine
     scenario.consts.update(options.consts)
+    if options.default_inertial is not None:
+        scenario.default_inertial = options.default_inertial
     problem, sources = build_problem(paths, scenario, report, options.search_paths)
     empty.check.sources.update(sources)
     if problem is None:

@@ -126,7 +126,8 @@ def build_problem(paths: Sequence[str | Path], scenario: Scenario, report: Repor
     from cyphy.api import ElaborateOptions, elaborate
 
     result = elaborate(paths, ElaborateOptions(scenario.model, dict(scenario.consts),
-                                               search_paths))
+                                               search_paths,
+                                               default_inertial=scenario.default_inertial))
     for d in result.report.diagnostics:
         report.add(d)
     sources = dict(result.check.sources)

@@ -120,7 +120,9 @@ def _add_motion(system: System, model: ElaboratedModel,
             raise
         return
     for equation in equations:
-        names = {n.text for n in equation.expr.walk() if isinstance(n, ex.Name)}
+        functions = {id(n.func) for n in equation.expr.walk() if isinstance(n, ex.Call)}
+        names = {n.text for n in equation.expr.walk()
+                 if isinstance(n, ex.Name) and id(n) not in functions}  # sin is no variable
         if known is None or names <= known | set(system.parameters):
             system.equations.append(equation)
 
