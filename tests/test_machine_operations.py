@@ -380,3 +380,31 @@ def test_real_flowstar_proves_the_bench_under_the_ramp_machine_safe(bench, capsy
     assert capsys.readouterr().out.startswith("SAFE")
     model = (bench / "out" / "ramp.model").read_text()
     assert "Ramp_Step -> Cruising" in model and "Cruising -> Stopped" in model
+
+
+def test_calls_and_operation_clocks_compile_to_the_automaton_worked_out_by_hand(tmp_path):
+    it = interpreter(tmp_path, """
+operation Hold(n: real) {
+ output context { requires OutI }
+ clock H
+ initial j0
+ state S { }
+ final F
+ transition a { from j0 to S action $go(n) }
+ transition b { from S to F exec condition since(H) >= 2 }
+}
+""" + machine("""
+ initial i0
+ state A { entry Hold(1); $go(7) }
+ state B { entry Hold(3) }
+ transition t0 { from i0 to A }
+ transition t1 { from A to B exec condition $near }
+ transition t2 { from B to A exec }"""))
+    # Each call rests in Hold's S for the cycles with since(H) = 0 and 1 (two modes, the
+    # second holding the call's go), returns when since(H) = 2 (A sends go(7) after it);
+    # B -> A calls Hold(1) again: back to the first configuration (H saturates at 3).
+    assert describe(compile_machine(it)).splitlines() == [
+        "initial Hold_S", "mode Hold_S [go(1)]", "mode Hold_S_2 [go(1)]", "mode A [go(7)]",
+        "mode Hold_S_3 [go(3)]", "mode Hold_S_4 [go(3)]", "mode B [go(3)]",
+        "Hold_S -> Hold_S_2 when true", "Hold_S_2 -> A when true", "A -> Hold_S_3 when near",
+        "Hold_S_3 -> Hold_S_4 when true", "Hold_S_4 -> B when true", "B -> Hold_S when true"]
