@@ -808,7 +808,8 @@ def _show_dmodel(args: argparse.Namespace) -> int:
     if any(d.span.file in dmodel_files or d.span.file not in result.sources
            for d in result.report.errors):
         return 1
-    data = dmodel_to_dict(files, result.resolution, machines_of(files, result.resolution))
+    data = dmodel_to_dict(files, result.resolution,
+                          machines_of(files, result.resolution, operations=True))
     if not (data["modules"] or data["controllers"] or data["machines"]):
         sys.stderr.write("cyphy show: error: no module, controller or state machine in the "
                          "files\n")

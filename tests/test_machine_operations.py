@@ -408,3 +408,19 @@ operation Hold(n: real) {
         "mode Hold_S_3 [go(3)]", "mode Hold_S_4 [go(3)]", "mode B [go(3)]",
         "Hold_S -> Hold_S_2 when true", "Hold_S_2 -> A when true", "A -> Hold_S_3 when near",
         "Hold_S_3 -> Hold_S_4 when true", "Hold_S_4 -> B when true", "B -> Hold_S when true"]
+
+
+def test_show_dmodel_lists_operation_definitions(tmp_path, capsys):
+    f = tmp_path / "m.rst"
+    f.write_text(INTERFACES + BLINK + machine(
+        " initial i0 state A { entry Blink(1) } transition t0 { from i0 to A }"))
+    assert main(["show", str(f), "--dmodel", "--format", "json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [m["name"] for m in data["machines"]] == ["M"]
+    (op,) = data["operation_definitions"]
+    assert op["name"] == "Blink" and op["parameters"] == [{"name": "n", "type": "real"}]
+    assert op["constants"] == [] and op["variables"] == [
+        {"name": "k", "type": "real", "value": "0"}]
+    assert op["finals"] == ["F"] and [t["name"] for t in op["transitions"]] == ["a", "b", "c"]
+    assert main(["show", str(f), "--dmodel"]) == 0
+    assert "operation Blink(n: real)\n  variable k: real = 0\n" in capsys.readouterr().out
