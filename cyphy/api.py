@@ -112,14 +112,15 @@ def machine_interpreter(paths: Sequence[str | Path], name: str | None = None,
                         search_paths: tuple[str, ...] = (), pmodel: str | None = None
                         ) -> tuple["MachineInterpreter | None", CheckResult]:
     """The d-model's state machine under RoboSim's cycle semantics, ready to run (the
-    sampled controller of a simulation): the machine ``name``, else the one the controller
-    of the module mapped onto ``pmodel`` runs, else the only one. None (with diagnostics,
+    sampled controller of a simulation), with the operation definitions it calls: the
+    machine ``name``, else the one the controller of the module mapped onto ``pmodel``
+    runs, else the only one. None (with diagnostics,
     code ``E-MACHINE`` for what is not a check) when the files have errors or there is no
     single machine to run."""
     from cyphy.diagnostics import Span
     from cyphy.lang.scopes import Scopes
-    from cyphy.model.machines import global_constants, select_machine
-    from cyphy.semantics.machine import MACHINE, MachineError, MachineInterpreter
+    from cyphy.model.machines import select_machine
+    from cyphy.semantics.machine import MACHINE, MachineError, interpreter_for
 
     checked = check(paths, CheckOptions(search_paths=search_paths))
     report = checked.report
@@ -130,9 +131,10 @@ def machine_interpreter(paths: Sequence[str | Path], name: str | None = None,
     if machine is None:
         report.report(MACHINE, message, Span.unknown(str(next(iter(paths), "<input>"))), hint)
         return None, checked
-    values = {**global_constants(machine, Scopes(checked.workspace)), **(consts or {})}
     try:
-        return MachineInterpreter(machine, values), checked
+        return interpreter_for(machine, list(checked.workspace.user_files()),
+                               checked.resolution, Scopes(checked.workspace), consts,
+                               pmodel), checked
     except MachineError as err:
         report.report(MACHINE, f"state machine {machine.name}: {err.message}", err.span,
                       err.hint)
@@ -145,6 +147,9 @@ class ElaborateOptions:
     consts: dict[str, object] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
     despite_value_errors: bool = False  # `cyphy show`: elaborate a model with V1-V5/E-EVAL
+    # Links without inertial information get these defaults ("sdf": SDFormat's), with a
+    # warning each (cyphy.model.default_inertial); None: they stay without mass.
+    default_inertial: str | None = None
 
 
 @dataclass
@@ -171,6 +176,10 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
         return ElaborateResult(checked, None)
     model = run(checked.workspace, checked.resolution, checked.report, options.model,
                 options.consts)  # type: ignore[arg-type]
+    if model is not None and options.default_inertial is not None:
+        from cyphy.model.default_inertial import apply_default_inertial
+
+        apply_default_inertial(model, checked.report, options.default_inertial)
     return ElaborateResult(checked, model)
 
 
@@ -211,6 +220,7 @@ class SolveOptions:
     search_paths: tuple[str, ...] = ()
     closed_form: bool = True
     gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
+    default_inertial: str | None = None  # see ElaborateOptions
 
 
 @dataclass
@@ -232,8 +242,9 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
     from cyphy.backends.reduce import closed_form, reduce_system, report_obstacles
     from cyphy.semantics.equations import AssemblyError, assemble, mapping_operation
 
-    elaborated = elaborate(paths, ElaborateOptions(options.model, options.consts,
-                                                   options.search_paths))
+    elaborated = elaborate(paths, ElaborateOptions(
+        options.model, options.consts, options.search_paths,
+        default_inertial=options.default_inertial))
     result = SolveResult(elaborated)
     model = elaborated.model
     if model is None:
@@ -276,6 +287,7 @@ class SimulateOptions:
     gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
     controller: Any = None  # with a scenario: a Controller run instead of its [controller]
     machine: str | None = None  # with a scenario without [controller]: the d-model machine
+    default_inertial: str | None = None  # see ElaborateOptions (wins over the scenario's)
 
 
 @dataclass
@@ -309,8 +321,9 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
 
     if options.scenario is not None:
         return _simulate_scenario(paths, options)
-    elaborated = elaborate(paths, ElaborateOptions(options.model, options.consts,
-                                                   options.search_paths))
+    elaborated = elaborate(paths, ElaborateOptions(
+        options.model, options.consts, options.search_paths,
+        default_inertial=options.default_inertial))
     result = SimulateResult(elaborated)
     model = elaborated.model
     if model is None:
@@ -379,6 +392,8 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
             return SimulateResult(empty)
         scenario.machine = options.machine
     scenario.consts.update(options.consts)
+    if options.default_inertial is not None:
+        scenario.default_inertial = options.default_inertial
     problem, sources = build_problem(paths, scenario, report, options.search_paths)
     empty.check.sources.update(sources)
     if problem is None:
@@ -402,8 +417,9 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
 
         reduced = dataclasses.make_dataclass("Problem", ["states", "rhs", "inputs", "outputs"])(
             problem.states, problem.rhs, problem.inputs, problem.outputs)
-        result.trajectory = sim.simulate_reduced(reduced, settings, controller, effects,
-                                                 scenario.period, events)
+        result.trajectory = sim.simulate_reduced(
+            reduced, settings, controller, effects, scenario.period, events,
+            getattr(controller, "observable", frozenset()))
     except (sim.SimulationError, ValueError) as err:
         report.report(sim.SIMULATE, getattr(err, "message", str(err)),
                       scenario.span("controller"), getattr(err, "hint", ""))

@@ -69,6 +69,7 @@ def _parser() -> argparse.ArgumentParser:
     solve.add_argument("--mapping-call", metavar="CALL",
                        help="add the effect of a mapping operation, e.g. 'move(0.1, 0)'")
     _gravity_option(solve)
+    _default_inertial_option(solve)
     _const_options(solve)
     solve.add_argument("--format", choices=("text", "latex", "json"), default="text")
     _path_option(solve)
@@ -114,6 +115,7 @@ def _parser() -> argparse.ArgumentParser:
     simulate.add_argument("--plot-var", action="append", default=[], metavar="NAME",
                           help="a column to plot (repeatable; default the first 8)")
     _gravity_option(simulate)
+    _default_inertial_option(simulate)
     _const_options(simulate)
     _path_option(simulate)
     gen = sub.add_parser(
@@ -420,7 +422,7 @@ def _flowstar_gen(args: argparse.Namespace) -> "Generated":
     from cyphy.flowstar.commands import generate
 
     return generate(args.paths, args.scenario, args.model, tuple(args.path), _consts(args),
-                    args.machine)[0]
+                    args.machine, args.default_inertial)[0]
 
 
 def _scenario_option(parser: argparse.ArgumentParser) -> None:
@@ -431,6 +433,7 @@ def _scenario_option(parser: argparse.ArgumentParser) -> None:
         parser.add_argument("--machine", metavar="NAME",
                             help="(--flowstar) the d-model's state machine that is the "
                             "controller when the scenario has no [controller]")
+    _default_inertial_option(parser, "(--flowstar) ")
 
 
 GENERATORS["flowstar"] = (_flowstar_gen, "a Flow* 2.1.0 hybrid automaton of the model under "
@@ -466,6 +469,7 @@ def _add_reach(sub: argparse._SubParsersAction) -> None:
     reach.add_argument("--machine", metavar="NAME",
                        help="the d-model's state machine that is the controller when the "
                        "scenario has no [controller]")
+    _default_inertial_option(reach)
     _const_options(reach)
     _path_option(reach)
 
@@ -488,7 +492,7 @@ def _reach(args: argparse.Namespace) -> int:
         sys.stderr.write("cyphy reach: error: --split and --jobs take a positive number\n")
         return 2
     generated, problem = generate(args.paths, args.scenario, args.model, tuple(args.path),
-                                  _consts(args), args.machine)
+                                  _consts(args), args.machine, args.default_inertial)
     if generated.report.diagnostics:
         sys.stderr.write(render_text(generated.report.diagnostics, dict(generated.sources)))
     if generated.report.has_errors or not generated.files or problem is None:
@@ -608,7 +612,8 @@ def _solve(args: argparse.Namespace) -> int:
     from cyphy.diagnostics import render_text
 
     options = SolveOptions(args.model, tuple(args.element), args.mapping_call, _consts(args),
-                           tuple(args.path), gravity=args.gravity)
+                           tuple(args.path), gravity=args.gravity,
+                           default_inertial=args.default_inertial)
     try:
         result = solve(args.paths, options)
     except UsageError as err:
@@ -663,7 +668,8 @@ def _simulate(args: argparse.Namespace) -> int:
                                      sim.progress_to_stderr if sys.stderr.isatty() else None)
     result = simulate(args.paths, SimulateOptions(args.model, _consts(args), tuple(args.path),
                                                   settings, args.numeric, args.scenario,
-                                                  args.gravity, machine=args.machine))
+                                                  args.gravity, machine=args.machine,
+                                                  default_inertial=args.default_inertial))
     diagnostics = result.report.diagnostics
     if diagnostics:
         sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))
@@ -703,6 +709,16 @@ def _gravity(text: str) -> tuple[float, float, float]:
     except ValueError:
         raise argparse.ArgumentTypeError(f"'{text}' is not three numbers x,y,z") from None
     return (x, y, z)
+
+
+def _default_inertial_option(parser: argparse.ArgumentParser, note: str = "") -> None:
+    if any("--default-inertial" in a.option_strings for a in parser._actions):
+        return
+    parser.add_argument("--default-inertial", choices=("sdf",), metavar="sdf",
+                        help=f"{note}give links without inertial information SDFormat's "
+                        "defaults (1 kg, identity inertia), as Gazebo does, with a warning "
+                        "each (default: they stay without mass, an E-DYNAMICS error when a "
+                        "joint moves them)")
 
 
 def _gravity_option(parser: argparse.ArgumentParser) -> None:
@@ -792,7 +808,8 @@ def _show_dmodel(args: argparse.Namespace) -> int:
     if any(d.span.file in dmodel_files or d.span.file not in result.sources
            for d in result.report.errors):
         return 1
-    data = dmodel_to_dict(files, result.resolution, machines_of(files, result.resolution))
+    data = dmodel_to_dict(files, result.resolution,
+                          machines_of(files, result.resolution, operations=True))
     if not (data["modules"] or data["controllers"] or data["machines"]):
         sys.stderr.write("cyphy show: error: no module, controller or state machine in the "
                          "files\n")

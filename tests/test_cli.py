@@ -18,7 +18,7 @@ BROKEN = "pmodel P {\n  local link L {\n    def { }\n    jref J = Revolte { }\n 
 def test_check_clean_example_exits_0(capsys) -> None:
     assert main(["check", str(EXAMPLES / "marxbot")]) == 0
     out, err = capsys.readouterr()
-    assert "4 files checked: 0 errors, 0 warnings" in err and out == ""  # diagnostics: stderr
+    assert "5 files checked: 0 errors, 0 warnings" in err and out == ""  # diagnostics: stderr
 
 
 def test_check_errors_exit_1_with_caret_and_hint(tmp_path: Path, capsys) -> None:

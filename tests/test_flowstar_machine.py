@@ -118,8 +118,6 @@ def test_clocks_saturate_and_variables_are_explored(tmp_path):
      "first cycle of M depends on its inputs"),
     (" initial i0 state S { } transition t0 { from i0 to S }", "event a: real",
      "typed input event a"),
-    (" initial i0 state S { entry $out } transition t0 { from i0 to S }", "event a",
-     "sends the output event out"),
     (" var x: real = 1 clock C initial i0 state S { } transition t0 { from i0 to S }\n"
      " transition t1 { from S to S exec condition since(C) > x }", "event a",
      "compared with something that is not a constant"),
@@ -212,3 +210,31 @@ def test_marxbot_avoid_obstacle_scenario_is_driven_by_smovement(tmp_path):
     assert float(problem.effects["Spinning"]["RMotor_das"]) == pytest.approx(
         -0.5 * 0.06 / (2 * 0.025025))
     assert float(problem.effects["Stopped"]["LMotor_das"]) == 0
+
+
+def test_obstacle_stop_under_sstop_exports_its_former_hand_written_table(tmp_path):
+    # The table the scenario used to carry (Cruising: move(lv, 0), Stopped: stop(), on
+    # obstacle) gives the same Flow* model, byte for byte, as the machine SStop.
+    scenario = EXAMPLES / "marxbot" / "obstacle_stop.toml"
+    text = scenario.read_text()
+    assert "[controller]\ninitial" not in text and 'machine = "SStop"' in text
+    table = tmp_path / "obstacle_stop.toml"
+    table.write_text(text.replace('machine = "SStop"', "").replace(
+        "[consts]\n", "[consts]\nlv = 0.1\n").replace("[unsafe]", """[controller]
+initial = "Cruising"
+[controller.states.Cruising]
+calls = ["move(lv, 0)"]
+[controller.states.Stopped]
+calls = ["stop()"]
+[[controller.transitions]]
+from = "Cruising"
+to = "Stopped"
+when = "obstacle"
+
+[unsafe]"""))
+    models = []
+    for path, out in ((scenario, tmp_path / "machine"), (table, tmp_path / "table")):
+        assert main(["gen", str(EXAMPLES / "marxbot"), "--flowstar", "--scenario", str(path),
+                     "-o", str(out)]) == 0
+        models.append((out / "obstacle_stop.model").read_text())
+    assert models[0] == models[1]

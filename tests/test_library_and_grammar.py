@@ -62,7 +62,7 @@ def test_library_has_the_elements_the_corpus_uses() -> None:
 def test_marxbot_example_passes_check() -> None:
     result = api.check([EXAMPLES / "marxbot"])
     assert result.report.diagnostics == []
-    assert len(result.workspace.targets) == 4
+    assert len(result.workspace.targets) == 5
 
 
 def test_marxbot_example_has_24_indexed_proximity_sensors() -> None:

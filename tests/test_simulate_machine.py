@@ -227,3 +227,20 @@ def test_marxbot_dynamics_scenario_exports_the_hinges_motion() -> None:
         assert problem.rhs[f"{side}Hinge_theta"] == sympy.Symbol(f"{side}Hinge_v", real=True)
     text = render(problem, "avoid_obstacle_dynamics")
     assert "LHinge_v'" in text and "RHinge_theta'" in text
+
+
+def test_obstacle_stop_holds_under_sstop_and_not_under_smovement(capsys) -> None:
+    # obstacle_stop.toml's property: no torque above 0.002 N m once t >= 3.5. Its machine
+    # SStop (marXbotStop.rsm) stops for good; the module's SMovement turns after the stop
+    # (move(0, av)) and, the obstacle still ahead, stops and turns again: the motors work
+    # after 3.5 s, which is why the scenario names SStop.
+    scenario = str(MARXBOT / "obstacle_stop.toml")
+    common = ["--samples", "81"]
+    assert main(["simulate", str(MARXBOT), "--scenario", scenario, *common]) == 0
+    stop = _csv(capsys.readouterr().out)
+    late = stop["t"] >= 3.5
+    assert np.max(stop["LMotor_T"][late] ** 2) < 4e-6
+    assert main(["simulate", str(MARXBOT), "--scenario", scenario, "--machine", "SMovement",
+                 *common]) == 0
+    turn = _csv(capsys.readouterr().out)
+    assert np.max(turn["LMotor_T"][late] ** 2) > 1e-3

@@ -8,8 +8,10 @@ JSON keys (documented in the README): ``modules`` (``name``, ``cycle``, ``platfo
 (``name``, ``cycle``, ``constants``, ``variables``, ``clocks``, ``inputs``, ``outputs``,
 ``operations``, ``states`` [{``name``, ``parent``, ``entry``, ``during``, ``exit``}],
 ``junctions`` [{``name``, ``kind``}], ``finals``, ``transitions`` [{``name``, ``from``,
-``to``, ``trigger``, ``condition``, ``action``, ``exec``}]). Expressions and actions are
-written in the notation; absent parts are ``null``.
+``to``, ``trigger``, ``condition``, ``action``, ``exec``}]), and
+``operation_definitions`` (the operation definitions with a behaviour: ``name``,
+``parameters`` [{``name``, ``type``}] and a machine's other keys). Expressions and actions
+are written in the notation; absent parts are ``null``.
 """
 
 from __future__ import annotations
@@ -127,7 +129,15 @@ def dmodel_to_dict(files: list[ast.SourceFile], resolution: Resolution,
                         if isinstance(c, ast.Controller)]
         + [controller_to_dict(c, resolution) for m in items if isinstance(m, ast.Module)
            for c in m.members if isinstance(c, ast.Controller)],
-        "machines": [machine_to_dict(m) for m in machines],
+        "machines": [machine_to_dict(m) for m in machines if m.decl.kind == "stm"],
+        "operation_definitions": [
+            {"name": m.name,
+             "parameters": [{"name": p.name, "type": type_to_notation(p.type)}
+                            for p in m.decl.params],
+             **{k: v for k, v in machine_to_dict(m).items() if k != "name"},
+             "constants": [_decl(v) for n, v in m.constants.items()
+                           if n not in {p.name for p in m.decl.params}]}
+            for m in machines if m.decl.kind == "operation"],
     }
 
 
@@ -155,8 +165,12 @@ def dmodel_to_text(data: dict[str, Any]) -> str:
         for s in c["machines"]:
             out.append(f"  machine {s['name']} = {s['target']}")
         out += [f"  connection {x}" for x in c["connections"]]
-    for m in data["machines"]:
-        out.append(f"machine {m['name']}" + (f" (cycle {m['cycle']})" if m["cycle"] else ""))
+    behaviours = [("machine", m, "") for m in data["machines"]] + [
+        ("operation", m, "(" + ", ".join(f"{p['name']}: {p['type']}" for p in m["parameters"])
+         + ")") for m in data.get("operation_definitions", [])]
+    for kind, m, params in behaviours:
+        out.append(f"{kind} {m['name']}{params}" +
+                   (f" (cycle {m['cycle']})" if m["cycle"] else ""))
         for key in ("constants", "variables"):
             for v in m[key]:
                 value = f" = {v['value']}" if v["value"] is not None else ""

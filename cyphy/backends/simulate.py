@@ -21,7 +21,7 @@ from __future__ import annotations
 import sys
 import time
 from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping, Protocol, Sequence
+from typing import Any, Callable, Collection, Mapping, Protocol, Sequence
 
 import numpy as np
 
@@ -56,11 +56,14 @@ class SimulationOptions:
 
 @dataclass
 class Trajectory:
-    """``times`` and one column per name (states first, then outputs), in ``values``."""
+    """``times`` and one column per name (states first, then outputs), in ``values``;
+    ``events``: the output events a controller sent that reach no input of the p-model
+    (observable only), as ``(time of the cycle, name, values)`` in the order sent."""
 
     names: list[str]
     times: np.ndarray
     values: np.ndarray  # len(times) x len(names)
+    events: list[tuple[float, str, tuple[float, ...]]] = field(default_factory=list)
 
     def column(self, name: str) -> np.ndarray:
         return self.values[:, self.names.index(name)]
@@ -126,12 +129,14 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
                      effects: Callable[[Calls], dict[str, float]] | None = None,
                      period: float | None = None,
                      events: Callable[[float, Mapping[str, float]], Mapping[str, object]]
-                     | None = None) -> Trajectory:
+                     | None = None, observable: Collection[str] = ()) -> Trajectory:
     """Integrate the reduced ODEs (:class:`cyphy.backends.reduce.Reduced`).
 
     With a ``controller``, the run is cut at every ``period``: ``events(t, values)`` gives the
     input events at that instant, the controller's calls go through ``effects`` to input
-    values that hold until the next cycle (they override ``options.inputs``)."""
+    values that hold until the next cycle (they override ``options.inputs``); the output
+    events named in ``observable`` have no effect and are recorded in the trajectory's
+    ``events``."""
     import sympy
 
     states = list(reduced.states)
@@ -180,12 +185,15 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
         times, xs = _integrate(f, x0, grid, options)
         return Trajectory([*states, *outputs], times, observe(times, xs))
     all_t, all_rows = [], []
+    sent: list[tuple[float, str, tuple[float, ...]]] = []
     start, x, k = 0.0, x0, 0
     while start < options.t_end - 1e-12:
         stop = min((k + 1) * period, options.t_end)
         values = dict(zip(states, x))
         values.update(zip(inputs, u(start)))
         calls = controller.cycle(events(start, values) if events else {})
+        sent += [(start, name, tuple(args)) for name, args in calls if name in observable]
+        calls = tuple(c for c in calls if c[0] not in observable)
         held.update((effects or (lambda _c: {}))(calls))
         inside = grid[(grid >= start) & (grid < stop)]
         local = np.unique(np.concatenate([[start], inside, [stop]]))
@@ -198,7 +206,7 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     times = np.concatenate(all_t)
     rows = np.vstack(all_rows)
     order = np.unique(times, return_index=True)[1]
-    return Trajectory([*states, *outputs], times[order], rows[order])
+    return Trajectory([*states, *outputs], times[order], rows[order], sent)
 
 
 def _integrate(f: Callable[[float, np.ndarray], np.ndarray], x0: np.ndarray,
@@ -275,7 +283,11 @@ def to_json(trajectory: Trajectory) -> str:
 
     return json.dumps({"t": [float(v) for v in trajectory.times],
                        "columns": {n: [float(v) for v in trajectory.column(n)]
-                                   for n in trajectory.names}}, indent=1) + "\n"
+                                   for n in trajectory.names},
+                       "events": [{"t": float(t), "name": name,
+                                   "values": [float(v) for v in values]}
+                                  for t, name, values in trajectory.events]},
+                      indent=1) + "\n"
 
 
 def plot(trajectory: Trajectory, path: str, names: Sequence[str] = ()) -> None:

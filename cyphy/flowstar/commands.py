@@ -16,11 +16,13 @@ if TYPE_CHECKING:
 
 def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str | None = None,
              search_paths: tuple[str, ...] = (), consts: dict[str, object] | None = None,
-             machine: str | None = None) -> tuple[Generated, "Problem | None"]:
+             machine: str | None = None, default_inertial: str | None = None
+             ) -> tuple[Generated, "Problem | None"]:
     """The Flow* model of the p-model under the scenario, as ``NAME.model`` (NAME from the
     scenario's file name), and the problem it renders (None on errors), which
     :func:`cyphy.flowstar.check.check` decomposes, splits and runs. ``machine`` names the
-    d-model's state machine that is the controller when the scenario has no ``[controller]``."""
+    d-model's state machine that is the controller when the scenario has no ``[controller]``;
+    ``default_inertial`` (``"sdf"``) wins over the scenario's ``default_inertial``."""
     from cyphy.flowstar.export import EXPORT, build_problem, output_name, render
     from cyphy.flowstar.printer import NotExpressible
 
@@ -44,6 +46,8 @@ def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str 
             return Generated(report, {scenario_path: scenario.text}), None
         scenario.machine = machine
     scenario.consts.update(consts or {})
+    if default_inertial is not None:
+        scenario.default_inertial = default_inertial
     problem, sources = build_problem(paths, scenario, report, search_paths)
     if problem is None or report.has_errors:
         return Generated(report, sources), None

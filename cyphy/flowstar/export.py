@@ -126,7 +126,8 @@ def build_problem(paths: Sequence[str | Path], scenario: Scenario, report: Repor
     from cyphy.api import ElaborateOptions, elaborate
 
     result = elaborate(paths, ElaborateOptions(scenario.model, dict(scenario.consts),
-                                               search_paths))
+                                               search_paths,
+                                               default_inertial=scenario.default_inertial))
     for d in result.report.diagnostics:
         report.add(d)
     sources = dict(result.check.sources)
@@ -392,17 +393,21 @@ class _Builder:
 
     def _operation_effects(self, frame: list[str]
                            ) -> dict[str, tuple[tuple[Any, ...], dict[str, Any]]]:
-        """Each operation the machine may call that the mapping defines, solved once for the
-        actuator inputs with its arguments as symbols (``move(lv, av)`` → ``LMotor_das =
-        (lv + 0.03*av)/0.025025``, …): the simulator evaluates it for whatever arguments a
-        cycle computes. An operation whose equations do not fix its inputs uniquely, or set
-        inputs the export's frame lacks, is left out (a call of it is then reported)."""
+        """Each operation the machine may call (and output event it may send) that the
+        mapping defines, solved once for the actuator inputs with its arguments as symbols
+        (``move(lv, av)`` → ``LMotor_das = (lv + 0.03*av)/0.025025``, …): the simulator
+        evaluates it for whatever arguments a cycle computes. An operation whose equations do
+        not fix its inputs uniquely, or set inputs the export's frame lacks, is left out (a
+        call of it is then reported)."""
         from cyphy.backends.sympy import to_sympy
         from cyphy.semantics.equations import AssemblyError, assemble, mapping_operation
 
         check = self.elaborated.check
         out: dict[str, tuple[tuple[Any, ...], dict[str, Any]]] = {}
-        for op in sorted(self.machine.machine.platform.operations):
+        it = self.machine
+        names = {name for m in [it.machine, *it.operations.values()]
+                 for name in [*m.platform.operations, *m.platform.output_events]}
+        for op in sorted(names - set(it.observable)):
             try:
                 params = mapping_operation(check.workspace, check.resolution, self.model,
                                            f"{op}()")[2]

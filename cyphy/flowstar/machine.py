@@ -4,7 +4,9 @@
 (:mod:`cyphy.semantics.machine_automaton`), and written into the scenario's ``initial``,
 ``states`` (mode → calls) and ``transitions`` (guards: conjunctions of event literals), the
 structure a ``[controller]`` table gives, so the export treats both alike. The interpreter
-itself is returned too: ``cyphy simulate`` runs it, cycle by cycle, as the sampled controller."""
+itself is returned too: ``cyphy simulate`` runs it, cycle by cycle, as the sampled controller.
+The operation definitions the machine calls run inside it; its output events that the
+mapping maps act like calls, the others are observable only (``interpreter.observable``)."""
 
 from __future__ import annotations
 
@@ -24,8 +26,8 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
     or it cannot be compiled."""
     from cyphy.flowstar.export import EXPORT
     from cyphy.lang.scopes import Scopes
-    from cyphy.model.machines import global_constants, select_machine
-    from cyphy.semantics.machine import MachineError, MachineInterpreter
+    from cyphy.model.machines import select_machine
+    from cyphy.semantics.machine import MachineError, interpreter_for
     from cyphy.semantics.machine_automaton import compile_machine
 
     files = list(check.workspace.user_files())
@@ -39,8 +41,8 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
     consts = {n: v for n, v in scenario.consts.items() if "::" not in n and
               isinstance(v, (int, float)) and not isinstance(v, bool)}
     try:
-        interpreter = MachineInterpreter(
-            machine, {**global_constants(machine, Scopes(check.workspace)), **consts})
+        interpreter = interpreter_for(machine, files, check.resolution,
+                                      Scopes(check.workspace), consts, pmodel)
         automaton = compile_machine(interpreter)
     except MachineError as err:
         report.report(EXPORT, f"state machine {machine.name}: {err.message}", err.span,

@@ -24,7 +24,7 @@ from cyphy.diagnostics import Report, Span, did_you_mean
 SCENARIO = codes.code("E-SCENARIO", codes.E, "the scenario file cannot be used")
 
 _TOP = {"model", "elements", "horizon", "tscale", "cycle", "consts", "init", "environment",
-        "controller", "machine", "unsafe", "flowstar"}
+        "controller", "machine", "unsafe", "flowstar", "default_inertial"}
 _FLOWSTAR = {"step", "order", "remainder", "cutoff", "precision", "max_jumps"}
 _WHEN = re.compile(r"\s*(not\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*\Z")
 
@@ -86,6 +86,7 @@ class Scenario:
     unsafe: tuple[str, ...] = ()
     settings: Settings = Settings()
     machine: str | None = None  # the d-model machine to use when there is no [controller]
+    default_inertial: str | None = None  # "sdf": links without mass get SDF's defaults
 
     @property
     def period(self) -> float:
@@ -192,6 +193,15 @@ def load_scenario(path: str | Path, report: Report) -> Scenario | None:
         else:
             r.error("'machine' must be the name of a state machine of the d-model",
                     ("machine",))
+    if "default_inertial" in data:
+        from cyphy.model.default_inertial import CHOICES
+
+        if data["default_inertial"] in CHOICES:
+            s.default_inertial = data["default_inertial"]
+        else:
+            r.error(f"'default_inertial' must be one of {', '.join(map(repr, CHOICES))}",
+                    ("default_inertial",), 'write default_inertial = "sdf" (SDFormat\'s '
+                    "defaults: 1 kg, identity inertia) or leave it out")
     if "controller" in data and "machine" in data:
         r.error("give either a [controller] or 'machine', not both", ("machine",),
                 "without [controller] the d-model's machine is the controller")

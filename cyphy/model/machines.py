@@ -180,18 +180,58 @@ def machine_platform(stm: ast.StateMachine, resolution: Resolution) -> Platform:
     return p
 
 
-def machines_of(files: Iterator[ast.SourceFile] | list[ast.SourceFile], resolution: Resolution
-                ) -> list[Machine]:
+def machines_of(files: Iterator[ast.SourceFile] | list[ast.SourceFile], resolution: Resolution,
+                operations: bool = False) -> list[Machine]:
     """Every state machine (top-level or inside a controller) of the files, in file order;
-    operation definitions are left out (nothing calls them yet)."""
+    with ``operations``, also every operation definition that has a behaviour (nodes or
+    transitions: ``operation op() { terminates }`` only declares one)."""
     out = []
+    for f, stm in _behaviours(files):
+        if stm.kind == "stm" or operations and (stm.nodes or stm.states or stm.transitions):
+            out.append(build_machine(stm, f, resolution))
+    return out
+
+
+def _behaviours(files: Iterator[ast.SourceFile] | list[ast.SourceFile]
+                ) -> Iterator[tuple[ast.SourceFile, ast.StateMachine]]:
     for f in files:
         for item in f.items:
             stms = [item] if isinstance(item, ast.StateMachine) else list(
                 item.machines) if isinstance(item, ast.Controller) else []
             for stm in stms:
-                if stm.kind == "stm":
-                    out.append(build_machine(stm, f, resolution))
+                yield f, stm
+
+
+def called_operation(machine: Machine, call: ex.Call, scopes: "Scopes"
+                     ) -> ast.StateMachine | None:
+    """The operation definition a call ``op(args)`` (without ``$``) names, if any."""
+    from cyphy.lang.scopes import is_machine
+
+    if not isinstance(call.func, ex.Name):
+        return None
+    found = [d for d in scopes.lookup(machine.file, call.func.parts, is_machine)
+             if isinstance(d, ast.StateMachine) and d.kind == "operation"]
+    return found[0] if found else None
+
+
+def operation_definitions(machine: Machine, files: list[ast.SourceFile],
+                          resolution: Resolution, scopes: "Scopes") -> dict[str, Machine]:
+    """The operation definitions the machine calls, and those they call, by the name they
+    are called with: what the interpreter runs inline."""
+    where = {id(stm): f for f, stm in _behaviours(files)}
+    out: dict[str, Machine] = {}
+    todo = [machine]
+    while todo:
+        m = todo.pop()
+        for s, _ in statements(m):
+            if not (isinstance(s, ast.CallStatement) and isinstance(s.call, ex.Call)):
+                continue
+            decl = called_operation(m, s.call, scopes)
+            name = s.call.func.parts[-1] if isinstance(s.call.func, ex.Name) else ""
+            if decl is None or name in out or id(decl) not in where:
+                continue
+            out[name] = build_machine(decl, where[id(decl)], resolution)
+            todo.append(out[name])
     return out
 
 

@@ -120,7 +120,9 @@ def _add_motion(system: System, model: ElaboratedModel,
             raise
         return
     for equation in equations:
-        names = {n.text for n in equation.expr.walk() if isinstance(n, ex.Name)}
+        functions = {id(n.func) for n in equation.expr.walk() if isinstance(n, ex.Call)}
+        names = {n.text for n in equation.expr.walk()
+                 if isinstance(n, ex.Name) and id(n) not in functions}  # sin is no variable
         if known is None or names <= known | set(system.parameters):
             system.equations.append(equation)
 
@@ -142,7 +144,9 @@ def motion(model: ElaboratedModel,
 def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.PlatformMapping,
                       call: ex.Call, params: tuple[str, ...]) -> None:
     name = call.func.text if isinstance(call.func, ex.Name) else ""
-    op = next((o for o in mapping.operations if o.name == name), None)
+    op: ast.OperationMapping | ast.EventMapping | None = next(
+        (o for o in mapping.operations if o.name == name), None) or next(
+        (e for e in mapping.events if e.direction == "output" and e.name == name), None)
     if op is None:
         raise AssemblyError(f"mapping {mapping.name} has no operation '{name}'", call.span,
                             "name an operation of the mapping: " +
@@ -319,7 +323,8 @@ def parse_call(text: str) -> ex.Call:
 def mapping_operation(ws: Any, resolution: Any, model: ElaboratedModel, text: str
                       ) -> tuple[ast.PlatformMapping, ex.Call, tuple[str, ...]]:
     """The mapping of the model's p-model, the parsed call and the operation's parameter
-    names (from the d-model's operation signature)."""
+    names (from the d-model's operation signature); a "call" ``e(v)`` of an output event
+    the mapping maps (``output event e ? p { … }``) has the mapping's parameter ``p``."""
     from cyphy.lang.scopes import Scopes, is_interface
 
     call = parse_call(text)
@@ -344,6 +349,11 @@ def mapping_operation(ws: Any, resolution: Any, model: ElaboratedModel, text: st
         sig = next((s for s in sigs if s.name == name), None)
         if sig is not None:
             params = tuple(p.name for p in sig.params)
+    if params is None:  # an output event: its mapping's parameter, if typed
+        event = next((e for e in mapping.events if e.direction == "output" and e.name == name),
+                     None)
+        if event is not None:
+            params = (event.param,) if event.param else ()
     if params is None:
         raise AssemblyError(f"the d-model provides no operation '{name}'", call.span,
                             "call an operation of the robotic platform")

@@ -21,17 +21,29 @@ paper's Section 2 / Fig. 3 for how a d-model drives a p-model):
    enabled (the machine rests in its state), or at an ``exec`` statement inside an action
    (the rest of the action, and the entry of the target, run at the start of the next
    cycle); ``wait(n)`` is ``n`` such ends.
-4. **Outputs.** The operation calls (``$op(args)``) and output events (``$e!v``) performed
-   in the cycle are returned in order; the caller writes them to the platform, then waits
-   ``cycle × tscale`` seconds.
+4. **Outputs.** The operation calls (``$op(args)``) and output events (``$e!v``, ``$e``)
+   performed in the cycle are returned in order; the caller writes them to the platform
+   through the mapping (an output event the mapping does not map is observable only),
+   then waits ``cycle × tscale`` seconds.
+
+**Operation definitions** (``operation op(x: real) { … }``, called as ``op(e)`` without
+``$``) run inline, in the caller's cycle: the call binds the parameters to the arguments'
+values, gives the operation's variables their initial values and its clocks 0, and runs the
+operation's own machine from its initial junction under the same rules (its ``exec``
+transitions and statements end the caller's cycle too, and the next cycle resumes inside
+the operation); when it enters one of its top-level final states the call returns and the
+caller goes on with the rest of its action, in the same cycle. Operations see their own
+constants, parameters, variables and clocks, and the cycle's input events; their platform
+calls and output events are the cycle's like the caller's. Calls nest (an operation may
+call another) up to :data:`MAX_DEPTH`.
 
 Simplifications (documented in the README): when two transitions are enabled at once the
 first written is taken (RoboSim leaves the choice open; ``cyphy check --consistency``
 reports such junctions, STM7); a junction with no enabled transition makes the machine wait
 there for the next cycle instead of deadlocking (also reported by STM7); ``during`` actions
-run to completion; final states end nothing (the machine just rests there); operation
-definitions, called from a machine, are not interpreted; vectors are NumPy arrays indexed
-from 1.
+run to completion; final states of the machine end nothing (the machine just rests
+there); an operation that never reaches a final state never returns; vectors are NumPy
+arrays indexed from 1.
 """
 
 from __future__ import annotations
@@ -53,6 +65,8 @@ MACHINE = codes.code("E-MACHINE", codes.E, "the state machine cannot be run")
 Output = tuple[str, tuple[float, ...]]
 MAX_STEPS = 10_000
 """Steps (statements, nodes passed) in one cycle before the machine is taken to loop."""
+MAX_DEPTH = 32
+"""Nested operation calls before the machine is taken to recurse without end."""
 
 
 class MachineError(Exception):
@@ -83,15 +97,35 @@ _Step = _Exec | _Enter | _Stmt
 
 
 @dataclass(frozen=True)
+class Frame:
+    """A caller suspended in an operation call: what it runs (``None``: the machine, else
+    the operation's name), where it is, the rest of its action after the call, its
+    variables and clocks, and whether its ``during`` action had run in the cycle of the call
+    (it has not in a later cycle)."""
+
+    running: str | None
+    node: str
+    resting: bool
+    pending: tuple[_Step, ...]
+    variables: tuple[tuple[str, Any], ...]
+    clocks: tuple[tuple[str, int], ...]
+    during_done: bool = False
+
+
+@dataclass(frozen=True)
 class Configuration:
     """Everything the next cycles depend on, hashable: where the machine is, the rest of an
-    action interrupted by ``exec``, the variables and the clocks' cycle counts."""
+    action interrupted by ``exec``, the variables and the clocks' cycle counts, and the
+    operation calls under way (``running``: the operation now running, ``stack``: its
+    callers, outermost first)."""
 
     node: str
     resting: bool  # rested in ``node`` since the last cycle ended: exec transitions enabled
     pending: tuple[_Step, ...]
     variables: tuple[tuple[str, Any], ...]
     clocks: tuple[tuple[str, int], ...]
+    running: str | None = None
+    stack: tuple[Frame, ...] = ()
 
 
 def _frozen(v: Any) -> Any:
@@ -103,10 +137,18 @@ class MachineInterpreter:
     ``cyphy simulate`` (``cycle`` and ``reset``)."""
 
     def __init__(self, machine: Machine, constants: Mapping[str, object] | None = None,
-                 functions: Mapping[str, Any] | None = None) -> None:
+                 functions: Mapping[str, Any] | None = None,
+                 operations: Mapping[str, Machine] | None = None) -> None:
         self.machine = machine
+        self.operations = dict(operations or {})
+        self.observable: frozenset[str] = frozenset()
+        """Output events the platform mapping does not map (set by the caller): they reach
+        no input of the p-model, so a simulation records them and the Flow* automaton
+        leaves them out."""
         self.functions = {**MATH_FUNCTIONS, **(functions or {}), "since": lambda c: c}
-        self.constants = self._constants(dict(constants or {}))
+        self.constants = self._constants(machine, dict(constants or {}))
+        self.op_constants = {name: self._constants(op, dict(constants or {}))
+                             for name, op in self.operations.items()}
         self.period = self._period()
         start = machine.initial(None)
         if start is None:
@@ -116,16 +158,21 @@ class MachineInterpreter:
         self.reset()
 
     # ----- set-up
-    def _constants(self, given: dict[str, object]) -> dict[str, object]:
+    def _constants(self, machine: Machine, given: dict[str, object]) -> dict[str, object]:
+        """The machine's (or operation's) constants; an operation's parameters are bound
+        at each call instead."""
         values: dict[str, object] = dict(given)
-        for name, decl in self.machine.constants.items():
+        params = {p.name for p in machine.decl.params}
+        for name, decl in machine.constants.items():
+            if name in params:
+                continue
             if name in given:
                 values[name] = given[name]
             elif decl.value is not None:
                 values[name] = self._value(decl.value, values)
             else:
                 raise MachineError(
-                    f"the constant {name} of {self.machine.name} has no value", decl.span,
+                    f"the constant {name} of {machine.name} has no value", decl.span,
                     f"give it one in the machine, or in the scenario's [consts] ({name} = …)")
         return values
 
@@ -145,14 +192,14 @@ class MachineInterpreter:
                                cycle.span)
         return float(value)
 
-    def _initial_value(self, decl: ast.VarDecl) -> object:
+    def _initial_value(self, decl: ast.VarDecl, constants: Mapping[str, object]) -> object:
         if decl.value is not None:
-            return self._value(decl.value, self.constants)
+            return self._value(decl.value, constants)
         t = decl.type
         if isinstance(t, ast.PrimitiveType) and t.name == "boolean":
             return False
         if isinstance(t, ast.VectorType) and t.size is not None:
-            size = self._value(t.size, self.constants)
+            size = self._value(t.size, constants)
             return np.zeros(int(size))  # type: ignore[call-overload]
         return 0.0
 
@@ -160,25 +207,48 @@ class MachineInterpreter:
         """Back to the start: variables at their initial values, clocks at 0, the machine
         before its initial junction (its first cycle leaves it)."""
         self.variables: dict[str, object] = {
-            n: self._initial_value(d) for n, d in self.machine.variables.items()}
+            n: self._initial_value(d, self.constants)
+            for n, d in self.machine.variables.items()}
         self.clocks: dict[str, int] = {c: 0 for c in self.machine.clocks}
         self.node = self._start
         self.resting = False
         self.pending: list[_Step] = []
+        self.running: str | None = None
+        self.stack: list[Frame] = []
+        self.during_done = False
         self.cycles = 0
+
+    @property
+    def current(self) -> Machine:
+        """The machine now running: the machine, or the operation it has called."""
+        return self.machine if self.running is None else self.operations[self.running]
 
     # ----- configurations (the Flow* compilation explores them)
     def configuration(self) -> Configuration:
         return Configuration(self.node, self.resting, tuple(self.pending),
-                             tuple((n, _frozen(v)) for n, v in sorted(self.variables.items())),
-                             tuple(sorted(self.clocks.items())))
+                             _frozen_vars(self.variables), tuple(sorted(self.clocks.items())),
+                             self.running,
+                             tuple(Frame(f.running, f.node, f.resting, f.pending, f.variables,
+                                         f.clocks) for f in self.stack))
 
     def restore(self, c: Configuration, cycles: int = 1) -> None:
         self.node, self.resting, self.pending = c.node, c.resting, list(c.pending)
-        self.variables = {n: np.array(v) if isinstance(v, tuple) else v
-                          for n, v in c.variables}
+        self.variables = _thawed_vars(c.variables)
         self.clocks = dict(c.clocks)
+        self.running, self.stack = c.running, list(c.stack)
         self.cycles = cycles
+
+    def saturate(self, caps: Mapping[str | None, Mapping[str, int]]) -> None:
+        """Clock counts at most ``caps[running][clock]`` (None: the machine's clocks), in
+        the running machine and in every suspended caller (the Flow* compilation)."""
+        def capped(running: str | None, clocks: Mapping[str, int]) -> dict[str, int]:
+            limit = caps.get(running, {})
+            return {c: min(n, limit[c]) if c in limit else n for c, n in clocks.items()}
+
+        self.clocks = capped(self.running, self.clocks)
+        self.stack = [Frame(f.running, f.node, f.resting, f.pending, f.variables,
+                            tuple(sorted(capped(f.running, dict(f.clocks)).items())),
+                            f.during_done) for f in self.stack]
 
     # ----- one cycle
     def cycle(self, events: Mapping[str, object]) -> tuple[Output, ...]:
@@ -187,18 +257,20 @@ class MachineInterpreter:
         if self.cycles > 0:
             for c in self.clocks:
                 self.clocks[c] += 1
+            self.stack = [Frame(f.running, f.node, f.resting, f.pending, f.variables,
+                                tuple((c, n + 1) for c, n in f.clocks)) for f in self.stack]
         self.cycles += 1
         self.events = {name: v for name, v in events.items() if v is not None and not (
             v is False and self._untyped(name))}
         self.outputs: list[Output] = []
         steps = 0
-        during_done = False
+        self.during_done = False
         while True:
             steps += 1
             if steps > MAX_STEPS:
-                raise MachineError(f"machine {self.machine.name} took {MAX_STEPS} steps "
+                raise MachineError(f"machine {self.current.name} took {MAX_STEPS} steps "
                                    "without ending its cycle: a loop of transitions without "
-                                   "exec?", self.machine.nodes[self.node].span,
+                                   "exec?", self.current.nodes[self.node].span,
                                    "mark the end of the cycle with exec")
             if self.pending:
                 step = self.pending.pop(0)
@@ -209,11 +281,14 @@ class MachineInterpreter:
                     self._execute(step.statement)
                 else:
                     self._arrive(step.key)
-                    during_done = True
+                    self.during_done = True
+                    node = self.current.nodes[step.key]
+                    if node.kind == "final" and node.parent is None and self.stack:
+                        self._return()
                 continue
-            if not during_done:
+            if not self.during_done:
                 self._during()
-                during_done = True
+                self.during_done = True
                 continue
             taken = self._select()
             if taken is None:
@@ -223,30 +298,32 @@ class MachineInterpreter:
             self.resting = False
 
     def _untyped(self, name: str) -> bool:
-        decl = self.machine.platform.input_events.get(name)
+        decl = self.machine.platform.input_events.get(name) or next(
+            (op.platform.input_events[name] for op in self.operations.values()
+             if name in op.platform.input_events), None)
         return decl is None or decl.type is None
 
     def _ancestors(self, key: str) -> list[str]:
         """The node and the composite states around it, outermost first."""
         out = [key]
-        parent = self.machine.nodes[key].parent
+        parent = self.current.nodes[key].parent
         while parent is not None:
             out.insert(0, parent)
-            parent = self.machine.nodes[parent].parent
+            parent = self.current.nodes[parent].parent
         return out
 
     def _during(self) -> None:
-        node = self.machine.nodes[self.node]
+        node = self.current.nodes[self.node]
         if node.kind != "state":
             return
         for key in self._ancestors(self.node):
-            for s in self.machine.nodes[key].actions("during"):
+            for s in self.current.nodes[key].actions("during"):
                 self.pending.append(_Stmt(s))
 
     def _select(self) -> tuple[MachineTransition, str, dict[str, object]] | None:
         """The transition to take (with the node it leaves and the bindings of ``$e?x``)."""
         for key in self._ancestors(self.node):
-            for t in self.machine.outgoing(key):
+            for t in self.current.outgoing(key):
                 if t.target is None:
                     continue
                 if t.decl.exec and not self.resting:
@@ -273,7 +350,7 @@ class MachineInterpreter:
         leaving = leaving[leaving.index(source):]
         steps: list[_Step] = []
         for key in reversed(leaving):
-            steps += [_Stmt(s) for s in self.machine.nodes[key].actions("exit")]
+            steps += [_Stmt(s) for s in self.current.nodes[key].actions("exit")]
         for s in t.decl.action or ():
             steps += self._expand(s)
         steps.append(_Enter(t.target))  # type: ignore[arg-type]
@@ -294,7 +371,7 @@ class MachineInterpreter:
         """Enter a node: a state's entry action runs (then the state's own during action and
         transitions, or the initial junction of a composite state); a junction is left in the
         same cycle."""
-        node = self.machine.nodes[key]
+        node = self.current.nodes[key]
         self.node = key
         if node.kind != "state":
             return
@@ -302,7 +379,7 @@ class MachineInterpreter:
         for s in node.actions("entry"):
             steps += self._expand(s)
         if node.composite:
-            inner = self.machine.initial(key)
+            inner = self.current.initial(key)
             if inner is None:
                 raise MachineError(f"state {key} has no initial junction", node.span,
                                    "add 'initial i0' inside it (see STM2)")
@@ -336,16 +413,58 @@ class MachineInterpreter:
         func = call.func
         name = func.name[-1] if isinstance(func, ex.PlatformRef) else \
             func.parts[-1] if isinstance(func, ex.Name) else None
-        if name is not None and name in self.machine.platform.operations:
+        platform = self.current.platform
+        if isinstance(func, ex.Name) and name in self.operations:
+            self._invoke(name, call)
+        elif name is not None and name in platform.operations:
             args = tuple(float(_floats(self._eval(a), a.span)[0]) for a in call.args)
             self.outputs.append((name, args))
-        elif name is not None and name in self.machine.platform.output_events:
+        elif name is not None and name in platform.output_events:
             self.outputs.append((name, tuple(v for a in call.args
                                              for v in _floats(self._eval(a), a.span))))
         else:
-            raise MachineError(f"'{name}' is not an operation of {self.machine.name}'s "
-                               "platform (operation definitions are not interpreted)",
-                               s.span, "call an operation of the output context (STM3)")
+            raise MachineError(f"'{name}' is neither an operation of {self.current.name}'s "
+                               "platform nor an operation definition it can call", s.span,
+                               "call an operation of the output context (STM3), or define "
+                               f"'operation {name}(…) {{ … }}'")
+
+    def _invoke(self, name: str, call: ex.Call) -> None:
+        """Call an operation definition: suspend the caller (the rest of its action stays
+        pending in its frame) and start the operation at its initial junction."""
+        op = self.operations[name]
+        params = op.decl.params
+        if len(params) != len(call.args):
+            raise MachineError(f"{name} takes {len(params)} argument"
+                               f"{'s' if len(params) != 1 else ''}, not {len(call.args)}",
+                               call.span, f"write {name}({', '.join(p.name for p in params)})")
+        if len(self.stack) >= MAX_DEPTH:
+            raise MachineError(f"more than {MAX_DEPTH} operation calls are under way: "
+                               f"{name} calls itself without end?", call.span)
+        start = op.initial(None)
+        if start is None:
+            raise MachineError(f"operation {name} has no initial junction", op.decl.span,
+                               "add 'initial i0' (see STM2)")
+        args = {p.name: self._eval(a) for p, a in zip(params, call.args)}
+        self.stack.append(Frame(self.running, self.node, self.resting, tuple(self.pending),
+                                _frozen_vars(self.variables),
+                                tuple(sorted(self.clocks.items())), self.during_done))
+        constants = self.op_constants[name]
+        variables = {n: self._initial_value(d, {**constants, **args})
+                     for n, d in op.variables.items()}
+        variables.update(args)
+        self.running, self.node, self.resting, self.pending = name, start.key, False, []
+        self.variables = variables
+        self.clocks = {c: 0 for c in op.clocks}
+
+    def _return(self) -> None:
+        """The running operation entered a final state: its caller goes on where it
+        stopped (its ``during`` action is not run again in the cycle of the call)."""
+        f = self.stack.pop()
+        self.running, self.node, self.resting = f.running, f.node, f.resting
+        self.pending = list(f.pending)
+        self.variables = _thawed_vars(f.variables)
+        self.clocks = dict(f.clocks)
+        self.during_done = f.during_done
 
     def _assign(self, target: ex.Expr, value: object) -> None:
         if isinstance(target, ex.Name):
@@ -366,10 +485,12 @@ class MachineInterpreter:
                            target.span)
 
     def _env(self, bindings: Mapping[str, object] | None = None) -> dict[str, object]:
-        env: dict[str, object] = dict(self.constants)
+        env: dict[str, object] = dict(
+            self.constants if self.running is None else self.op_constants[self.running])
         env.update(self.variables)
         env.update({c: n * self.period for c, n in self.clocks.items()})
-        for name in self.machine.platform.input_events:
+        for name in [*self.machine.platform.input_events,
+                     *self.current.platform.input_events]:
             env["$" + name] = name in self.events
         if bindings:
             env.update(bindings)
@@ -403,6 +524,48 @@ class MachineInterpreter:
     def state(self) -> str:
         """The node the machine rests in (a state, or a junction it is stuck at)."""
         return self.node
+
+
+def interpreter_for(machine: Machine, files: list[ast.SourceFile], resolution: Any,
+                    scopes: Any, consts: Mapping[str, object] | None = None,
+                    pmodel: str | None = None) -> MachineInterpreter:
+    """The interpreter of a machine of the checked files, with the operation definitions
+    it calls, the values of the outside constants they name (``PI``) overridden by
+    ``consts``, and, when the machine controls ``pmodel``, its observable output events
+    (:func:`observable_events`)."""
+    from cyphy.model.machines import global_constants, operation_definitions
+
+    operations = operation_definitions(machine, files, resolution, scopes)
+    known: dict[str, object] = {}
+    for m in [machine, *operations.values()]:
+        known.update(global_constants(m, scopes))
+    interpreter = MachineInterpreter(machine, {**known, **(consts or {})},
+                                     operations=operations)
+    if pmodel is not None:
+        interpreter.observable = observable_events(interpreter, files, pmodel)
+    return interpreter
+
+
+def observable_events(interpreter: MachineInterpreter, files: list[ast.SourceFile],
+                      pmodel: str) -> frozenset[str]:
+    """The output events the machine (or an operation it calls) may send that the platform
+    mapping of ``pmodel`` gives no effect: no mapping (an event of the machine's output
+    context that the robotic platform does not use), or one without equations or actions.
+    They reach no input of the p-model: observable only (a simulation records them)."""
+    mapped = {e.name for f in files for item in f.items
+              if isinstance(item, ast.PlatformMapping) and item.pmodel[-1] == pmodel
+              for e in item.events if e.direction == "output" and (e.equations or e.actions)}
+    sent = {name for m in [interpreter.machine, *interpreter.operations.values()]
+            for name in m.platform.output_events}
+    return frozenset(sent - mapped)
+
+
+def _frozen_vars(variables: Mapping[str, object]) -> tuple[tuple[str, Any], ...]:
+    return tuple((n, _frozen(v)) for n, v in sorted(variables.items()))
+
+
+def _thawed_vars(variables: tuple[tuple[str, Any], ...]) -> dict[str, object]:
+    return {n: np.array(v) if isinstance(v, tuple) else v for n, v in variables}
 
 
 def _floats(value: object, span: Span) -> tuple[float, ...]:

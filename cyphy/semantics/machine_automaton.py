@@ -19,8 +19,13 @@ automaton *is* the interpreter's behaviour, not a second reading of the rules:
 - the automaton starts in the mode the first cycle leads to, which must not depend on the
   inputs (the Flow* automaton samples inputs first at the end of the first cycle).
 
-Typed input events (their values are not modelled), output events and clocks compared with
-anything but constants are reported, not approximated.
+Operation definitions the machine calls are part of the configurations (the operation
+running and its callers' frames), so they compile like the machine itself; their clocks
+saturate in the same way. Output events the platform mapping maps are kept with the calls
+(their mapping gives their effect, as an operation's does); those it does not map
+(``interpreter.observable``) reach no input of the p-model and are left out. Typed input
+events (their values are not modelled) and clocks compared with anything but constants are
+reported, not approximated.
 """
 
 from __future__ import annotations
@@ -44,7 +49,7 @@ Literal = tuple[str, bool]  # (event, negated)
 @dataclass(frozen=True)
 class Mode:
     name: str
-    node: str  # the machine node the mode rests in
+    node: str  # the machine node the mode rests in (in the operation running, if any)
     calls: tuple[tuple[str, tuple[float, ...]], ...]
 
 
@@ -77,7 +82,8 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
     if len(events) > MAX_EVENTS:
         raise MachineError(f"{m.name} reads {len(events)} input events: more than "
                            f"{MAX_EVENTS} make too many combinations", m.decl.span)
-    caps = clock_caps(interpreter)
+    caps: dict[str | None, dict[str, int]] = {None: clock_caps(interpreter)}
+    caps.update({name: clock_caps(interpreter, name) for name in interpreter.operations})
     combos = list(itertools.product((False, True), repeat=len(events)))
 
     def step(config: Configuration | None, combo: tuple[bool, ...]
@@ -88,13 +94,8 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
             interpreter.restore(config)
         outputs = interpreter.cycle({e: (True if on else None)
                                      for e, on in zip(events, combo)})
-        sent = [name for name, _ in outputs if name not in m.platform.operations]
-        if sent:
-            raise MachineError(f"{m.name} sends the output event {sent[0]}: the Flow* "
-                               "automaton models operation calls only", m.decl.span,
-                               "simulate the machine instead")
-        for c, cap in caps.items():
-            interpreter.clocks[c] = min(interpreter.clocks[c], cap)
+        outputs = tuple(o for o in outputs if o[0] not in interpreter.observable)
+        interpreter.saturate(caps)
         return interpreter.configuration(), outputs
 
     first = {step(None, combo) for combo in combos}
@@ -148,10 +149,14 @@ def _held_calls(outputs: list[tuple[Output, ...]], successors: list[list[int]]
             for i, o in enumerate(outputs)]
 
 
-def clock_caps(interpreter: MachineInterpreter) -> dict[str, int]:
-    """Per clock, the count from which every comparison ``since(C) op v`` of the machine
-    has the same value: one past the largest ``v`` in cycles."""
-    m = interpreter.machine
+def clock_caps(interpreter: MachineInterpreter, operation: str | None = None
+               ) -> dict[str, int]:
+    """Per clock of the machine (or of the operation definition named), the count from
+    which every comparison ``since(C) op v`` has the same value: one past the largest ``v``
+    in cycles."""
+    m = interpreter.machine if operation is None else interpreter.operations[operation]
+    constants = interpreter.constants if operation is None else \
+        interpreter.op_constants[operation]
     caps = {c: 0 for c in m.clocks}
     for e, where in expressions(m):
         for node in e.walk():
@@ -160,7 +165,7 @@ def clock_caps(interpreter: MachineInterpreter) -> dict[str, int]:
                                      (_since(node.right), node.left)):
                     if clock is None or clock not in caps:
                         continue
-                    value = _constant(interpreter, other)
+                    value = _constant(interpreter, m, constants, other)
                     if value is None:
                         raise MachineError(
                             f"{where}: since({clock}) is compared with something that is not "
@@ -190,14 +195,16 @@ def _compared(root: ex.Expr, call: ex.Expr) -> bool:
         n.left is call or n.right is call) for n in root.walk())
 
 
-def _constant(interpreter: MachineInterpreter, e: ex.Expr) -> float | None:
+def _constant(interpreter: MachineInterpreter, m: Machine, constants: dict[str, object],
+              e: ex.Expr) -> float | None:
     if any(isinstance(n, ex.PlatformRef) or _since(n) is not None for n in e.walk()):
         return None
-    if any(isinstance(n, ex.Name) and n.text in interpreter.machine.variables
+    params = {p.name for p in m.decl.params}  # bound per call: not one value
+    if any(isinstance(n, ex.Name) and (n.text in m.variables or n.text in params)
            for n in e.walk()):
         return None
     try:
-        value = interpreter._value(e, interpreter.constants)
+        value = interpreter._value(e, constants)
     except MachineError:
         return None
     if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -231,7 +238,9 @@ def _automaton(m: Machine, events: tuple[str, ...], combos: list[tuple[bool, ...
     names: dict[int, str] = {}
     taken: set[str] = set()
     for b in sorted(first_of):
-        base = keys[first_of[b]][0].node.replace("::", "_")
+        config = keys[first_of[b]][0]
+        base = f"{config.running}::{config.node}" if config.running else config.node
+        base = base.replace("::", "_")
         name, n = base, 2
         while name in taken:
             name, n = f"{base}_{n}", n + 1

@@ -22,7 +22,8 @@ from cyphy.lang import ast
 from cyphy.lang.notation import to_notation
 from cyphy.lang.scopes import is_constant, is_function, is_machine
 from cyphy.model.evaluate import MATH_FUNCTIONS
-from cyphy.model.machines import Machine, expressions, machines_of, statements
+from cyphy.model.machines import (Machine, called_operation, expressions, machines_of,
+                                  statements)
 from cyphy.wellformed.mappings import Platform, module_platform
 from cyphy.wellformed.registry import WFContext, rule
 
@@ -31,8 +32,13 @@ SINCE = "since"
 
 def _machines(ctx: WFContext) -> list[Machine]:
     if "machines" not in ctx.cache:
-        ctx.cache["machines"] = machines_of(list(ctx.files()), ctx.resolution)
+        ctx.cache["machines"] = machines_of(list(ctx.files()), ctx.resolution, operations=True)
     return ctx.cache["machines"]  # type: ignore[no-any-return]
+
+
+def _kind(m: Machine) -> str:
+    """``machine M`` or ``operation Op`` (operation definitions are checked as machines)."""
+    return f"{'operation' if m.decl.kind == 'operation' else 'machine'} {m.name}"
 
 
 @rule("STM1", "a transition goes from and to nodes of the scope that declares it")
@@ -42,7 +48,7 @@ def check_STM1_transition_ends(ctx: WFContext) -> None:
     for m in _machines(ctx):
         for t in m.transitions:
             scope = [n.name for n in m.children(t.container)]
-            where = f"state {t.container}" if t.container else f"machine {m.name}"
+            where = f"state {t.container}" if t.container else _kind(m)
             for end, key, span in (("from", t.source, t.decl.source_span),
                                    ("to", t.target, t.decl.target_span)):
                 name = t.decl.source if end == "from" else t.decl.target
@@ -65,7 +71,7 @@ def check_STM2_initial_junction(ctx: WFContext) -> None:
         containers += [(n.key, n.decl) for n in m.states if n.composite]
         for key, decl in containers:
             initials = [n for n in m.children(key) if n.kind == "initial"]
-            what = f"state {key}" if key else f"machine {m.name}"
+            what = f"state {key}" if key else _kind(m)
             if not initials:
                 ctx.error("STM2", decl, f"{what} has no initial junction",
                           "add 'initial i0' and a transition from it to the first state")
@@ -146,11 +152,18 @@ def check_STM3_operation_calls(ctx: WFContext) -> None:
     """A call ``$op(args)`` (or ``I::op(args)``, ``op(args)``) names an operation of an
     interface that the machine's output context ``requires``, with as many arguments as the
     operation has parameters; when a module's controller runs the machine, that module's
-    robotic platform provides the operation."""
+    robotic platform provides the operation. A call ``op(args)`` of an operation definition
+    passes as many arguments as the definition has parameters."""
     for m in _machines(ctx):
         for s, where in statements(m):
             if not (isinstance(s, ast.CallStatement) and isinstance(s.call, ex.Call)):
                 continue
+            defined = called_operation(m, s.call, ctx.scopes)
+            if defined is not None and len(defined.params) != len(s.call.args):
+                n = len(defined.params)
+                ctx.error("STM3", s, f"{where}: operation {defined.name} takes {n} argument"
+                          f"{'s' if n != 1 else ''}, not {len(s.call.args)}",
+                          f"write {defined.name}({', '.join(p.name for p in defined.params)})")
             callee = _callee(ctx, m, s.call)
             if callee is None:
                 continue

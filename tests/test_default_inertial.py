@@ -1,0 +1,158 @@
+"""``--default-inertial sdf`` (and a scenario's ``default_inertial = "sdf"``): links without
+inertial information get SDFormat's defaults (mass 1 kg, identity inertia at the link's
+origin; gazebosim/sdformat ``sdf/1.6/inertial.sdf``), with a warning each, so that the
+kinematic tree has equations of motion; without it they stay an ``E-DYNAMICS`` error. The
+equations are checked against the same model with those values written out, and against the
+pendulum's equation worked out by hand."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import sympy
+
+from conftest import CORPUS, EXAMPLES, needs_corpus
+from cyphy import api
+from cyphy.cli import main
+
+PENDULUM = """
+import physmod::math::*
+import physmod::joints::Revolute
+
+pmodel P {
+    local link Base {
+        def { inertial information { mass 2.0 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+        jref Hinge = Revolute {
+            pose { x = 0 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
+            instantiation AXIS = (|0, 1, 0|)
+            flexibly connected to Bob
+        }
+    }
+    local link Bob {
+        pose { x = 0 y = 0 z = -0.5 roll = 0 pitch = 0 yaw = 0 }
+        def { BOB }
+    }
+}
+"""
+SDF_DEFAULTS = "inertial information { mass 1.0 inertia matrix " \
+    "{ ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } }"
+
+
+def _pendulum(folder: Path, bob: str) -> Path:
+    folder.mkdir()
+    (folder / "p.rsm").write_text(PENDULUM.replace("BOB", bob))
+    return folder
+
+
+def test_without_the_option_a_massless_moving_link_is_an_error(tmp_path, capsys):
+    folder = _pendulum(tmp_path / "p", "")
+    assert main(["solve", str(folder)]) == 1
+    err = capsys.readouterr().err
+    assert "E-DYNAMICS" in err and "P::Bob has no mass properties" in err
+    assert "W-DEFAULT-INERTIAL" not in err
+
+
+def test_sdf_defaults_give_the_equation_of_the_written_out_defaults(tmp_path, capsys):
+    bare = _pendulum(tmp_path / "bare", "")
+    written = _pendulum(tmp_path / "written", SDF_DEFAULTS)
+    assert main(["solve", str(bare), "--default-inertial", "sdf"]) == 0
+    err = capsys.readouterr().err
+    # One warning, for Bob only (Base has its own inertial), at Bob's declaration.
+    assert err.count("W-DEFAULT-INERTIAL") == 1
+    assert "p.rsm:14:5: WARNING W-DEFAULT-INERTIAL: link P::Bob has no inertial " \
+           "information: SDF's defaults apply (mass 1 kg" in err
+    defaulted = api.solve([bare], api.SolveOptions(closed_form=False,
+                                                   default_inertial="sdf")).reduced
+    explicit = api.solve([written], api.SolveOptions(closed_form=False)).reduced
+    theta, v, tau = (sympy.Symbol(n, real=True) for n in ("Hinge_theta", "Hinge_v",
+                                                            "Hinge_tau"))
+    # By hand: 1 kg at 0.5 m below a hinge about y with iyy = 1 about its centre:
+    # J = 1 + 1 * 0.5², gravity torque -1 * 9.81 * 0.5 * sin(theta).
+    by_hand = (tau - 9.81 * 0.5 * sympy.sin(theta)) / 1.25
+    values = {theta: 0.7, tau: 0.3, v: 1.1}
+    for reduced in (defaulted, explicit):
+        assert float(reduced.rhs["Hinge_v"].subs(values)) == pytest.approx(
+            float(by_hand.subs(values)), rel=1e-12)
+
+
+def test_a_scenario_key_takes_only_sdf(tmp_path, capsys):
+    text = (EXAMPLES / "dcmotor" / "sampled_stop.toml").read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace("horizon = 2.0", 'horizon = 2.0\ndefault_inertial = "urdf"'))
+    assert main(["gen", str(EXAMPLES / "dcmotor"), "--flowstar", "--scenario", str(bad),
+                 "-o", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err
+    assert "E-SCENARIO" in err and "'default_inertial' must be one of 'sdf'" in err
+    assert not (tmp_path / "out").exists()
+    with pytest.raises(SystemExit) as exit_:
+        main(["solve", str(EXAMPLES / "dcmotor"), "--default-inertial", "urdf"])
+    assert exit_.value.code == 2 and "invalid choice: 'urdf'" in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------------------- the corpus
+
+MARXBOT = CORPUS / "marXbot"
+SCENARIO = EXAMPLES / "marxbot" / "corpus_smovement.toml"
+
+
+@needs_corpus
+def test_the_corpus_marxbot_solves_with_sdf_defaults_only(capsys):
+    assert main(["solve", str(MARXBOT)]) == 1
+    assert "E-DYNAMICS" in capsys.readouterr().err
+    assert main(["solve", str(MARXBOT), "--default-inertial", "sdf"]) == 0
+    out, err = capsys.readouterr()
+    # The links without mass of the whole marXbot (base, tracks, wheels, scanner core).
+    assert err.count("W-DEFAULT-INERTIAL") == 6
+    assert "LHinge_v' =" in out and "RHinge_v' = RHinge_tau" in out
+
+
+def _csv(text: str) -> dict:
+    import csv
+    import io
+
+    import numpy as np
+
+    rows = list(csv.reader(io.StringIO(text)))
+    data = np.array(rows[1:], dtype=float)
+    return {name: data[:, k] for k, name in enumerate(rows[0])}
+
+
+@needs_corpus
+def test_the_corpus_marxbot_under_its_smovement_simulates_the_machines_phases(capsys):
+    import numpy as np
+
+    assert main(["simulate", str(MARXBOT), "--scenario", str(SCENARIO), "--samples",
+                 "26"]) == 0
+    c = _csv(capsys.readouterr().out)
+    t, d = c["t"], c["Proximity1_distance"]
+    dl, dr = c["LMotor_e"] + c["LMotor_av"], c["RMotor_e"] + c["RMotor_av"]  # demands
+    cruise, turn = 0.1 / 0.025025, 0.5 * 0.06 / 2 / 0.025025  # move(lv, 0), move(0, av)
+    # Hand-computed as for avoid_obstacle.toml (the same mapping numbers): the first cycle
+    # with the distance at most 0.09 m is t = 1.8 (stop()), Turning from the next cycle.
+    stop = t[np.isclose(t, np.round(t, 1)) & (d <= 0.09)][0]
+    assert stop == pytest.approx(1.8)
+    assert np.allclose(dl[t < stop - 1e-9], cruise) and np.allclose(dr[t < stop - 1e-9], cruise)
+    assert dl[np.isclose(t, stop)][0] == pytest.approx(0.0)
+    turning = t > stop + 0.1 + 1e-9
+    assert np.allclose(dl[turning], turn) and np.allclose(dr[turning], -turn)
+    # The hinges' equations of motion are in, with nothing driving them: the wheels rest.
+    assert np.all(c["LHinge_v"] == 0) and np.all(c["RHinge_theta"] == 0)
+    assert d.min() > 0.05  # the property reach proves
+
+
+@needs_corpus
+def test_the_corpus_marxbot_scenario_exports_the_hinges_motion(tmp_path, capsys):
+    assert main(["gen", str(MARXBOT), "--flowstar", "--scenario", str(SCENARIO), "-o",
+                 str(tmp_path)]) == 0
+    model = (tmp_path / "corpus_smovement.model").read_text()
+    # SMovement's automaton, in the corpus's state names: cruise (DMoving), stop (Waiting),
+    # six cycles of turning until since(MBC) >= PI/av = 6.28, cruise again.
+    jumps = [line.strip() for line in model.splitlines() if "->" in line]
+    turning = ["DTurning"] + [f"DTurning_{k}" for k in range(2, 7)]
+    assert jumps == ["DMoving -> Waiting", "DMoving -> DMoving", "Waiting -> DTurning",
+                     *[f"{a} -> {b}" for a, b in zip(turning, turning[1:])],
+                     "DTurning_6 -> DMoving"]
+    # RHinge about -y (no gravity torque); LHinge's body's default mass sits 2.8e-6 m off
+    # its axis after the tracks' roll of PI, a gravity torque Flow* takes as nonpoly.
+    assert "RHinge_v' = 0" in model and "sin(LHinge_theta)" in model
