@@ -169,7 +169,13 @@ INSTANCES: dict[str, set[str]] = {
     "abs": {"real", "int", "uexpr"}, "ord": {"real", "nat", "int"},
     "numeral": {"real", "nat", "int", "uexpr"}, "field": {"real"},
     "uconj": {"bool", "uexpr"},  # conj at bool, conj_upred at (bool, 's) uexpr
+    # the axiomatic dialect's (tests/isabelle_ax_types.py): real and, component-wise, products
+    # are real_normed_vectors (HOL/Real_Vector_Spaces.thy, HOL-Analysis Product_Vector.thy);
+    # cyphyaction is a complete_lattice (Ax_CyPhyCircus.thy:18-21)
+    "real_normed_vector": {"real", "prod"}, "complete_lattice": {"cyphyaction"},
 }
+#: classes a product is in when its components are.
+_COMPONENTWISE = {"real_normed_vector"}
 #: classes whose uexpr instance needs the value type in the class (bool for uconj).
 _LIFTED = {"plus", "minus", "times", "divide", "uminus", "power", "abs", "numeral"}
 
@@ -243,6 +249,9 @@ def constrain(t: Type, sort: set[str]) -> None:
     for cls in sort:
         if t.name not in INSTANCES.get(cls, set()):
             raise TypeError_(f"no instance {t.name} :: {cls} (in {show(t)})")
+        if t.name == "prod" and cls in _COMPONENTWISE:
+            for arg in t.args:
+                constrain(arg, {cls})
         if t.name == "uexpr":
             if cls in _LIFTED:
                 constrain(t.args[0], {cls})

@@ -80,8 +80,25 @@ class AxiomaticPrinter(IsabellePrinter):
         mark = "\\<^bold>!" if output else "\\<^bold>."
         return f"{ctor}{mark}({', '.join(self._print(v) for v in values)})"
 
-    def _namesets(self, left: tuple[str, ...], right: tuple[str, ...]) -> str:
-        return f"{self._lens(left)} | {{}} | {self._lens(right)}"
+    def _print_Parallel(self, a: c.Parallel) -> str:
+        """``P \\<lbrakk>ns1 | {} | ns2\\<rbrakk> Q``: IsaCircus_Syntax reads the name sets
+        there as ``svids`` (Circus_Toolkit IsaCircus_Syntax.thy:80), whose forms are a variable
+        ``x`` and a tuple ``(x, y)`` (Shallow-Expressions Variables.thy:212-218): neither the
+        term ``((x, y))\\<^sub>v`` nor the zero lens is one. A side with no names is written
+        with the operator the notation denotes, ``cParallelAct ns1 ns2 {} P Q``
+        (Ax_CyPhyCircus.thy:52), whose name sets are lens terms."""
+        if a.channels:
+            raise UnsupportedNode(a, "synchronisation on channels inside an action")
+        left, right = self._print(a.left), self._print(a.right)
+        if a.left_names and a.right_names:
+            return (f"({left} \\<lbrakk>{self._svid(a.left_names)} | {{}} | "
+                    f"{self._svid(a.right_names)}\\<rbrakk> {right})")
+        return (f"(cParallelAct {self._lens(a.left_names)} {self._lens(a.right_names)} {{}} "
+                f"{left} {right})")
+
+    def _svid(self, names: tuple[str, ...]) -> str:
+        idents = [self.symbols.names[n] for n in names]
+        return idents[0] if len(idents) == 1 else "(" + ", ".join(idents) + ")"
 
     def _lens(self, names: tuple[str, ...]) -> str:
         """A name set as the lens of its variables, as the dialect's own example writes
