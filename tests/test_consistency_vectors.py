@@ -199,3 +199,25 @@ def test_a_vector_of_open_size_is_not_checked_and_says_why(tmp_path: Path) -> No
                    CheckOptions(consistency=True))
     unknown = [d for d in result.report.diagnostics if d.code.id == "C-UNKNOWN"]
     assert len(unknown) == 1 and "size is not declared" in unknown[0].message, unknown
+
+
+def test_vector_parameters_and_locals_are_per_component(tmp_path: Path) -> None:
+    """press(v) through a vector local g: determined, so only the conflict with push on the
+    wrench's components (C5), each witness naming v's components."""
+    (tmp_path / "robot.rsm").write_text(ROBOT, encoding="utf-8")
+    software = SOFTWARE.replace("push(f: real)", "push(f: real)\n\tpress(v: vector(real, 6))")
+    (tmp_path / "sw.rsm").write_text(software, encoding="utf-8")
+    press = ("\n\toperation press { var g: vector(real, 6) equation g == v "
+             "equation Base::T.wrench == g }")
+    mapping = tmp_path / "map.rsm"
+    mapping.write_text("import vectorRobot::*\nimport vectorSoftware::*\n\nmap M dmodel Soft "
+                       "to pmodel Robot {" + MAPPINGS["consistent"] + press + "\n}\n",
+                       encoding="utf-8")
+    result = check([str(mapping), str(tmp_path / "robot.rsm"), str(tmp_path / "sw.rsm")],
+                   CheckOptions(consistency=True))
+    [c5] = [d for d in result.report.diagnostics if d.code.id.startswith("C")]
+    assert c5.code.id == "C5" and len(c5.notes) == 6
+    for k, note in enumerate(c5.notes, start=1):
+        values = dict(re.findall(r"v\[(\d)\] = (-?[\d./]+)", note.split("press(")[1]))
+        set_to = Fraction(note.rsplit(" to ", 1)[1])
+        assert note.startswith(f"Base::T.wrench[{k}]:") and Fraction(values[str(k)]) == set_to
