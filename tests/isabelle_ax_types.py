@@ -85,7 +85,7 @@ AX_SIGNATURES: dict[str, tuple[str, str]] = {
                 f"{R} ('s {R} bool) {R} {A}",
                 AX + "Ax_CyPhyCircus.thy:57 (adhoc Evolve, line 82); the syntax "
                 "[\\<Lambda> x` = e, ...]: use site, examples/Ranger_CyPhyCircus.thy:30"),
-    "mu": ("('a::complete_lattice \\<Rightarrow> 'a) \\<Rightarrow> 'a",
+    "\\<mu>": ("('a::complete_lattice \\<Rightarrow> 'a) \\<Rightarrow> 'a",
            "use site, " + AX + "examples/Ranger_CyPhyCircus.thy:48 (\\<mu> X. P); cyphyaction "
            "is a complete_lattice: Ax_CyPhyCircus.thy:18-21"),
     "cAssigns": (f"('s {R} 's) {R} {A}",
@@ -143,16 +143,24 @@ UNCHECKED = (
     "read",
 )
 
-#: Words an identifier must not be: outer keywords, HOL's inner words, and the mixfix words
-#: of the public parents.
+#: Words an identifier must not be: outer keywords, HOL's inner words, and the keywords of
+#: the public parents. (A delimiter glued to a bracket, ``swap(`` of Abstract_Prog_Syntax.thy:42
+#: or ``H{`` of line 82, leaves the bare word an identifier.)
 AX_KEYWORDS = OUTER_KEYWORDS | frozenset(
     # HOL (Isabelle2020 HOL.thy, Orderings.thy, Divides.thy)
     "if then else let case of o O mod div dvd SOME THE ALL EX CONST TYPE".split()
-    # Abstract_Prog_Syntax.thy:18 (II), 37-39 (if/then/fi, elseif, else), 42 (swap),
-    # 44 (while/do/od), 45 (repeat/until), 82-84 (H)
-    + "II fi elseif swap while do od repeat until H".split()
-    # IsaCircus_Syntax.thy:41-43 (Skip, Stop, Chaos); Recursive.thy:5 (recursive)
-    + "Skip Stop Chaos recursive".split())
+    # Abstract_Prog_Syntax.thy:18 (II), 37-39 (if/then/fi, elseif, else), 44 (while/do/od),
+    # 45 (repeat/until); IsaCircus_Syntax.thy:41-43 (Skip, Stop, Chaos)
+    + "II fi elseif while do od repeat until Skip Stop Chaos".split()
+    # outer keywords (line 5 of each theory): Circus_Toolkit Recursive.thy, Action_Command.thy;
+    # Shallow-Expressions Expressions.thy, Named_Expressions.thy, Z/Z_Store.thy; Optics
+    # Channel_Type.thy, Dataspace.thy, Lens_Instances.thy, Alphabet_Scene_Spaces.thy; Z_Toolkit
+    # (isabelle-utp/Z_Toolkit, Circus_Toolkit's parent) Def_Const.thy, Enum_Type.thy,
+    # Partial_Function_Command.thy, Record_Default_Instance.thy, Tabulate_Command.thy
+    + """recursive actions expr_constructor expr_function edefinition expression over zstore
+    zexpr chantype dataspace constants variables channels alphabet statespace
+    alphabet_scene_space def_consts enumtype zfun precondition postcondition record_default
+    tabulate""".split())
 #: Constants of the parents a theory identifier would shadow.
 AX_CONSTANTS = AX_RESERVED | frozenset(n for n in AX_SIGNATURES if n.isidentifier())
 
@@ -408,7 +416,7 @@ class AxChecker:
     def a_mu(self, ch, env):  # type: ignore[no-untyped-def]
         var = TVar()
         body = self.action(ch[1], self.bind(env, str(ch[0]), var))
-        result = self.sig("mu", fun(var, body))
+        result = self.sig("\\<mu>", fun(var, body))
         _constrain(result, "complete_lattice")
         return result
 

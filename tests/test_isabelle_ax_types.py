@@ -12,8 +12,10 @@ import pytest
 
 from conftest import CORPUS, EXAMPLES, needs_corpus
 from cyphy import api
-from isabelle_ax_types import (AX_KEYWORDS, AX_SIGNATURES, UNCHECKED, check_ax_theory, parser,
-                               parse_type)
+from cyphy.backends.isabelle_ax import AX_RESERVED
+from cyphy.backends.isabelle_names import IsabelleNames
+from isabelle_ax_types import (AX_CONSTANTS, AX_KEYWORDS, AX_SIGNATURES, UNCHECKED,
+                               check_ax_theory, parse_type, parser)
 
 THEORY = "DCMotorBase_AxCyPhyCircus.thy"
 MOTORS = ("marXbotBase::Core::LHinge::LMotor", "marXbotBase::Core::RHinge::RMotor")
@@ -151,3 +153,25 @@ def test_parallel_with_name_sets_type_checks(tmp_path) -> None:  # type: ignore[
     wrong = text.replace("M_das | {} | Lamp_on", "M_das | {} | registerWrite_move")
     assert check_ax_theory(wrong) == ["definition ReceiveFromDModel: 'registerWrite_move' is "
                                       "no variable of the state"]
+
+
+WORDS = sorted(w for w in AX_KEYWORDS | AX_CONSTANTS if w.isidentifier())
+
+
+@pytest.mark.parametrize("word", WORDS)
+def test_every_word_the_checker_rejects_is_renamed_by_the_printer(word: str) -> None:
+    """The axiomatic names table (the common reserved words and AX_RESERVED) never hands out
+    a keyword of the parents or the name of a constant the notation denotes."""
+    assert IsabelleNames(AX_RESERVED).add(word) != word
+
+
+@pytest.mark.parametrize("word", ["recursive", "channels", "until"])
+def test_keyword_parameters_are_renamed_and_type_check(tmp_path, word: str) -> None:  # type: ignore[no-untyped-def]
+    from test_isabelle import SOFTWARE, write_model
+
+    software = SOFTWARE.format(ops=f"move({word}: real)", events="", outputs="")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               f"  operation move {{ equation Base::J::M.das == {word} }}\n}}\n")
+    text = axiomatic(write_model(tmp_path, software, mapping), ("Robot::Base::J::M",))
+    assert f'"MoveCall {word}_b = ' in text
+    assert check_ax_theory(text) == []

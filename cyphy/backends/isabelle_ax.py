@@ -25,7 +25,15 @@ from cyphy.semantics import circus as c
 
 #: Constants and syntax words of Ax_CyPhyCircus (its axiomatization, lines 34-61, and
 #: adhoc_overloading, lines 64-84), IsaCircus_Syntax and Abstract_Prog_Syntax that a
-#: generated name must not take (``Evolve`` is the operator the evolution uses).
+#: generated name must not take (``Evolve`` is the operator the evolution uses); the outer
+#: keywords of the sessions below it (a definition's name cannot be one): Circus_Toolkit's
+#: Recursive.thy:5 and Action_Command.thy:5, Shallow-Expressions' Expressions.thy:5 and
+#: Named_Expressions.thy:5, Optics' Channel_Type.thy:5, Dataspace.thy:5, Lens_Instances.thy:5
+#: and Alphabet_Scene_Spaces.thy:5, Z_Toolkit's Def_Const, Enum_Type,
+#: Partial_Function_Command, Record_Default_Instance and Tabulate_Command (line 5 each);
+#: and the constants the printed notation denotes (Shallow-Expressions' SEXP, subst_id,
+#: subst_upd, var_pair; Optics' zero_lens; Channels_Events' chinst1; HOL's powr, arctan,
+#: uminus, Ex), which a definition of the same name would shadow.
 AX_RESERVED = frozenset("""
 cyphyaction cyphyprocess cSpec cAssigns cSeq cCond cAlternList cVarBlock cStop cChaos cGuard
 cAssume cInputPrefix cOutputPrefix cSyncPrefix cExtChoice cExtChoiceIdx cRename cHide
@@ -33,6 +41,10 @@ cParallelAct cParallel cInterrupt cEvolve cInterruptCond cTimeout cSkip Spec Gua
 InputPrefix OutputPrefix SyncPrefix ExtChoice ExtChoiceIdx Rename Hide ParallelAct Parallel
 Interrupt Replicate Evolve Timeout InterruptCond ucond useq uassigns uskip utest uwhile uuntil
 repeat until swap elseif old channel chantype expr subst_id
+recursive actions expr_constructor expr_function edefinition expression over zstore zexpr
+alphabet_scene_space dataspace constants variables channels statespace def_consts enumtype
+zfun precondition postcondition record_default tabulate
+SEXP subst_upd var_pair zero_lens chinst1 powr arctan uminus Ex
 """.split())
 
 
