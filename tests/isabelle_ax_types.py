@@ -143,21 +143,24 @@ UNCHECKED = (
     "read",
 )
 
-#: Words an identifier must not be: outer keywords, HOL's inner words, and the keywords of
-#: the public parents. (A delimiter glued to a bracket, ``swap(`` of Abstract_Prog_Syntax.thy:42
-#: or ``H{`` of line 82, leaves the bare word an identifier.)
-AX_KEYWORDS = OUTER_KEYWORDS | frozenset(
+#: Words no name in a term may be: HOL's inner words and the mixfix words of the public
+#: parents. (A delimiter glued to a bracket, ``swap(`` of Abstract_Prog_Syntax.thy:42 or
+#: ``H{`` of line 82, leaves the bare word an identifier.)
+AX_INNER_KEYWORDS = frozenset(
     # HOL (Isabelle2020 HOL.thy, Orderings.thy, Divides.thy)
     "if then else let case of o O mod div dvd SOME THE ALL EX CONST TYPE".split()
     # Abstract_Prog_Syntax.thy:18 (II), 37-39 (if/then/fi, elseif, else), 44 (while/do/od),
     # 45 (repeat/until); IsaCircus_Syntax.thy:41-43 (Skip, Stop, Chaos)
-    + "II fi elseif while do od repeat until Skip Stop Chaos".split()
+    + "II fi elseif while do od repeat until Skip Stop Chaos".split())
+#: Words a declared name (a constant, field, channel, definition) must not be besides: the
+#: outer keywords of Pure, HOL and the public parents.
+AX_KEYWORDS = AX_INNER_KEYWORDS | OUTER_KEYWORDS | frozenset(
     # outer keywords (line 5 of each theory): Circus_Toolkit Recursive.thy, Action_Command.thy;
     # Shallow-Expressions Expressions.thy, Named_Expressions.thy, Z/Z_Store.thy; Optics
     # Channel_Type.thy, Dataspace.thy, Lens_Instances.thy, Alphabet_Scene_Spaces.thy; Z_Toolkit
     # (isabelle-utp/Z_Toolkit, Circus_Toolkit's parent) Def_Const.thy, Enum_Type.thy,
     # Partial_Function_Command.thy, Record_Default_Instance.thy, Tabulate_Command.thy
-    + """recursive actions expr_constructor expr_function edefinition expression over zstore
+    """recursive actions expr_constructor expr_function edefinition expression over zstore
     zexpr chantype dataspace constants variables channels alphabet statespace
     alphabet_scene_space def_consts enumtype zfun precondition postcondition record_default
     tabulate""".split())
@@ -315,7 +318,7 @@ class AxChecker:
 
     # names
     def _check_word(self, name: str) -> None:
-        if name in AX_KEYWORDS:
+        if name in AX_INNER_KEYWORDS:
             raise TypeError_(f"'{name}' is a keyword of the imported syntax")
 
     def lens(self, name: str) -> Type:
@@ -333,7 +336,7 @@ class AxChecker:
         return found
 
     def bind(self, env: dict[str, Type], name: str, t: Type) -> dict[str, Type]:
-        if name in AX_KEYWORDS:
+        if name in AX_INNER_KEYWORDS:
             raise TypeError_(f"the bound name '{name}' is a keyword of the imported syntax")
         return {**env, name: t}
 
