@@ -151,14 +151,20 @@ AX_INNER_KEYWORDS = frozenset(
     "if then else let case of o O mod div dvd SOME THE ALL EX CONST TYPE".split()
     # Abstract_Prog_Syntax.thy:18 (II), 37-39 (if/then/fi, elseif, else), 44 (while/do/od),
     # 45 (repeat/until); IsaCircus_Syntax.thy:41-43 (Skip, Stop, Chaos)
-    + "II fi elseif while do od repeat until Skip Stop Chaos".split())
+    + "II fi elseif while do od repeat until Skip Stop Chaos".split()
+    # delimiters before an \<index>: Optics Lens_Laws.thy:14 (get), 15 (put), 23 (lset),
+    # 54 (pget), 57 (src), 60 (create), 66 (update); Prisms.thy:14 (match), 15 (build),
+    # 20 (matches); Z_Toolkit Function_Toolkit.thy:67 (infix partitions); Shallow-Expressions
+    # Local_State.thy:20 (localstate _ over _)
+    + "get put lset pget src create update match build matches partitions localstate over"
+    .split())
 #: Words a declared name (a constant, field, channel, definition) must not be besides: the
 #: outer keywords of Pure, HOL and the public parents.
 AX_KEYWORDS = AX_INNER_KEYWORDS | OUTER_KEYWORDS | frozenset(
     # outer keywords (line 5 of each theory): Circus_Toolkit Recursive.thy, Action_Command.thy;
     # Shallow-Expressions Expressions.thy, Named_Expressions.thy, Z/Z_Store.thy; Optics
     # Channel_Type.thy, Dataspace.thy, Lens_Instances.thy, Alphabet_Scene_Spaces.thy; Z_Toolkit
-    # (isabelle-utp/Z_Toolkit, Circus_Toolkit's parent) Def_Const.thy, Enum_Type.thy,
+    # (isabelle-utp/Z_Toolkit 36ae909, Circus_Toolkit's parent) Def_Const.thy, Enum_Type.thy,
     # Partial_Function_Command.thy, Record_Default_Instance.thy, Tabulate_Command.thy
     """recursive actions expr_constructor expr_function edefinition expression over zstore
     zexpr chantype dataspace constants variables channels alphabet statespace

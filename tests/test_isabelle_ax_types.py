@@ -165,7 +165,7 @@ def test_every_word_the_checker_rejects_is_renamed_by_the_printer(word: str) -> 
     assert IsabelleNames(AX_RESERVED).add(word) != word
 
 
-@pytest.mark.parametrize("word", ["until", "elseif", "od"])
+@pytest.mark.parametrize("word", ["until", "elseif", "update", "src"])
 def test_keyword_parameters_are_renamed_and_type_check(tmp_path, word: str) -> None:  # type: ignore[no-untyped-def]
     from test_isabelle import SOFTWARE, write_model
 

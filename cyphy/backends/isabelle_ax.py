@@ -31,6 +31,9 @@ from cyphy.semantics import circus as c
 #: Named_Expressions.thy:5, Optics' Channel_Type.thy:5, Dataspace.thy:5, Lens_Instances.thy:5
 #: and Alphabet_Scene_Spaces.thy:5, Z_Toolkit's Def_Const, Enum_Type,
 #: Partial_Function_Command, Record_Default_Instance and Tabulate_Command (line 5 each);
+#: the mixfix words of Optics (Lens_Laws.thy:14-66: get, put, lset, pget, src, create,
+#: update; Prisms.thy:14-20: match, build, matches), Z_Toolkit (Function_Toolkit.thy:67:
+#: partitions) and Shallow-Expressions (Local_State.thy:20: localstate);
 #: and the constants the printed notation denotes (Shallow-Expressions' SEXP, subst_id,
 #: subst_upd, var_pair; Optics' zero_lens; Channels_Events' chinst1; HOL's powr, arctan,
 #: uminus, Ex), which a definition of the same name would shadow.
@@ -44,6 +47,7 @@ repeat until swap elseif old channel chantype expr subst_id
 recursive actions expr_constructor expr_function edefinition expression over zstore zexpr
 alphabet_scene_space dataspace constants variables channels statespace def_consts enumtype
 zfun precondition postcondition record_default tabulate
+get put lset pget src create update match build matches partitions localstate
 SEXP subst_upd var_pair zero_lens chinst1 powr arctan uminus Ex
 """.split())
 
