@@ -81,7 +81,8 @@ AX_SIGNATURES: dict[str, tuple[str, str]] = {
     "cInterruptCond": (f"{A} {R} ('s {R} bool) {R} {A}",
                        AX + "Ax_CyPhyCircus.thy:58 (adhoc InterruptCond, line 84); the syntax "
                        "P \\<triangle>\\<^sub>p (b): use site, examples/Ranger_CyPhyCircus.thy:30"),
-    "cEvolve": ("('a::real_normed_vector \\<Longrightarrow> 's) \\<Rightarrow> ('s \\<Rightarrow> 's) "
+    "cEvolve": ("('a::real_normed_vector \\<Longrightarrow> 's) \\<Rightarrow> "
+                "('s \\<Rightarrow> 's) "
                 f"{R} ('s {R} bool) {R} {A}",
                 AX + "Ax_CyPhyCircus.thy:57 (adhoc Evolve, line 82); the syntax "
                 "[\\<Lambda> x` = e, ...]: use site, examples/Ranger_CyPhyCircus.thy:30"),
@@ -90,9 +91,11 @@ AX_SIGNATURES: dict[str, tuple[str, str]] = {
            "is a complete_lattice: Ax_CyPhyCircus.thy:18-21"),
     "cAssigns": (f"('s {R} 's) {R} {A}",
                  AX + "Ax_CyPhyCircus.thy:36 (adhoc uassigns, line 66; x := e is uassigns "
-                 "(subst_upd subst_id x (e)\\<^sub>e): " + APS + "Abstract_Prog_Syntax.thy:41, 57)"),
+                 "(subst_upd subst_id x (e)\\<^sub>e): " + APS
+                 + "Abstract_Prog_Syntax.thy:41, 57)"),
     "subst_id": ("'s \\<Rightarrow> 's", SE + "Substitutions.thy:17 (psubst: line 12)"),
-    "subst_upd": ("('s1 \\<Rightarrow> 's2) \\<Rightarrow> ('a \\<Longrightarrow> 's2) \\<Rightarrow> "
+    "subst_upd": ("('s1 \\<Rightarrow> 's2) \\<Rightarrow> ('a \\<Longrightarrow> 's2) "
+                  "\\<Rightarrow> "
                   "('s1 \\<Rightarrow> 'a) \\<Rightarrow> ('s1 \\<Rightarrow> 's2)",
                   SE + "Substitutions.thy:28"),
     "var_pair": ("('a \\<Longrightarrow> 's) \\<Rightarrow> ('b \\<Longrightarrow> 's) "
@@ -226,7 +229,8 @@ _ALPHABET = re.compile(r"^alphabet (\w+) =(?: (\w+) \+)?\n((?:  \w+ :: " + _TYPE
                        re.M)
 _TYPEDECL = re.compile(r"^typedecl (\w+)$", re.M)
 _PRIMREC = re.compile(r'^primrec (\w+) :: "nat \\<Rightarrow> ([^"]*)" where\n'
-                      r'  "(\w+) 0 = Skip" \|\n  "(\w+) \(Suc n\) = \((\w+) \\<rightarrow> (\w+) n\)"',
+                      r'  "(\w+) 0 = Skip" \|\n'
+                      r'  "(\w+) \(Suc n\) = \((\w+) \\<rightarrow> (\w+) n\)"',
                       re.M)
 _FMOD = 'definition fmod :: "real \\<Rightarrow> real \\<Rightarrow> real" where'
 

@@ -7,6 +7,7 @@ Boolean rate, name sets the parallel's syntax does not read, a name shadowing th
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import pytest
 
@@ -131,7 +132,7 @@ def test_name_sets_only_as_svids_in_the_parallel_notation() -> None:
         parser().parse(text, start="action")
 
 
-def test_parallel_with_name_sets_type_checks(tmp_path) -> None:  # type: ignore[no-untyped-def]
+def test_parallel_with_name_sets_type_checks(tmp_path: Path) -> None:
     """--isabelle-namesets: the partitioned interleaving in both forms the printer uses."""
     from test_isabelle import SOFTWARE, write_model
 
@@ -166,7 +167,7 @@ def test_every_word_the_checker_rejects_is_renamed_by_the_printer(word: str) -> 
 
 
 @pytest.mark.parametrize("word", ["until", "elseif", "update", "src"])
-def test_keyword_parameters_are_renamed_and_type_check(tmp_path, word: str) -> None:  # type: ignore[no-untyped-def]
+def test_keyword_parameters_are_renamed_and_type_check(tmp_path: Path, word: str) -> None:
     from test_isabelle import SOFTWARE, write_model
 
     software = SOFTWARE.format(ops=f"move({word}: real)", events="", outputs="")

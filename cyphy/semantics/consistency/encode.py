@@ -38,8 +38,8 @@ from cyphy.lang.notation import to_notation, type_to_notation
 from cyphy.lang.scopes import Scopes, is_constant
 from cyphy.model.elements import Device, ElaboratedModel, Port
 from cyphy.semantics.equations import member_equations
-from cyphy.semantics.scalarise import (ScalariseError, Scalariser, component_name,
-                                       shape_of_type)
+from cyphy.semantics.scalarise import ScalariseError, Scalariser, shape_of_type
+from cyphy.semantics.scalarise import components as scalar_names
 from cyphy.semantics.values import type_of
 
 Member = ast.OperationMapping | ast.EventMapping | ast.VariableMapping
@@ -239,17 +239,10 @@ def _scalariser(typed: Mapping[str, ast.TypeRef],
             unsized.add(name)
             continue
         shapes[name] = shape
-        for k in range(_size(shape)):
+        for k, scalar in enumerate(scalar_names(name, shape)):
             index = str(k + 1) if len(shape) == 1 else f"{k // shape[1] + 1}, {k % shape[1] + 1}"
-            components[component_name(name, k)] = (name, index, t.element)
+            components[scalar] = (name, index, t.element)
     return Scalariser(shapes, frozenset(shapes), frozenset(unsized))
-
-
-def _size(shape: tuple[int, ...]) -> int:
-    out = 1
-    for n in shape:
-        out *= n
-    return out
 
 
 def _components(scalars: Scalariser, e: ex.Expr) -> list[tuple[ex.Expr, str]]:
