@@ -233,6 +233,7 @@ _PRIMREC = re.compile(r'^primrec (\w+) :: "nat \\<Rightarrow> ([^"]*)" where\n'
                       r'  "(\w+) \(Suc n\) = \((\w+) \\<rightarrow> (\w+) n\)"',
                       re.M)
 _FMOD = 'definition fmod :: "real \\<Rightarrow> real \\<Rightarrow> real" where'
+_FMOD_BODY = "x - y * of_int \\<lfloor>x / y\\<rfloor>"
 
 
 def read_theory(text: str) -> AxTheory:
@@ -295,6 +296,10 @@ def read_theory(text: str) -> AxTheory:
             th.errors.append(f"primrec {name}: {err}")
     for m in _DEF_FUN.finditer(text):
         name, typ, lhs, params, body = m.groups()
+        if name == "fmod":  # HOL's floor and of_int (Archimedean_Field.thy, Int.thy)
+            if (lhs, params, body) != ("fmod", " x y", _FMOD_BODY):
+                th.errors.append(f"fmod is not defined as {_FMOD_BODY}")
+            continue
         if lhs != name:
             th.errors.append(f"definition {name} defines {lhs}")
         th.definitions.append((name, params.split(), _t(typ), body))

@@ -172,6 +172,7 @@ def test_marxbot_with_constants_prints_numbers(tmp_path: Path) -> None:
     assert "LMotor_Kd" not in printed["LMotor_i"] and "LMotor_J" not in printed["LMotor_av"]
     assert sympy.simplify(hol_to_sympy(printed["LMotor_av"]) - hol_to_sympy(
         "100 * LMotor_Kt * LMotor_i - 100 * LMotor_av * LMotor_b")) == 0
+    assert check_ax_theory(generated.files[THEORY]) == []
 
 
 def test_generation_is_deterministic(marxbot) -> None:
@@ -305,7 +306,7 @@ def test_cli_writes_the_session_beside_the_model(tmp_path: Path, capsys) -> None
     # the whole model, without --isabelle-element (issue 16)
     whole = tmp_path / "whole"
     assert main(args[:5] + ["-o", str(whole)]) == 0
-    assert (whole / THEORY).exists()
+    assert check_ax_theory((whole / THEORY).read_text()) == []
     # not reducible (the robot's wheel is massless): the error, and nothing written
     other = tmp_path / "other"
     (tmp_path / "robot").mkdir()
@@ -400,5 +401,6 @@ def test_remainder_is_fmod_defined_in_the_theory(tmp_path: Path) -> None:
     text = axiomatic(paths, elements=("Robot::Base::J::M",)).files["Robot_AxCyPhyCircus.thy"]
     definition = text.index('definition fmod :: "real \\<Rightarrow> real \\<Rightarrow> real"')
     assert definition < text.index("(fmod lv 2)")
+    assert check_ax_theory(text) == []
     utp = api.generate_isabelle(paths).files["Robot_CyPhyCircus.thy"]
     assert "\\<guillemotleft>(fmod lv 2)\\<guillemotright>" in utp and "definition fmod" not in utp
