@@ -40,7 +40,7 @@ from lark import Lark, Token, Tree
 from cyphy.backends.isabelle_ax import AX_RESERVED
 from cyphy.backends.isabelle_names import OUTER_KEYWORDS
 from isabelle_types import (SIGNATURES, TCon, TVar, Type, TypeError_, constrain, fun, parse_type,
-                            prune, unify)
+                            prod_type, prune, unify)
 
 AX = "Ax_CyPhyCircus 8bfbe4a "
 CT = "Circus_Toolkit 97811b8 "
@@ -527,9 +527,7 @@ class AxChecker:
         inner = env
         for n, t in zip(names, types):
             inner = self.bind(inner, n, t)
-        payload = types[-1]
-        for t in reversed(types[:-1]):
-            payload = TCon("prod", (t, payload))
+        payload = prod_type(types)
         guard = self.sig("SEXP", fun(self.state, TCon("bool")))
         body = TCon("prod", (guard, self.action(then, inner)))
         universe = instance("UNIV")
@@ -550,10 +548,7 @@ class AxChecker:
         if node.data == "type_list":
             return TCon("list", (self.type_of(node.children[0]),))
         items = [self.type_of(c) for c in node.children]
-        out = items[-1]
-        for t in reversed(items[:-1]):
-            out = TCon("prod", (t, out))
-        return out
+        return prod_type(items)
 
     # ---- HOL terms
     def expr(self, node: Tree | Token, env: dict[str, Type], lifted: bool) -> Type:
@@ -616,10 +611,7 @@ class AxChecker:
 
     def e_tuple(self, ch, env, lifted):  # type: ignore[no-untyped-def]
         items = [self.expr(c, env, lifted) for c in ch]
-        out = items[-1]
-        for t in reversed(items[:-1]):
-            out = TCon("prod", (t, out))
-        return out
+        return prod_type(items)
 
 
 def check_ax_theory(text: str) -> list[str]:

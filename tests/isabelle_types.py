@@ -218,6 +218,14 @@ def uexpr(value: Type, alpha: Type) -> Type:
     return TCon("uexpr", (value, alpha))
 
 
+def prod_type(items: list[Type]) -> Type:
+    """``a \\<times> b \\<times> …`` (right-nested, as HOL's ``\\<times>``); one item is itself."""
+    out = items[-1]
+    for t in reversed(items[:-1]):
+        out = TCon("prod", (t, out))
+    return out
+
+
 def prune(t: Type) -> Type:
     while isinstance(t, TVar) and t.ref is not None:
         t = t.ref
@@ -587,9 +595,7 @@ class Checker:
         if event.data == "event_in":
             ctor, names = event.children[0], event.children[1:]
             types = [TVar() for _ in names]
-            payload = types[-1]
-            for t in reversed(types[:-1]):
-                payload = TCon("prod", (t, payload))
+            payload = prod_type(types)
             inner = env
             for n, t in zip(names, types):
                 inner = self.bind(inner, str(n), t)
@@ -643,11 +649,7 @@ class Checker:
         return TCon("list", (self.infer(ch[0], env),))
 
     def t_type_product(self, ch, env):  # type: ignore[no-untyped-def]
-        items = [self.infer(c, env) for c in ch]
-        out = items[-1]
-        for t in reversed(items[:-1]):
-            out = TCon("prod", (t, out))
-        return out
+        return prod_type([self.infer(c, env) for c in ch])
 
     # ---- UTP expressions
     def t_state(self, ch, env):  # type: ignore[no-untyped-def]
@@ -709,10 +711,7 @@ class Checker:
             for t in reversed(items[:-1]):
                 out = self.sig("utuple", t, out)
             return out
-        out = items[-1]
-        for t in reversed(items[:-1]):
-            out = TCon("prod", (t, out))
-        return out
+        return prod_type(items)
 
     # ---- HOL terms
     def t_name(self, ch, env):  # type: ignore[no-untyped-def]
