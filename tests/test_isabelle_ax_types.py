@@ -176,3 +176,25 @@ def test_keyword_parameters_are_renamed_and_type_check(tmp_path: Path, word: str
     text = axiomatic(write_model(tmp_path, software, mapping), ("Robot::Base::J::M",))
     assert f'"MoveCall {word}_b = ' in text
     assert check_ax_theory(text) == []
+
+
+def test_channel_instantiation_is_not_lifted(dcmotor: str) -> None:
+    """``c\\<^bold>.v`` (Channels_Events.thy:89) takes a plain term: a number fits the
+    channel's type, a state variable there is its lens."""
+    plain = "(registerWrite_stop \\<rightarrow> StopCall)"
+    assert seeded(dcmotor, plain, "(registerWrite_drive\\<^bold>.(1.0) \\<rightarrow> "
+                  "StopCall)") == []
+    errors = seeded(dcmotor, plain, "(registerWrite_drive\\<^bold>.(Motor_das) \\<rightarrow> "
+                    "StopCall)")
+    assert len(errors) == 1 and errors[0].startswith("definition StopFromDModel: cannot unify")
+
+
+def test_indexed_choice_binds_its_variable(dcmotor: str) -> None:
+    ok = seeded(dcmotor, "StopFromDModel = (registerWrite_stop \\<rightarrow> StopCall)",
+                "StopFromDModel = (\\<box> i\\<in>(UNIV :: bool set). ((i = True) \\<^bold>& "
+                "(registerWrite_stop \\<rightarrow> StopCall)))")
+    assert ok == []
+    errors = seeded(dcmotor, "StopFromDModel = (registerWrite_stop \\<rightarrow> StopCall)",
+                    "StopFromDModel = (\\<box> i\\<in>(UNIV :: bool set). ((i = 1.0) \\<^bold>& "
+                    "(registerWrite_stop \\<rightarrow> StopCall)))")
+    assert len(errors) == 1 and "bool" in errors[0]
