@@ -169,7 +169,13 @@ INSTANCES: dict[str, set[str]] = {
     "abs": {"real", "int", "uexpr"}, "ord": {"real", "nat", "int"},
     "numeral": {"real", "nat", "int", "uexpr"}, "field": {"real"},
     "uconj": {"bool", "uexpr"},  # conj at bool, conj_upred at (bool, 's) uexpr
+    # the axiomatic dialect's (tests/isabelle_ax_types.py): real and, component-wise, products
+    # are real_normed_vectors (HOL/Real_Vector_Spaces.thy, HOL-Analysis Product_Vector.thy);
+    # cyphyaction is a complete_lattice (Ax_CyPhyCircus.thy:18-21)
+    "real_normed_vector": {"real", "prod"}, "complete_lattice": {"cyphyaction"},
 }
+#: classes a product is in when its components are.
+_COMPONENTWISE = {"real_normed_vector"}
 #: classes whose uexpr instance needs the value type in the class (bool for uconj).
 _LIFTED = {"plus", "minus", "times", "divide", "uminus", "power", "abs", "numeral"}
 
@@ -212,6 +218,14 @@ def uexpr(value: Type, alpha: Type) -> Type:
     return TCon("uexpr", (value, alpha))
 
 
+def prod_type(items: list[Type]) -> Type:
+    """``a \\<times> b \\<times> …`` (right-nested, as HOL's ``\\<times>``); one item is itself."""
+    out = items[-1]
+    for t in reversed(items[:-1]):
+        out = TCon("prod", (t, out))
+    return out
+
+
 def prune(t: Type) -> Type:
     while isinstance(t, TVar) and t.ref is not None:
         t = t.ref
@@ -243,6 +257,9 @@ def constrain(t: Type, sort: set[str]) -> None:
     for cls in sort:
         if t.name not in INSTANCES.get(cls, set()):
             raise TypeError_(f"no instance {t.name} :: {cls} (in {show(t)})")
+        if t.name == "prod" and cls in _COMPONENTWISE:
+            for arg in t.args:
+                constrain(arg, {cls})
         if t.name == "uexpr":
             if cls in _LIFTED:
                 constrain(t.args[0], {cls})
@@ -578,9 +595,7 @@ class Checker:
         if event.data == "event_in":
             ctor, names = event.children[0], event.children[1:]
             types = [TVar() for _ in names]
-            payload = types[-1]
-            for t in reversed(types[:-1]):
-                payload = TCon("prod", (t, payload))
+            payload = prod_type(types)
             inner = env
             for n, t in zip(names, types):
                 inner = self.bind(inner, str(n), t)
@@ -634,11 +649,7 @@ class Checker:
         return TCon("list", (self.infer(ch[0], env),))
 
     def t_type_product(self, ch, env):  # type: ignore[no-untyped-def]
-        items = [self.infer(c, env) for c in ch]
-        out = items[-1]
-        for t in reversed(items[:-1]):
-            out = TCon("prod", (t, out))
-        return out
+        return prod_type([self.infer(c, env) for c in ch])
 
     # ---- UTP expressions
     def t_state(self, ch, env):  # type: ignore[no-untyped-def]
@@ -700,10 +711,7 @@ class Checker:
             for t in reversed(items[:-1]):
                 out = self.sig("utuple", t, out)
             return out
-        out = items[-1]
-        for t in reversed(items[:-1]):
-            out = TCon("prod", (t, out))
-        return out
+        return prod_type(items)
 
     # ---- HOL terms
     def t_name(self, ch, env):  # type: ignore[no-untyped-def]

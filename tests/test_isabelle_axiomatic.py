@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 import sympy
 from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from conftest import EXAMPLES
 
@@ -19,6 +20,7 @@ MAPPINGS = Path(__file__).resolve().parent / "mappings"
 from cyphy import api
 from cyphy.backends.isabelle_names import RESERVED, is_identifier
 from cyphy.cli import main
+from isabelle_ax_types import check_ax_theory
 from test_isabelle import MARXBOT, MARXBOT_ACTIONS, lex_errors, mappings, theory_header, \
     write_model
 
@@ -104,6 +106,10 @@ def test_marxbot_passes_the_static_checks(marxbot) -> None:
     assert names.get("LMotor_das") == "LMotor_das"
 
 
+def test_marxbot_theory_type_checks(marxbot) -> None:
+    assert check_ax_theory(marxbot.files[THEORY]) == []
+
+
 def test_marxbot_terms_use_the_axiomatic_notation(marxbot) -> None:
     text = marxbot.files[THEORY]
     bodies = {n: b for n, _, b in definitions(text)}
@@ -166,6 +172,7 @@ def test_marxbot_with_constants_prints_numbers(tmp_path: Path) -> None:
     assert "LMotor_Kd" not in printed["LMotor_i"] and "LMotor_J" not in printed["LMotor_av"]
     assert sympy.simplify(hol_to_sympy(printed["LMotor_av"]) - hol_to_sympy(
         "100 * LMotor_Kt * LMotor_i - 100 * LMotor_av * LMotor_b")) == 0
+    assert check_ax_theory(generated.files[THEORY]) == []
 
 
 def test_generation_is_deterministic(marxbot) -> None:
@@ -266,6 +273,11 @@ def test_whole_model_evolve_is_the_reduction_of_cyphy_solve(whole) -> None:
     assert printed["timer"] == "1"
 
 
+def test_whole_model_theory_type_checks(whole) -> None:
+    name, generated = whole
+    assert check_ax_theory(generated.files[f"{WHOLE[name][0]}_AxCyPhyCircus.thy"]) == []
+
+
 def test_whole_model_generation_is_deterministic(whole) -> None:
     example, generated = whole
     again = axiomatic([EXAMPLES / example], elements=())
@@ -294,7 +306,7 @@ def test_cli_writes_the_session_beside_the_model(tmp_path: Path, capsys) -> None
     # the whole model, without --isabelle-element (issue 16)
     whole = tmp_path / "whole"
     assert main(args[:5] + ["-o", str(whole)]) == 0
-    assert (whole / THEORY).exists()
+    assert check_ax_theory((whole / THEORY).read_text()) == []
     # not reducible (the robot's wheel is massless): the error, and nothing written
     other = tmp_path / "other"
     (tmp_path / "robot").mkdir()
@@ -313,13 +325,14 @@ ROBOT_ELEMENTS = ("Robot::Base::J::M", "Robot::Arm::S")
 
 @settings(max_examples=25, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
-@given(model=mappings())
-def test_generated_mappings_lex_cleanly(tmp_path_factory, model) -> None:
+@given(model=mappings(), namesets=st.booleans())
+def test_generated_mappings_lex_and_type_check(tmp_path_factory, model, namesets) -> None:
     folder = tmp_path_factory.mktemp("mapping")
     paths = write_model(folder, *model)
-    generated = axiomatic(paths, elements=ROBOT_ELEMENTS)
+    generated = axiomatic(paths, elements=ROBOT_ELEMENTS, namesets=namesets)
     assert not generated.report.has_errors, generated.report.diagnostics
     text = check_static(generated.files, "Robot_AxCyPhyCircus.thy")
+    assert check_ax_theory(text) == []
     printed = odes(text, "Evolve_v")
     assert {"M_av", "M_i", "M_int1", "M_theta", "M_T", "timer"} <= set(printed)
     assert printed["M_theta"] == "M_av"
@@ -342,8 +355,10 @@ def test_isar_tools_finds_nothing_in_the_axiomatic_session(marxbot, tmp_path) ->
     assert isar_findings(marxbot.files, tmp_path / "session") == []
 
 
-def test_namesets_are_lenses_as_the_ranger_example_writes_them(tmp_path: Path) -> None:
-    """A6: a name set is a variable or a tuple ``((x, y))\\<^sub>v``, empty the zero lens."""
+def test_namesets_are_svids_or_lenses_where_the_syntax_reads_them(tmp_path: Path) -> None:
+    """A6: in ``\\<lbrakk>ns1 | A | ns2\\<rbrakk>`` a name set is an svid (a variable or a
+    tuple ``(x, y)``); a side with no names goes through ``cParallelAct``, whose name sets
+    are lens terms (a tuple ``((x, y))\\<^sub>v``, empty the zero lens)."""
     from cyphy.backends.isabelle import Symbols
     from cyphy.backends.isabelle_ax import AxiomaticPrinter
     from cyphy.backends.isabelle_names import IsabelleNames
@@ -354,7 +369,9 @@ def test_namesets_are_lenses_as_the_ranger_example_writes_them(tmp_path: Path) -
         names.add(n)
     printer = AxiomaticPrinter(Symbols(names, state=frozenset({"x", "y", "z"})))
     par = c.Parallel(c.Skip(), ("x", "y"), (), (), c.Stop())
-    assert printer.action(par) == "(Skip \\<lbrakk>((x, y))\\<^sub>v | {} | 0\\<^sub>L\\<rbrakk> Stop)"
+    assert printer.action(par) == "(cParallelAct ((x, y))\\<^sub>v 0\\<^sub>L {} Skip Stop)"
+    both = c.Parallel(c.Skip(), ("x", "y"), (), ("z",), c.Stop())
+    assert printer.action(both) == "(Skip \\<lbrakk>(x, y) | {} | z\\<rbrakk> Stop)"
     single = c.Parallel(c.Skip(), ("z",), (), ("x",), c.Stop())
     assert printer.action(single) == "(Skip \\<lbrakk>z | {} | x\\<rbrakk> Stop)"
     assert "+\\<^sub>L" not in printer.action(par) and "\\<^bold>0" not in printer.action(par)
@@ -384,5 +401,6 @@ def test_remainder_is_fmod_defined_in_the_theory(tmp_path: Path) -> None:
     text = axiomatic(paths, elements=("Robot::Base::J::M",)).files["Robot_AxCyPhyCircus.thy"]
     definition = text.index('definition fmod :: "real \\<Rightarrow> real \\<Rightarrow> real"')
     assert definition < text.index("(fmod lv 2)")
+    assert check_ax_theory(text) == []
     utp = api.generate_isabelle(paths).files["Robot_CyPhyCircus.thy"]
     assert "\\<guillemotleft>(fmod lv 2)\\<guillemotright>" in utp and "definition fmod" not in utp

@@ -25,7 +25,18 @@ from cyphy.semantics import circus as c
 
 #: Constants and syntax words of Ax_CyPhyCircus (its axiomatization, lines 34-61, and
 #: adhoc_overloading, lines 64-84), IsaCircus_Syntax and Abstract_Prog_Syntax that a
-#: generated name must not take (``Evolve`` is the operator the evolution uses).
+#: generated name must not take (``Evolve`` is the operator the evolution uses); the outer
+#: keywords of the sessions below it (a definition's name cannot be one): Circus_Toolkit's
+#: Recursive.thy:5 and Action_Command.thy:5, Shallow-Expressions' Expressions.thy:5 and
+#: Named_Expressions.thy:5, Optics' Channel_Type.thy:5, Dataspace.thy:5, Lens_Instances.thy:5
+#: and Alphabet_Scene_Spaces.thy:5, Z_Toolkit's Def_Const, Enum_Type,
+#: Partial_Function_Command, Record_Default_Instance and Tabulate_Command (line 5 each);
+#: the mixfix words of Optics (Lens_Laws.thy:14-66: get, put, lset, pget, src, create,
+#: update; Prisms.thy:14-20: match, build, matches), Z_Toolkit (Function_Toolkit.thy:67:
+#: partitions) and Shallow-Expressions (Local_State.thy:20: localstate);
+#: and the constants the printed notation denotes (Shallow-Expressions' SEXP, subst_id,
+#: subst_upd, var_pair; Optics' zero_lens; Channels_Events' chinst1; HOL's powr, arctan,
+#: uminus, Ex), which a definition of the same name would shadow.
 AX_RESERVED = frozenset("""
 cyphyaction cyphyprocess cSpec cAssigns cSeq cCond cAlternList cVarBlock cStop cChaos cGuard
 cAssume cInputPrefix cOutputPrefix cSyncPrefix cExtChoice cExtChoiceIdx cRename cHide
@@ -33,6 +44,11 @@ cParallelAct cParallel cInterrupt cEvolve cInterruptCond cTimeout cSkip Spec Gua
 InputPrefix OutputPrefix SyncPrefix ExtChoice ExtChoiceIdx Rename Hide ParallelAct Parallel
 Interrupt Replicate Evolve Timeout InterruptCond ucond useq uassigns uskip utest uwhile uuntil
 repeat until swap elseif old channel chantype expr subst_id
+recursive actions expr_constructor expr_function edefinition expression over zstore zexpr
+alphabet_scene_space dataspace constants variables channels statespace def_consts enumtype
+zfun precondition postcondition record_default tabulate
+get put lset pget src create update match build matches partitions localstate
+SEXP subst_upd var_pair zero_lens chinst1 powr arctan uminus Ex
 """.split())
 
 
@@ -80,8 +96,25 @@ class AxiomaticPrinter(IsabellePrinter):
         mark = "\\<^bold>!" if output else "\\<^bold>."
         return f"{ctor}{mark}({', '.join(self._print(v) for v in values)})"
 
-    def _namesets(self, left: tuple[str, ...], right: tuple[str, ...]) -> str:
-        return f"{self._lens(left)} | {{}} | {self._lens(right)}"
+    def _print_Parallel(self, a: c.Parallel) -> str:
+        """``P \\<lbrakk>ns1 | {} | ns2\\<rbrakk> Q``: IsaCircus_Syntax reads the name sets
+        there as ``svids`` (Circus_Toolkit IsaCircus_Syntax.thy:80), whose forms are a variable
+        ``x`` and a tuple ``(x, y)`` (Shallow-Expressions Variables.thy:212-218): neither the
+        term ``((x, y))\\<^sub>v`` nor the zero lens is one. A side with no names is written
+        with the operator the notation denotes, ``cParallelAct ns1 ns2 {} P Q``
+        (Ax_CyPhyCircus.thy:52), whose name sets are lens terms."""
+        if a.channels:
+            raise UnsupportedNode(a, "synchronisation on channels inside an action")
+        left, right = self._print(a.left), self._print(a.right)
+        if a.left_names and a.right_names:
+            return (f"({left} \\<lbrakk>{self._svid(a.left_names)} | {{}} | "
+                    f"{self._svid(a.right_names)}\\<rbrakk> {right})")
+        return (f"(cParallelAct {self._lens(a.left_names)} {self._lens(a.right_names)} {{}} "
+                f"{left} {right})")
+
+    def _svid(self, names: tuple[str, ...]) -> str:
+        idents = [self.symbols.names[n] for n in names]
+        return idents[0] if len(idents) == 1 else "(" + ", ".join(idents) + ")"
 
     def _lens(self, names: tuple[str, ...]) -> str:
         """A name set as the lens of its variables, as the dialect's own example writes

@@ -14,6 +14,13 @@ into one class:
 
 Z3 constants are named after the element (``move:LMotor_das``) so that the conflict check can
 put two elements side by side without their unknowns meeting.
+
+Vector and matrix ports, locals and parameters (a gyroscope's ``measuredAngularVelocity``, an
+actuator's wrench) are checked component by component: the element's equations and predicate,
+and a sensor's equations for its range, go through the scalarisation the Isabelle printers and
+the reduction use (:meth:`cyphy.semantics.scalarise.Scalariser.predicate`), so
+``T.wrench == (|0, 0, f|)`` is three equations on the scalars ``T_wrench_1`` … ``T_wrench_3``,
+each its own Z3 constant, shown as ``T.wrench[3]``.
 """
 
 from __future__ import annotations
@@ -31,6 +38,9 @@ from cyphy.lang.notation import to_notation, type_to_notation
 from cyphy.lang.scopes import Scopes, is_constant
 from cyphy.model.elements import Device, ElaboratedModel, Port
 from cyphy.semantics.equations import member_equations
+from cyphy.semantics.scalarise import ScalariseError, Scalariser, shape_of_type
+from cyphy.semantics.scalarise import components as scalar_names
+from cyphy.semantics.values import type_of
 
 Member = ast.OperationMapping | ast.EventMapping | ast.VariableMapping
 Service = ast.OperationSig | ast.EventDecl | ast.VarDecl | None
@@ -68,6 +78,8 @@ class Encoding:
     problem: str | None = None  # why it cannot be encoded (then nothing else is meaningful)
     problem_span: Span | None = None
     unknown_name: bool = False  # the problem is a name that denotes nothing: an error
+    #: a component's scalar name → (the vector's name, the index as written, its element type)
+    components: dict[str, tuple[str, str, ast.TypeRef]] = field(default_factory=dict)
 
     @property
     def name(self) -> str:
@@ -75,7 +87,10 @@ class Encoding:
 
     def shown(self, name: str) -> str:
         """A port as the mapping writes it (``Core::LHinge::LMotor.das``), a local as
-        declared (``dsl`` for ``move_dsl``)."""
+        declared (``dsl`` for ``move_dsl``); a component with its index (``T.wrench[3]``)."""
+        found = self.components.get(name)
+        if found is not None:
+            return f"{self.shown(found[0])}[{found[1]}]"
         if name in self.written:
             return self.written[name]
         prefix = self.member.name + "_"
@@ -123,34 +138,47 @@ class Encoder:
         enc.written = found.ports
         mapping_locals = {d.name: d.type for d in self.mapping.declarations
                           if d.kind is not ast.DeclKind.CONST}
-        symbols = _Symbols(self, enc, member, params, {**mapping_locals, **found.locals})
+        locals_ = {**mapping_locals, **found.locals}
+        typed: dict[str, ast.TypeRef] = {m: port.type for m, (_, port, _) in self.ports.items()}
+        typed.update((n, t) for n, t in locals_.items() if t is not None)
+        typed.update((f"{member.name}.{p}", t) for p, t in params.items() if t is not None)
+        scalars = _scalariser(typed, enc.components)
+        symbols = _Symbols(self, enc, member, params, locals_)
         printer = Z3Printer(symbols)
         written = [to_notation(eq.expr) for eq in member.equations] + [
             f"{to_notation(s.target)} = {to_notation(s.value)}" for a in member.actions
             for s in a.statements if isinstance(s, ast.Assign)]
         try:
             for eq, text in zip(found.equations, written):
-                enc.equations.append(Fact(printer.defined(eq.expr), eq.span, text))
+                for part, note in _components(scalars, eq.expr):
+                    enc.equations.append(Fact(printer.defined(part), eq.span, text + note))
+            used: set[str] = set()
             for pred, original in zip(found.predicates, member.predicates):
                 for part, text in zip(_conjuncts(pred.expr), _conjuncts(original.expr)):
-                    enc.predicate.append(Fact(printer.defined(part),
-                                              part.span if part.span.line else pred.span,
-                                              to_notation(text)))
-                used = {n.text for n in pred.expr.walk() if isinstance(n, ex.Name)}
-                enc.predicate_locals = [symbols.table[n] for n in sorted(used)
-                                        if n in symbols.locals and n in symbols.table]
+                    for scalar, note in _components(scalars, part):
+                        enc.predicate.append(Fact(printer.defined(scalar),
+                                                  part.span if part.span.line else pred.span,
+                                                  to_notation(text) + note))
+                        used |= {n.text for n in scalar.walk() if isinstance(n, ex.Name)}
+            enc.predicate_locals = [symbols.table[n] for n in sorted(used)
+                                    if symbols.is_local(n) and n in symbols.table]
         except UnsupportedNode as err:
             enc.problem, enc.problem_span = str(err), err.node.span
             enc.unknown_name = isinstance(err, UnknownName)
             return enc
-        for mangled in sorted(enc.reads):
-            self._sensor_range(enc, mangled, symbols)
+        except ScalariseError as err:
+            enc.problem, enc.problem_span = str(err), err.node.span
+            return enc
+        read_ports = {enc.components[r][0] if r in enc.components else r for r in enc.reads}
+        for mangled in sorted(read_ports):
+            self._sensor_range(enc, mangled)
         enc.uninterpreted = printer.uninterpreted
         return enc
 
-    def _sensor_range(self, enc: Encoding, mangled: str, symbols: _Symbols) -> None:
+    def _sensor_range(self, enc: Encoding, mangled: str) -> None:
         """The sensor's equations, so that a predicate is judged over the values the sensor
-        can give (``voltage == a/(distance + b) + c``), when its constants are all known."""
+        can give (``voltage == a/(distance + b) + c``), when its constants are all known;
+        per component where its ports are vectors."""
         role, port, device = self.ports[mangled]
         missing = [p.mangled for p in device.of_kind(ast.DeclKind.CONST) if p.value is None]
         if missing:
@@ -161,11 +189,12 @@ class Encoder:
             return
         own = {p.mangled: p for p in device.ports}
         table: dict[str, Any] = {}
+        scalars = _scalariser({p.mangled: p.type for p in device.ports}, {})
 
         def symbol(name: str, node: ex.Expr) -> Any:
             base = name.rstrip("'")
-            if base == mangled and name == base:
-                return enc.reads[mangled]
+            if name == base and name in enc.reads:  # the port read (or a component of it)
+                return enc.reads[name]
             p = own.get(base)
             if p is not None and p.kind is ast.DeclKind.CONST:
                 return _value(p.value, node)
@@ -175,9 +204,10 @@ class Encoder:
 
         printer = Z3Printer(symbol)
         try:
-            facts = [Fact(printer.defined(e), e.span, f"{device.prefix}: {to_notation(e)}")
-                     for e in device.equations]
-        except UnsupportedNode as err:
+            facts = [Fact(printer.defined(part), e.span, f"{device.prefix}: {to_notation(e)}"
+                          + note) for e in device.equations for part, note in
+                     _components(scalars, e)]
+        except (UnsupportedNode, ScalariseError) as err:
             enc.range_notes.append(f"the equations of sensor {device.prefix} were not used for "
                                    f"the range of {enc.shown(mangled)}: {err}")
             return
@@ -194,6 +224,40 @@ def _value(value: object, node: ex.Expr) -> Any:
     if isinstance(value, (int, float)):
         return rational(value)
     raise UnsupportedNode(node, f"the constant {to_notation(node)} is not a number")
+
+
+def _scalariser(typed: Mapping[str, ast.TypeRef],
+                components: dict[str, tuple[str, str, ast.TypeRef]]) -> Scalariser:
+    """The scalarisation of the names in ``typed`` that are vectors or matrices (each one
+    split into its components); their components are recorded in ``components``."""
+    shapes, unsized = {}, set()
+    for name, t in typed.items():
+        if not isinstance(t, (ast.VectorType, ast.MatrixType)):
+            continue
+        shape = shape_of_type(type_of(t))
+        if shape is None:
+            unsized.add(name)
+            continue
+        shapes[name] = shape
+        for k, scalar in enumerate(scalar_names(name, shape)):
+            index = str(k + 1) if len(shape) == 1 else f"{k // shape[1] + 1}, {k % shape[1] + 1}"
+            components[scalar] = (name, index, t.element)
+    return Scalariser(shapes, frozenset(shapes), frozenset(unsized))
+
+
+def _components(scalars: Scalariser, e: ex.Expr) -> list[tuple[ex.Expr, str]]:
+    """The scalar equations of ``e`` with a note of which component each is (none when
+    ``e`` is scalar)."""
+    parts = scalars.predicate(e)
+    for part in parts:
+        item = next((n for n in part.walk() if isinstance(n, ex.Index)), None)
+        if item is not None:
+            raise ScalariseError(item, f"{to_notation(item)} is an item of a vector whose "
+                                 "components are not variables here (a constant, or a vector "
+                                 "whose size is not declared)")
+    if len(parts) == 1:
+        return [(parts[0], "")]
+    return [(p, f" (component {k + 1})") for k, p in enumerate(parts)]
 
 
 def _parameters(member: Member, service: Service) -> dict[str, ast.TypeRef | None]:
@@ -223,36 +287,57 @@ class _Symbols:
         self.value_given = not (isinstance(member, ast.EventMapping) and
                                 member.direction == "input")
 
+    def is_local(self, name: str) -> bool:
+        found = self.enc.components.get(name)
+        return (found[0] if found is not None else name) in self.locals
+
     def __call__(self, name: str, node: ex.Expr) -> Any:
         if name in self.table:
             return self.table[name]
         enc = self.enc
-        head = next((p for p in self.params if name == p or name.startswith(p + ".")), None)
+        component = enc.components.get(name.rstrip("'"))
+        if component is not None:  # a vector's component: classified as the vector is
+            prime = name[len(name.rstrip("'")):]
+            term = self._classify(name, component[0] + prime, component[2], node)
+        else:
+            term = self._classify(name, name, None, node)
+        self.table[name] = term
+        return term
+
+    def _classify(self, name: str, whole: str, element: ast.TypeRef | None,
+                  node: ex.Expr) -> Any:
+        """The Z3 constant of ``name`` (``whole`` itself, or a component of the vector
+        ``whole`` of ``element`` type), recorded as a given, an unknown, a write or a read."""
+        enc = self.enc
+        head = next((p for p in self.params if whole == p or whole.startswith(p + ".")), None)
         if head is not None:
             shown, type_ = self.params[head]
-            shown += name[len(head):]
-            field_type = type_ if name == head else None
+            shown += whole[len(head):]
+            if element is not None:
+                shown += f"[{enc.components[name][1]}]"
+            field_type = element if element is not None else type_ if whole == head else None
             term, fact = _constant(f"{enc.name}:{shown}", field_type, node)
             (enc.given if self.value_given else enc.values)[shown] = term
             if self.value_given:
                 enc.params.append(shown)
             (enc.given_facts if self.value_given else enc.unknown_facts).extend(fact)
-        elif name.rstrip("'") in self.encoder.ports:
-            role, port, _ = self.encoder.ports[name.rstrip("'")]
-            term, fact = _constant(f"{enc.name}:{name}", port.type, node)
+        elif whole.rstrip("'") in self.encoder.ports:
+            role, port, _ = self.encoder.ports[whole.rstrip("'")]
+            term, fact = _constant(f"{enc.name}:{name}", element or port.type, node)
             if role == "actuator" and port.kind in (ast.DeclKind.INPUT, ast.DeclKind.INOUT) \
-                    and name == port.mangled:
+                    and whole == port.mangled:
                 enc.writes[name] = enc.unknowns[name] = term
                 enc.unknown_facts.extend(fact)
             elif role == "sensor" and port.kind in (ast.DeclKind.OUTPUT, ast.DeclKind.INOUT) \
-                    and name == port.mangled:
+                    and whole == port.mangled:
                 enc.reads[name] = term
                 enc.given_facts.extend(fact)
             else:
                 enc.given[enc.shown(name)] = term
                 enc.given_facts.extend(fact)
-        elif name.rstrip("'") in self.locals:
-            term, fact = _constant(f"{enc.name}:{name}", self.locals.get(name), node)
+        elif whole.rstrip("'") in self.locals:
+            term, fact = _constant(f"{enc.name}:{name}",
+                                   element or self.locals.get(whole), node)
             enc.unknowns[name] = term
             enc.unknown_facts.extend(fact)
         elif name == "t":
@@ -261,7 +346,6 @@ class _Symbols:
             enc.given_facts.append(term >= 0)
         else:
             term = self._constant_value(name, node)
-        self.table[name] = term
         return term
 
     def _constant_value(self, name: str, node: ex.Expr) -> Any:
