@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 import sympy
 
-from conftest import CORPUS, EXAMPLES, needs_corpus
+from conftest import CORPUS, EXAMPLES, flowstar_binary, needs_corpus, needs_flowstar
 from cyphy import api
 from cyphy.cli import main
 
@@ -156,3 +156,15 @@ def test_the_corpus_marxbot_scenario_exports_the_hinges_motion(tmp_path, capsys)
     # RHinge about -y (no gravity torque); LHinge's body's default mass sits 2.8e-6 m off
     # its axis after the tracks' roll of PI, a gravity torque Flow* takes as nonpoly.
     assert "RHinge_v' = 0" in model and "sin(LHinge_theta)" in model
+
+
+@needs_corpus
+@needs_flowstar
+def test_real_flowstar_proves_the_corpus_marxbot_under_its_smovement(tmp_path, capsys):
+    """RoboTool's marXbot under its own machine keeps 5 cm from the obstacle: SAFE with the
+    real Flow* (about 55 s of Flow* on two shared cores)."""
+    rc = main(["reach", str(MARXBOT), "--scenario", str(SCENARIO), "-o", str(tmp_path / "out"),
+               "--flowstar-bin", str(flowstar_binary())])
+    out = capsys.readouterr()
+    assert rc == 0 and out.out.startswith("SAFE: Flow* proved the initial set safe"), \
+        out.out + out.err
