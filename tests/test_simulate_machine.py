@@ -229,11 +229,11 @@ def test_marxbot_dynamics_scenario_exports_the_hinges_motion() -> None:
     assert "LHinge_v'" in text and "RHinge_theta'" in text
 
 
-def test_obstacle_stop_holds_under_sstop_and_not_under_smovement(capsys) -> None:
+def test_obstacle_stop_stops_for_good_under_sstop_and_turns_under_smovement(capsys) -> None:
     # obstacle_stop.toml's property: no torque above 0.002 N m once t >= 3.5. Its machine
     # SStop (marXbotStop.rsm) stops for good; the module's SMovement turns after the stop
-    # (move(0, av)) and, the obstacle still ahead, stops and turns again: the motors work
-    # after 3.5 s, which is why the scenario names SStop.
+    # (move(0, av) for PI/(av*tu) time units, t = 1.9 to 8.1): the motors still work after
+    # 3.5 s, which is why the scenario, about stopping for good, names SStop.
     scenario = str(MARXBOT / "obstacle_stop.toml")
     common = ["--samples", "81"]
     assert main(["simulate", str(MARXBOT), "--scenario", scenario, *common]) == 0
@@ -243,4 +243,6 @@ def test_obstacle_stop_holds_under_sstop_and_not_under_smovement(capsys) -> None
     assert main(["simulate", str(MARXBOT), "--scenario", scenario, "--machine", "SMovement",
                  *common]) == 0
     turn = _csv(capsys.readouterr().out)
-    assert np.max(turn["LMotor_T"][late] ** 2) > 1e-3
+    demand = turn["LMotor_e"] + turn["LMotor_av"]  # the wheel speed the machine asks for
+    assert np.allclose(demand[late], 0.5 * 0.06 / 2 / 0.025025)  # move(0, av): turning
+    assert np.allclose(stop["LMotor_e"][late] + stop["LMotor_av"][late], 0, atol=1e-12)  # stop()
