@@ -440,6 +440,7 @@ class SemanticsGenOptions:
     namesets: bool = False  # --isabelle: keep interleaved updates with a name-set partition
     dialect: str = "utp"  # --isabelle: "utp" (utp-main 2020) or "axiomatic" (Ax_CyPhyCircus)
     elements: tuple[str, ...] = ()  # --isabelle axiomatic: the elements Evolve's ODE covers
+    default_inertial: str | None = None  # see ElaborateOptions
 
 
 @deep
@@ -457,7 +458,8 @@ def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = Semant
         return checked, None
     built = build_semantics(checked.workspace, checked.resolution, checked.report,
                             SemanticsOptions(options.mapping, options.system_name,
-                                             options.tscale, dict(options.consts)))
+                                             options.tscale, dict(options.consts),
+                                             options.default_inertial))
     return checked, built
 
 

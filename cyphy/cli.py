@@ -433,7 +433,7 @@ def _scenario_option(parser: argparse.ArgumentParser) -> None:
         parser.add_argument("--machine", metavar="NAME",
                             help="(--flowstar) the d-model's state machine that is the "
                             "controller when the scenario has no [controller]")
-    _default_inertial_option(parser, "(--flowstar) ")
+    _default_inertial_option(parser, _GEN_INERTIAL)
 
 
 GENERATORS["flowstar"] = (_flowstar_gen, "a Flow* 2.1.0 hybrid automaton of the model under "
@@ -531,6 +531,7 @@ def _semantics_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--name", type=_system_name, metavar="N",
                         help="the name of the whole system (default: the mapping's); an "
                         "identifier: a letter, then letters, digits and single underscores")
+    _default_inertial_option(parser, _GEN_INERTIAL)
 
 
 def _tscale(text: str) -> float:
@@ -600,7 +601,8 @@ def _semantics_gen_options(args: argparse.Namespace) -> "SemanticsGenOptions":
 
     return SemanticsGenOptions(args.model, args.name, args.tscale, _consts(args),
                                tuple(args.path), pdf=getattr(args, "pdf", False),
-                               namesets=getattr(args, "isabelle_namesets", False))
+                               namesets=getattr(args, "isabelle_namesets", False),
+                               default_inertial=args.default_inertial)
 
 
 GENERATORS["isabelle"] = (_isabelle, "an Isabelle/UTP session of the CyPhyCircus semantics "
@@ -709,6 +711,9 @@ def _gravity(text: str) -> tuple[float, float, float]:
     except ValueError:
         raise argparse.ArgumentTypeError(f"'{text}' is not three numbers x,y,z") from None
     return (x, y, z)
+
+
+_GEN_INERTIAL = "(--flowstar, --cyphycircus, --latex, --isabelle: Evolve's equations of motion) "
 
 
 def _default_inertial_option(parser: argparse.ArgumentParser, note: str = "") -> None:

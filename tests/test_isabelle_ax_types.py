@@ -22,9 +22,10 @@ THEORY = "DCMotorBase_AxCyPhyCircus.thy"
 MOTORS = ("marXbotBase::Core::LHinge::LMotor", "marXbotBase::Core::RHinge::RMotor")
 
 
-def axiomatic(paths, elements: tuple[str, ...] = ()) -> str:  # type: ignore[no-untyped-def]
-    generated = api.generate_isabelle(paths, api.SemanticsGenOptions(dialect="axiomatic",
-                                                                     elements=elements))
+def axiomatic(paths, elements: tuple[str, ...] = (),  # type: ignore[no-untyped-def]
+              default_inertial: str | None = None) -> str:
+    generated = api.generate_isabelle(paths, api.SemanticsGenOptions(
+        dialect="axiomatic", elements=elements, default_inertial=default_inertial))
     assert not generated.report.has_errors, generated.report.diagnostics
     [text] = [t for p, t in generated.files.items() if p.endswith("_AxCyPhyCircus.thy")]
     return text
@@ -56,8 +57,13 @@ def test_marxbot_motors_theory_type_checks() -> None:
 
 @needs_corpus
 def test_corpus_marxbot_theory_type_checks() -> None:
-    """The corpus marXbot's wheels have no mass (E-DYNAMICS on the whole model): its motors."""
+    """The corpus marXbot's links have no mass (E-DYNAMICS on the whole model): its motors;
+    and the whole model once its links get SDF's default inertial (--default-inertial sdf),
+    with the wheels' equations of motion in Evolve."""
     assert check_ax_theory(axiomatic([CORPUS / "marXbot"], MOTORS)) == []
+    whole = axiomatic([CORPUS / "marXbot"], default_inertial="sdf")
+    assert "LHinge_v" in whole and "RHinge_theta" in whole
+    assert check_ax_theory(whole) == []
 
 
 def seeded(text: str, old: str, new: str) -> list[str]:

@@ -15,8 +15,9 @@ from cyphy import api
 from isabelle_types import SIGNATURES, TypeError_, check_theory, instance, parse_type, unify
 
 
-def theory(paths: list[Path]) -> str:
-    generated = api.generate_isabelle(paths)
+def theory(paths: list[Path], default_inertial: str | None = None) -> str:
+    generated = api.generate_isabelle(paths, api.SemanticsGenOptions(
+        default_inertial=default_inertial))
     assert not generated.report.has_errors, generated.report.diagnostics
     [text] = [t for p, t in generated.files.items() if p.endswith("_CyPhyCircus.thy")]
     return text
@@ -42,6 +43,9 @@ def test_dcmotor_theory_type_checks(dcmotor: str) -> None:
 @needs_corpus
 def test_corpus_marxbot_theory_type_checks() -> None:
     assert check_theory(theory([CORPUS / "marXbot"])) == []
+    # with SDF's default inertial, Evolve carries the wheels' equations of motion too
+    whole = theory([CORPUS / "marXbot"], default_inertial="sdf")
+    assert "$RHinge_tau =\\<^sub>u" in whole and check_theory(whole) == []
 
 
 def seeded(text: str, old: str, new: str) -> list[str]:

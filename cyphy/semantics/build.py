@@ -36,6 +36,7 @@ class SemanticsOptions:
     system_name: str | None = None  # the name of N (default: the mapping's)
     tscale: float | None = None
     consts: dict[str, object] | None = None
+    default_inertial: str | None = None  # "sdf": massless links get SDF's defaults (a warning)
 
 
 @dataclass
@@ -64,6 +65,10 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
                       "give the p-model's file or folder too")
         return None
     model = elaborate_pmodel(ws, resolution, report, pm, pm_file, options.consts or {})
+    if model is not None and options.default_inertial is not None:
+        from cyphy.model.default_inertial import apply_default_inertial
+
+        apply_default_inertial(model, report, options.default_inertial)
     if report.has_errors:
         return None
     platform = platform_of(wf, mapping)
