@@ -250,11 +250,11 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
 
         report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
         return result
-    result.reduced = reduce_system(result.system)
+    result.reduced = reduce_system(result.system, definitions=True)
     report_obstacles(result.reduced, report)
     free = [p for p in result.reduced.parameters if result.system.parameters.get(p) is None]
     if options.closed_form and not free and result.reduced.states \
-            and not result.reduced.obstacles:
+            and not result.reduced.obstacles and not result.reduced.definitions:
         inputs = {f"der_{n}": 0 for n in result.system.inputs}
         result.closed_form = closed_form(result.reduced, inputs)
     return result
