@@ -244,13 +244,13 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
                 elaborated.check.workspace, elaborated.check.resolution, model,
                 options.mapping_call)
         result.system = assemble(model, list(options.elements) or None, mapping, call, params,
-                                 options.gravity)
+                                 options.gravity, definitions=True)
     except AssemblyError as err:
         from cyphy.semantics.equations import ASSEMBLY
 
         report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
         return result
-    result.reduced = reduce_system(result.system, definitions=True)
+    result.reduced = reduce_system(result.system)
     report_obstacles(result.reduced, report)
     free = [p for p in result.reduced.parameters if result.system.parameters.get(p) is None]
     if options.closed_form and not free and result.reduced.states \
@@ -322,7 +322,7 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
         from cyphy.backends.reduce import reduce_system, report_obstacles
         from cyphy.semantics.equations import assemble
 
-        reduced = reduce_system(assemble(model, gravity=options.gravity), definitions=True)
+        reduced = reduce_system(assemble(model, gravity=options.gravity, definitions=True))
         if reduced.obstacles:
             report_obstacles(reduced, report)
             return result

@@ -564,31 +564,25 @@ def report_obstacles(reduced: Reduced, report: Report) -> None:
                       _OBSTACLE_HINTS[o.kind], notes)
 
 
-#: The largest expression (in nodes, every definition written out) that ``reduce_system``
-#: inlines for the backends that need closed expressions (Flow*, Isabelle, Z3): a 4-joint
-#: arm's accelerations take about 10⁵ nodes, a 6-joint one 10⁷ (measured), and SymPy's
-#: expansion of them does not finish.
-INLINE_LIMIT = 200_000
+#: The largest expression (in nodes, every definition written out) that
+#: ``inline_definitions`` writes out: the articulated-body definitions of a 2-joint arm
+#: written out take about 1.3·10⁵ nodes and SymPy's expansion of them 7 s (measured).
+INLINE_LIMIT = 20_000
 
 
-def reduce_system(system: System, wanted: frozenset[str] = frozenset(),
-                  definitions: bool = False) -> Reduced:
+def reduce_system(system: System, wanted: frozenset[str] = frozenset()) -> Reduced:
     """The explicit ODEs of ``system``; ``wanted`` algebraic variables are solved as outputs
-    too where they can be (the axiomatic Isabelle dialect wants every state field). With
-    ``definitions`` the equations of motion's named quantities stay names
-    (``Reduced.definitions``, linear in the size of the tree: ``cyphy solve`` and
-    ``simulate``); otherwise they are written into the expressions, for the printers that need
-    closed expressions, which a tree too large for that (``INLINE_LIMIT``) makes an
-    ``E-DYNAMICS`` obstacle."""
-    result = Reducer(system, wanted).reduce()
-    if result.definitions and not definitions:
-        inline_definitions(result, system)
-    return result
+    too where they can be (the axiomatic Isabelle dialect wants every state field). The
+    system's definitions (the equations of motion's named quantities: ``assemble``'s
+    ``definitions``) stay names, listed in order in ``Reduced.definitions``."""
+    return Reducer(system, wanted).reduce()
 
 
 def inline_definitions(reduced: Reduced, system: System) -> None:
     """Write the definitions into the rhs and outputs (and drop them), or, beyond
-    ``INLINE_LIMIT`` nodes, leave the expressions as they are with an obstacle."""
+    ``INLINE_LIMIT`` nodes, leave the expressions as they are with an ``E-DYNAMICS``
+    obstacle: closed expressions of a small tree's accelerations (one or two joints), to
+    compare them with a formula."""
     sizes: dict[str, int] = {}
     for name, value in reduced.definitions:
         sizes[name] = value.size(sizes) if hasattr(value, "size") else \

@@ -54,16 +54,25 @@ class AssemblyError(Exception):
 def assemble(model: ElaboratedModel, elements: list[str] | None = None,
              mapping: ast.PlatformMapping | None = None, call: ex.Call | None = None,
              call_params: tuple[str, ...] = (),
-             gravity: tuple[float, float, float] | None = None) -> System:
+             gravity: tuple[float, float, float] | None = None,
+             definitions: bool = False) -> System:
     """The equations of the model (or of the named elements and what they contain); the
     whole model's include the kinematic tree's equations of motion under ``gravity``
-    (default −9.81 m/s² along z)."""
+    (default −9.81 m/s² along z). With ``definitions`` they are the explicit accelerations
+    as named definitions, linear in the size of the tree (``System.definitions``, for
+    ``cyphy solve`` and ``simulate``); otherwise the joint-space equations
+    ``tau == M(q)*a + h(q, v)`` written out (:func:`motion`), for the printers that need
+    closed expressions: written out, the articulated-body definitions of a 2-joint arm
+    already take 10⁵ nodes and SymPy's expansion of them 7 s, measured)."""
     system = System()
     devices = _devices(model, elements)
     for device in devices:
         _add_device(system, device)
     known = {p.mangled for d in devices for p in d.ports}
-    _add_motion(system, model, gravity, None if not elements else known)
+    if definitions:
+        _add_explicit_motion(system, model, gravity, None if not elements else known)
+    else:
+        _add_motion(system, model, gravity, None if not elements else known)
     for relation in model.relations:
         names = {n.text for n in relation.walk() if isinstance(n, ex.Name)}
         if names <= known | set(system.parameters):
@@ -104,6 +113,33 @@ def _add_device(system: System, device: Device) -> None:
 
 def _add_motion(system: System, model: ElaboratedModel,
                 gravity: tuple[float, float, float] | None, known: set[str] | None) -> None:
+    """The equations of motion (:func:`motion`) that the system takes. For chosen elements
+    (``known``: their ports), a joint's equation enters when every joint variable it names is
+    among them, as a relation does: a wheel whose motion depends on its own joint only keeps
+    it, a link coupled to joints left out does not. A tree without equations of motion (too
+    large to write out, a link without mass elsewhere) is then reported only for the whole
+    model: chosen elements keep the equations they had before."""
+    from cyphy.semantics.dynamics import DynamicsError
+
+    if known is not None and not any(j.device is not None and
+                                     any(p.mangled in known for p in j.device.ports)
+                                     for j in model.joints):
+        return  # no joint chosen: nothing to derive (and no tree to build)
+    try:
+        equations = motion(model, gravity)
+    except DynamicsError:
+        if known is None:
+            raise
+        return
+    for equation in equations:
+        names = {n.text for n in equation.expr.walk() if isinstance(n, ex.Name)}
+        if known is None or names <= known | set(system.parameters):
+            system.equations.append(equation)
+
+
+def _add_explicit_motion(system: System, model: ElaboratedModel,
+                         gravity: tuple[float, float, float] | None,
+                         known: set[str] | None) -> None:
     """The explicit equations of motion (:func:`cyphy.semantics.articulated.model_motion`):
     one ``<J>_a == <J>_qdd`` per joint, with the articulated-body algorithm's named
     definitions. For chosen elements (``known``: their ports), a joint's equation enters when
