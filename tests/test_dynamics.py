@@ -432,7 +432,7 @@ def test_show_lists_the_motion_per_body(capsys) -> None:
     assert motion[2]["screw"] == [0, 0, 0, 0, 0, -1]
     # the gripper: a 0.15 kg palm at 0 and two 0.03 kg fingers 0.04 m below
     assert motion[2]["com"][2] == pytest.approx(-2 * 0.03 * 0.04 / 0.21)
-    assert "Lift_tau == transpose(F_Lift) * A_Lift" in motion[2]["equations"]
+    assert "Lift_tau == transpose(Lift_A) * Lift_F" in motion[2]["equations"]
 
 
 # ----------------------------------------------------------------------------- bad trees

@@ -22,7 +22,8 @@ links. Per joint, with ``p`` its device prefix (``physmod::joints``: ``p_theta``
 - ``p_ap_k``     ``a' = X·a_parent + c`` (the root's parent accelerates at ``−g``),
 - ``p_qdd``      ``q̈ = (u − Uᵀ·a')/D``, and ``p_dV_k`` ``dV = a' + S·q̈`` (pass 3).
 
-Numbers (zeros, constants) are never named. The recursion is written over the joint's motion
+Numbers (zeros, constants) are never named: a quantity's component that has no definition is
+a number written where it is used. The recursion is written over the joint's motion
 subspace ``S`` (6×nᵢ; the single screw axis of a revolute or prismatic joint today), with
 ``D⁻¹`` an explicit inverse when a joint has several coordinates.
 """
@@ -227,6 +228,36 @@ class Polynomial:
             out = out + term
         return out
 
+    def to_expr(self) -> Any:
+        """As the shared expression AST (``cyphy.expr``): a sum of products, coefficients as
+        decimal numbers (``repr`` of the float), ``cos``/``sin`` calls, ``1/D`` a division."""
+        from cyphy import expr as ex
+
+        def atom(name: str) -> ex.Expr:
+            kind, _, arg = name.partition(":")
+            if not arg:
+                return ex.Name((name,))
+            return ex.Call(ex.Name((kind,)), (ex.Name((arg,)),))
+
+        out: ex.Expr | None = None
+        for key, c in sorted(self.terms.items()):
+            up = [atom(a) for a in key if not a.startswith("inv:")]
+            down = [atom(a[4:]) for a in key if a.startswith("inv:")]
+            magnitude = abs(c)
+            number = str(int(magnitude)) if magnitude.is_integer() and magnitude < 1e15 \
+                else repr(magnitude)
+            factors = ([ex.Num(number)] if magnitude != 1.0 or not up else []) + up
+            term = factors[0]
+            for f in factors[1:]:
+                term = ex.BinOp("*", term, f)
+            for d in down:
+                term = ex.BinOp("/", term, d)
+            if out is None:
+                out = ex.UnaryOp("-", term) if c < 0 else term
+            else:
+                out = ex.BinOp("-" if c < 0 else "+", out, term)
+        return out if out is not None else ex.Num("0")
+
     def chopped(self, relative: float = 1e-12, absolute: float = 1e-15) -> "Polynomial":
         """Without float noise (``1e-17·cos q`` where a term of a transform cancels)."""
         if not self.terms:
@@ -255,16 +286,15 @@ def _single(q: Polynomial) -> str:
 
 
 class _Namer:
-    """Collects definitions; a value that is a number or one atom is used as it is."""
+    """Collects definitions; a value that is a number is used as it is (so a component
+    that is not defined is a number: zero for a twist's)."""
 
     def __init__(self) -> None:
         self.definitions: list[tuple[str, Polynomial, TreeJoint]] = []
 
     def __call__(self, name: str, value: Any, joint: TreeJoint, always: bool = False) -> Any:
         value = Polynomial.lift(value)
-        if not always and (value.is_number() or (len(value.terms) == 1 and
-                                                 next(iter(value.terms.values())) == 1.0 and
-                                                 len(next(iter(value.terms))) == 1)):
+        if not always and value.is_number():
             return value
         self.definitions.append((name, value, joint))
         return Polynomial.atom(name)
