@@ -20,6 +20,10 @@ def definition_text(value: Any) -> str:
     return value.text() if hasattr(value, "text") else sympy.sstr(value)
 
 
+def _sympy_value(value: Any, symbols: dict[str, Any]) -> Any:
+    return value.to_sympy(symbols) if hasattr(value, "to_sympy") else value
+
+
 def odes_to_text(r: Reduced, closed: dict[str, Any] | None) -> str:
     out = [f"states: {', '.join(r.states) or '(none)'}",
            f"inputs: {', '.join(r.inputs) or '(none)'}",
@@ -39,8 +43,11 @@ def odes_to_text(r: Reduced, closed: dict[str, Any] | None) -> str:
 
 def odes_to_latex(r: Reduced, closed: dict[str, Any] | None) -> str:
     lines = [r"\begin{align*}"]
-    rows = [f"  \\dot{{{sympy.latex(sympy.Symbol(s))}}} &= {sympy.latex(r.rhs[s])}"
-            for s in r.states]
+    symbols: dict[str, Any] = {}
+    rows = [f"  {sympy.latex(sympy.Symbol(n))} &= {sympy.latex(_sympy_value(v, symbols))}"
+            for n, v in r.definitions]
+    rows += [f"  \\dot{{{sympy.latex(sympy.Symbol(s))}}} &= {sympy.latex(r.rhs[s])}"
+             for s in r.states]
     if closed:
         rows += [f"  {sympy.latex(sympy.Symbol(s))}(t) &= {sympy.latex(closed[s])}"
                  for s in r.states if s in closed]

@@ -258,6 +258,7 @@ class Reducer:
         # this quadratic in the size of the model (15 s of a 30-link chain's 60, measured)
         blocked = [bool(self._unknowns_in(r, states) or self._hidden_in(r))
                    for r, _ in residuals]
+        mentions = [{g.func.__name__ for g in r.atoms(AppliedUndef)} for r, _ in residuals]
         while changed:
             changed = False
             for i, (r, eq) in enumerate(residuals):
@@ -279,25 +280,26 @@ class Reducer:
                         f"for {name}", (name,), (eq,)))
                     residuals.pop(i)
                     blocked.pop(i)
+                    mentions.pop(i)
                     changed = True
                     break
                 value = solutions[0]
                 residuals.pop(i)
                 blocked.pop(i)
+                mentions.pop(i)
                 states.discard(name)
                 derivative = sympy.diff(value, T)
                 for k, (x, e) in enumerate(residuals):
-                    if not x.has(f):
+                    if name not in mentions[k]:
                         continue
                     x = sympy.expand(x.xreplace({sympy.Derivative(f, T): derivative})
                                      .xreplace({f: value}))
                     residuals[k] = (x, e)
+                    mentions[k] = {g.func.__name__ for g in x.atoms(AppliedUndef)}
                     blocked[k] = bool(self._unknowns_in(x, states) or self._hidden_in(x))
                 residuals.append((f - value, eq))  # keeps `name` as an output
                 blocked.append(True)  # `name` is now algebraic: an unknown
-                for k, (x, _) in enumerate(residuals):  # `name` became an unknown
-                    if not blocked[k] and x.has(f):
-                        blocked[k] = True
+                mentions.append({name} | {g.func.__name__ for g in value.atoms(AppliedUndef)})
                 changed = any_change = True
                 break
         return residuals, states, any_change
@@ -455,9 +457,8 @@ class Reducer:
         (for the order of solving, not for matching: ``r`` cannot be solved for them)."""
         present = r.atoms(AppliedUndef) | r.free_symbols
         out = {unknown_of[a] for a in present if a in unknown_of}
-        if hidden:
-            names = set(unknown_of.values())
-            out |= {n for n in self._hidden_in(r) if n in names}
+        if hidden and self.hidden:
+            out |= {n for n in self._hidden_in(r) if self.funcs[n] in unknown_of}
         return out
 
 
