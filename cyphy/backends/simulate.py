@@ -116,7 +116,10 @@ def _input_functions(names: Sequence[str], given: Mapping[str, str]
         expr = input_expression(given[base]) if base in given else sympy.Integer(0)
         if base != name:
             expr = sympy.diff(expr, t)
-        out.append(sympy.lambdify(t, expr, "math"))
+        if expr.is_Number:  # most inputs: not given (lambdify costs 10 ms each, measured)
+            out.append(lambda _t, value=float(expr): value)
+        else:
+            out.append(sympy.lambdify(t, expr, "math"))
     return out
 
 
@@ -159,8 +162,7 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     outputs = [o for o, ok in zip(outputs, out_ok) if ok]
     out_exprs = [e for e, ok in zip(out_exprs, out_ok) if ok]
     if definitions:
-        rhs = compiled([str(a) for a in args], definitions, rhs_expr)
-        out_fn = compiled([str(a) for a in args], definitions, out_exprs)
+        rhs, out_fn = compiled([str(a) for a in args], definitions, rhs_expr, out_exprs)
     else:
         rhs = sympy.lambdify(args, rhs_expr, "numpy")
         out_fn = sympy.lambdify(args, out_exprs, "numpy")
@@ -244,11 +246,12 @@ def _definition_names(definitions: Sequence[tuple[str, Any]]) -> set[str]:
 
 
 def compiled(args: Sequence[str], definitions: Sequence[tuple[str, Any]],
-             exprs: Sequence[Any]) -> Callable[..., list[float]]:
-    """A Python function of ``args`` that computes the definitions in order (one
-    assignment each: a tree's equations of motion stay linear in its size) and returns
-    ``exprs``. Generated as source, as ``lambdify`` does, with ``math`` for the functions and
-    every name prefixed (``v_``), so that no model name can clash with Python's."""
+             *results: Sequence[Any]) -> list[Callable[..., list[float]]]:
+    """Per list of ``results``, a Python function of ``args`` that computes the definitions
+    in order (one assignment each: a tree's equations of motion stay linear in its size) and
+    returns those expressions. Generated as source, as ``lambdify`` does, with ``math`` for
+    the functions (each cosine and sine of a joint angle computed once) and every name
+    prefixed (``v_``), so that no model name can clash with Python's."""
     import math
 
     import sympy
@@ -263,17 +266,25 @@ def compiled(args: Sequence[str], definitions: Sequence[tuple[str, Any]],
         return printer.doprint(value.xreplace(
             {s: sympy.Symbol(f"v_{s.name}", real=True) for s in value.free_symbols}))
 
-    lines = [f"def _generated({', '.join(f'v_{a}' for a in args)}):"]
-    lines += [f"    v_{name} = {code(value)}" for name, value in definitions]
-    lines.append(f"    return [{', '.join(code(e) for e in exprs)}]")
+    trig = sorted({a for _, value in definitions if not hasattr(value, "free_symbols")
+                   for key in value.terms for a in key if a[:4] in ("cos:", "sin:")})
+    body = [f"    {_python_atom(a)} = math.{a[:3]}(v_{a[4:]})" for a in trig]
+    body += [f"    v_{name} = {code(value)}" for name, value in definitions]
+    # one function returns every list (compiling the definitions is most of the cost of
+    # building it: 0.1 s for a 10-link arm's thousand, measured); each result picks its own
+    lists = ", ".join(f"[{', '.join(code(e) for e in exprs)}]" for exprs in results)
+    lines = [f"def _generated({', '.join(f'v_{a}' for a in args)}):", *body,
+             f"    return ({lists},)"]
     namespace: dict[str, Any] = {"math": math}
     exec(compile("\n".join(lines), "<cyphy simulate>", "exec"), namespace)  # noqa: S102
-    return namespace["_generated"]
+    generated = namespace["_generated"]
+    return [(lambda *values, k=k: generated(*values)[k]) for k in range(len(results))]
 
 
 def _python_atom(name: str) -> str:
+    """``v_x`` for a name, ``cos_x`` for ``cos:x`` (computed once, at the top)."""
     kind, _, arg = name.partition(":")
-    return f"math.{kind}(v_{arg})" if arg else f"v_{name}"
+    return f"{kind}_{arg}" if arg else f"v_{name}"
 
 
 # ----------------------------------------------------------------------------- numeric path
