@@ -62,8 +62,10 @@ class ExplicitMotion:
 
 
 def subspace(joint: TreeJoint) -> np.ndarray:
-    """The joint's motion subspace ``S`` (6×n, child frame): its screw axis as one column."""
-    return np.asarray(joint.screw, dtype=float).reshape(6, 1)
+    """The joint's motion subspace ``S`` (6×n, child frame): its screw axis as one column,
+    without the float noise of the frames (``1.8e-16`` where a rotated axis has a zero)."""
+    s = np.asarray(joint.screw, dtype=float).reshape(6, 1)
+    return np.where(np.abs(s) < 1e-12 * max(float(np.abs(s).max()), 1e-300), 0.0, s)
 
 
 class Polynomial:
@@ -389,7 +391,8 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], s
         joint = tree.joints[i]
         p, s = joint.prefix, subspaces[i]
         columns = s.shape[1]
-        g = [[float(x) for x in row] for row in joint.inertia]
+        scale = 1e-14 * float(np.abs(joint.inertia).max())  # float noise of the frames
+        g = [[float(x) if abs(x) >= scale else 0.0 for x in row] for row in joint.inertia]
         bias = _cross_force(twists[i], _matvec(g, twists[i]))
         ia: list[list[Any]] = [[None] * 6 for _ in range(6)]
         for r in range(6):
