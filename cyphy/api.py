@@ -289,8 +289,9 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
     """Integrate the model's explicit ODEs (``cyphy solve``'s, the equations of motion as
     named definitions, for trees of any size) with SciPy, or, with ``numeric``, the
     kinematic tree alone with the numeric articulated-body algorithm. With a ``scenario``
-    (TOML, as for ``gen --flowstar``), its ``[controller]`` runs at the d-model cycle, its environment
-    drives the sensor inputs and its ``[init]`` intervals start at their midpoints. A
+    (TOML, as for ``gen --flowstar``), its ``[controller]`` runs at the d-model cycle, its
+    environment drives the sensor inputs and its ``[init]`` intervals start at their
+    midpoints. A
     ``controller`` (:class:`cyphy.backends.simulate.Controller`, e.g. a state-machine
     interpreter) replaces the ``[controller]`` table; its calls must be among those the
     table's states issue, whose effects the scenario's problem solves. A scenario without

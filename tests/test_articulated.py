@@ -239,3 +239,14 @@ def test_show_prints_the_link_equations(capsys) -> None:
     text = capsys.readouterr().out
     assert "    Lift_tau == transpose(Lift_A) * Lift_F\n" in text
     assert "    Slide_V == Slide_X * Shoulder_V + Slide_A * Slide_v\n" in text
+
+
+def test_adjugate_inverts_a_small_matrix() -> None:
+    """The inverse of ``D`` for joints of several coordinates: adjugate / determinant."""
+    from cyphy.semantics.articulated import Polynomial, _adjugate
+
+    rng = np.random.default_rng(3)
+    m = rng.uniform(-1, 1, (3, 3)) + 3 * np.eye(3)
+    adjugate, det = _adjugate([[Polynomial.lift(x) for x in row] for row in m])
+    inverse = np.array([[a.number() for a in row] for row in adjugate]) / det.number()
+    assert np.abs(inverse - np.linalg.inv(m)).max() < 1e-12

@@ -1,31 +1,36 @@
 """Explicit joint accelerations of a kinematic tree as a linear-size sequence of named
 definitions: the articulated-body algorithm (Featherstone, *Rigid Body Dynamics Algorithms*,
-2008, ch. 7, Table 7.1) run on SymPy symbols, in the conventions of
-:mod:`cyphy.semantics.dynamics` (Lynch and Park, *Modern Robotics* ch. 8: twists and wrenches
-angular part first, ``X`` the Adjoint that carries the parent's twists into the child frame).
+2008, ch. 7, Table 7.1) run on symbols, in the conventions of :mod:`cyphy.semantics.dynamics`
+(Lynch and Park, *Modern Robotics* ch. 8: twists and wrenches angular part first, ``X`` the
+Adjoint that carries the parent's twists into the child frame), with the same transforms
+(``dynamics._parent_to_child``).
 
 Why named definitions: written as one expression, ``q̈ = M(q)⁻¹(τ − h(q, q̇))`` grows
-exponentially with the depth of the tree, and SymPy's reduction with it (a 7-link chain took
-2 s, a 10-link chain never finished). Here every intermediate quantity of the algorithm is a
-name of its own, defined once from the joint variables and the names before it, so the whole
-is a few dozen short definitions per link, and deriving it costs time linear in the number of
-links. Per joint, with ``p`` its device prefix (``physmod::joints``: ``p_theta``, ``p_v``,
-``p_tau``, ``p_a``) and ``k`` a component (1…6, angular first):
+exponentially with the depth of the tree, and SymPy's reduction with it (2.1-2.4 s for a
+7-link chain, measured; larger trees were refused). Here every intermediate quantity of the
+algorithm is a name of its own, defined once from the joint variables and the names before
+it: about a hundred short definitions per link, derived in time linear in the number of
+links. The arithmetic is a small polynomial type (:class:`Polynomial`), not SymPy's, whose
+canonicalisation of every product cost 20 s for a 10-link arm (measured). Per joint, with
+``p`` its device prefix (``physmod::joints``: ``p_theta``, ``p_v``, ``p_tau``, ``p_a``) and
+``k`` a component (1…6, angular first):
 
 - ``p_V_k``      the body's twist ``V = X·V_parent + S·v`` (pass 1),
 - ``p_c_k``      the velocity-product acceleration ``ad(V)·S·v``,
-- ``p_IX_j_k``   ``IA·Xq`` (a product on the way to the parent's inertia),
 - ``p_IA_j_k``   the articulated inertia ``IA = G + Σ_children Xᵀ·Ia·X`` (symmetric, j ≤ k),
 - ``p_pA_k``     the articulated bias wrench ``pA = −ad(V)ᵀ·G·V + Σ_children Xᵀ·pa``,
 - ``p_U_k``      ``U = IA·S``, ``p_D`` ``D = Sᵀ·U``, ``p_u`` ``u = τ − Sᵀ·pA``,
 - ``p_Ia_j_k``   ``Ia = IA − U·Uᵀ/D`` and ``p_pa_k`` ``pa = pA + Ia·c + U·u/D`` (pass 2),
+- ``p_IX_j_k``   ``Ia·X`` (on the way to the parent's ``Xᵀ·Ia·X``),
 - ``p_ap_k``     ``a' = X·a_parent + c`` (the root's parent accelerates at ``−g``),
 - ``p_qdd``      ``q̈ = (u − Uᵀ·a')/D``, and ``p_dV_k`` ``dV = a' + S·q̈`` (pass 3).
 
 Numbers (zeros, constants) are never named: a quantity's component that has no definition is
 a number written where it is used. The recursion is written over the joint's motion
-subspace ``S`` (6×nᵢ; the single screw axis of a revolute or prismatic joint today), with
-``D⁻¹`` an explicit inverse when a joint has several coordinates.
+subspace ``S`` (6×nᵢ; the single screw axis of a revolute or prismatic joint today). A joint
+of several coordinates would get ``p_U_k_c``, ``p_D_a_b``, ``D⁻¹`` by its adjugate
+(``p_det``, ``p_Dinv_a_b``), ``p_u_a`` and ``p_qdd_a``, with ``variables`` naming its
+coordinates as a list.
 """
 
 from __future__ import annotations

@@ -172,9 +172,9 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
     clash = sorted(set(uses) & (set(system.variables) | set(system.parameters)))
     if clash:
         joint = next(d.joint for d in motion.definitions if d.name == clash[0])
-        raise DynamicsError(f"the equations of motion name a quantity {clash[0]}, which is already a "
-                    "variable of the model", joint.element.span,
-                    "rename the device whose variable it is")
+        raise DynamicsError(f"the equations of motion name a quantity {clash[0]}, which is "
+                            "already a variable of the model", joint.element.span,
+                            "rename the device whose variable it is")
     added = False
     for joint, accelerations in motion.accelerations:
         device = joint.element.device
