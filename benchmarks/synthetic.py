@@ -34,12 +34,17 @@ def _num(v: float) -> str:
     return repr(round(v, 6))
 
 
-def _link(k: int, children: list[int], x: float, z: float, yaw: float, sensors: int) -> str:
+#: Joint axes of a bent chain, by joint number: about z, then y, then x, and again.
+_BENT_AXES = ("0,0,1", "0,1,0", "1,0,0")
+
+
+def _link(k: int, children: list[int], x: float, z: float, yaw: float, sensors: int,
+          bent: bool = False) -> str:
     joints = "".join(
         f"""
 \t\tjref J{c - 1} = Revolute {{
-\t\t\tannotation Revolute {{ axis = Axis {{ xyz = (|0,0,1|) }} }}
-\t\t\tinstantiation AXIS = (|0,0,1|)
+\t\t\tannotation Revolute {{ axis = Axis {{ xyz = (|{_axis(c - 1, bent)}|) }} }}
+\t\t\tinstantiation AXIS = (|{_axis(c - 1, bent)}|)
 \t\t\tflexibly connected to L{c}
 \t\t\taref M{c - 1} = SpeedControlMotor {{
 \t\t\t\trelation M{c - 1}.T == J{c - 1}.tau
@@ -66,7 +71,12 @@ def _link(k: int, children: list[int], x: float, z: float, yaw: float, sensors: 
 """
 
 
-def _model(name: str, n: int, parent_of: list[int | None], sensors: int) -> str:
+def _axis(joint: int, bent: bool) -> str:
+    return _BENT_AXES[joint % 3] if bent else "0,0,1"
+
+
+def _model(name: str, n: int, parent_of: list[int | None], sensors: int,
+           bent: bool = False) -> str:
     if n < 1:
         raise ValueError("a synthetic model needs at least one link")
     children: list[list[int]] = [[] for _ in range(n)]
@@ -79,17 +89,21 @@ def _model(name: str, n: int, parent_of: list[int | None], sensors: int) -> str:
     parts = [_HEADER, f"pmodel {name} {{\n"]
     for k in range(n):
         sibling = children[parent_of[k]].index(k) if parent_of[k] is not None else 0
-        parts.append(_link(k, children[k], 0.1 * sibling, 0.1 * depth[k], 0.1 * (k % 7), sensors))
+        x = 0.1 * (sibling + depth[k]) if bent else 0.1 * sibling
+        parts.append(_link(k, children[k], x, 0.1 * depth[k], 0.1 * (k % 7), sensors, bent))
     parts.append("}\n")
     return "".join(parts)
 
 
-def chain_model(n: int, *, sensors_per_link: int = 1) -> str:
+def chain_model(n: int, *, sensors_per_link: int = 1, bent: bool = False) -> str:
     """RoboSim text of a p-model ``Chain<n>``: ``L0 → L1 → … → L{n-1}`` by joints ``J0 … J{n-2}``.
 
     ``sensors_per_link > 1`` makes each ``sref`` indexed (``index i : [0,k)``, ``y = 0.01*i``),
-    to exercise index expansion."""
-    return _model(f"Chain{n}", n, [None, *range(n - 1)], sensors_per_link)
+    to exercise index expansion. By default every joint turns about z and the links are
+    stacked along z (coaxial: the mass matrix does not depend on the angles); ``bent`` turns
+    the joints about z, y, x in turn and steps each link 0.1 m along x too, a robot arm whose
+    equations of motion couple every joint."""
+    return _model(f"Chain{n}", n, [None, *range(n - 1)], sensors_per_link, bent)
 
 
 def tree_model(n: int, branching: int = 3, *, sensors_per_link: int = 1) -> str:

@@ -260,7 +260,7 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
                 elaborated.check.workspace, elaborated.check.resolution, model,
                 options.mapping_call)
         result.system = assemble(model, list(options.elements) or None, mapping, call, params,
-                                 options.gravity)
+                                 options.gravity, definitions=True)
     except AssemblyError as err:
         from cyphy.semantics.equations import ASSEMBLY
 
@@ -270,7 +270,7 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
     report_obstacles(result.reduced, report)
     free = [p for p in result.reduced.parameters if result.system.parameters.get(p) is None]
     if options.closed_form and not free and result.reduced.states \
-            and not result.reduced.obstacles:
+            and not result.reduced.obstacles and not result.reduced.definitions:
         inputs = {f"der_{n}": 0 for n in result.system.inputs}
         result.closed_form = closed_form(result.reduced, inputs)
     return result
@@ -304,11 +304,12 @@ class SimulateResult:
 @deep
 def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOptions()
              ) -> SimulateResult:
-    """Integrate the model's explicit ODEs (``cyphy solve``'s) with SciPy, or, with
-    ``numeric`` or for a tree beyond ``dynamics.SYMBOLIC_LIMIT`` joints, the kinematic tree
-    alone with the articulated-body algorithm. With a ``scenario`` (TOML, as for
-    ``gen --flowstar``), its ``[controller]`` runs at the d-model cycle, its environment
-    drives the sensor inputs and its ``[init]`` intervals start at their midpoints. A
+    """Integrate the model's explicit ODEs (``cyphy solve``'s, the equations of motion as
+    named definitions, for trees of any size) with SciPy, or, with ``numeric``, the
+    kinematic tree alone with the numeric articulated-body algorithm. With a ``scenario``
+    (TOML, as for ``gen --flowstar``), its ``[controller]`` runs at the d-model cycle, its
+    environment drives the sensor inputs and its ``[init]`` intervals start at their
+    midpoints. A
     ``controller`` (:class:`cyphy.backends.simulate.Controller`, e.g. a state-machine
     interpreter) replaces the ``[controller]`` table; its calls must be among those the
     table's states issue, whose effects the scenario's problem solves. A scenario without
@@ -333,15 +334,15 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
     try:
         numeric = options.numeric
         gravity = options.gravity or dynamics.STANDARD_GRAVITY
-        tree = dynamics.kinematic_tree(model, gravity)
-        if numeric or len(tree) > dynamics.SYMBOLIC_LIMIT:
+        if numeric:
             result.numeric = True
-            result.trajectory = sim.simulate_tree(tree, settings)
+            result.trajectory = sim.simulate_tree(dynamics.kinematic_tree(model, gravity),
+                                                  settings)
             return result
         from cyphy.backends.reduce import reduce_system, report_obstacles
         from cyphy.semantics.equations import assemble
 
-        reduced = reduce_system(assemble(model, gravity=options.gravity))
+        reduced = reduce_system(assemble(model, gravity=options.gravity, definitions=True))
         if reduced.obstacles:
             report_obstacles(reduced, report)
             return result

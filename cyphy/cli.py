@@ -78,9 +78,9 @@ def _parser() -> argparse.ArgumentParser:
         help="integrate the model's equations of motion and devices (SciPy)",
         description="Integrate the explicit ODEs that `cyphy solve` derives (the kinematic "
         "tree's equations of motion included) with SciPy's solve_ivp, and write the "
-        "trajectories: t, then one column per state and output. A tree of more than "
-        "dynamics.SYMBOLIC_LIMIT joints (or --numeric) is integrated alone, with the "
-        "articulated-body algorithm; its inputs are the joint efforts <Joint>_tau.",
+        "trajectories: t, then one column per state and output. With --numeric the "
+        "kinematic tree is integrated alone, with the numeric articulated-body algorithm; "
+        "its inputs are then the joint efforts <Joint>_tau.",
     )
     simulate.add_argument("paths", nargs="+", metavar="PATH", help="model file or folder")
     simulate.add_argument("--model", metavar="NAME", help="the p-model to simulate")

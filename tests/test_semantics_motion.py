@@ -163,6 +163,14 @@ def test_evolve_carries_the_equations_of_motion(case: str, tmp_path: Path) -> No
         given = {u: rng.uniform(0.5, 1) for u in [*reduced.inputs, *reduced.parameters]}
         subs = {reduced.symbols.get(n, sympy.Symbol(n, real=True)): v
                 for n, v in {**state, **given}.items()}
+        # solve's equations of motion are named definitions (the articulated-body
+        # algorithm): each printed value is evaluated in order, as Python arithmetic
+        scope: dict[str, float] = {**state, **given}
+        for name, value in reduced.definitions:
+            text = value.text() if hasattr(value, "text") else sympy.sstr(value)
+            scope[name] = eval(text, {"cos": math.cos, "sin": math.sin,  # noqa: S307
+                                      "__builtins__": {}}, scope)
+            subs[sympy.Symbol(name, real=True)] = scope[name]
         values = dict(state)
         for p in joints:
             values[f"{p}_a"] = float(reduced.rhs[f"{p}_v"].subs(subs))

@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from cyphy import api
+from cyphy.backends.reduce import inline_definitions
 from cyphy.cli import main
 from conftest import EXAMPLES
 
@@ -78,6 +79,8 @@ def test_marxbot_move_mapping_gives_wheel_speeds() -> None:
     # The equations of motion: each hinge turns its wheel (a solid cylinder of 0.02 kg, radius
     # 0.025025 m, about its axis) with its motor's torque.
     assert not r.obstacles and result.report.exit_code == 0
+    assert r.rhs["LHinge_v"] == sympy.Symbol("LHinge_qdd", real=True)  # a named definition
+    inline_definitions(r, result.system)
     wheel = 0.02 * 0.025025 ** 2 / 2
     for side in "LR":
         difference = r.rhs[f"{side}Hinge_v"] - r.outputs[f"{side}Motor_T"] / wheel

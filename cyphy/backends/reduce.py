@@ -37,7 +37,7 @@ from cyphy.semantics.scalarise import ScalariseError, Scalariser, components
 
 @dataclass(frozen=True)
 class Obstacle:
-    kind: str  # underdetermined, algebraic-loop, unknown-function, unsupported
+    kind: str  # underdetermined, algebraic-loop, unknown-function, unsupported, too-large
     message: str
     variables: tuple[str, ...]
     equations: tuple[Equation, ...]
@@ -53,6 +53,10 @@ class Reduced:
     obstacles: list[Obstacle] = field(default_factory=list)
     symbols: dict[str, Any] = field(default_factory=dict)  # name → SymPy symbol (plain)
     closed_form: dict[str, Any] | None = None  # state → expression of t and x0
+    # named intermediate quantities the rhs and outputs use, in order: (name, value), the
+    # value a SymPy expression (an output the equations of motion use) or a
+    # ``cyphy.semantics.articulated.Polynomial``; empty once inlined (see ``reduce_system``)
+    definitions: list[tuple[str, Any]] = field(default_factory=list)
 
 
 def type_shape(t: ast.TypeRef | None) -> tuple[int, ...] | None:
@@ -109,6 +113,16 @@ class Reducer:
         for name in system.variables:
             for k in components(name, shapes.get(name, ())):
                 symbols[k] = self._func(k)
+        # definitions (equations of motion) are plain symbols that stand for their values:
+        # each hides the variables it depends on, which order the solving but are never
+        # solved from an equation that mentions only the definition
+        self.hidden: dict[str, frozenset[str]] = {}
+        for d in system.definitions:
+            names: set[str] = set()
+            for atom in d.value.atoms():
+                names |= self.hidden.get(atom, {atom})
+            self.hidden[d.name] = frozenset(names)
+            symbols[d.name] = sympy.Symbol(d.name, real=True)
         self.printer = SympyPrinter(symbols=symbols)
         self.inputs = {c for n in system.inputs for c in self._components(n)}
         self.input_derivatives: dict[Any, Any] = {}
@@ -176,12 +190,28 @@ class Reducer:
                                                                sympy.sympify(v).atoms(
                                                                    sympy.Function)}
                              for v in result.rhs.values())) if result.rhs else set()
+        if self.system.definitions and result.rhs:
+            used |= self._definitions(result)
+        used_names = {str(u) for u in used}
         result.inputs = sorted(n for n in self.inputs | {str(s) for s in
                                                           self.input_derivatives.values()}
-                               if n in {str(u) for u in used})
+                               if n in used_names)
         result.parameters = sorted(str(s) for s in used if isinstance(s, sympy.Symbol)
                                    and str(s) in self.system.parameters)
         return result
+
+    def _definitions(self, result: Reduced) -> set[Any]:
+        """Fill ``result.definitions``: the outputs the definitions use (a joint's effort
+        from the motor that drives it), then the definitions; returns the symbols they use."""
+        hidden = set().union(*self.hidden.values())
+        first = [(n, result.outputs[n]) for n in sorted(hidden) if n in result.outputs]
+        result.definitions = first + [(d.name, d.value) for d in self.system.definitions]
+        used: set[Any] = set()
+        for _, value in first:
+            used |= value.free_symbols
+        for d in self.system.definitions:
+            used |= {sympy.Symbol(a, real=True) for a in d.value.atoms()}
+        return used - {sympy.Symbol(d.name, real=True) for d in self.system.definitions}
 
     def _higher_derivatives(self, residuals: list[tuple[Any, Equation]]
                             ) -> list[tuple[Any, Equation]]:
@@ -202,9 +232,18 @@ class Reducer:
             out.append((r, eq))
         return out + extra if not extra else self._higher_derivatives(out + extra)
 
+    def _hidden_in(self, r: Any) -> set[str]:
+        """The variables that the definitions ``r`` mentions depend on."""
+        if not self.hidden:
+            return set()
+        out: set[str] = set()
+        for s in r.free_symbols:
+            out |= self.hidden.get(s.name, frozenset())
+        return {n for n in out if n in self.funcs}
+
     def _unknowns_in(self, r: Any, states: set[str]) -> set[str]:
         names = {f.func.__name__ for f in r.atoms(sympy.Function) if f.func.__name__ in
-                 self.funcs}
+                 self.funcs} | self._hidden_in(r)
         derivs = {d.expr.func.__name__ for d in r.atoms(sympy.Derivative)}
         algebraic = {n for n in names if n not in states and n not in self.inputs}
         return algebraic | {f"d_{n}" for n in derivs if n in states}
@@ -214,10 +253,16 @@ class Reducer:
         """A residual with no unknown constrains the states: solve it for one of them,
         which then becomes algebraic (its derivative from differentiating the solution)."""
         changed, any_change = True, False
+        # whether each residual mentions an unknown (or a definition), kept up to date for
+        # the residuals a substitution changes: rescanning them all after every change made
+        # this quadratic in the size of the model (15 s of a 30-link chain's 60, measured)
+        blocked = [bool(self._unknowns_in(r, states) or self._hidden_in(r))
+                   for r, _ in residuals]
+        mentions = [{g.func.__name__ for g in r.atoms(AppliedUndef)} for r, _ in residuals]
         while changed:
             changed = False
             for i, (r, eq) in enumerate(residuals):
-                if self._unknowns_in(r, states):
+                if blocked[i]:
                     continue
                 candidates = sorted(n for n in self._names(r) if n in states)
                 if not candidates:
@@ -227,22 +272,34 @@ class Reducer:
                              and lhs.text == n] or candidates
                 name = preferred[0]
                 f = self.funcs[name]
-                solutions = sympy.solve(r, f)
+                linear = _linear_one([r], [f])
+                solutions = [linear[0][f]] if linear else sympy.solve(r, f)
                 if len(solutions) != 1:
                     result.obstacles.append(Obstacle(
                         "algebraic-loop", f"the constraint from {eq.origin} cannot be solved "
                         f"for {name}", (name,), (eq,)))
                     residuals.pop(i)
+                    blocked.pop(i)
+                    mentions.pop(i)
                     changed = True
                     break
                 value = solutions[0]
                 residuals.pop(i)
-                derivative = sympy.diff(value, T)
-                residuals = [(sympy.expand(
-                    x.xreplace({sympy.Derivative(f, T): derivative}).xreplace({f: value})), e)
-                    for x, e in residuals]
-                residuals.append((f - value, eq))  # keeps `name` as an output
+                blocked.pop(i)
+                mentions.pop(i)
                 states.discard(name)
+                derivative = sympy.diff(value, T)
+                for k, (x, e) in enumerate(residuals):
+                    if name not in mentions[k]:
+                        continue
+                    x = sympy.expand(x.xreplace({sympy.Derivative(f, T): derivative})
+                                     .xreplace({f: value}))
+                    residuals[k] = (x, e)
+                    mentions[k] = {g.func.__name__ for g in x.atoms(AppliedUndef)}
+                    blocked[k] = bool(self._unknowns_in(x, states) or self._hidden_in(x))
+                residuals.append((f - value, eq))  # keeps `name` as an output
+                blocked.append(True)  # `name` is now algebraic: an unknown
+                mentions.append({name} | {g.func.__name__ for g in value.atoms(AppliedUndef)})
                 changed = any_change = True
                 break
         return residuals, states, any_change
@@ -258,7 +315,8 @@ class Reducer:
                       for _, r in static))) if n not in self.inputs} if static else {}
         if not unknown_of:
             return residuals, False
-        defined_by = _match([(i, self._unknown_names(r, unknown_of)) for i, r in static])
+        defined_by = _match([(i, self._unknown_names(r, unknown_of, hidden=False))
+                             for i, r in static])
         deps = nx.DiGraph()
         for name, i in sorted(defined_by.items()):
             deps.add_node(name)
@@ -274,14 +332,16 @@ class Reducer:
                 continue
             eqs = [residuals[defined_by[v]][0].xreplace(solved) for v in block]
             objs = [self.funcs[v] for v in block]
-            try:
-                solution = sympy.solve(eqs, objs, dict=True)
-            except (NotImplementedError, ValueError):
-                solution = []
+            solution = _linear_one(eqs, objs)
+            if solution is None:
+                try:
+                    solution = sympy.solve(eqs, objs, dict=True)
+                except (NotImplementedError, ValueError):
+                    solution = []
             if len(solution) != 1 or set(solution[0]) != set(objs):
                 undefined.update(block)
                 continue
-            solved.update({k: sympy.cancel(v) for k, v in solution[0].items()})
+            solved.update({k: _cancel(v) for k, v in solution[0].items()})
             used.update(defined_by[v] for v in block)
         if not solved:
             return residuals, False
@@ -301,13 +361,13 @@ class Reducer:
 
     def _names(self, r: Any) -> set[str]:
         return {f.func.__name__ for f in r.atoms(sympy.Function) if f.func.__name__ in
-                self.funcs}
+                self.funcs} | self._hidden_in(r)
 
     # ----- step 3: matching and block solving
     def _solve(self, residuals: list[tuple[Any, Equation]], unknown_of: dict[Any, str],
                dsyms: dict[Any, str], result: Reduced) -> None:
         by_name = {v: k for k, v in unknown_of.items()}
-        defined_by = _match([(i, self._unknown_names(r, unknown_of))
+        defined_by = _match([(i, self._unknown_names(r, unknown_of, hidden=False))
                              for i, (r, _) in enumerate(residuals)])
         deps = nx.DiGraph()
         for name, i in sorted(defined_by.items()):
@@ -377,7 +437,7 @@ class Reducer:
                 blocked.update(block)
                 continue
             for obj, value in solution[0].items():
-                solved[obj] = sympy.cancel(value)
+                solved[obj] = _cancel(value)
         plain = {f: sympy.Symbol(f.func.__name__, real=True) for f in self.funcs.values()}
         plain.update({d: sym for d, sym in self.input_derivatives.items()})
         for d, s in dsyms.items():
@@ -391,9 +451,15 @@ class Reducer:
             result.outputs[obj.func.__name__] = sympy.expand(value.xreplace(plain))
         result.symbols = {str(s): s for s in plain.values()}
 
-    def _unknown_names(self, r: Any, unknown_of: dict[Any, str]) -> set[str]:
+    def _unknown_names(self, r: Any, unknown_of: dict[Any, str], hidden: bool = True
+                       ) -> set[str]:
+        """The unknowns ``r`` mentions; with ``hidden``, also those its definitions depend on
+        (for the order of solving, not for matching: ``r`` cannot be solved for them)."""
         present = r.atoms(AppliedUndef) | r.free_symbols
-        return {unknown_of[a] for a in present if a in unknown_of}
+        out = {unknown_of[a] for a in present if a in unknown_of}
+        if hidden and self.hidden:
+            out |= {n for n in self._hidden_in(r) if self.funcs[n] in unknown_of}
+        return out
 
 
 def _match(equations: list[tuple[int, set[str]]]) -> dict[str, int]:
@@ -435,10 +501,34 @@ def _linear_one(eqs: list[Any], objs: list[Any]) -> list[dict[Any, Any]] | None:
     [r], [x] = eqs, objs
     if any(d.has(x) for d in r.atoms(sympy.Derivative)):
         return None
+    if isinstance(r, sympy.Add):  # the usual, expanded case, read off term by term
+        a, rest, linear = [], [], True
+        for term in r.args:
+            free, bound = term.as_independent(x, as_Add=False)
+            if bound == x:
+                a.append(free)
+            elif not term.has(x):
+                rest.append(term)
+            else:
+                linear = False
+                break
+        if linear and a:
+            coefficient = sympy.Add(*a)
+            if coefficient != 0:
+                return [{x: -sympy.Add(*rest) / coefficient}]
     a = sympy.expand(sympy.diff(r, x))
     if a == 0 or a.has(x):
         return None
     return [{x: -r.xreplace({x: 0}) / a}]
+
+
+def _cancel(value: Any) -> Any:
+    """``sympy.cancel`` where there is something to cancel: a denominator that is a sum
+    (cancelling the rest, most solutions, cost a third of a 10-link chain's reduction,
+    measured; they are expanded at the end anyway)."""
+    if any(p.exp.is_negative and p.base.is_Add for p in value.atoms(sympy.Pow)):
+        return sympy.cancel(value)
+    return value
 
 
 def _shown(v: str) -> str:
@@ -458,21 +548,65 @@ _OBSTACLE_HINTS = {
     "unknown-function": "the function is declared without a definition: SymPy cannot invert "
                         "it",
     "unsupported": "only equations lhs == rhs over numbers, vectors and matrices are solved",
+    "too-large": "`cyphy solve` and `cyphy simulate` keep them as named definitions and "
+                 "take trees of any size; for this target, restrict the model with "
+                 "elements/--element to fewer joints",
 }
 
 
 def report_obstacles(reduced: Reduced, report: Report) -> None:
     """Each obstacle as an ``E-REDUCE`` diagnostic at its first equation."""
+    from cyphy.semantics.dynamics import TREE
+
     for o in reduced.obstacles:
         span = o.equations[0].span if o.equations else Span.unknown()
         notes = [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
-        report.report(OBSTACLE, o.message, span, _OBSTACLE_HINTS[o.kind], notes)
+        report.report(TREE if o.kind == "too-large" else OBSTACLE, o.message, span,
+                      _OBSTACLE_HINTS[o.kind], notes)
+
+
+#: The largest expression (in nodes, every definition written out) that
+#: ``inline_definitions`` writes out: the articulated-body definitions of a 2-joint arm
+#: written out take about 1.3·10⁵ nodes and SymPy's expansion of them 7 s (measured).
+INLINE_LIMIT = 20_000
 
 
 def reduce_system(system: System, wanted: frozenset[str] = frozenset()) -> Reduced:
     """The explicit ODEs of ``system``; ``wanted`` algebraic variables are solved as outputs
-    too where they can be (the axiomatic Isabelle dialect wants every state field)."""
+    too where they can be (the axiomatic Isabelle dialect wants every state field). The
+    system's definitions (the equations of motion's named quantities: ``assemble``'s
+    ``definitions``) stay names, listed in order in ``Reduced.definitions``."""
     return Reducer(system, wanted).reduce()
+
+
+def inline_definitions(reduced: Reduced, system: System) -> None:
+    """Write the definitions into the rhs and outputs (and drop them), or, beyond
+    ``INLINE_LIMIT`` nodes, leave the expressions as they are with an ``E-DYNAMICS``
+    obstacle: closed expressions of a small tree's accelerations (one or two joints), to
+    compare them with a formula."""
+    sizes: dict[str, int] = {}
+    for name, value in reduced.definitions:
+        sizes[name] = value.size(sizes) if hasattr(value, "size") else \
+            int(sympy.count_ops(value, visual=False)) + 1
+    largest = max(sizes.values())
+    if largest > INLINE_LIMIT:
+        equations = tuple(eq for eq in system.equations if eq.origin.endswith(" motion"))
+        joints = len(equations)
+        reduced.obstacles.append(Obstacle(
+            "too-large", f"the equations of motion of this {joints}-joint tree written out as "
+            f"closed expressions take about {largest:.1e} terms (at most {INLINE_LIMIT:.0e} "
+            "are written out): this target needs closed expressions", (),
+            equations[:1]))
+        return
+    symbols: dict[str, Any] = {}
+    for name, value in reduced.definitions:
+        symbols[name] = value.to_sympy(symbols) if hasattr(value, "to_sympy") else value
+    names = {sympy.Symbol(name, real=True): symbols[name] for name, _ in reduced.definitions}
+    for s, v in list(reduced.rhs.items()):
+        reduced.rhs[s] = sympy.expand(v.xreplace(names))
+    for s, v in list(reduced.outputs.items()):
+        reduced.outputs[s] = sympy.expand(v.xreplace(names))
+    reduced.definitions = []
 
 
 def closed_form(reduced: Reduced, inputs: dict[str, Any] | None = None) -> dict[str, Any] | None:

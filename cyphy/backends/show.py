@@ -124,39 +124,31 @@ def model_to_dict(m: ElaboratedModel) -> dict[str, Any]:
 
 
 def _motion(m: ElaboratedModel) -> list[dict[str, Any]] | dict[str, str]:
-    """Per moving body, its Newton–Euler equations (MR eqs. 8.47–8.53) in the body frame:
-    the twist ``V`` and its derivative from the parent's (``X`` the Adjoint of the parent's
-    pose in the body frame), the wrench ``F`` the joint transmits, balancing the body's
-    inertia ``G`` and its children's wrenches, and the joint effort as ``F`` along the axis.
-    ``cyphy solve`` writes them out in joint space, ``tau == M(q)*a + h(q, v)``."""
+    """Per moving body (the links one joint moves), its Newton–Euler equations in the body
+    frame (:mod:`cyphy.semantics.link_equations`: screw axis ``A``, spatial inertia ``G``,
+    the Adjoint ``X`` from the parent's frame, twist ``V`` and its derivative ``dV``, the
+    wrench ``F`` the joint transmits, the joint effort), printed in the notation. ``cyphy
+    solve`` solves them for the accelerations by the articulated-body algorithm, whose twist
+    and acceleration definitions are the components of ``V`` and ``dV``."""
+    from cyphy.lang.notation import to_notation
     from cyphy.semantics import dynamics
+    from cyphy.semantics.link_equations import link_equations
 
     try:
         tree = dynamics.kinematic_tree(m)
     except dynamics.DynamicsError as err:
         return {"error": err.message}
     out = []
-    for joint in tree.joints:
-        p = joint.prefix
-        parent = tree.joints[joint.parent].prefix if joint.parent >= 0 else None
-        children = [c.prefix for c in tree.joints if c.parent >= 0
-                    and tree.joints[c.parent] is joint]
-        up = f"X_{p} * V_{parent} + " if parent else ""
-        up_dot = f"X_{p} * dV_{parent}" if parent else f"X_{p} * (0, 0, 0, -g)"  # g: gravity
-        wrenches = "".join(f" + transpose(X_{c}) * F_{c}" for c in children)
+    for body in link_equations(tree):
+        joint = body.joint
         mass = float(joint.inertia[3, 3])
-        com = [_number(v) for v in _com(joint.inertia, mass)]
         out.append({
             "joint": joint.name, "kind": joint.kind,
             "parent": tree.joints[joint.parent].name if joint.parent >= 0 else None,
-            "links": list(joint.body), "mass": _number(mass), "com": com,
+            "links": list(joint.body), "mass": _number(mass),
+            "com": [_number(v) for v in _com(joint.inertia, mass)],
             "screw": [_number(v) for v in joint.screw],
-            "equations": [
-                f"V_{p} == {up}A_{p} * {p}_v",
-                f"dV_{p} == {up_dot} + ad(V_{p}) * A_{p} * {p}_v + A_{p} * {p}_a",
-                f"F_{p} == G_{p} * dV_{p} - transpose(ad(V_{p})) * G_{p} * V_{p}{wrenches}",
-                f"{p}_tau == transpose(F_{p}) * A_{p}",
-            ]})
+            "equations": [to_notation(e) for e in body.equations]})
     return out
 
 

@@ -5,10 +5,11 @@ Two paths, as for the equations of motion:
 - **symbolic**: the ODEs ``x' = f(x, u, p)`` that :mod:`cyphy.backends.reduce` derived from the
   whole model (devices, relations and the kinematic tree's equations of motion), turned into
   NumPy functions with ``lambdify``; states, inputs and outputs are the model's variables;
-- **numeric**: a tree too large to write out (``dynamics.SYMBOLIC_LIMIT``) is integrated with the
-  articulated-body algorithm at linear cost per step; its states are the joints'
-  ``<J>_theta`` and ``<J>_v`` and its inputs their efforts ``<J>_tau``, and the other devices'
-  equations are not part of it (the command says so).
+  A tree's equations of motion arrive as named definitions (the articulated-body algorithm,
+  :mod:`cyphy.semantics.articulated`), compiled to one function that evaluates them in order;
+- **numeric** (``--numeric``): the kinematic tree alone, integrated with the numeric
+  articulated-body algorithm; its states are the joints' ``<J>_theta`` and ``<J>_v`` and its
+  inputs their efforts ``<J>_tau``, and the other devices' equations are not part of it.
 
 Inputs are expressions of ``t`` (``--input Motor_das=10*(t>1)`` is not accepted: no
 comparisons; ``--input 'Motor_das=10*sin(t)'`` is); an input that is not given is 0. A
@@ -118,7 +119,10 @@ def _input_functions(names: Sequence[str], given: Mapping[str, str]
         expr = input_expression(given[base]) if base in given else sympy.Integer(0)
         if base != name:
             expr = sympy.diff(expr, t)
-        out.append(sympy.lambdify(t, expr, "math"))
+        if expr.is_Number:  # most inputs: not given (lambdify costs 10 ms each, measured)
+            out.append(lambda _t, value=float(expr): value)
+        else:
+            out.append(sympy.lambdify(t, expr, "math"))
     return out
 
 
@@ -150,17 +154,23 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     outputs = sorted(reduced.outputs)
     args = [symbol[n] for n in states] + [symbol[n] for n in inputs] + [t]
     rhs_expr = [reduced.rhs[s] for s in states]
-    leftover = sorted({str(s) for e in rhs_expr for s in sympy.sympify(e).free_symbols}
-                      - {str(a) for a in args})
+    definitions = getattr(reduced, "definitions", [])  # a Flow* problem has none
+    known = {str(a) for a in args} | {n for n, _ in definitions}
+    leftover = sorted(({str(s) for e in rhs_expr for s in sympy.sympify(e).free_symbols} |
+                       _definition_names(definitions)) - known)
     if leftover:
         raise SimulationError(f"constants without a value: {', '.join(leftover)}",
                               "give them values with --const NAME=VALUE")
-    rhs = sympy.lambdify(args, rhs_expr, "numpy")
     out_exprs = [reduced.outputs[o] for o in outputs]
-    out_ok = [not ({str(s) for s in sympy.sympify(e).free_symbols} - {str(a) for a in args})
+    out_ok = [not ({str(s) for s in sympy.sympify(e).free_symbols} - known)
               for e in out_exprs]
     outputs = [o for o, ok in zip(outputs, out_ok) if ok]
-    out_fn = sympy.lambdify(args, [e for e, ok in zip(out_exprs, out_ok) if ok], "numpy")
+    out_exprs = [e for e, ok in zip(out_exprs, out_ok) if ok]
+    if definitions:
+        rhs, out_fn = compiled([str(a) for a in args], definitions, rhs_expr, out_exprs)
+    else:
+        rhs = sympy.lambdify(args, rhs_expr, "numpy")
+        out_fn = sympy.lambdify(args, out_exprs, "numpy")
     given = _input_functions(inputs, options.inputs)
     held: dict[str, float] = {}
 
@@ -232,6 +242,57 @@ def _integrate(f: Callable[[float, np.ndarray], np.ndarray], x0: np.ndarray,
                               f"{solution.message}",
                               "try another --method (BDF, Radau) or looser tolerances")
     return solution.t, solution.y
+
+
+def _definition_names(definitions: Sequence[tuple[str, Any]]) -> set[str]:
+    """The names the definitions use (SymPy values or articulated-body polynomials)."""
+    out: set[str] = set()
+    for _, value in definitions:
+        out |= {str(x) for x in value.free_symbols} if hasattr(value, "free_symbols") \
+            else value.atoms()
+    return out
+
+
+def compiled(args: Sequence[str], definitions: Sequence[tuple[str, Any]],
+             *results: Sequence[Any]) -> list[Callable[..., list[float]]]:
+    """Per list of ``results``, a Python function of ``args`` that computes the definitions
+    in order (one assignment each: a tree's equations of motion stay linear in its size) and
+    returns those expressions. Generated as source, as ``lambdify`` does, with ``math`` for
+    the functions (each cosine and sine of a joint angle computed once) and every name
+    prefixed (``v_``), so that no model name can clash with Python's."""
+    import math
+
+    import sympy
+    from sympy.printing.pycode import PythonCodePrinter
+
+    printer = PythonCodePrinter({"fully_qualified_modules": True})
+
+    def code(value: Any) -> str:
+        if not hasattr(value, "free_symbols"):  # an articulated-body polynomial
+            return value.text(_python_atom)
+        value = sympy.sympify(value)
+        return printer.doprint(value.xreplace(
+            {s: sympy.Symbol(f"v_{s.name}", real=True) for s in value.free_symbols}))
+
+    trig = sorted({a for _, value in definitions if not hasattr(value, "free_symbols")
+                   for key in value.terms for a in key if a[:4] in ("cos:", "sin:")})
+    body = [f"    {_python_atom(a)} = math.{a[:3]}(v_{a[4:]})" for a in trig]
+    body += [f"    v_{name} = {code(value)}" for name, value in definitions]
+    # one function returns every list (compiling the definitions is most of the cost of
+    # building it: 0.1 s for a 10-link arm's thousand, measured); each result picks its own
+    lists = ", ".join(f"[{', '.join(code(e) for e in exprs)}]" for exprs in results)
+    lines = [f"def _generated({', '.join(f'v_{a}' for a in args)}):", *body,
+             f"    return ({lists},)"]
+    namespace: dict[str, Any] = {"math": math}
+    exec(compile("\n".join(lines), "<cyphy simulate>", "exec"), namespace)  # noqa: S102
+    generated = namespace["_generated"]
+    return [(lambda *values, k=k: generated(*values)[k]) for k in range(len(results))]
+
+
+def _python_atom(name: str) -> str:
+    """``v_x`` for a name, ``cos_x`` for ``cos:x`` (computed once, at the top)."""
+    kind, _, arg = name.partition(":")
+    return f"{kind}_{arg}" if arg else f"v_{name}"
 
 
 # ----------------------------------------------------------------------------- numeric path

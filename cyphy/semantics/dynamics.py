@@ -18,8 +18,10 @@ moves it. The model's link poses are the configuration ``q = 0``. Gravity is ``â
 along the model's z unless given.
 
 The algorithms take plain floats (NumPy) or SymPy expressions (object arrays): the symbolic
-path, used to write the equations into the model for small trees, is the same code as the
-numeric one that the tests check against Pinocchio.
+path, used to write the joint-space equations for the targets that need closed expressions
+(small trees), is the same code as the numeric one that the tests check against Pinocchio.
+``cyphy solve`` and ``simulate`` use :mod:`cyphy.semantics.articulated` (the same transforms,
+the articulated-body algorithm on named definitions, any size).
 """
 
 from __future__ import annotations
@@ -488,9 +490,11 @@ def joint_space(model: ElaboratedModel | KinematicTree, q: Sequence[Any], qd: Se
 # ----------------------------------------------------------------------------- model equations
 
 SYMBOLIC_LIMIT = 6
-"""The largest tree (in joints) whose equations of motion are written out symbolically: the
-expressions of ``M(q)`` and ``h(q, qÌ‡)`` grow quickly with depth, and SymPy's reduction with
-them. Larger trees are left to the numeric path (``cyphy simulate``)."""
+"""The largest tree (in joints) whose joint-space equations ``tau == M(q)*a + h(q, v)`` are
+written out as closed expressions, for the targets that need them (CyPhyCircus ``Evolve``,
+Isabelle, Flow*): the expressions grow quickly with depth, and SymPy's reduction with them.
+``cyphy solve`` and ``cyphy simulate`` take trees of any size, with the explicit
+accelerations as named definitions (:mod:`cyphy.semantics.articulated`)."""
 
 _JOINT_PORTS = ("theta", "v", "a", "tau")
 
@@ -522,9 +526,11 @@ def motion_equations(model: ElaboratedModel,
         first = tree.joints[0].element
         raise DynamicsError(
             f"the kinematic tree has {len(tree)} joints: its equations of motion are too large "
-            f"to write out symbolically (at most {SYMBOLIC_LIMIT})", first.span,
-            "simulate it with `cyphy simulate` (numeric, articulated-body algorithm), or "
-            "restrict the system with --element")
+            f"to write out as closed expressions (at most {SYMBOLIC_LIMIT}), which this "
+            "target needs", first.span,
+            "`cyphy solve` and `cyphy simulate` take trees of any size (the accelerations as "
+            "named definitions); here, restrict the system to fewer joints (--element, "
+            "--isabelle-element or the scenario's elements)")
 
     def port(joint: TreeJoint, name: str) -> str:
         return joint.element.device.port(name).mangled  # type: ignore[union-attr]

@@ -40,6 +40,9 @@ class System:
     inputs: set[str] = field(default_factory=set)  # given from outside
     parameters: dict[str, Value | None] = field(default_factory=dict)  # constants
     kinds: dict[str, str] = field(default_factory=dict)  # variable → input/output/local…
+    # named intermediate quantities of the equations of motion, in order (each uses the
+    # variables and the definitions before it): ``cyphy.semantics.articulated.Definition``
+    definitions: list[Any] = field(default_factory=list)
 
 
 class AssemblyError(Exception):
@@ -51,16 +54,25 @@ class AssemblyError(Exception):
 def assemble(model: ElaboratedModel, elements: list[str] | None = None,
              mapping: ast.PlatformMapping | None = None, call: ex.Call | None = None,
              call_params: tuple[str, ...] = (),
-             gravity: tuple[float, float, float] | None = None) -> System:
+             gravity: tuple[float, float, float] | None = None,
+             definitions: bool = False) -> System:
     """The equations of the model (or of the named elements and what they contain); the
     whole model's include the kinematic tree's equations of motion under ``gravity``
-    (default −9.81 m/s² along z)."""
+    (default −9.81 m/s² along z). With ``definitions`` they are the explicit accelerations
+    as named definitions, linear in the size of the tree (``System.definitions``, for
+    ``cyphy solve`` and ``simulate``); otherwise the joint-space equations
+    ``tau == M(q)*a + h(q, v)`` written out (:func:`motion`), for the printers that need
+    closed expressions: written out, the articulated-body definitions of a 2-joint arm
+    already take 10⁵ nodes and SymPy's expansion of them 7 s, measured)."""
     system = System()
     devices = _devices(model, elements)
     for device in devices:
         _add_device(system, device)
     known = {p.mangled for d in devices for p in d.ports}
-    _add_motion(system, model, gravity, None if not elements else known)
+    if definitions:
+        _add_explicit_motion(system, model, gravity, None if not elements else known)
+    else:
+        _add_motion(system, model, gravity, None if not elements else known)
     for relation in model.relations:
         names = {n.text for n in relation.walk() if isinstance(n, ex.Name)}
         if names <= known | set(system.parameters):
@@ -125,6 +137,62 @@ def _add_motion(system: System, model: ElaboratedModel,
                  if isinstance(n, ex.Name) and id(n) not in functions}  # sin is no variable
         if known is None or names <= known | set(system.parameters):
             system.equations.append(equation)
+
+
+def _add_explicit_motion(system: System, model: ElaboratedModel,
+                         gravity: tuple[float, float, float] | None,
+                         known: set[str] | None) -> None:
+    """The explicit equations of motion (:func:`cyphy.semantics.articulated.model_motion`):
+    one ``<J>_a == <J>_qdd`` per joint, with the articulated-body algorithm's named
+    definitions. For chosen elements (``known``: their ports), a joint's equation enters when
+    every joint variable it depends on (through the definitions) is among them, as a
+    relation does: a wheel whose motion depends on its own joint only keeps it, a link
+    coupled to joints left out does not. A tree without equations of motion (a link without
+    mass elsewhere) is then reported only for the whole model: chosen elements keep the
+    equations they had before."""
+    from cyphy.semantics.articulated import model_motion
+    from cyphy.semantics.dynamics import STANDARD_GRAVITY, DynamicsError
+
+    if known is not None and not any(j.device is not None and
+                                     any(p.mangled in known for p in j.device.ports)
+                                     for j in model.joints):
+        return  # no joint chosen: nothing to derive (and no tree to build)
+    try:
+        motion = model_motion(model, gravity or STANDARD_GRAVITY)
+    except DynamicsError:
+        if known is None:
+            raise
+        return
+    if motion is None:
+        return
+    uses: dict[str, set[str]] = {}  # definition → the variables it depends on
+    for d in motion.definitions:
+        names: set[str] = set()
+        for atom in d.value.atoms():
+            names |= uses.get(atom, {atom})
+        uses[d.name] = names
+    clash = sorted(set(uses) & (set(system.variables) | set(system.parameters)))
+    if clash:
+        joint = next(d.joint for d in motion.definitions if d.name == clash[0])
+        raise DynamicsError(f"the equations of motion name a quantity {clash[0]}, which is "
+                            "already a variable of the model", joint.element.span,
+                            "rename the device whose variable it is")
+    added = False
+    for joint, accelerations in motion.accelerations:
+        device = joint.element.device
+        assert device is not None
+        for coordinate, name in zip(("a",), accelerations):
+            port = device.port(coordinate)
+            assert port is not None
+            equation = ex.BinOp("==", ex.Name((port.mangled,), span=joint.element.span),
+                                ex.Name((name,), span=joint.element.span),
+                                span=joint.element.span)
+            if known is None or (uses[name] | {port.mangled}) <= known | set(system.parameters):
+                system.equations.append(Equation(equation, f"{joint.prefix} motion",
+                                                 joint.element.span))
+                added = True
+    if added:
+        system.definitions.extend(motion.definitions)
 
 
 def motion(model: ElaboratedModel,
