@@ -207,6 +207,7 @@ class SolveOptions:
     search_paths: tuple[str, ...] = ()
     closed_form: bool = True
     gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
+    floating_base: bool = False  # the root bodies free (six coordinates each), not fixed
 
 
 @dataclass
@@ -244,7 +245,7 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
                 elaborated.check.workspace, elaborated.check.resolution, model,
                 options.mapping_call)
         result.system = assemble(model, list(options.elements) or None, mapping, call, params,
-                                 options.gravity)
+                                 options.gravity, options.floating_base)
     except AssemblyError as err:
         from cyphy.semantics.equations import ASSEMBLY
 
@@ -271,6 +272,7 @@ class SimulateOptions:
     gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
     controller: Any = None  # with a scenario: a Controller run instead of its [controller]
     machine: str | None = None  # with a scenario without [controller]: the d-model machine
+    floating_base: bool = False  # the root bodies free (six coordinates each), not fixed
 
 
 @dataclass
@@ -314,15 +316,19 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
     try:
         numeric = options.numeric
         gravity = options.gravity or dynamics.STANDARD_GRAVITY
-        tree = dynamics.kinematic_tree(model, gravity)
-        if numeric or len(tree) > dynamics.SYMBOLIC_LIMIT:
+        tree = dynamics.kinematic_tree(model, gravity, options.floating_base)
+        dynamics.euler_singularity(tree, [float(settings.init.get(name, 0.0))
+                                          for name in tree.coordinates("theta")])
+        if numeric or tree.dof > dynamics.SYMBOLIC_LIMIT or \
+                any(j.kind in dynamics.EULER for j in tree.joints):
             result.numeric = True
             result.trajectory = sim.simulate_tree(tree, settings)
             return result
         from cyphy.backends.reduce import reduce_system, report_obstacles
         from cyphy.semantics.equations import assemble
 
-        reduced = reduce_system(assemble(model, gravity=options.gravity))
+        reduced = reduce_system(assemble(model, gravity=options.gravity,
+                                         floating_base=options.floating_base))
         if reduced.obstacles:
             report_obstacles(reduced, report)
             return result

@@ -118,6 +118,11 @@ class TreeJoint:
 #: translates by ``(x, y, z)`` along the world axes.
 DOF = {"revolute": 1, "prismatic": 1, "universal": 2, "spherical": 3, "floating": 6}
 
+#: The joint kinds whose coordinates include ZYX Euler angles. SymPy's reduction inverts their
+#: mass matrix in minutes (one ball joint: 100 s of CPU, measured), so ``cyphy simulate``
+#: integrates trees with them on the numeric path.
+EULER = frozenset({"spherical", "floating"})
+
 #: The floating base's coordinate names, after ``<Root>_``: positions, then ``v`` + name for the
 #: velocities and ``a`` + name for the accelerations (``Body_vyaw``, ``Body_az``).
 FLOATING = ("x", "y", "z", "yaw", "pitch", "roll")
@@ -520,7 +525,7 @@ def euler_singularity(tree: KinematicTree, q: Sequence[float]) -> None:
     1e-9 of ±π/2 in ``q``: there the ZYX Euler angles lose a degree of freedom (yaw and roll
     turn about one axis) and the mass matrix is singular."""
     for joint, start in zip(tree.joints, tree.offsets):
-        if joint.kind not in ("spherical", "floating"):
+        if joint.kind not in EULER:
             continue
         pitch = float(q[start + joint.dof - 2])
         if abs(math.cos(pitch)) < 1e-9:
@@ -662,7 +667,7 @@ def forward_dynamics(tree: KinematicTree, q: Sequence[float], qd: Sequence[float
     massless subtree: the mass matrix is singular)."""
     n = len(tree)
     offsets = tree.offsets
-    if any(j.kind in ("spherical", "floating") for j in tree.joints):
+    if any(j.kind in EULER for j in tree.joints):
         euler_singularity(tree, q)
     base = np.concatenate([np.zeros(3), -tree.gravity])
     xs, vs, cs, inertias, biases, subspaces = [], [], [], [], [], []
