@@ -281,9 +281,10 @@ def kinematic_tree(model: ElaboratedModel,
         if key in incoming or key in frame_of or key in body_index:
             continue
         parent = -1
-        if floating_base:
-            frame_of[key] = link.pose or Pose.identity()
-            ordered.append(_floating_joint(link, frame_of[key], members[key]))
+        if floating_base:  # the body's frame is its root link's (fixed connections' parent)
+            root = next(m for m in members[key] if m.name == key)
+            frame_of[key] = root.pose or Pose.identity()
+            ordered.append(_floating_joint(root, frame_of[key], members[key]))
             parent = body_index[key] = len(ordered) - 1
         else:
             frame_of[key] = Pose.identity()  # fixed to the world: world coordinates
