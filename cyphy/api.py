@@ -319,7 +319,7 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
         tree = dynamics.kinematic_tree(model, gravity, options.floating_base)
         dynamics.euler_singularity(tree, [float(settings.init.get(name, 0.0))
                                           for name in tree.coordinates("theta")])
-        if numeric or tree.dof > dynamics.SYMBOLIC_LIMIT or \
+        if numeric or not dynamics.written_out(tree) or \
                 any(j.kind in dynamics.EULER for j in tree.joints):
             result.numeric = True
             result.trajectory = sim.simulate_tree(tree, settings)

@@ -336,28 +336,58 @@ def test_random_mixed_trees_agree_with_pinocchio(model: ElaboratedModel, floatin
 
 # ----------------------------------------------------------------------------- model equations
 
-def test_motion_equations_of_vector_ports_agree_with_pinocchio(multi) -> None:
-    """The equations written into the model (``Shoulder_tau[k] == …``, ``Wrist_tau[k] ==
-    …``), evaluated at a random state, give Pinocchio's inverse dynamics."""
+BALL = """
+import physmod::math::*
+import physmod::joints::*
+
+pmodel P {
+    local link Base {
+        def { inertial information { mass 1.0 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+        jref Shoulder = Spherical {
+            pose { x = 0.1 y = 0 z = 0 roll = 0.2 pitch = 0.1 yaw = 0.3 }
+            flexibly connected to Bob
+        }
+    }
+    local link Bob {
+        pose { x = 0 y = 0 z = -0.5 roll = 0.1 pitch = 0 yaw = 0 }
+        def { inertial information { mass 2.0 inertia matrix { ixx 0.01 ixy 0.001 ixz 0 iyy 0.02 iyz 0 izz 0.015 } pose { x = 0.01 y = 0.02 z = -0.1 roll = 0 pitch = 0 yaw = 0 } } }
+    }
+}
+"""
+
+
+@pytest.mark.parametrize("text, port", [(BALL, "Shoulder_tau"), (PENDULUM, "Wrist_tau")],
+                         ids=["ball", "universal"])
+def test_motion_equations_of_vector_ports_agree_with_pinocchio(tmp_path: Path, text: str,
+                                                               port: str) -> None:
+    """The equations written into the model (``Shoulder_tau[k] == …``), evaluated at random
+    states, give Pinocchio's inverse dynamics."""
     from cyphy import expr as ex
 
-    equations = dynamics.motion_equations(multi)
-    assert len(equations) == 5
+    model = _elaborated(_write(tmp_path, text))
+    equations = dynamics.motion_equations(model)
+    tree = dynamics.kinematic_tree(model)
     left = [e.left for e, _ in equations]
     assert all(isinstance(item, ex.Index) for item in left)
     assert [(item.base.text, item.args[0].text) for item in left] == [
-        ("Shoulder_tau", "1"), ("Shoulder_tau", "2"), ("Shoulder_tau", "3"),
-        ("Wrist_tau", "1"), ("Wrist_tau", "2")]
-    tree = dynamics.kinematic_tree(multi)
+        (port, str(k)) for k in range(1, tree.dof + 1)]
     rng = np.random.default_rng(5)
-    q, qd = _random_state(tree, rng)
-    qdd = rng.uniform(-2, 2, tree.dof)
-    _, _, robot = pinocchio_joint_space(multi, tree, q, qd)
-    expected = pin.rnea(robot, robot.createData(), q, qd, qdd)
-    values = {}
-    for variable, row in (("theta", q), ("v", qd), ("a", qdd)):
-        values.update(zip(tree.coordinates(variable), row))
-    _close([_evaluate(e.right, values) for e, _ in equations], expected)
+    for _ in range(3):
+        q, qd = _random_state(tree, rng)
+        qdd = rng.uniform(-2, 2, tree.dof)
+        _, _, robot = pinocchio_joint_space(model, tree, q, qd)
+        expected = pin.rnea(robot, robot.createData(), q, qd, qdd)
+        values = {}
+        for variable, row in (("theta", q), ("v", qd), ("a", qdd)):
+            values.update(zip(tree.coordinates(variable), row))
+        _close([_evaluate(e.right, values) for e, _ in equations], expected)
+
+
+def test_a_ball_joint_among_others_is_not_written_out(multi) -> None:
+    with pytest.raises(dynamics.DynamicsError, match="Shoulder of 3 coordinates") as raised:
+        dynamics.motion_equations(multi)
+    assert "cyphy simulate" in raised.value.hint
+    assert not dynamics.written_out(dynamics.kinematic_tree(multi))
 
 
 def _evaluate(node, values: dict[str, float]) -> float:
@@ -487,7 +517,7 @@ def test_ball_joint_at_a_singular_start_is_diagnosed(tmp_path: Path, capsys) -> 
                  "--t-end", "0.1"]) == 1
     err = capsys.readouterr().err
     assert "E-DYNAMICS" in err and "ball joint Multi::Base::Shoulder" in err, err
-    assert "m.rsm:7:" in err and "hint:" in err and "Traceback" not in err
+    assert "m.rsm:8:9" in err and "hint:" in err and "Traceback" not in err
     tree = dynamics.kinematic_tree(_elaborated(folder))
     q = np.zeros(tree.dof)
     q[1] = -np.pi / 2

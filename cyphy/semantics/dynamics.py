@@ -775,6 +775,14 @@ with them. Larger trees are left to the numeric path (``cyphy simulate``)."""
 _JOINT_PORTS = ("theta", "v", "a", "tau")
 
 
+def written_out(tree: KinematicTree) -> bool:
+    """Whether :func:`motion_equations` writes the tree's equations out: at most
+    ``SYMBOLIC_LIMIT`` coordinates of one each, or one joint of several alone."""
+    if any(j.dof > 1 for j in tree.joints):
+        return len(tree) == 1
+    return tree.dof <= SYMBOLIC_LIMIT
+
+
 def motion_equations(model: ElaboratedModel,
                      gravity: Sequence[float] = STANDARD_GRAVITY,
                      floating_base: bool = False) -> list[tuple[Any, TreeJoint]]:
@@ -788,8 +796,12 @@ def motion_equations(model: ElaboratedModel,
 
     Empty when the model has no moving joint (and no floating base), or when a joint's
     definition lacks one of these variables (then nothing here can name its motion). Raises
-    ``DynamicsError`` for a tree that has no equations of motion, or one larger than
-    ``SYMBOLIC_LIMIT``."""
+    ``DynamicsError`` for a tree that has no equations of motion, one of more than
+    ``SYMBOLIC_LIMIT`` coordinates, or a joint of several coordinates (a ball or universal
+    joint, a floating base) with other joints: expanded, their products of sines and cosines
+    swell past what SymPy expands in minutes (a ball joint and a universal joint in a chain,
+    measured; the unexpanded recursion shares subterms that any printer writes out
+    exponentially often). Such a joint alone is written out."""
     import sympy
 
     from cyphy import expr as ex
@@ -807,7 +819,16 @@ def motion_equations(model: ElaboratedModel,
         return []
     zero = [0.0] * tree.dof
     forward_dynamics(tree, zero, zero, zero)  # singular?
-    if tree.dof > SYMBOLIC_LIMIT:
+    several = [j for j in tree.joints if j.dof > 1]
+    if not written_out(tree) and several:
+        raise DynamicsError(
+            f"the kinematic tree has {len(tree)} joints, {several[0].name} of {several[0].dof} "
+            "coordinates: written out symbolically, its equations of motion swell past what "
+            "SymPy expands in minutes (a joint of several coordinates is written out alone)",
+            several[0].element.span,
+            "simulate it with `cyphy simulate` (numeric, articulated-body algorithm), or "
+            "restrict the system with --element")
+    if not written_out(tree):
         first = tree.joints[0].element
         raise DynamicsError(
             f"the kinematic tree has {tree.dof} coordinates: its equations of motion are too "
