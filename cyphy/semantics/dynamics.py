@@ -13,9 +13,13 @@ recursive algorithms of Featherstone, *Rigid Body Dynamics Algorithms* (2008):
 
 The tree comes from the elaborated model: links joined by fixed connections (and by joints of
 the ``Fixed`` family) are merged into one body; a body that no joint moves is fixed to the
-world (the model frame). Each moving body has the frame of the child link of the joint that
-moves it. The model's link poses are the configuration ``q = 0``. Gravity is ``−9.81 m/s²``
-along the model's z unless given.
+world (the model frame), or with ``floating_base`` free (six coordinates: translations along
+the world axes and ZYX Euler angles). Each moving body has the frame of the child link of the
+joint that moves it. The model's link poses are the configuration ``q = 0``. Gravity is
+``−9.81 m/s²`` along the model's z unless given. Joints have one coordinate (revolute,
+prismatic) or several (universal: two angles; ball: ZYX Euler angles, singular at pitch
+±π/2), with a motion subspace ``S(q)`` in the child frame and its rate ``Ṡ·q̇`` (Featherstone
+ch. 4).
 
 The algorithms take plain floats (NumPy) or SymPy expressions (object arrays): the symbolic
 path, used to write the equations into the model for small trees, is the same code as the
