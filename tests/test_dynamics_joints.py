@@ -542,3 +542,30 @@ def test_universal_joint_with_parallel_axes_is_diagnosed(tmp_path: Path, capsys)
     assert main(["solve", str(folder)]) == 1
     err = capsys.readouterr().err
     assert "E-DYNAMICS" in err and "parallel axes" in err and "hint:" in err, err
+
+
+def test_solve_writes_out_a_lone_floating_body(tmp_path: Path, capsys) -> None:
+    """``solve --floating-base`` on a lone body: twelve states, free fall along z, and the
+    rotational rates' ODEs equal to the articulated-body algorithm (checked above against
+    Pinocchio) at random states."""
+    import sympy
+
+    from cyphy.cli import main
+
+    folder = _write(tmp_path, FREE.replace("pose { x = 0.05 y = -0.02 z = 0.03 roll = 0.3 "
+                                           "pitch = 0.2 yaw = 0.1 }", ""))
+    assert main(["solve", str(folder), "--floating-base", "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    tree = dynamics.kinematic_tree(_elaborated(folder), floating_base=True)
+    assert set(out["states"]) == set(tree.coordinates("theta")) | set(tree.coordinates("v"))
+    assert out["inputs"] == []
+    odes = {n: sympy.sympify(text) for n, text in out["odes"].items()}
+    assert float(odes["Body_vz"]) == pytest.approx(-9.81, rel=1e-12)
+    rng = np.random.default_rng(2)
+    for _ in range(3):
+        q, qd = _random_state(tree, rng)
+        values = {sympy.Symbol(n): v for n, v in zip(
+            [*tree.coordinates("theta"), *tree.coordinates("v")], [*q, *qd])}
+        expected = dynamics.forward_dynamics(tree, q, qd, np.zeros(6))
+        got = [float(odes[n].subs(values)) for n in tree.coordinates("v")]
+        _close(got, expected)
