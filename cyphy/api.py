@@ -221,6 +221,7 @@ class SolveOptions:
     closed_form: bool = True
     gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
     default_inertial: str | None = None  # see ElaborateOptions
+    floating_base: bool = False  # the root bodies free (six coordinates each), not fixed
 
 
 @dataclass
@@ -260,7 +261,8 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
                 elaborated.check.workspace, elaborated.check.resolution, model,
                 options.mapping_call)
         result.system = assemble(model, list(options.elements) or None, mapping, call, params,
-                                 options.gravity, definitions=True)
+                                 options.gravity, definitions=True,
+                                 floating_base=options.floating_base)
     except AssemblyError as err:
         from cyphy.semantics.equations import ASSEMBLY
 
@@ -288,6 +290,7 @@ class SimulateOptions:
     controller: Any = None  # with a scenario: a Controller run instead of its [controller]
     machine: str | None = None  # with a scenario without [controller]: the d-model machine
     default_inertial: str | None = None  # see ElaborateOptions (wins over the scenario's)
+    floating_base: bool = False  # the root bodies free (six coordinates each), not fixed
 
 
 @dataclass
@@ -334,15 +337,22 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
     try:
         numeric = options.numeric
         gravity = options.gravity or dynamics.STANDARD_GRAVITY
-        if numeric:
-            result.numeric = True
-            result.trajectory = sim.simulate_tree(dynamics.kinematic_tree(model, gravity),
-                                                  settings)
-            return result
+        several = options.floating_base or any(
+            dynamics.DOF.get(dynamics.joint_kind(j), 1) > 1 for j in model.joints)
+        if numeric or several:  # the named definitions cover one-coordinate joints only
+            tree = dynamics.kinematic_tree(model, gravity, options.floating_base)
+            dynamics.euler_singularity(tree, [float(settings.init.get(name, 0.0))
+                                              for name in tree.coordinates("theta")])
+            if numeric or not dynamics.written_out(tree) or \
+                    any(j.kind in dynamics.EULER for j in tree.joints):
+                result.numeric = True
+                result.trajectory = sim.simulate_tree(tree, settings)
+                return result
         from cyphy.backends.reduce import reduce_system, report_obstacles
         from cyphy.semantics.equations import assemble
 
-        reduced = reduce_system(assemble(model, gravity=options.gravity, definitions=True))
+        reduced = reduce_system(assemble(model, gravity=options.gravity, definitions=True,
+                                         floating_base=options.floating_base))
         if reduced.obstacles:
             report_obstacles(reduced, report)
             return result

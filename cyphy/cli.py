@@ -615,7 +615,8 @@ def _solve(args: argparse.Namespace) -> int:
 
     options = SolveOptions(args.model, tuple(args.element), args.mapping_call, _consts(args),
                            tuple(args.path), gravity=args.gravity,
-                           default_inertial=args.default_inertial)
+                           default_inertial=args.default_inertial,
+                           floating_base=args.floating_base)
     try:
         result = solve(args.paths, options)
     except UsageError as err:
@@ -671,7 +672,8 @@ def _simulate(args: argparse.Namespace) -> int:
     result = simulate(args.paths, SimulateOptions(args.model, _consts(args), tuple(args.path),
                                                   settings, args.numeric, args.scenario,
                                                   args.gravity, machine=args.machine,
-                                                  default_inertial=args.default_inertial))
+                                                  default_inertial=args.default_inertial,
+                                                  floating_base=args.floating_base))
     diagnostics = result.report.diagnostics
     if diagnostics:
         sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))
@@ -727,8 +729,12 @@ def _default_inertial_option(parser: argparse.ArgumentParser, note: str = "") ->
 
 
 def _gravity_option(parser: argparse.ArgumentParser) -> None:
+    """``--gravity`` and ``--floating-base``: how the kinematic tree meets the world."""
     parser.add_argument("--gravity", type=_gravity, metavar="X,Y,Z",
                         help="gravity in m/s² in the model frame (default 0,0,-9.81)")
+    parser.add_argument("--floating-base", action="store_true",
+                        help="free the root link (six coordinates <Root>_x, _y, _z, _yaw, "
+                        "_pitch, _roll, no contact) instead of fixing it to the world")
 
 
 def _path_option(parser: argparse.ArgumentParser) -> None:

@@ -298,29 +298,35 @@ def _python_atom(name: str) -> str:
 # ----------------------------------------------------------------------------- numeric path
 
 def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
-    """Integrate a kinematic tree alone with the articulated-body algorithm: states
-    ``<J>_theta`` and ``<J>_v`` (tree order), inputs the efforts ``<J>_tau``."""
+    """Integrate a kinematic tree alone with the articulated-body algorithm: states the
+    coordinates ``<J>_theta`` (``<J>_theta_1`` … for a joint of several, ``<Root>_x`` … for
+    a floating base) then their rates (``<J>_v``, ``<Root>_vx`` …), in tree order; inputs the
+    joint efforts ``<J>_tau`` (a floating base has none)."""
     from cyphy.semantics.dynamics import forward_dynamics
 
-    n = len(tree)
-    thetas = [f"{p}_theta" for p in tree.prefixes]
-    speeds = [f"{p}_v" for p in tree.prefixes]
+    n = tree.dof
+    thetas, speeds = list(tree.coordinates("theta")), list(tree.coordinates("v"))
     states = [*thetas, *speeds]
     unknown = sorted(set(options.init) - set(states))
     if unknown:
         raise SimulationError(f"--init names {', '.join(unknown)}, which is not a state "
                               "of the tree", "the states are: " + ", ".join(states))
-    efforts = [f"{p}_tau" for p in tree.prefixes]
+    efforts = list(tree.coordinates("tau"))
     unknown = sorted(set(options.inputs) - set(efforts))
     if unknown:
         raise SimulationError(f"--input names {', '.join(unknown)}, which is not an input "
                               "of the tree", "the inputs are: " + ", ".join(efforts))
+    slots = np.array([k for j, start in zip(tree.joints, tree.offsets) if j.kind != "floating"
+                      for k in range(start, start + j.dof)], dtype=int)
     given = _input_functions(efforts, options.inputs)
     constant = all(name not in options.inputs for name in efforts)
     zero = np.zeros(n)
 
     def f(tt: float, x: np.ndarray) -> np.ndarray:
-        tau = zero if constant else np.array([g(tt) for g in given])
+        tau = zero
+        if not constant:
+            tau = np.zeros(n)
+            tau[slots] = [g(tt) for g in given]
         return np.concatenate([x[n:], forward_dynamics(tree, x[:n], x[n:], tau)])
 
     x0 = np.array([float(options.init.get(s, 0.0)) for s in states])

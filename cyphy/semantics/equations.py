@@ -55,24 +55,27 @@ def assemble(model: ElaboratedModel, elements: list[str] | None = None,
              mapping: ast.PlatformMapping | None = None, call: ex.Call | None = None,
              call_params: tuple[str, ...] = (),
              gravity: tuple[float, float, float] | None = None,
-             definitions: bool = False) -> System:
+             definitions: bool = False, floating_base: bool = False) -> System:
     """The equations of the model (or of the named elements and what they contain); the
     whole model's include the kinematic tree's equations of motion under ``gravity``
-    (default −9.81 m/s² along z). With ``definitions`` they are the explicit accelerations
-    as named definitions, linear in the size of the tree (``System.definitions``, for
-    ``cyphy solve`` and ``simulate``); otherwise the joint-space equations
-    ``tau == M(q)*a + h(q, v)`` written out (:func:`motion`), for the printers that need
-    closed expressions: written out, the articulated-body definitions of a 2-joint arm
-    already take 10⁵ nodes and SymPy's expansion of them 7 s, measured)."""
+    (default −9.81 m/s² along z), the root bodies fixed to the world or, with
+    ``floating_base``, free (their six coordinates are new variables of the system). With
+    ``definitions`` they are the explicit accelerations as named definitions, linear in the
+    size of the tree (``System.definitions``, for ``cyphy solve`` and ``simulate``), for trees
+    of one-coordinate joints; otherwise, and for joints of several coordinates or a floating
+    base, the joint-space equations ``tau == M(q)*a + h(q, v)`` written out (:func:`motion`),
+    as the printers that need closed expressions take them (written out, the articulated-body
+    definitions of a 2-joint arm already take 10⁵ nodes and SymPy's expansion of them 7 s,
+    measured)."""
     system = System()
     devices = _devices(model, elements)
     for device in devices:
         _add_device(system, device)
     known = {p.mangled for d in devices for p in d.ports}
-    if definitions:
+    if definitions and not _several_coordinates(model, floating_base):
         _add_explicit_motion(system, model, gravity, None if not elements else known)
     else:
-        _add_motion(system, model, gravity, None if not elements else known)
+        _add_motion(system, model, gravity, None if not elements else known, floating_base)
     for relation in model.relations:
         names = {n.text for n in relation.walk() if isinstance(n, ex.Name)}
         if names <= known | set(system.parameters):
@@ -112,7 +115,8 @@ def _add_device(system: System, device: Device) -> None:
 
 
 def _add_motion(system: System, model: ElaboratedModel,
-                gravity: tuple[float, float, float] | None, known: set[str] | None) -> None:
+                gravity: tuple[float, float, float] | None, known: set[str] | None,
+                floating_base: bool = False) -> None:
     """The equations of motion (:func:`motion`) that the system takes. For chosen elements
     (``known``: their ports), a joint's equation enters when every joint variable it names is
     among them, as a relation does: a wheel whose motion depends on its own joint only keeps
@@ -126,7 +130,7 @@ def _add_motion(system: System, model: ElaboratedModel,
                                      for j in model.joints):
         return  # no joint chosen: nothing to derive (and no tree to build)
     try:
-        equations = motion(model, gravity)
+        equations = motion(model, gravity, floating_base)
     except DynamicsError:
         if known is None:
             raise
@@ -137,6 +141,17 @@ def _add_motion(system: System, model: ElaboratedModel,
                  if isinstance(n, ex.Name) and id(n) not in functions}  # sin is no variable
         if known is None or names <= known | set(system.parameters):
             system.equations.append(equation)
+            for name in sorted(names - set(system.variables) - set(system.parameters)):
+                system.variables[name] = ast.PrimitiveType("real")  # a floating base's
+                system.kinds[name] = "local"
+
+
+def _several_coordinates(model: ElaboratedModel, floating_base: bool) -> bool:
+    """Whether the tree has a joint of several coordinates (universal, ball) or a free root:
+    the named definitions (:mod:`cyphy.semantics.articulated`) cover one-coordinate joints."""
+    from cyphy.semantics.dynamics import DOF, joint_kind
+
+    return floating_base or any(DOF.get(joint_kind(j), 1) > 1 for j in model.joints)
 
 
 def _add_explicit_motion(system: System, model: ElaboratedModel,
@@ -196,17 +211,21 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
 
 
 def motion(model: ElaboratedModel,
-           gravity: tuple[float, float, float] | None = None) -> list[Equation]:
+           gravity: tuple[float, float, float] | None = None,
+           floating_base: bool = False) -> list[Equation]:
     """The equations of motion of the kinematic tree (:mod:`cyphy.semantics.dynamics`), which
     relate each joint's effort to the accelerations of the bodies it moves: one
-    ``<Joint>_tau == M(q)*a + h(q, v)`` per joint in tree order, the root fixed to the world,
-    under ``gravity`` (default −9.81 m/s² along z). The one source of these equations for
+    ``<Joint>_tau == M(q)*a + h(q, v)`` per coordinate in tree order (``<Joint>_tau[k]`` for
+    a joint of several), under ``gravity`` (default −9.81 m/s² along z), the root fixed to
+    the world or, with ``floating_base``, free (``derivative(<Root>_x) == <Root>_vx`` …, and
+    ``0 == M(q)*a + h(q, v)`` for its six coordinates). The one source of these equations for
     ``cyphy solve`` (through :func:`assemble`) and the CyPhyCircus ``Evolve``; raises
     ``DynamicsError`` when the tree has none."""
     from cyphy.semantics.dynamics import STANDARD_GRAVITY, motion_equations
 
     return [Equation(equation, f"{joint.prefix} motion", equation.span)
-            for equation, joint in motion_equations(model, gravity or STANDARD_GRAVITY)]
+            for equation, joint in motion_equations(model, gravity or STANDARD_GRAVITY,
+                                                    floating_base)]
 
 
 def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.PlatformMapping,
