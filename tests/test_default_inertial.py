@@ -14,6 +14,7 @@ import sympy
 
 from conftest import CORPUS, EXAMPLES, flowstar_binary, needs_corpus, needs_flowstar
 from cyphy import api
+from cyphy.backends.reduce import inline_definitions
 from cyphy.cli import main
 
 PENDULUM = """
@@ -62,9 +63,11 @@ def test_sdf_defaults_give_the_equation_of_the_written_out_defaults(tmp_path, ca
     assert err.count("W-DEFAULT-INERTIAL") == 1
     assert "p.rsm:14:5: WARNING W-DEFAULT-INERTIAL: link P::Bob has no inertial " \
            "information: SDF's defaults apply (mass 1 kg" in err
-    defaulted = api.solve([bare], api.SolveOptions(closed_form=False,
-                                                   default_inertial="sdf")).reduced
-    explicit = api.solve([written], api.SolveOptions(closed_form=False)).reduced
+    solved = [api.solve([bare], api.SolveOptions(closed_form=False, default_inertial="sdf")),
+              api.solve([written], api.SolveOptions(closed_form=False))]
+    for result in solved:  # the accelerations as one expression, not named definitions
+        inline_definitions(result.reduced, result.system)
+    defaulted, explicit = (result.reduced for result in solved)
     theta, v, tau = (sympy.Symbol(n, real=True) for n in ("Hinge_theta", "Hinge_v",
                                                             "Hinge_tau"))
     # By hand: 1 kg at 0.5 m below a hinge about y with iyy = 1 about its centre:
@@ -104,7 +107,11 @@ def test_the_corpus_marxbot_solves_with_sdf_defaults_only(capsys):
     out, err = capsys.readouterr()
     # The links without mass of the whole marXbot (base, tracks, wheels, scanner core).
     assert err.count("W-DEFAULT-INERTIAL") == 6
-    assert "LHinge_v' =" in out and "RHinge_v' = RHinge_tau" in out
+    # Each hinge turns its wheel (SDF's 1 kg, 1 kg m² about the axis) with its effort; the
+    # right one (about -y) feels no gravity torque: its acceleration is its effort.
+    assert "LHinge_v' = LHinge_qdd" in out and "RHinge_v' = RHinge_qdd" in out
+    assert "RHinge_qdd = RHinge_u/RHinge_D" in out
+    assert "RHinge_D = 1.0\n" in out and "RHinge_u = RHinge_tau\n" in out
 
 
 def _csv(text: str) -> dict:
