@@ -339,12 +339,11 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
         gravity = options.gravity or dynamics.STANDARD_GRAVITY
         several = options.floating_base or any(
             dynamics.DOF.get(dynamics.joint_kind(j), 1) > 1 for j in model.joints)
-        if numeric or several:  # the named definitions cover one-coordinate joints only
+        if numeric or several:  # ZYX Euler angles must not start at their singularity
             tree = dynamics.kinematic_tree(model, gravity, options.floating_base)
             dynamics.euler_singularity(tree, [float(settings.init.get(name, 0.0))
                                               for name in tree.coordinates("theta")])
-            if numeric or not dynamics.written_out(tree) or \
-                    any(j.kind in dynamics.EULER for j in tree.joints):
+            if numeric:
                 result.numeric = True
                 result.trajectory = sim.simulate_tree(tree, settings)
                 return result

@@ -412,30 +412,12 @@ def _evaluate(node, values: dict[str, float]) -> float:
 
 
 def test_solve_gives_a_universal_joint_explicit_odes(tmp_path: Path, capsys) -> None:
-    from cyphy import api
-    from cyphy.cli import main
-
     folder = _write(tmp_path, PENDULUM)
-    assert main(["solve", str(folder), "--format", "json"]) == 0
-    out = json.loads(capsys.readouterr().out)
-    assert {"Wrist_theta_1", "Wrist_theta_2", "Wrist_v_1", "Wrist_v_2"} <= set(out["states"])
-    assert {"Wrist_tau_1", "Wrist_tau_2"} <= set(out["inputs"])
-    reduced = api.solve([folder], api.SolveOptions(closed_form=False)).reduced
-    model = _elaborated(folder)
-    tree = dynamics.kinematic_tree(model)
-    rng = np.random.default_rng(11)
-    import sympy
-
-    for _ in range(3):
-        q, qd = _random_state(tree, rng)
-        tau = rng.uniform(-1, 1, 2)
-        _, _, robot = pinocchio_joint_space(model, tree, q, qd)
-        expected = pin.aba(robot, robot.createData(), q, qd, tau)
-        values = {sympy.Symbol(n, real=True): v for n, v in zip(
-            [*tree.coordinates("theta"), *tree.coordinates("v"), *tree.coordinates("tau")],
-            [*q, *qd, *tau])}
-        got = [float(reduced.rhs[n].subs(values)) for n in ("Wrist_v_1", "Wrist_v_2")]
-        _close(got, expected)
+    out = _solve_json(folder, capsys)
+    assert {"Wrist_theta_1", "Wrist_theta_2", "Wrist_v_1", "Wrist_v_2"} == set(out["states"])
+    assert {"Wrist_tau_1", "Wrist_tau_2"} == set(out["inputs"])
+    assert out["outputs"]["Wrist_a_2"] == "Wrist_qdd_2"
+    _check_solve_against_aba(_elaborated(folder), out, False, 11)
 
 
 # ----------------------------------------------------------------------------- free bodies
@@ -542,28 +524,190 @@ def test_universal_joint_with_parallel_axes_is_diagnosed(tmp_path: Path, capsys)
     assert "E-DYNAMICS" in err and "parallel axes" in err and "hint:" in err, err
 
 
-def test_solve_writes_out_a_lone_floating_body(tmp_path: Path, capsys) -> None:
-    """``solve --floating-base`` on a lone body: twelve states, free fall along z, and the
-    rotational rates' ODEs equal to the articulated-body algorithm (checked above against
-    Pinocchio) at random states."""
-    import sympy
-
-    from cyphy.cli import main
-
-    folder = _write(tmp_path, FREE.replace("pose { x = 0.05 y = -0.02 z = 0.03 roll = 0.3 "
-                                           "pitch = 0.2 yaw = 0.1 }", ""))
-    assert main(["solve", str(folder), "--floating-base", "--format", "json"]) == 0
-    out = json.loads(capsys.readouterr().out)
-    tree = dynamics.kinematic_tree(_elaborated(folder), floating_base=True)
+def test_solve_of_a_lone_floating_body(tmp_path: Path, capsys) -> None:
+    """``solve --floating-base`` on a lone body: twelve states, no input, free fall along z,
+    and the ODEs equal to Pinocchio's aba at random states."""
+    folder = _write(tmp_path, FREE)
+    out = _solve_json(folder, capsys, "--floating-base")
+    model = _elaborated(folder)
+    tree = dynamics.kinematic_tree(model, floating_base=True)
     assert set(out["states"]) == set(tree.coordinates("theta")) | set(tree.coordinates("v"))
     assert out["inputs"] == []
-    odes = {n: sympy.sympify(text) for n, text in out["odes"].items()}
-    assert float(odes["Body_vz"]) == pytest.approx(-9.81, rel=1e-12)
-    rng = np.random.default_rng(2)
-    for _ in range(3):
+    _check_solve_against_aba(model, out, True, 2)
+
+
+# ----------------------------------------------------------------------------- named definitions
+
+CHAIN = """
+import physmod::math::*
+import physmod::joints::*
+
+pmodel Chain {
+    local link Base {
+        def { inertial information { mass 1.0 inertia matrix { ixx 0.1 ixy 0 ixz 0 iyy 0.1 iyz 0 izz 0.1 } } }
+        jref Hip = Revolute {
+            pose { x = 0 y = 0.1 z = 0 roll = 0.1 pitch = 0 yaw = 0.2 }
+            instantiation AXIS = (|0, 1, 0|)
+            flexibly connected to Upper
+        }
+    }
+    local link Upper {
+        pose { x = 0 y = 0.1 z = -0.1 roll = 0.1 pitch = 0 yaw = 0 }
+        def { inertial information { mass 0.5 inertia matrix { ixx 0.01 ixy 0.001 ixz 0 iyy 0.02 iyz 0 izz 0.015 } pose { x = 0 y = 0.02 z = -0.2 roll = 0 pitch = 0 yaw = 0 } } }
+        jref Wrist = Universal {
+            pose { x = 0 y = 0 z = 0 roll = 0 pitch = 0.3 yaw = 0 }
+            instantiation AXIS1 = (|1, 0, 0|)
+            instantiation AXIS2 = (|0, 1, 1|)
+            flexibly connected to Mid
+        }
+    }
+    local link Mid {
+        pose { x = 0 y = 0.1 z = -0.5 roll = 0 pitch = 0 yaw = 0.4 }
+        def { inertial information { mass 0.3 inertia matrix { ixx 0.004 ixy 0 ixz 0.0005 iyy 0.003 iyz 0 izz 0.002 } pose { x = 0.01 y = 0 z = -0.1 roll = 0 pitch = 0 yaw = 0 } } }
+        jref Shoulder = Spherical {
+            pose { x = 0.02 y = 0 z = 0.01 roll = 0.2 pitch = 0.1 yaw = 0.3 }
+            flexibly connected to Hand
+        }
+    }
+    local link Hand {
+        pose { x = 0 y = 0.1 z = -0.8 roll = 0.3 pitch = 0 yaw = 0 }
+        def { inertial information { mass 0.2 inertia matrix { ixx 0.002 ixy 0 ixz 0 iyy 0.003 iyz 0 izz 0.001 } pose { x = 0.01 y = 0.02 z = -0.05 roll = 0 pitch = 0 yaw = 0 } } }
+    }
+}
+"""
+
+
+def _solve_json(folder: Path, capsys, *options: str) -> dict:
+    from cyphy.cli import main
+
+    assert main(["solve", str(folder), "--format", "json", *options]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _definitions_at(out: dict, values: dict[str, float]) -> dict[str, float]:
+    """Every definition of `solve`'s JSON in order, from ``values``: Python evaluates the
+    printed text (not cyphy's code)."""
+    import math
+
+    scope = dict(values)
+    functions = {"cos": math.cos, "sin": math.sin, "__builtins__": {}}
+    for d in out["definitions"]:
+        scope[d["name"]] = eval(d["value"], functions, scope)  # noqa: S307 - our own output
+    return scope
+
+
+def _check_solve_against_aba(model: ElaboratedModel, out: dict, floating: bool, seed: int,
+                             samples: int = 3) -> None:
+    """`solve`'s explicit ODEs (the joints' rates', evaluated from its JSON) at random states
+    and inputs equal Pinocchio's aba (its own joints) at the joints' efforts these give (an
+    input, or a motor's output definition) to 1e-8 relative; the positions' ODEs are the
+    rates."""
+    import math
+
+    tree = dynamics.kinematic_tree(model, floating_base=floating)
+    theta, rates, efforts = (tree.coordinates(v) for v in ("theta", "v", "tau"))
+    assert set(theta) | set(rates) <= set(out["states"])
+    for position, rate in zip(theta, rates):
+        assert out["odes"][position] == rate
+    robot = pinocchio_model(model, tree.names, floating)
+    rng = np.random.default_rng(seed)
+    functions = {"cos": math.cos, "sin": math.sin, "__builtins__": {}}
+    others = sorted(set(out["states"]) - set(theta) - set(rates)) + sorted(out["inputs"]) + \
+        sorted(out["parameters"])  # constants without a value (a motor's), any value
+    for _ in range(samples):
         q, qd = _random_state(tree, rng)
-        values = {sympy.Symbol(n): v for n, v in zip(
-            [*tree.coordinates("theta"), *tree.coordinates("v")], [*q, *qd])}
-        expected = dynamics.forward_dynamics(tree, q, qd, np.zeros(6))
-        got = [float(odes[n].subs(values)) for n in tree.coordinates("v")]
-        _close(got, expected)
+        values = dict(zip([*theta, *rates], [*q, *qd]))
+        values.update(zip(others, rng.uniform(0.5, 2, len(others))))
+        scope = _definitions_at(out, values)
+        got = [eval(out["odes"][n], functions, scope) for n in rates]  # noqa: S307
+        tau = np.zeros(tree.dof)
+        tau[6 if floating else 0:] = [scope[n] for n in efforts]
+        assert not efforts or np.abs(tau).max() > 0.1  # the efforts do act
+        _close(got, pin.aba(robot, robot.createData(), q, qd, tau), rel=1e-8)
+
+
+def test_solve_of_a_revolute_universal_ball_chain_agrees_with_pinocchio(tmp_path: Path,
+                                                                         capsys) -> None:
+    folder = _write(tmp_path, CHAIN)
+    model = _elaborated(folder)
+    assert [j.kind for j in dynamics.kinematic_tree(model).joints] == [
+        "revolute", "universal", "spherical"]
+    out = _solve_json(folder, capsys)
+    assert out["odes"]["Wrist_v_2"] == "Wrist_qdd_2"
+    assert out["odes"]["Shoulder_v_3"] == "Shoulder_qdd_3"
+    names = [d["name"] for d in out["definitions"]]
+    assert len(names) == len(set(names)) and "Shoulder_Dinv_1_3" in names
+    _check_solve_against_aba(model, out, False, 21)
+    out = _solve_json(folder, capsys, "--floating-base")
+    assert out["odes"]["Base_vz"] == "Base_qdd_3" and out["odes"]["Base_yaw"] == "Base_vyaw"
+    _check_solve_against_aba(model, out, True, 22)
+
+
+def test_solve_of_the_floating_manipulator_agrees_with_pinocchio(capsys) -> None:
+    folder = EXAMPLES / "manipulator"
+    out = _solve_json(folder, capsys, "--floating-base")
+    _check_solve_against_aba(_elaborated(folder), out, True, 23)
+
+
+@settings(max_examples=10, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(mixed_trees(), st.booleans(), st.integers(0, 2**32 - 1))
+def test_named_definitions_of_random_mixed_trees_agree_with_pinocchio(
+        model: ElaboratedModel, floating: bool, seed: int) -> None:
+    """The articulated-body definitions (the same code `solve` prints) of random trees of
+    all joint kinds, with and without a floating base, against Pinocchio's aba."""
+    import math
+
+    from cyphy.semantics.articulated import explicit_motion
+
+    tree = dynamics.kinematic_tree(model, floating_base=floating)
+    if not len(tree):
+        return
+    motion = explicit_motion(tree, lambda joint, port: dynamics.coordinate_names(joint, port))
+    robot = pinocchio_model(model, tree.names, floating)
+    rng = np.random.default_rng(seed)
+    q, qd = _random_state(tree, rng)
+    tau = rng.uniform(-2, 2, tree.dof)
+    if floating:
+        tau[:6] = 0.0
+    scope = dict(zip([*tree.coordinates("theta"), *tree.coordinates("v"),
+                      *tree.coordinates("tau")],
+                     [*q, *qd, *tau[6 if floating else 0:]]))
+    functions = {"cos": math.cos, "sin": math.sin, "__builtins__": {}}
+    for d in motion.definitions:
+        scope[d.name] = eval(d.value.text(), functions, scope)  # noqa: S307
+    got = [scope[n] for _, names in motion.accelerations for n in names]
+    _close(got, pin.aba(robot, robot.createData(), q, qd, tau), rel=1e-8)
+
+
+MOTOR_CONSTANTS = ("J=0.01", "Kd=0", "Ke=0.05", "Ki=0.5", "Kp=2", "Kt=0.05", "L=0.01", "R=1",
+                   "b=0.001")
+
+
+def test_simulate_of_a_floating_manipulator_driven_by_motors_conserves_momentum(capsys) -> None:
+    """The manipulator free in space (no gravity), its motors driving its joints: the whole
+    model is simulated (motor states included), the joints move, the base reacts, and the
+    total momentum and angular momentum about the centre of mass (Pinocchio's centroidal
+    momentum of the simulated states) stay zero."""
+    from cyphy.cli import main
+
+    folder = EXAMPLES / "manipulator"
+    constants = [x for c in MOTOR_CONSTANTS for x in ("--const", f"SpeedControlMotor::{c}")]
+    assert main(["simulate", str(folder), "--floating-base", "--gravity", "0,0,0",
+                 "--t-end", "1", "--samples", "11", "--method", "DOP853", "--rtol", "1e-10",
+                 "--atol", "1e-12", "--input", "ShoulderMotor_das=2", "--input",
+                 "SlideMotor_das=1", "--input", "LiftMotor_das=-1", "--format", "json",
+                 *constants]) == 0
+    out = json.loads(capsys.readouterr().out)
+    c = {k: np.array(v) for k, v in out["columns"].items()}
+    assert np.abs(c["ShoulderMotor_i"]).max() > 1.0  # the motors are simulated, and drive
+    assert np.abs(c["Shoulder_v"]).max() > 0.5 and np.abs(c["Stand_vyaw"]).max() > 0.1
+    model = _elaborated(folder)
+    tree = dynamics.kinematic_tree(model, floating_base=True)
+    robot = pinocchio_model(model, tree.names, True)
+    data = robot.createData()
+    for k in range(len(out["t"])):
+        q = np.array([c[n][k] for n in tree.coordinates("theta")])
+        qd = np.array([c[n][k] for n in tree.coordinates("v")])
+        momentum = pin.computeCentroidalMomentum(robot, data, q, qd)
+        assert np.abs(momentum.vector).max() < 1e-7, (k, momentum.vector)

@@ -27,10 +27,15 @@ canonicalisation of every product cost 20 s for a 10-link arm (measured). Per jo
 
 Numbers (zeros, constants) are never named: a quantity's component that has no definition is
 a number written where it is used. The recursion is written over the joint's motion
-subspace ``S`` (6×nᵢ; the single screw axis of a revolute or prismatic joint today). A joint
-of several coordinates would get ``p_U_k_c``, ``p_D_a_b``, ``D⁻¹`` by its adjugate
-(``p_det``, ``p_Dinv_a_b``), ``p_u_a`` and ``p_qdd_a``, with ``variables`` naming its
-coordinates as a list.
+subspace ``S`` (6×nᵢ, :func:`joint_subspace`): the screw axis of a revolute or prismatic
+joint as one column of numbers; for a joint of several coordinates (universal, ball, the
+floating base: ``dynamics.DOF``) ``S(q)`` depends on the coordinates, its entries named
+``p_S_k_c``, and the twist gains the rate of the subspace ``Ṡ·q̇`` (``p_dS_k``, in ``c``).
+Such a joint has ``p_U_k_c``, ``p_D_a_b`` (symmetric, a ≤ b), ``D⁻¹`` by its adjugate
+(``p_det``, ``p_Dinv_a_b``), ``p_u_a`` and ``p_qdd_a``, its coordinates named as
+``cyphy solve`` names a vector's components (``Wrist_theta_1``; a floating base's
+``<Root>_x`` … and rates ``<Root>_vx`` …, :func:`cyphy.semantics.dynamics.coordinate_names`,
+with no effort: nothing drives it).
 """
 
 from __future__ import annotations
@@ -41,9 +46,11 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from cyphy.model.elements import ElaboratedModel
-from cyphy.semantics.dynamics import (STANDARD_GRAVITY, KinematicTree, TreeJoint,
-                                      _parent_to_child, forward_dynamics, joint_kind,
-                                      kinematic_tree)
+from cyphy.semantics.dynamics import (STANDARD_GRAVITY, DynamicsError, KinematicTree,
+                                      TreeJoint, _parent_to_child, _port_size, _subspace,
+                                      _subspace_rate, coordinate_names, forward_dynamics,
+                                      joint_kind, kinematic_tree)
+from cyphy.semantics.scalarise import component_name
 
 
 @dataclass(frozen=True)
@@ -352,38 +359,42 @@ def _cross_force(v: Sequence[Any], f: Sequence[Any]) -> list[Any]:
     return top + _cross(v[:3], f[3:])
 
 
-def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], str]
+def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], Any]
                     ) -> ExplicitMotion:
     """The articulated-body algorithm on symbols: ``variables(joint, port)`` names a joint's
-    ``theta``, ``v`` or ``tau`` (a list of names for a joint of several coordinates). Cost and
-    size linear in the number of joints (a bounded number of short definitions per link)."""
+    ``theta``, ``v`` or ``tau`` (a list of names for a joint of several coordinates; an
+    empty ``tau`` list: no effort, as for a floating base). Cost and size linear in the
+    number of joints (a bounded number of short definitions per link)."""
     name = _Namer()
     n = len(tree)
-    subspaces = [subspace(j) for j in tree.joints]
 
-    def coordinates(joint: TreeJoint, port: str, columns: int) -> list[Polynomial]:
+    def coordinates(joint: TreeJoint, port: str) -> list[Polynomial]:
         found = variables(joint, port)
         names = [found] if isinstance(found, str) else list(found)
-        assert len(names) == columns, f"{joint.name}: {columns} coordinates, names {names}"
+        if port == "tau" and not names:
+            return [Polynomial()] * joint.dof
+        assert len(names) == joint.dof, f"{joint.name}: {joint.dof} coordinates, {names}"
         return [Polynomial.atom(x) for x in names]
 
-    # Pass 1: root to leaves, twists and velocity-product accelerations
+    # Pass 1: root to leaves, subspaces, twists and velocity-product accelerations
     xs: list[list[list[Any]]] = []
+    subspaces: list[list[list[Any]]] = []  # S, 6 rows of dof columns
     twists: list[list[Any]] = []
-    products: list[list[Any]] = []  # c = ad(V)·S·q̇
+    products: list[list[Any]] = []  # c = ad(V)·S·q̇ (+ Ṡ·q̇)
     for i, joint in enumerate(tree.joints):
-        p, s = joint.prefix, subspaces[i]
-        q = coordinates(joint, "theta", s.shape[1])
+        p = joint.prefix
+        q = coordinates(joint, "theta")
+        qd = coordinates(joint, "v")
         raw = _parent_to_child(joint, q[0] if len(q) == 1 else q, _cos, _sin)
-        xs.append([[Polynomial.lift(raw[r, k]).trig_reduced().chopped() for k in range(6)]
-                   for r in range(6)])
-        qd = coordinates(joint, "v", s.shape[1])
-        motion = [_dot(list(s[r]), qd) for r in range(6)]
+        xs.append([[_clean(raw[r, k]) for k in range(6)] for r in range(6)])
+        s, rate = joint_subspace(joint, q, qd, name)
+        subspaces.append(s)
+        motion = [_dot(s[r], qd) for r in range(6)]
         v = _matvec(xs[i], twists[joint.parent]) if joint.parent >= 0 else [0.0] * 6
         v = [name(f"{p}_V_{k + 1}", v[k] + motion[k], joint) for k in range(6)]
         twists.append(v)
         c = _cross_motion(v, motion)
-        products.append([name(f"{p}_c_{k + 1}", c[k], joint) for k in range(6)])
+        products.append([name(f"{p}_c_{k + 1}", c[k] + rate[k], joint) for k in range(6)])
 
     # Pass 2: leaves to root; a child's articulated inertia and bias are added to its
     # parent's once the child is complete (tree order puts every child after its parent)
@@ -395,7 +406,8 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], s
     for i in range(n - 1, -1, -1):
         joint = tree.joints[i]
         p, s = joint.prefix, subspaces[i]
-        columns = s.shape[1]
+        columns = joint.dof
+        column = [[s[k][c] for k in range(6)] for c in range(columns)]
         scale = 1e-14 * float(np.abs(joint.inertia).max())  # float noise of the frames
         g = [[float(x) if abs(x) >= scale else 0.0 for x in row] for row in joint.inertia]
         bias = _cross_force(twists[i], _matvec(g, twists[i]))
@@ -406,23 +418,29 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], s
                                            extra_inertia[i][r][k] + g[r][k], joint)
         pa = [name(f"{p}_pA_{k + 1}", bias[k] + extra_bias[i][k], joint) for k in range(6)]
         tag = (lambda c: "") if columns == 1 else (lambda c: f"_{c + 1}")
-        u_mat = [[name(f"{p}_U_{k + 1}{tag(c)}", _dot(ia[k], list(s[:, c])), joint)
+        u_mat = [[name(f"{p}_U_{k + 1}{tag(c)}", _dot(ia[k], column[c]), joint)
                   for c in range(columns)] for k in range(6)]
-        tau = coordinates(joint, "tau", columns)
+        tau = coordinates(joint, "tau")
         if columns == 1:
-            d = name(f"{p}_D", _dot(list(s[:, 0]), [u_mat[k][0] for k in range(6)]), joint,
+            d = name(f"{p}_D", _dot(column[0], [u_mat[k][0] for k in range(6)]), joint,
                      always=True)
             d_inv = [[Polynomial.atom(f"inv:{_single(d)}")]]
-            u = [name(f"{p}_u", tau[0] - _dot(list(s[:, 0]), pa), joint)]
-        else:  # several coordinates: D (at most 6×6) inverted by its adjugate
-            d_m = [[name(f"{p}_D_{a + 1}_{b + 1}", _dot(list(s[:, a]), [u_mat[k][b] for k in
-                                                                        range(6)]), joint)
-                    for b in range(columns)] for a in range(columns)]
+            u = [name(f"{p}_u", tau[0] - _dot(column[0], pa), joint)]
+        else:  # several coordinates: D (at most 6×6, symmetric) inverted by its adjugate
+            d_m: list[list[Any]] = [[None] * columns for _ in range(columns)]
+            for a in range(columns):
+                for b in range(a, columns):
+                    d_m[a][b] = d_m[b][a] = name(
+                        f"{p}_D_{a + 1}_{b + 1}",
+                        _dot(column[a], [u_mat[k][b] for k in range(6)]), joint)
             adjugate, det = _adjugate(d_m)
             inv_det = Polynomial.atom(f"inv:{_single(name(f'{p}_det', det, joint, always=True))}")
-            d_inv = [[name(f"{p}_Dinv_{a + 1}_{b + 1}", adjugate[a][b] * inv_det, joint)
-                      for b in range(columns)] for a in range(columns)]
-            u = [name(f"{p}_u_{a + 1}", tau[a] - _dot(list(s[:, a]), pa), joint)
+            d_inv = [[None] * columns for _ in range(columns)]
+            for a in range(columns):
+                for b in range(a, columns):
+                    d_inv[a][b] = d_inv[b][a] = name(f"{p}_Dinv_{a + 1}_{b + 1}",
+                                                     adjugate[a][b] * inv_det, joint)
+            u = [name(f"{p}_u_{a + 1}", tau[a] - _dot(column[a], pa), joint)
                  for a in range(columns)]
         us[i], d_invs[i], efforts[i] = u_mat, d_inv, u
         if joint.parent < 0:
@@ -457,7 +475,7 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], s
     out: list[tuple[TreeJoint, tuple[str, ...]]] = []
     for i, joint in enumerate(tree.joints):
         p, s = joint.prefix, subspaces[i]
-        columns = s.shape[1]
+        columns = joint.dof
         parent = accelerations[joint.parent] if joint.parent >= 0 else gravity
         moved = _matvec(xs[i], parent)
         ap = [name(f"{p}_ap_{k + 1}", moved[k] + products[i][k], joint) for k in range(6)]
@@ -467,11 +485,33 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], s
         qdd = [name(names[a], _dot(d_invs[i][a], rest), joint, always=True)
                for a in range(columns)]
         out.append((joint, tuple(names)))
-        step = [_dot(list(s[k]), qdd) for k in range(6)]
+        step = [_dot(s[k], qdd) for k in range(6)]
         accelerations.append([name(f"{p}_dV_{k + 1}", ap[k] + step[k], joint)
                               for k in range(6)])
     definitions = tuple(Definition(key, value, joint) for key, value, joint in name.definitions)
     return ExplicitMotion(definitions, tuple(out))
+
+
+def _clean(value: Any) -> Any:
+    """An entry of a transform or subspace as a polynomial without float noise, its
+    products of rotations collected."""
+    return Polynomial.lift(value).trig_reduced().chopped()
+
+
+def joint_subspace(joint: TreeJoint, q: Sequence[Polynomial], qd: Sequence[Polynomial],
+                   name: Callable[..., Any]) -> tuple[list[list[Any]], list[Any]]:
+    """``(S, Ṡ·q̇)`` of the joint at coordinates ``q`` and rates ``qd`` (6 rows of ``dof``
+    columns, and a 6-vector): numbers for one coordinate (:func:`subspace`, no rate); for
+    several, ``dynamics._subspace`` and ``_subspace_rate`` on symbols, each entry that is
+    not a number named (``p_S_k_c``, ``p_dS_k``) through ``name``."""
+    if joint.dof == 1:
+        return [[float(x) for x in row] for row in subspace(joint)], [0.0] * 6
+    p = joint.prefix
+    raw = _subspace(joint, list(q), _cos, _sin)
+    s = [[name(f"{p}_S_{k + 1}_{c + 1}", _clean(raw[k, c]), joint)
+          for c in range(joint.dof)] for k in range(6)]
+    rate = _subspace_rate(joint, list(q), list(qd), _cos, _sin)
+    return s, [name(f"{p}_dS_{k + 1}", _clean(rate[k]), joint) for k in range(6)]
 
 
 def _adjugate(m: list[list[Any]]) -> tuple[list[list[Any]], Any]:
@@ -504,25 +544,44 @@ def _adjugate(m: list[list[Any]]) -> tuple[list[list[Any]], Any]:
 _JOINT_PORTS = ("theta", "v", "a", "tau")
 
 
-def model_motion(model: ElaboratedModel, gravity: Sequence[float] = STANDARD_GRAVITY
-                 ) -> ExplicitMotion | None:
+def model_motion(model: ElaboratedModel, gravity: Sequence[float] = STANDARD_GRAVITY,
+                 floating_base: bool = False) -> ExplicitMotion | None:
     """The explicit accelerations of the model's kinematic tree in its joints' own variables
-    (``physmod::joints``: ``<J>_theta``, ``<J>_v``, ``<J>_tau``; ``<J>_a == <J>_qdd``), the
-    root fixed to the world. None when the model has no moving joint, or when a joint's
-    definition lacks one of these variables (nothing here can name its motion). Raises
-    ``DynamicsError`` for a tree without equations of motion (a singular mass matrix
-    included: the numeric algorithm checks it at ``q = 0``)."""
+    (``physmod::joints``: ``<J>_theta``, ``<J>_v``, ``<J>_tau``; ``<J>_a == <J>_qdd``; a joint
+    of several coordinates has vector ports, named by component, ``<J>_theta_1`` …), the
+    root fixed to the world or, with ``floating_base``, free (its coordinates ``<Root>_x`` …
+    are new variables, :func:`cyphy.semantics.dynamics.coordinate_names`). None when the
+    tree has no moving joint, or when a joint's definition lacks one of these variables
+    (nothing here can name its motion). Raises ``DynamicsError`` for a tree without
+    equations of motion (a singular mass matrix included: the numeric algorithm checks it
+    at ``q = 0``) and for a joint whose variables do not have its number of coordinates."""
     moving = [j for j in model.joints if j.parent is not None and j.child is not None
               and joint_kind(j) != "fixed"]
-    if not moving:
+    if not moving and not floating_base:
         return None
     for joint in moving:  # before the tree: a model whose joints cannot say it is left alone
         if joint.device is None or any(joint.device.port(p) is None for p in _JOINT_PORTS):
             return None
-    tree = kinematic_tree(model, gravity)
-    forward_dynamics(tree, [0.0] * len(tree), [0.0] * len(tree), [0.0] * len(tree))
+    tree = kinematic_tree(model, gravity, floating_base)
+    if not len(tree):
+        return None
+    zero = [0.0] * tree.dof
+    forward_dynamics(tree, zero, zero, zero)
 
-    def port(joint: TreeJoint, name: str) -> str:
-        return joint.element.device.port(name).mangled  # type: ignore[union-attr]
+    def port(joint: TreeJoint, name: str) -> Any:
+        if joint.kind == "floating":
+            return coordinate_names(joint, name)
+        found = joint.element.device.port(name)  # type: ignore[union-attr]
+        size = _port_size(found.type)
+        if (joint.dof == 1) != (size is None) or (size is not None and size != joint.dof):
+            raise DynamicsError(
+                f"joint {joint.name} has {joint.dof} coordinate"
+                f"{'s' if joint.dof > 1 else ''}, but its variable {name} is not "
+                + ("a scalar" if joint.dof == 1 else f"a vector of {joint.dof}"),
+                joint.element.span, f"declare {name}: " + (
+                    "real" if joint.dof == 1 else f"vector(real, {joint.dof})"))
+        if joint.dof == 1:
+            return found.mangled
+        return [component_name(found.mangled, k) for k in range(joint.dof)]
 
     return explicit_motion(tree, port)

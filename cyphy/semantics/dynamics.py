@@ -124,9 +124,8 @@ class TreeJoint:
 #: translates by ``(x, y, z)`` along the world axes.
 DOF = {"revolute": 1, "prismatic": 1, "universal": 2, "spherical": 3, "floating": 6}
 
-#: The joint kinds whose coordinates include ZYX Euler angles. SymPy's reduction inverts their
-#: mass matrix in minutes (one ball joint: 100 s of CPU, measured), so ``cyphy simulate``
-#: integrates trees with them on the numeric path.
+#: The joint kinds whose coordinates include ZYX Euler angles (singular at pitch ±π/2: a
+#: ``cyphy simulate`` start there is refused, :func:`euler_singularity`).
 EULER = frozenset({"spherical", "floating"})
 
 #: The floating base's coordinate names, after ``<Root>_``: positions, then ``v`` + name for the
@@ -777,8 +776,9 @@ SYMBOLIC_LIMIT = 6
 """The largest tree (in coordinates) whose joint-space equations ``tau == M(q)*a + h(q, v)``
 are written out as closed expressions, for the targets that need them (CyPhyCircus
 ``Evolve``, Isabelle, Flow*): the expressions grow quickly with depth, and SymPy's reduction
-with them. ``cyphy solve`` and ``cyphy simulate`` take trees of one-coordinate joints of any
-size, with the explicit accelerations as named definitions (:mod:`cyphy.semantics.articulated`)."""
+with them. ``cyphy solve`` and ``cyphy simulate`` take trees of any
+size and joint kind (the floating base included), with the explicit accelerations as named
+definitions (:mod:`cyphy.semantics.articulated`)."""
 
 _JOINT_PORTS = ("theta", "v", "a", "tau")
 
@@ -834,16 +834,16 @@ def motion_equations(model: ElaboratedModel,
             "coordinates: written out symbolically, its equations of motion swell past what "
             "SymPy expands in minutes (a joint of several coordinates is written out alone)",
             several[0].element.span,
-            "simulate it with `cyphy simulate` (numeric, articulated-body algorithm), or "
-            "restrict the system with --element")
+            "`cyphy solve` and `cyphy simulate` take it (the accelerations as named "
+            "definitions); here, restrict the system with --element")
     if not written_out(tree):
         first = tree.joints[0].element
         raise DynamicsError(
             f"the kinematic tree has {tree.dof} coordinates: its equations of motion are too "
             f"large to write out as closed expressions (at most {SYMBOLIC_LIMIT}), which this "
             "target needs", first.span,
-            "`cyphy solve` and `cyphy simulate` take trees of one-coordinate joints of any "
-            "size (the accelerations as named definitions); here, restrict the system to fewer "
+            "`cyphy solve` and `cyphy simulate` take trees of any size (the accelerations "
+            "as named definitions); here, restrict the system to fewer "
             "joints (--element, --isabelle-element or the scenario's elements)")
 
     variables: dict[str, ex.Expr] = {}  # scalar name → the model's expression for it

@@ -61,10 +61,10 @@ def assemble(model: ElaboratedModel, elements: list[str] | None = None,
     (default −9.81 m/s² along z), the root bodies fixed to the world or, with
     ``floating_base``, free (their six coordinates are new variables of the system). With
     ``definitions`` they are the explicit accelerations as named definitions, linear in the
-    size of the tree (``System.definitions``, for ``cyphy solve`` and ``simulate``), for trees
-    of one-coordinate joints; otherwise, and for joints of several coordinates or a floating
-    base, the joint-space equations ``tau == M(q)*a + h(q, v)`` written out (:func:`motion`),
-    as the printers that need closed expressions take them (written out, the articulated-body
+    size of the tree (``System.definitions``, for ``cyphy solve`` and ``simulate``), joints
+    of several coordinates and the floating base included; otherwise the joint-space
+    equations ``tau == M(q)*a + h(q, v)`` written out (:func:`motion`), as the printers that
+    need closed expressions take them (written out, the articulated-body
     definitions of a 2-joint arm already take 10⁵ nodes and SymPy's expansion of them 7 s,
     measured)."""
     system = System()
@@ -72,8 +72,9 @@ def assemble(model: ElaboratedModel, elements: list[str] | None = None,
     for device in devices:
         _add_device(system, device)
     known = {p.mangled for d in devices for p in d.ports}
-    if definitions and not _several_coordinates(model, floating_base):
-        _add_explicit_motion(system, model, gravity, None if not elements else known)
+    if definitions:
+        _add_explicit_motion(system, model, gravity, None if not elements else known,
+                             floating_base)
     else:
         _add_motion(system, model, gravity, None if not elements else known, floating_base)
     for relation in model.relations:
@@ -146,66 +147,93 @@ def _add_motion(system: System, model: ElaboratedModel,
                 system.kinds[name] = "local"
 
 
-def _several_coordinates(model: ElaboratedModel, floating_base: bool) -> bool:
-    """Whether the tree has a joint of several coordinates (universal, ball) or a free root:
-    the named definitions (:mod:`cyphy.semantics.articulated`) cover one-coordinate joints."""
-    from cyphy.semantics.dynamics import DOF, joint_kind
-
-    return floating_base or any(DOF.get(joint_kind(j), 1) > 1 for j in model.joints)
-
-
 def _add_explicit_motion(system: System, model: ElaboratedModel,
                          gravity: tuple[float, float, float] | None,
-                         known: set[str] | None) -> None:
+                         known: set[str] | None, floating_base: bool = False) -> None:
     """The explicit equations of motion (:func:`cyphy.semantics.articulated.model_motion`):
-    one ``<J>_a == <J>_qdd`` per joint, with the articulated-body algorithm's named
-    definitions. For chosen elements (``known``: their ports), a joint's equation enters when
-    every joint variable it depends on (through the definitions) is among them, as a
-    relation does: a wheel whose motion depends on its own joint only keeps it, a link
-    coupled to joints left out does not. A tree without equations of motion (a link without
-    mass elsewhere) is then reported only for the whole model: chosen elements keep the
-    equations they had before."""
+    ``<J>_a == <J>_qdd`` per joint (``<J>_a[k] == <J>_qdd_k`` for a joint of several
+    coordinates), with the articulated-body algorithm's named definitions; a floating base's
+    coordinates are new variables with ``derivative(<Root>_x) == <Root>_vx``,
+    ``derivative(<Root>_vx) == <Root>_ax`` and ``<Root>_ax == <Root>_qdd_1`` …. For chosen
+    elements (``known``: their ports), a joint's equation enters when every joint variable
+    it depends on (through the definitions) is among them, as a relation does (a floating
+    base's variables always are): a wheel whose motion depends on its own joint only keeps
+    it, a link coupled to joints left out does not. A tree without equations of motion (a
+    link without mass elsewhere) is then reported only for the whole model: chosen elements
+    keep the equations they had before."""
     from cyphy.semantics.articulated import model_motion
-    from cyphy.semantics.dynamics import STANDARD_GRAVITY, DynamicsError
+    from cyphy.semantics.dynamics import STANDARD_GRAVITY, DynamicsError, coordinate_names
+    from cyphy.semantics.scalarise import component_name
 
     if known is not None and not any(j.device is not None and
                                      any(p.mangled in known for p in j.device.ports)
                                      for j in model.joints):
         return  # no joint chosen: nothing to derive (and no tree to build)
     try:
-        motion = model_motion(model, gravity or STANDARD_GRAVITY)
+        motion = model_motion(model, gravity or STANDARD_GRAVITY, floating_base)
     except DynamicsError:
         if known is None:
             raise
         return
     if motion is None:
         return
+    free = {n for joint, _ in motion.accelerations if joint.kind == "floating"
+            for v in ("theta", "v", "a") for n in coordinate_names(joint, v)}
     uses: dict[str, set[str]] = {}  # definition → the variables it depends on
     for d in motion.definitions:
         names: set[str] = set()
         for atom in d.value.atoms():
             names |= uses.get(atom, {atom})
         uses[d.name] = names
-    clash = sorted(set(uses) & (set(system.variables) | set(system.parameters)))
+    clash = sorted((set(uses) | free) & (set(system.variables) | set(system.parameters)))
     if clash:
-        joint = next(d.joint for d in motion.definitions if d.name == clash[0])
+        joint = next((d.joint for d in motion.definitions if d.name == clash[0]),
+                     motion.accelerations[0][0])
         raise DynamicsError(f"the equations of motion name a quantity {clash[0]}, which is "
                             "already a variable of the model", joint.element.span,
                             "rename the device whose variable it is")
+    allowed: set[str] | None = None
+    if known is not None:  # a vector port's components are known with it
+        allowed = known | free | set(system.parameters) | {
+            component_name(n, k) for joint, _ in motion.accelerations if joint.dof > 1
+            for n in known for k in range(joint.dof)}
     added = False
     for joint, accelerations in motion.accelerations:
-        device = joint.element.device
-        assert device is not None
-        for coordinate, name in zip(("a",), accelerations):
-            port = device.port(coordinate)
+        span = joint.element.span
+        equations: list[ex.Expr] = []
+        if joint.kind == "floating":
+            for position, speed, acceleration in zip(
+                    *(coordinate_names(joint, v) for v in ("theta", "v", "a"))):
+                for left, right in ((position, speed), (speed, acceleration)):
+                    equations.append(ex.BinOp("==", ex.Derivative(ex.Name((left,), span=span),
+                                                                  span=span),
+                                              ex.Name((right,), span=span), span=span))
+            lefts: list[ex.Expr] = [ex.Name((n,), span=span)
+                                    for n in coordinate_names(joint, "a")]
+            for n in sorted(free & set(coordinate_names(joint, "theta") +
+                                       coordinate_names(joint, "v") +
+                                       coordinate_names(joint, "a"))):
+                system.variables[n] = ast.PrimitiveType("real")
+                system.kinds[n] = "local"
+            depends = set(coordinate_names(joint, "a"))
+        else:
+            device = joint.element.device
+            assert device is not None
+            port = device.port("a")
             assert port is not None
-            equation = ex.BinOp("==", ex.Name((port.mangled,), span=joint.element.span),
-                                ex.Name((name,), span=joint.element.span),
-                                span=joint.element.span)
-            if known is None or (uses[name] | {port.mangled}) <= known | set(system.parameters):
-                system.equations.append(Equation(equation, f"{joint.prefix} motion",
-                                                 joint.element.span))
-                added = True
+            whole = ex.Name((port.mangled,), span=span)
+            lefts = [whole] if joint.dof == 1 else [
+                ex.Index(whole, (ex.Num(str(k), span=span),), span=span)
+                for k in range(1, joint.dof + 1)]
+            depends = {port.mangled}
+        if allowed is not None and not (depends | {v for name in accelerations
+                                                    for v in uses[name]}) <= allowed:
+            continue
+        for left, name in zip(lefts, accelerations):
+            equations.append(ex.BinOp("==", left, ex.Name((name,), span=span), span=span))
+        for equation in equations:
+            system.equations.append(Equation(equation, f"{joint.prefix} motion", span))
+        added = True
     if added:
         system.definitions.extend(motion.definitions)
 
