@@ -16,9 +16,9 @@ from hypothesis import strategies as st
 
 from cyphy.diagnostics import Span
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
-from cyphy.model.inertia import Inertial
 from cyphy.model.poses import Pose
 from cyphy.semantics import dynamics
+from test_dynamics import _inertial, _pose  # the random links of the one-coordinate trees
 
 pin = pytest.importorskip("pinocchio")
 
@@ -266,18 +266,6 @@ def test_coordinates_are_named_as_solve_names_components(multi) -> None:
 def _unit(draw) -> np.ndarray:
     axis = np.array([draw(st.floats(-1, 1)) for _ in range(3)])
     return axis / np.linalg.norm(axis) if np.linalg.norm(axis) > 0.1 else np.array([0, 0, 1.0])
-
-
-def _pose(draw) -> Pose:
-    xyz = [draw(st.floats(-1, 1)) for _ in range(3)]
-    rpy = [draw(st.floats(-np.pi, np.pi)) for _ in range(3)]
-    return Pose.from_xyz_rpy(*xyz, *rpy)
-
-
-def _inertial(draw) -> Inertial:
-    a, b = draw(st.floats(0.01, 1.0)), draw(st.floats(0.01, 1.0))
-    c = draw(st.floats(max(abs(a - b), 0.005), a + b))  # the triangle inequality
-    return Inertial(draw(st.floats(0.1, 5.0)), _pose(draw), (a, 0.0, 0.0, b, 0.0, c))
 
 
 @st.composite

@@ -198,9 +198,7 @@ def _tree_model(parents: list[int], specs: list) -> str:  # type: ignore[type-ar
     return "\n".join(text) + "\n"
 
 
-# Derandomised: a rare tree (a link whose inertia entries are (2, 0.0078, 0), on a pitched
-# frame) gave 3.4e-9 between the engines; not yet explained, so CI runs the fixed examples.
-@settings(max_examples=15, deadline=None, derandomize=True,
+@settings(max_examples=15, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(st.lists(links, min_size=2, max_size=5).flatmap(
     lambda specs: st.tuples(st.just(specs), st.tuples(
