@@ -80,6 +80,16 @@ def subspace(joint: TreeJoint) -> np.ndarray:
     return np.where(np.abs(s) < 1e-12 * max(float(np.abs(s).max()), 1e-300), 0.0, s)
 
 
+def _accumulate(terms: dict[tuple[str, ...], float], key: tuple[str, ...], c: float) -> None:
+    """Add ``c`` to the coefficient of ``key``, dropping a term that cancels to zero (so
+    that a polynomial's terms are its non-zero ones, and ``is_number`` can trust them)."""
+    total = terms.get(key, 0.0) + c
+    if total == 0.0:
+        terms.pop(key, None)
+    else:
+        terms[key] = total
+
+
 class Polynomial:
     """A sum of products ``Σ cₖ·∏ atoms`` with float coefficients: the algorithm's arithmetic
     without SymPy's (whose assumption queries on every product made a 10-link arm take 20 s,
@@ -115,11 +125,7 @@ class Polynomial:
             return self
         terms = dict(self.terms)
         for key, c in other.terms.items():
-            total = terms.get(key, 0.0) + c
-            if total == 0.0:
-                terms.pop(key, None)
-            else:
-                terms[key] = total
+            _accumulate(terms, key, c)
         return Polynomial(terms)
 
     __radd__ = __add__
@@ -142,12 +148,7 @@ class Polynomial:
         terms: dict[tuple[str, ...], float] = {}
         for k1, c1 in self.terms.items():
             for k2, c2 in other.terms.items():
-                key = tuple(sorted(k1 + k2)) if k1 and k2 else k1 or k2
-                total = terms.get(key, 0.0) + c1 * c2
-                if total == 0.0:
-                    terms.pop(key, None)
-                else:
-                    terms[key] = total
+                _accumulate(terms, tuple(sorted(k1 + k2)) if k1 and k2 else k1 or k2, c1 * c2)
         return Polynomial(terms)
 
     __rmul__ = __mul__
