@@ -175,3 +175,21 @@ def test_real_flowstar_proves_the_corpus_marxbot_under_its_smovement(tmp_path, c
     out = capsys.readouterr()
     assert rc == 0 and out.out.startswith("SAFE: Flow* proved the initial set safe"), \
         out.out + out.err
+
+
+@needs_corpus
+def test_gen_isabelle_takes_the_option_and_gen_sdf_refuses_it(tmp_path, capsys):
+    """The command a user types: the corpus marXbot's axiomatic theory needs the hinges'
+    equations of motion, so without the option nothing is written, with it the theory is;
+    the geometric exports refuse the option (a usage error, exit 2)."""
+    out = tmp_path / "ax"
+    common = ["gen", str(MARXBOT), "--isabelle", "--isabelle-dialect", "axiomatic", "-o"]
+    assert main([*common, str(out)]) == 1
+    assert "E-DYNAMICS" in capsys.readouterr().err and not out.exists()
+    assert main([*common, str(out), "--default-inertial", "sdf"]) == 0
+    assert "W-DEFAULT-INERTIAL" in capsys.readouterr().err
+    theory = (out / "marXbotBase_AxCyPhyCircus.thy").read_text()
+    assert "LHinge_v" in theory and "RHinge_tau" in theory
+    assert main(["gen", str(MARXBOT), "--sdf", "--default-inertial", "sdf", "-o",
+                 str(tmp_path / "sdf")]) == 2
+    assert "--default-inertial is an option of" in capsys.readouterr().err
