@@ -250,3 +250,20 @@ def test_adjugate_inverts_a_small_matrix() -> None:
     adjugate, det = _adjugate([[Polynomial.lift(x) for x in row] for row in m])
     inverse = np.array([[a.number() for a in row] for row in adjugate]) / det.number()
     assert np.abs(inverse - np.linalg.inv(m)).max() < 1e-12
+
+
+@pytest.mark.skipif(__import__("shutil").which("pdflatex") is None,
+                    reason="pdflatex is not installed")
+def test_solve_latex_with_definitions_typesets(tmp_path: Path, capsys) -> None:
+    """`solve --format latex` prints the named definitions as rows of the align*: pdflatex
+    typesets them in a document (amsmath), as a reader would paste them."""
+    folder = tmp_path / "arm"
+    write_model(folder, chain_model(3, sensors_per_link=0, bent=True))
+    assert main(["solve", str(folder), "--format", "latex"]) == 0
+    body = capsys.readouterr().out
+    assert body.count("\\\\\n") > 3 * 20  # the definitions' rows, not only the ODEs
+    (tmp_path / "s.tex").write_text("\\documentclass{article}\n\\usepackage{amsmath}\n"
+                                    f"\\begin{{document}}\n{body}\\end{{document}}\n")
+    run = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "s.tex"],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stdout[-3000:]
