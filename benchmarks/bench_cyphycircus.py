@@ -24,9 +24,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from cyphy import api  # noqa: E402
-from cyphy.backends.circus_text import program_to_text  # noqa: E402
+from cyphy.backends.circus.text import program_to_text  # noqa: E402
 from cyphy.diagnostics import Report  # noqa: E402
-from cyphy.semantics.build import build_semantics  # noqa: E402
+from cyphy.semantics.circus.build import build_semantics  # noqa: E402
 
 TARGET_MS = 50.0
 MAPPING = ROOT / "examples" / "marxbot" / "Mapping.rsm"

@@ -41,7 +41,7 @@ from sympy.core.cache import clear_cache  # noqa: E402
 
 from cyphy import api  # noqa: E402
 from cyphy.backends.simulate import SimulationOptions  # noqa: E402
-from cyphy.semantics import dynamics  # noqa: E402
+from cyphy.semantics.dynamics import rigid_body as dynamics  # noqa: E402
 from synthetic import chain_model, write_model  # noqa: E402
 
 #: The motors' constants (the library leaves them open): a small DC motor, P control.

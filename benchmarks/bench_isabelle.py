@@ -11,7 +11,7 @@ Target: marXbot session generation ≤ 100 ms. Exit status 0 when it holds, 1 ot
 
 The axiomatic dialect (``--isabelle-dialect axiomatic``) is timed too, on the marXbot
 restricted to its two motors and proximity sensor 1 (the reducible part): Evolve's equations
-reduced to explicit ODEs with SymPy (:func:`cyphy.backends.evolve_odes.explicit_odes`) and
+reduced to explicit ODEs with SymPy (:func:`cyphy.semantics.dynamics.evolve_odes.explicit_odes`) and
 the session printed; the reduction dominates. Target: median ≤ 1000 ms (SymPy imported
 before timing).
 
@@ -30,8 +30,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from cyphy import api  # noqa: E402
-from cyphy.backends.isabelle_theory import generate_session  # noqa: E402
-from cyphy.semantics.build import build_semantics  # noqa: E402
+from cyphy.backends.isabelle.theory import generate_session  # noqa: E402
+from cyphy.semantics.circus.build import build_semantics  # noqa: E402
 
 TARGET_MS = 100.0
 AX_TARGET_MS = 1000.0
@@ -72,10 +72,10 @@ def main() -> int:
 
 def axiomatic(sem: object, runs: int) -> bool:
     """Time the axiomatic session: reduction to explicit ODEs, then printing."""
-    from cyphy.backends.evolve_odes import explicit_odes
-    from cyphy.backends.isabelle_ax_theory import generate_ax_session
+    from cyphy.semantics.dynamics.evolve_odes import explicit_odes
+    from cyphy.backends.isabelle.ax_theory import generate_ax_session
     from cyphy.diagnostics import Report
-    from cyphy.semantics import circus as c
+    from cyphy.semantics.circus import ast as c
 
     pm = sem.program.pmodel  # type: ignore[attr-defined]
     [evolve] = [d.body for d in pm.actions if isinstance(d.body, c.Evolution)]

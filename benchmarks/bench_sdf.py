@@ -30,10 +30,10 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from cyphy import api  # noqa: E402
-from cyphy.backends.sdf_xml import to_xml  # noqa: E402
+from cyphy.backends.robot_formats.sdf_xml import to_xml  # noqa: E402
 from cyphy.diagnostics import Report  # noqa: E402
 from cyphy.model.elaborate import choose_pmodel, elaborate_pmodel  # noqa: E402
-from cyphy.semantics.sdf import translate  # noqa: E402
+from cyphy.semantics.sdf.rules import translate  # noqa: E402
 from synthetic import chain_model, write_model  # noqa: E402
 
 MARXBOT = [ROOT / "examples" / "marxbot" / "marXbotBase.rsm",

@@ -1,7 +1,7 @@
 """Two independent simulations of a Flow* scenario, for the tests (SciPy).
 
 ``interpret`` runs an exported model file from one initial point with the package's
-simulator (:mod:`cyphy.flowstar.simulate`: flows by their ODE text, invariants as terminal
+simulator (:mod:`cyphy.verify.flowstar.simulate`: flows by their ODE text, invariants as terminal
 events, then the first jump in file order whose guard holds, its resets applied
 simultaneously). ``simulate_direct`` runs the same scenario from the elaborated model's
 reduced equations and the scenario's controller without any of the exporter's rendering:
@@ -18,9 +18,9 @@ import sympy
 from scipy.integrate import solve_ivp
 
 from cyphy import expr as ex
-from cyphy.backends.sympy import to_sympy
-from cyphy.flowstar.simulate import Automaton
-from cyphy.flowstar.syntax import FlowModel
+from cyphy.translate.to_sympy import to_sympy
+from cyphy.verify.flowstar.simulate import Automaton
+from cyphy.verify.flowstar.syntax import FlowModel
 
 RTOL, ATOL = 1e-11, 1e-12
 
@@ -49,7 +49,7 @@ def interpret(text: str, point: dict[str, float], samples: np.ndarray) -> dict[s
 def simulate_direct(problem: Any, point: dict[str, float], samples: np.ndarray
                     ) -> dict[str, np.ndarray]:
     """The scenario run straight from the reduced equations (``problem`` is the exporter's
-    :class:`~cyphy.flowstar.export.Problem`: its ODEs, call effects and event predicates in
+    :class:`~cyphy.verify.flowstar.export.Problem`: its ODEs, call effects and event predicates in
     SymPy), one cycle at a time."""
     s = problem.scenario
     states, inputs = problem.states, problem.inputs

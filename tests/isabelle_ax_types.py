@@ -37,8 +37,8 @@ from pathlib import Path
 
 from lark import Lark, Token, Tree
 
-from cyphy.backends.isabelle_ax import AX_RESERVED
-from cyphy.backends.isabelle_names import OUTER_KEYWORDS
+from cyphy.backends.isabelle.ax_terms import AX_RESERVED
+from cyphy.backends.isabelle.names import OUTER_KEYWORDS
 from isabelle_types import (SIGNATURES, TCon, TVar, Type, TypeError_, constrain, fun, parse_type,
                             prod_type, prune, unify)
 

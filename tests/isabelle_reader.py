@@ -15,9 +15,9 @@ from pathlib import Path
 from lark import Lark, Transformer, v_args
 
 from cyphy import expr as ex
-from cyphy.backends.isabelle import HOL_BINOPS, UTP_BINOPS, Symbols
-from cyphy.backends.isabelle_names import RESERVED
-from cyphy.semantics import circus as c
+from cyphy.backends.isabelle.terms import HOL_BINOPS, UTP_BINOPS, Symbols
+from cyphy.backends.isabelle.names import RESERVED
+from cyphy.semantics.circus import ast as c
 
 _HOL_OPS = {v: k for k, v in HOL_BINOPS.items()} | {"powr": "^", "^": "^"}
 _UTP_OPS = {v: k for k, v in UTP_BINOPS.items()} | {"^": "^"}

@@ -7,7 +7,7 @@ grammar (``isabelle_terms.lark``) and its type inferred by unification, over
 - :data:`SIGNATURES`: the type of every constant, operator and syntax translation the printer
   uses, each read from the library source it cites (utp-main at commit c9122f14; HOL's own
   constants from the Isabelle2020 HOL theories named; the prelude's from the prelude shipped
-  in ``cyphy/isabelle_templates``), and
+  in ``cyphy/backends/isabelle/templates``), and
 - the theory's own declarations (``axiomatization``, ``definition``, ``consts``,
   ``datatype``, ``alphabet``, ``type_synonym``), read from the theory text.
 
@@ -27,8 +27,8 @@ from dataclasses import dataclass, field
 
 from lark import Token, Tree
 
-from cyphy.backends.isabelle_library_words import SYNTAX_WORDS
-from cyphy.backends.isabelle_names import OUTER_KEYWORDS
+from cyphy.backends.isabelle.library_words import SYNTAX_WORDS
+from cyphy.backends.isabelle.names import OUTER_KEYWORDS
 from isabelle_reader import parser
 
 U = "utp-main c9122f14 "
@@ -146,7 +146,7 @@ SIGNATURES: dict[str, tuple[str, str]] = {
                     "('s, 'e) action", U + "theories/sf_rdes/utp_sfrd_prog.thy:290-291"),
     "SpecC": ("('a \\<Longrightarrow> 's) \\<Rightarrow> 's upred \\<Rightarrow> 's upred "
               "\\<Rightarrow> ('s, 'e) action", U + "theories/sf_rdes/utp_sfrd_prog.thy:49"),
-    # the prelude shipped with cyphy (cyphy/isabelle_templates/CyPhyCircus_Prelude.thy)
+    # the prelude shipped with cyphy (cyphy/backends/isabelle/templates/CyPhyCircus_Prelude.thy)
     "EvolveC": ("('s \\<times> 's) upred \\<Rightarrow> ('s, 'e) action", "prelude: axiomatization"),
     "InterruptC": ("('s, 'e) action \\<Rightarrow> ('s, 'e) action \\<Rightarrow> ('s, 'e) action",
                    "prelude: axiomatization"),

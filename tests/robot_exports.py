@@ -174,7 +174,7 @@ def cyphy_joint_space(model: Any, table: dict[str, str], q: dict[str, float],
     """cyphy's ``joint_space`` of the elaborated ``model`` in the exported joint names
     (through the export's name ``table``): ``(names, M(q), h(q, q̇))``, the positions and
     velocities keyed by exported name (0 when not given)."""
-    from cyphy.semantics import dynamics
+    from cyphy.semantics.dynamics import rigid_body as dynamics
 
     exported = {qualified: name for name, qualified in table.items()}
     tree = dynamics.kinematic_tree(model)

@@ -1,6 +1,6 @@
 """The explicit equations of motion of `cyphy solve` (the articulated-body algorithm's named
-definitions, cyphy.semantics.articulated) and the per-link Newton–Euler equations of
-`cyphy show` (cyphy.semantics.link_equations), checked against Pinocchio (its model built
+definitions, cyphy.semantics.dynamics.articulated) and the per-link Newton–Euler equations of
+`cyphy show` (cyphy.semantics.dynamics.link_equations), checked against Pinocchio (its model built
 with its own API, tests/test_dynamics.py) and against each other.
 
 The definitions are evaluated from the text `cyphy solve --format json` prints (each value is
@@ -21,7 +21,7 @@ import sympy
 
 from cyphy import api
 from cyphy.cli import main
-from cyphy.semantics import dynamics
+from cyphy.semantics.dynamics import rigid_body as dynamics
 from synthetic import chain_model, write_model
 
 pin = pytest.importorskip("pinocchio")
@@ -151,7 +151,7 @@ def _without_motors(text: str) -> str:
 def _link_values(tree, bodies, q, qd, qdd):
     """The per-link equations evaluated in order (``X``, ``V``, ``dV`` root to leaves, then
     ``F`` leaves to root, then the efforts), with SymPy on the printed AST."""
-    from cyphy.backends.sympy import to_sympy
+    from cyphy.translate.to_sympy import to_sympy
 
     values = {}
     for i, joint in enumerate(tree.joints):
@@ -178,7 +178,7 @@ def _link_values(tree, bodies, q, qd, qdd):
 
 def test_link_equations_structure(tmp_path: Path) -> None:
     from cyphy.lang.notation import to_notation
-    from cyphy.semantics.link_equations import link_equations
+    from cyphy.semantics.dynamics.link_equations import link_equations
 
     model = api.elaborate([ROOT / "examples" / "manipulator"]).model
     bodies = link_equations(dynamics.kinematic_tree(model))
@@ -201,8 +201,8 @@ def test_link_equations_structure(tmp_path: Path) -> None:
 def test_link_equations_give_the_efforts_of_rnea_and_pinocchio(tmp_path: Path) -> None:
     """The per-link equations at random states: the joint efforts equal cyphy's numeric
     RNEA and Pinocchio's; the twists equal the definitions `solve` prints (one source)."""
-    from cyphy.semantics.articulated import explicit_motion
-    from cyphy.semantics.link_equations import link_equations
+    from cyphy.semantics.dynamics.articulated import explicit_motion
+    from cyphy.semantics.dynamics.link_equations import link_equations
 
     folder = tmp_path / "arm"
     write_model(folder, chain_model(5, sensors_per_link=0, bent=True))
@@ -243,7 +243,7 @@ def test_show_prints_the_link_equations(capsys) -> None:
 
 def test_adjugate_inverts_a_small_matrix() -> None:
     """The inverse of ``D`` for joints of several coordinates: adjugate / determinant."""
-    from cyphy.semantics.articulated import Polynomial, _adjugate
+    from cyphy.semantics.dynamics.articulated import Polynomial, _adjugate
 
     rng = np.random.default_rng(3)
     m = rng.uniform(-1, 1, (3, 3)) + 3 * np.eye(3)

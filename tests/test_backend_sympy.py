@@ -6,7 +6,7 @@ import pytest
 import sympy
 
 from cyphy import expr as ex
-from cyphy.backends.sympy import T, UnsupportedNode, to_sympy
+from cyphy.translate.to_sympy import T, UnsupportedNode, to_sympy
 from cyphy.lang.parser import parse_text
 
 

@@ -7,7 +7,7 @@ import pytest
 import z3
 
 from cyphy import expr as ex
-from cyphy.backends.z3 import UnsupportedNode, Z3Printer, value_text
+from cyphy.translate.to_z3 import UnsupportedNode, Z3Printer, value_text
 from cyphy.lang.parser import parse_text
 
 

@@ -14,9 +14,9 @@ from hypothesis import strategies as st
 from conftest import CORPUS, EXAMPLES, needs_corpus
 from cyphy import expr as ex
 from cyphy.api import SemanticsGenOptions, generate_cyphycircus, semantics
-from cyphy.backends.circus_reader import read_program
-from cyphy.backends.circus_text import program_to_text
-from cyphy.semantics import circus as c
+from cyphy.backends.circus.reader import read_program
+from cyphy.backends.circus.text import program_to_text
+from cyphy.semantics.circus import ast as c
 
 MAPPING = EXAMPLES / "marxbot" / "Mapping.rsm"
 
@@ -119,8 +119,8 @@ def test_evolve_has_every_equation_once_and_timer(marxbot: c.Program) -> None:
 
     model = elaborate([EXAMPLES / "marxbot"], ElaborateOptions("marXbotBase")).model
     assert model is not None
-    from cyphy.semantics.equations import motion
-    from cyphy.semantics.values import si_units
+    from cyphy.semantics.dynamics.equations import motion
+    from cyphy.semantics.circus.values import si_units
 
     # the two hinges' equations of motion (their values: tests/test_semantics_motion.py)
     motion_equations = [si_units(e.expr) for e in motion(model)]
@@ -377,7 +377,7 @@ def test_latex_pdf(tmp_path: Path) -> None:
 def test_latex_string_constants_are_escaped(tmp_path: Path) -> None:
     """Issue 20: `$ % # & ^ _ ~ }` were written raw, and the document did not typeset."""
     from cyphy import expr as ex
-    from cyphy.backends.circus_latex import STYLE, LatexExpression
+    from cyphy.backends.circus.latex import STYLE, LatexExpression
 
     hostile = 'cost $5 100% #1 a&b x^2 my_var ~ {x} \\end{document} <a|b> "q"\x1b[31m'
     printed = LatexExpression().print(ex.Str(hostile))

@@ -1,4 +1,4 @@
-"""Equations of motion of the kinematic tree (cyphy.semantics.dynamics), checked against
+"""Equations of motion of the kinematic tree (cyphy.semantics.dynamics.rigid_body), checked against
 independent derivations: Pinocchio, its model built here with its own API from the elaborated
 model's links, inertials and joints (never from cyphy's tree), and SymPy's Lagrange method."""
 
@@ -11,12 +11,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from cyphy.backends.reduce import inline_definitions
+from cyphy.semantics.dynamics.reduce import inline_definitions
 from cyphy.diagnostics import Span
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
 from cyphy.model.inertia import Inertial
 from cyphy.model.poses import Pose
-from cyphy.semantics import dynamics
+from cyphy.semantics.dynamics import rigid_body as dynamics
 
 pin = pytest.importorskip("pinocchio")
 

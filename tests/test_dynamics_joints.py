@@ -1,5 +1,5 @@
 """Ball (ZYX Euler angles) and universal joints, and the floating base, in the equations of
-motion (cyphy.semantics.dynamics), checked against Pinocchio: its model is built here with
+motion (cyphy.semantics.dynamics.rigid_body), checked against Pinocchio: its model is built here with
 its own joints (``JointModelSphericalZYX``, ``JointModelUniversal``, ``JointModelTranslation``)
 from the elaborated model's links, inertials and joints, never from cyphy's tree. Free bodies
 are checked against the laws they obey (free fall, conservation of momentum and energy)."""
@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from cyphy.diagnostics import Span
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
 from cyphy.model.poses import Pose
-from cyphy.semantics import dynamics
+from cyphy.semantics.dynamics import rigid_body as dynamics
 from test_dynamics import _inertial, _pose  # the random links of the one-coordinate trees
 
 pin = pytest.importorskip("pinocchio")
@@ -646,7 +646,7 @@ def test_named_definitions_of_random_mixed_trees_agree_with_pinocchio(
     all joint kinds, with and without a floating base, against Pinocchio's aba."""
     import math
 
-    from cyphy.semantics.articulated import explicit_motion
+    from cyphy.semantics.dynamics.articulated import explicit_motion
 
     tree = dynamics.kinematic_tree(model, floating_base=floating)
     if not len(tree):

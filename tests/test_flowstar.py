@@ -16,11 +16,11 @@ from hypothesis import given, settings, strategies as st
 
 from cyphy.cli import main
 from cyphy.diagnostics import Report
-from cyphy.flowstar.export import build_problem, output_name, render
-from cyphy.flowstar.printer import NotExpressible, flowstar_text, number
-from cyphy.flowstar.scenario import load_scenario
-from cyphy.flowstar.syntax import FlowstarSyntaxError, parse_model
-from cyphy.flowstar.verdict import decide, model_problems
+from cyphy.verify.flowstar.export import build_problem, output_name, render
+from cyphy.verify.flowstar.printer import NotExpressible, flowstar_text, number
+from cyphy.verify.flowstar.scenario import load_scenario
+from cyphy.verify.flowstar.syntax import FlowstarSyntaxError, parse_model
+from cyphy.verify.flowstar.verdict import decide, model_problems
 
 from conftest import EXAMPLES, ROOT
 
@@ -181,7 +181,7 @@ def test_printed_polynomials_parse_back_to_the_same_values(terms, xv, yv):
         return
     text = SMALL.replace("x' = 2*x - 1", f"x' = {flowstar_text(sympy.expand(poly))}")
     rhs = parse_model(text).modes["m"].flow["x"]
-    from cyphy.backends.sympy import to_sympy
+    from cyphy.translate.to_sympy import to_sympy
     back = to_sympy(rhs, symbols={"x": x, "y": y})
     want = float(poly.subs({x: xv, y: yv}))
     assert math.isclose(float(back.subs({x: xv, y: yv})), want, rel_tol=1e-12, abs_tol=1e-9)
@@ -205,7 +205,7 @@ def test_dcmotor_export_matches_the_spec_example_in_structure(dcmotor):
     assert model.initial_mode == "Cruise" and model.init["Range_distance"] == ("3", "3.1")
     # the plant of dc_motor_sampled_stop.model: wref = 10 in cruise, 0 once stopped
     cruise, stopped = model.modes["Cruise"].flow, model.modes["Stopped"].flow
-    from cyphy.backends.sympy import to_sympy
+    from cyphy.translate.to_sympy import to_sympy
     w, i, z = sympy.symbols("Motor_av Motor_i Motor_int1", real=True)
     names = {"Motor_av": w, "Motor_i": i, "Motor_int1": z}
     assert sympy.expand(to_sympy(cruise["Motor_i"], symbols=names)
@@ -523,7 +523,7 @@ def test_environment_functions_make_a_nonpoly_mode(tmp_path):
     path.write_text(BASE.replace('Range_distance = "-2"', 'Range_distance = "-2 - sin(5*t)"'))
     model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), output_name(str(path))))
     assert all(m.ode == "nonpoly ode" for m in model.modes.values())
-    from cyphy.backends.sympy import to_sympy
+    from cyphy.translate.to_sympy import to_sympy
     t = sympy.Symbol("t", real=True)
     rhs = to_sympy(model.modes["cruise"].flow["Range_distance"], symbols={"t": t})
     assert sympy.simplify(rhs - (-2 - sympy.sin(5 * t))) == 0
@@ -561,7 +561,7 @@ def test_a_timeout_kills_the_whole_process_group(tmp_path):
     import os
     import time
 
-    from cyphy.flowstar.verdict import run_text
+    from cyphy.verify.flowstar.verdict import run_text
 
     pidfile = tmp_path / "child.pid"
     script = tmp_path / "slow"

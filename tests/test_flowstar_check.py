@@ -16,12 +16,12 @@ import pytest
 
 from cyphy.cli import main
 from cyphy.diagnostics import Report
-from cyphy.flowstar.check import check, joint, parts, split
-from cyphy.flowstar.export import build_problem, render
-from cyphy.flowstar.scenario import load_scenario
-from cyphy.flowstar.simulate import BUDGET, Automaton, _Search, find_witness, unsafe_paths
-from cyphy.flowstar.syntax import parse_model
-from cyphy.flowstar.verdict import decide, model_problems, run_text
+from cyphy.verify.flowstar.check import check, joint, parts, split
+from cyphy.verify.flowstar.export import build_problem, render
+from cyphy.verify.flowstar.scenario import load_scenario
+from cyphy.verify.flowstar.simulate import BUDGET, Automaton, _Search, find_witness, unsafe_paths
+from cyphy.verify.flowstar.syntax import parse_model
+from cyphy.verify.flowstar.verdict import decide, model_problems, run_text
 
 from conftest import EXAMPLES, ROOT, flowstar_binary, needs_flowstar
 

@@ -13,12 +13,12 @@ from conftest import CORPUS, EXAMPLES, flowstar_binary, needs_corpus, needs_flow
 from cyphy import api
 from cyphy.cli import main
 from cyphy.diagnostics import Report
-from cyphy.flowstar.export import build_problem, render
-from cyphy.flowstar.scenario import load_scenario
+from cyphy.verify.flowstar.export import build_problem, render
+from cyphy.verify.flowstar.scenario import load_scenario
 from cyphy.lang.scopes import Scopes
 from cyphy.model.machines import global_constants, machines_of
-from cyphy.semantics.machine import MachineError, MachineInterpreter
-from cyphy.semantics.machine_automaton import compile_machine, describe
+from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
+from cyphy.semantics.machines.automaton import compile_machine, describe
 from motors import SSPEED_TABLE
 
 SCENARIO = EXAMPLES / "dcmotor" / "sampled_stop.toml"

@@ -14,11 +14,11 @@ from hypothesis import strategies as st
 
 from conftest import EXAMPLES
 from cyphy import api
-from cyphy.backends.isabelle_names import RESERVED, IsabelleNames, is_identifier
-from cyphy.backends.isabelle_theory import IsabelleOptions, calls, generate_session
+from cyphy.backends.isabelle.names import RESERVED, IsabelleNames, is_identifier
+from cyphy.backends.isabelle.theory import IsabelleOptions, calls, generate_session
 from cyphy.cli import main
-from cyphy.semantics import circus as c
-from cyphy.semantics.build import build_semantics
+from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.build import build_semantics
 from isabelle_reader import parser, read_action, read_definitions
 from isabelle_types import check_theory
 from robot_model import ROBOT
@@ -407,21 +407,21 @@ def test_isar_tools_finds_nothing_in_the_marxbot_session(marxbot_session, tmp_pa
 # ---------------------------------------------------------------- words of the library
 
 #: Words that utp-main's syntax makes keywords (mixfix delimiters, read from its sources by
-#: cyphy.backends.isabelle_library_words) or HOL's (at, within), plus library constants.
+#: cyphy.backends.isabelle.library_words) or HOL's (at, within), plus library constants.
 LIBRARY_WORDS = ["on", "sp", "wp", "wlp", "frz", "at", "within", "state", "var", "mods",
                  "nmods", "mdf", "ns", "nuses", "vrt", "invr", "con", "alpha", "tt", "do",
                  "od", "II", "U", "NCSP", "Skip", "uop", "cond", "spec", "useq"]
 
 
 def _syntax_words() -> list[str]:
-    from cyphy.backends.isabelle_library_words import SYNTAX_WORDS
+    from cyphy.backends.isabelle.library_words import SYNTAX_WORDS
 
     return sorted(SYNTAX_WORDS)
 
 
 @pytest.mark.parametrize("word", sorted(set(LIBRARY_WORDS) | set(_syntax_words())))
 def test_library_word_is_renamed_as_global_and_as_bound_name(word: str) -> None:
-    from cyphy.backends.isabelle import bound_identifier
+    from cyphy.backends.isabelle.terms import bound_identifier
 
     assert word in RESERVED
     assert IsabelleNames().add(word) == f"{word}_v"
@@ -483,7 +483,7 @@ def test_operators_the_library_lacks_are_printed_with_the_preludes() -> None:
     """A5: a real exponent is powr (also over the state: through bop), a remainder fmod, a
     sequence over the state a chain of bop Cons (no list display for UTP expressions)."""
     from cyphy import expr as ex
-    from cyphy.backends.isabelle import IsabellePrinter, Symbols
+    from cyphy.backends.isabelle.terms import IsabellePrinter, Symbols
 
     names = IsabelleNames()
     for n in ("x", "k"):
@@ -532,7 +532,7 @@ def session_program(program: c.Program, session) -> c.Program:  # type: ignore[n
     """The program as the session printed it (scalar state): what the round trip reads."""
     from dataclasses import replace
 
-    from cyphy.backends.isabelle_theory import scalar_program
+    from cyphy.backends.isabelle.theory import scalar_program
 
     return replace(program, pmodel=scalar_program(program).program.pmodel)
 

@@ -13,8 +13,8 @@ import pytest
 
 from conftest import CORPUS, EXAMPLES, needs_corpus
 from cyphy import api
-from cyphy.backends.isabelle_ax import AX_RESERVED
-from cyphy.backends.isabelle_names import IsabelleNames
+from cyphy.backends.isabelle.ax_terms import AX_RESERVED
+from cyphy.backends.isabelle.names import IsabelleNames
 from isabelle_ax_types import (AX_CONSTANTS, AX_KEYWORDS, AX_SIGNATURES, UNCHECKED,
                                check_ax_theory, parse_type, parser)
 

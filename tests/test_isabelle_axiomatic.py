@@ -18,8 +18,8 @@ from conftest import EXAMPLES
 
 MAPPINGS = Path(__file__).resolve().parent / "mappings"
 from cyphy import api
-from cyphy.backends.reduce import inline_definitions
-from cyphy.backends.isabelle_names import RESERVED, is_identifier
+from cyphy.semantics.dynamics.reduce import inline_definitions
+from cyphy.backends.isabelle.names import RESERVED, is_identifier
 from cyphy.cli import main
 from isabelle_ax_types import check_ax_theory
 from test_isabelle import MARXBOT, MARXBOT_ACTIONS, lex_errors, mappings, theory_header, \
@@ -344,7 +344,7 @@ def test_generated_mappings_lex_and_type_check(tmp_path_factory, model, namesets
 
 
 def test_sympy_results_convert_back_to_expressions() -> None:
-    from cyphy.backends.sympy import to_expr, to_sympy
+    from cyphy.translate.to_sympy import to_expr, to_sympy
 
     a, b, x = (sympy.Symbol(n, real=True) for n in "abx")
     f = sympy.Function("ScrewAxis")
@@ -364,10 +364,10 @@ def test_namesets_are_svids_or_lenses_where_the_syntax_reads_them(tmp_path: Path
     """A6: in ``\\<lbrakk>ns1 | A | ns2\\<rbrakk>`` a name set is an svid (a variable or a
     tuple ``(x, y)``); a side with no names goes through ``cParallelAct``, whose name sets
     are lens terms (a tuple ``((x, y))\\<^sub>v``, empty the zero lens)."""
-    from cyphy.backends.isabelle import Symbols
-    from cyphy.backends.isabelle_ax import AxiomaticPrinter
-    from cyphy.backends.isabelle_names import IsabelleNames
-    from cyphy.semantics import circus as c
+    from cyphy.backends.isabelle.terms import Symbols
+    from cyphy.backends.isabelle.ax_terms import AxiomaticPrinter
+    from cyphy.backends.isabelle.names import IsabelleNames
+    from cyphy.semantics.circus import ast as c
 
     names = IsabelleNames()
     for n in ("x", "y", "z"):

@@ -1,6 +1,6 @@
 """Operation definitions and output events under RoboSim's cycle semantics (issue 18): the
 syntax, the checks, one semantic step of each construct and cycle traces computed by hand
-from the rules in ``cyphy/semantics/machine.py``'s docstring; then a d-model that calls an
+from the rules in ``cyphy/semantics/machines/cycle.py``'s docstring; then a d-model that calls an
 operation definition and sends a mapped and an unmapped output event, driving the dcmotor
 bench in ``cyphy simulate`` (against the equivalent hand-written ``[controller]`` table) and
 in the Flow* export (against the automaton worked out by hand) and the real Flow*."""
@@ -24,9 +24,9 @@ from cyphy.lang import ast
 from cyphy.lang.parser import parse_text
 from cyphy.lang.scopes import Scopes
 from cyphy.model.machines import global_constants, machines_of, operation_definitions
-from cyphy.semantics.machine import (MAX_DEPTH, MachineError, MachineInterpreter,
+from cyphy.semantics.machines.cycle import (MAX_DEPTH, MachineError, MachineInterpreter,
                                      interpreter_for)
-from cyphy.semantics.machine_automaton import compile_machine, describe
+from cyphy.semantics.machines.automaton import compile_machine, describe
 
 INTERFACES = """\
 interface OutI { go(x: real) halt() event done: real event ping }

@@ -1,4 +1,4 @@
-"""RoboSim's cycle semantics (cyphy.semantics.machine) against traces computed by hand from
+"""RoboSim's cycle semantics (cyphy.semantics.machines.cycle) against traces computed by hand from
 the rules in the module's docstring. Each machine is written for the test; each trace lists,
 per cycle, the input events and the calls and output events expected."""
 
@@ -12,7 +12,7 @@ from conftest import CORPUS, EXAMPLES, needs_corpus
 from cyphy import api
 from cyphy.lang.scopes import Scopes
 from cyphy.model.machines import global_constants, machines_of
-from cyphy.semantics.machine import MachineError, MachineInterpreter
+from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
 
 INTERFACES = """\
 interface OutI { go(x: real) halt() event done: real event ping }

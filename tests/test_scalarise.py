@@ -10,7 +10,7 @@ from conftest import EXAMPLES
 from cyphy import api
 from cyphy import expr as ex
 from cyphy.lang.notation import to_notation
-from cyphy.semantics import circus as c
+from cyphy.semantics.circus import ast as c
 from cyphy.semantics.scalarise import ScalariseError, Scalariser, scalar_process
 
 
@@ -153,7 +153,7 @@ EXPRESSIONS = [
 
 
 def _expr(text: str) -> ex.Expr:
-    from cyphy.semantics.equations import parse_call
+    from cyphy.semantics.dynamics.equations import parse_call
 
     return parse_call(f"f({text})").args[0]
 

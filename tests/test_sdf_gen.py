@@ -14,7 +14,7 @@ import pytest
 
 from conftest import EXAMPLES, ROOT
 from cyphy import api
-from cyphy.backends.sdf_xml import number, xyz_rpy
+from cyphy.backends.robot_formats.sdf_xml import number, xyz_rpy
 from cyphy.cli import main
 from cyphy.model.poses import Pose
 

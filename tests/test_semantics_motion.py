@@ -18,12 +18,12 @@ import sympy
 from conftest import EXAMPLES
 from cyphy import api
 from cyphy import expr as ex
-from cyphy.backends.circus_latex import program_to_latex
-from cyphy.backends.circus_reader import read_program
-from cyphy.backends.circus_text import program_to_text
-from cyphy.backends.isabelle_theory import generate_session
-from cyphy.semantics import circus as c
-from cyphy.semantics import dynamics
+from cyphy.backends.circus.latex import program_to_latex
+from cyphy.backends.circus.reader import read_program
+from cyphy.backends.circus.text import program_to_text
+from cyphy.backends.isabelle.theory import generate_session
+from cyphy.semantics.circus import ast as c
+from cyphy.semantics.dynamics import rigid_body as dynamics
 from motors import speed_control_motor
 from test_dynamics import pin, pinocchio_model
 from test_isabelle import check_session, semantics

@@ -37,7 +37,7 @@ def _with_table(tmp_path: Path) -> Path:
 
 def test_the_machine_drives_the_motor_and_stops_it_at_the_predicted_cycle(
         capsys, monkeypatch) -> None:
-    from cyphy.semantics.machine import MachineInterpreter
+    from cyphy.semantics.machines.cycle import MachineInterpreter
 
     trace: list[tuple] = []
     original = MachineInterpreter.cycle
@@ -87,8 +87,8 @@ def test_the_machine_and_the_hand_written_table_agree(tmp_path: Path, capsys) ->
 
 def test_the_hand_written_table_as_a_controller_object(tmp_path: Path) -> None:
     from cyphy.diagnostics import Report
-    from cyphy.flowstar.controller import ScenarioController
-    from cyphy.flowstar.scenario import load_scenario
+    from cyphy.verify.flowstar.controller import ScenarioController
+    from cyphy.verify.flowstar.scenario import load_scenario
 
     controller = ScenarioController(load_scenario(_with_table(tmp_path), Report()))
     assert controller.cycle({"near": True}) == (("drive", (10.0,)),)  # time 0: initial calls
@@ -101,9 +101,9 @@ def test_operation_effects_hold_for_any_arguments() -> None:
     """move(lv, av) solved once from the mapping: dsl, dsr with r = 0.025025 m and the
     0.06 m axis, lv = r(dsl + dsr)/2, av = r(dsl - dsr)/0.06 (computed here by hand)."""
     from cyphy.diagnostics import Report
-    from cyphy.flowstar.controller import CallEffects
-    from cyphy.flowstar.export import build_problem
-    from cyphy.flowstar.scenario import load_scenario
+    from cyphy.verify.flowstar.controller import CallEffects
+    from cyphy.verify.flowstar.export import build_problem
+    from cyphy.verify.flowstar.scenario import load_scenario
 
     report = Report()
     scenario = load_scenario(MARXBOT / "avoid_obstacle.toml", report)
@@ -171,7 +171,7 @@ def test_chosen_hinges_bring_their_equations_of_motion() -> None:
     """``elements`` naming a joint keeps the tree's equation of motion of that joint when
     it names only chosen joints (the marXbot's wheels: each its own); motors alone, none."""
     from cyphy import api
-    from cyphy.semantics.equations import assemble
+    from cyphy.semantics.dynamics.equations import assemble
 
     model = api.elaborate([MARXBOT], api.ElaborateOptions("marXbotBase")).model
     assert model is not None
@@ -209,8 +209,8 @@ def test_marxbot_dynamics_scenario_exports_the_hinges_motion() -> None:
     import sympy
 
     from cyphy.diagnostics import Report
-    from cyphy.flowstar.export import build_problem, render
-    from cyphy.flowstar.scenario import load_scenario
+    from cyphy.verify.flowstar.export import build_problem, render
+    from cyphy.verify.flowstar.scenario import load_scenario
 
     report = Report()
     scenario = load_scenario(MARXBOT / "avoid_obstacle_dynamics.toml", report)

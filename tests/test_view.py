@@ -53,7 +53,7 @@ def test_set_moves_the_links_as_pinocchio_does(tmp_path: Path) -> None:
     """--set Shoulder=π/2 turns the arm to +y: the bodies show where they have moved, and
     the forward kinematics agrees with Pinocchio on the URDF."""
     import pinocchio
-    from cyphy.semantics.robot_tree import moved
+    from cyphy.semantics.sdf.robot_tree import moved
 
     request = api.ViewRequest(positions={"Shoulder": math.pi / 2, "Arm::Slide": 0.2,
                                          "Manipulator::Forearm::Lift": 0.1})

@@ -7,7 +7,7 @@ from typing import Any
 
 import sympy
 
-from cyphy.backends.reduce import Reduced
+from cyphy.semantics.dynamics.reduce import Reduced
 
 
 def _sorted(d: dict[str, Any]) -> list[tuple[str, Any]]:

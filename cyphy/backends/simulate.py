@@ -2,11 +2,11 @@
 
 Two paths, as for the equations of motion:
 
-- **symbolic**: the ODEs ``x' = f(x, u, p)`` that :mod:`cyphy.backends.reduce` derived from the
+- **symbolic**: the ODEs ``x' = f(x, u, p)`` that :mod:`cyphy.semantics.dynamics.reduce` derived from the
   whole model (devices, relations and the kinematic tree's equations of motion), turned into
   NumPy functions with ``lambdify``; states, inputs and outputs are the model's variables;
   A tree's equations of motion arrive as named definitions (the articulated-body algorithm,
-  :mod:`cyphy.semantics.articulated`), compiled to one function that evaluates them in order;
+  :mod:`cyphy.semantics.dynamics.articulated`), compiled to one function that evaluates them in order;
 - **numeric** (``--numeric``): the kinematic tree alone, integrated with the numeric
   articulated-body algorithm; its states are the joints' ``<J>_theta`` and ``<J>_v`` and its
   inputs their efforts ``<J>_tau``, and the other devices' equations are not part of it.
@@ -86,7 +86,7 @@ def input_expression(text: str) -> Any:
     parser, so it accepts what RoboSim expressions accept, and nothing is evaluated)."""
     import sympy
 
-    from cyphy.backends.sympy import SympyPrinter, UnsupportedNode
+    from cyphy.translate.to_sympy import SympyPrinter, UnsupportedNode
     from cyphy.lang.parser import parse_text
 
     result = parse_text(f"const input_value: real = {text}", "<--input>")
@@ -134,7 +134,7 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
                      period: float | None = None,
                      events: Callable[[float, Mapping[str, float]], Mapping[str, object]]
                      | None = None, observable: Collection[str] = ()) -> Trajectory:
-    """Integrate the reduced ODEs (:class:`cyphy.backends.reduce.Reduced`).
+    """Integrate the reduced ODEs (:class:`cyphy.semantics.dynamics.reduce.Reduced`).
 
     With a ``controller``, the run is cut at every ``period``: ``events(t, values)`` gives the
     input events at that instant, the controller's calls go through ``effects`` to input
@@ -302,7 +302,7 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     coordinates ``<J>_theta`` (``<J>_theta_1`` … for a joint of several, ``<Root>_x`` … for
     a floating base) then their rates (``<J>_v``, ``<Root>_vx`` …), in tree order; inputs the
     joint efforts ``<J>_tau`` (a floating base has none)."""
-    from cyphy.semantics.dynamics import forward_dynamics
+    from cyphy.semantics.dynamics.rigid_body import forward_dynamics
 
     n = tree.dof
     thetas, speeds = list(tree.coordinates("theta")), list(tree.coordinates("v"))

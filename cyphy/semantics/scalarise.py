@@ -7,7 +7,7 @@ per component. This pass infers the shape of every subterm (``()`` a scalar, ``(
 ``(m, n)`` a matrix), refuses what does not fit (a ``+`` of different sizes, a product whose
 inner sizes differ, a vector where a scalar is needed) and writes component ``k`` of each side.
 
-Components are named as ``cyphy solve`` names them (:mod:`cyphy.backends.reduce`): a
+Components are named as ``cyphy solve`` names them (:mod:`cyphy.semantics.dynamics.reduce`): a
 vector or matrix variable ``X`` has the scalar variables ``X_1`` … ``X_n``, counted from 1,
 row by row. A constant keeps its one name and is indexed (``Index(A, (2,))`` is ``A``'s third
 item, counted from 0 as HOL's ``nth`` counts), so its definition stays one list.
@@ -25,7 +25,7 @@ from dataclasses import dataclass, replace
 from typing import Callable
 
 from cyphy import expr as ex
-from cyphy.semantics import circus as c
+from cyphy.semantics.circus import ast as c
 
 Shape = tuple[int, ...]
 SCALAR: Shape = ()
@@ -603,7 +603,7 @@ def scalar_process(pm: c.BasicProcess, evolving_as_state: bool = True) -> Scalar
             return replace(a, args=tuple(sc.whole(x) for x in a.args))
         return None
 
-    from cyphy.semantics.namesets import action_nodes, map_action
+    from cyphy.semantics.circus.namesets import action_nodes, map_action
 
     actions = tuple(replace(d, body=map_action(d.body, rewrite)) for d in pm.actions)
     main = map_action(pm.main, rewrite)

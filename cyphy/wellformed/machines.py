@@ -344,7 +344,7 @@ def check_STM7_junction_conditions(ctx: WFContext) -> None:
 def _junction(ctx: WFContext, m: Machine, j: Any, out: list[Any]) -> None:
     import z3
 
-    from cyphy.backends.z3 import UnsupportedNode
+    from cyphy.translate.to_z3 import UnsupportedNode
 
     try:
         guards, assumptions = _guard_terms(ctx, m, [t.decl for t in out])
@@ -382,7 +382,7 @@ def _guard_terms(ctx: WFContext, m: Machine, transitions: list[ast.Transition]
     declared type: events and booleans are Booleans, ``int``/``nat`` integers."""
     import z3
 
-    from cyphy.backends.z3 import Z3Printer, rational
+    from cyphy.translate.to_z3 import Z3Printer, rational
 
     symbols: dict[str, Any] = {}
     assumptions: list[Any] = []

@@ -17,7 +17,7 @@ from typing import Any, Iterable, Mapping
 import z3
 
 from cyphy import codes
-from cyphy.backends.z3 import value_text
+from cyphy.translate.to_z3 import value_text
 from cyphy.diagnostics import Report, Span
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution

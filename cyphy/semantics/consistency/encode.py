@@ -1,8 +1,8 @@
 """One platform-mapping element as Z3 terms: what is given, what is unknown, what it says.
 
 An element (operation, output event, variable or input event mapping) is first rewritten into
-the p-model's names by :func:`cyphy.semantics.equations.member_equations` (locals
-``move_dsl``, ports ``LMotor_das``), then printed by :mod:`cyphy.backends.z3`. Each name falls
+the p-model's names by :func:`cyphy.semantics.dynamics.equations.member_equations` (locals
+``move_dsl``, ports ``LMotor_das``), then printed by :mod:`cyphy.translate.to_z3`. Each name falls
 into one class:
 
 * given: the operation's parameters (the d-model chooses them), the mapped variable, an
@@ -31,16 +31,16 @@ from typing import Any, Mapping
 import z3
 
 from cyphy import expr as ex
-from cyphy.backends.z3 import UnsupportedNode, Z3Printer, rational
+from cyphy.translate.to_z3 import UnsupportedNode, Z3Printer, rational
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.lang.notation import to_notation, type_to_notation
 from cyphy.lang.scopes import Scopes, is_constant
 from cyphy.model.elements import Device, ElaboratedModel, Port
-from cyphy.semantics.equations import member_equations
+from cyphy.semantics.dynamics.equations import member_equations
 from cyphy.semantics.scalarise import ScalariseError, Scalariser, shape_of_type
 from cyphy.semantics.scalarise import components as scalar_names
-from cyphy.semantics.values import type_of
+from cyphy.semantics.circus.values import type_of
 
 Member = ast.OperationMapping | ast.EventMapping | ast.VariableMapping
 Service = ast.OperationSig | ast.EventDecl | ast.VarDecl | None

@@ -1,0 +1,117 @@
+"""An Isabelle session in the axiomatic dialect (isabelle-utp/Ax_CyPhyCircus).
+
+The layout follows ``../shared/spec/isabelle.md`` section 2.5: the theory imports
+``Axiomatic_CyPhyCircus.Ax_CyPhyCircus`` (no prelude), declares ``cycle`` and ``tscale`` as
+``consts`` with the constraints as axioms, the channels as one ``chantype``, the state as
+``alphabet``s, ``WaitT`` by primitive recursion on the number of ``tock`` events, and one
+``definition`` of type ``(Chan, State) cyphyaction`` per action, with no closure lemmas (the
+dialect has no healthiness conditions). Everything but the notation is shared with the
+primary dialect (:mod:`cyphy.backends.isabelle.theory`): names, order, constants, caveats.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from cyphy import expr as ex
+from cyphy.semantics.dynamics.evolve_odes import EvolveOdes
+from cyphy.backends.isabelle.terms import HOL_FUNCTIONS, UnsupportedNode
+from cyphy.backends.isabelle.ax_terms import AX_RESERVED, AxiomaticPrinter
+from cyphy.backends.isabelle.names import is_identifier
+from cyphy.backends.isabelle.theory import (IsabelleError, IsabelleOptions, IsabelleSession,
+                                            _environment, _names_table, _theory_context,
+                                            scalar_program, symbols_of)
+from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.names import NameTable, identifier
+from cyphy.semantics.circus.namesets import action_nodes, find_lossy_interleavings, with_namesets
+
+PARENT = "Axiomatic_CyPhyCircus"
+PARENT_IMPORT = '"Axiomatic_CyPhyCircus.Ax_CyPhyCircus"'
+WAIT = "WaitT"
+
+
+def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes | None,
+                        options: IsabelleOptions = IsabelleOptions(),
+                        system_name: str | None = None,
+                        elements: tuple[str, ...] = ()) -> IsabelleSession:
+    """The session folder's files for ``program``; ``odes`` are Evolve's explicit ODEs
+    (None only for a program without an evolution). Raises :class:`IsabelleError` when a
+    construct has no counterpart in the dialect."""
+    if system_name is not None and not is_identifier(system_name):
+        raise IsabelleError(f"the system name '{system_name}' is not an identifier")
+    program = scalar_program(program, evolving_as_state=False).program
+    lossy = find_lossy_interleavings(program.pmodel)
+    pm = program.pmodel
+    applied = options.namesets and any(f.partition for f in lossy)
+    if options.namesets:
+        pm = with_namesets(pm)
+    symbols = symbols_of(program, AX_RESERVED)
+    names = symbols.names
+    names.add(WAIT)
+    added = list(odes.added) if odes is not None else []
+    for name in added:
+        names.add(name)
+    symbols = replace(symbols, state=symbols.state | frozenset(added),
+                      functions={**HOL_FUNCTIONS, **symbols.functions})
+    printer = AxiomaticPrinter(symbols, odes.odes if odes is not None else None)
+    prefix = identifier(pm.name)
+    theory = f"{prefix}_AxCyPhyCircus"
+    session = f"{prefix}_AxCyPhy"
+    action_type = f"({names[f'{prefix}_chan']}, {names[pm.state.name]}) cyphyaction"
+    try:
+        context = _theory_context(program, pm, printer, lossy, options, applied, action_type)
+    except UnsupportedNode as err:
+        raise IsabelleError(str(err)) from None
+    defs = {d.name: d for d in pm.actions}
+    defs["MainAction"] = c.ActionDef("MainAction", (), pm.main)
+    uses_wait = any(isinstance(n, c.Wait) for d in defs.values() for n in action_nodes(d.body))
+    evolving = {names[d.name] for d in defs.values()
+                if any(isinstance(n, c.Evolution) for n in action_nodes(d.body))}
+    for d in context["definitions"]:
+        if d.name in evolving and odes is not None:
+            d.caveat = _evolve_note(odes, elements)
+    context.update(
+        theory=theory, parent_import=PARENT_IMPORT, prefix=prefix,
+        mapping=program.system.name, dmodel=program.dmodel.name,
+        system=system_name or program.system.name, pmodel=pm.name,
+        chan_type=names[f"{prefix}_chan"], action_type=action_type,
+        wait=names[WAIT] if uses_wait else None,
+        uses_fmod=any(isinstance(n, ex.BinOp) and n.op == "%" for n in c.walk(pm)),
+        tock=symbols.constructors.get(("tock", None), "tock"),
+        added=[{"name": names[a], "type": "real"} for a in added],
+        added_note=(f"{', '.join(names[a] for a in added)}: evolving variables that no state "
+                    "field holds (device locals, integrals); Evolve's explicit ODE needs them "
+                    "in the state. The paper quantifies them afresh in every Evolve; here "
+                    "they keep their values between cycles, and Init leaves them open."))
+    env = _environment()
+    evolve = ("Ax_CyPhyCircus's evolution takes an explicit ODE. The p-model's equations were "
+              "reduced to one as `cyphy solve` does"
+              + (f" (restricted to {', '.join(elements)})" if elements else "")
+              + ": one derivative per state of the reduction, the chain rule for the state "
+              "fields the equations give as functions of the states (they follow the states "
+              "from where they start), timer` = 1. Inputs and variables no equation determines "
+              "stay constant while the state evolves. Evolving variables that are no state "
+              f"field (device locals, integrals) are added to {names[pm.state.name]}.")
+    files = {
+        "ROOT": env.get_template("ax_ROOT.j2").render(session=session, parent=PARENT,
+                                                       theory=theory),
+        f"{theory}.thy": env.get_template("ax_theory.thy.j2").render(**context),
+        "README": env.get_template("ax_README.j2").render(
+            session=session, parent=PARENT, theory=theory, mapping=program.system.name,
+            pmodel=pm.name, evolve=evolve),
+        "names.tsv": _names_table(table, names, symbols),
+    }
+    return IsabelleSession(files, theory, defs, names, symbols, lossy, applied)
+
+
+def _evolve_note(odes: EvolveOdes, elements: tuple[str, ...]) -> str:
+    """What the explicit ODE below is, in the theory itself."""
+    kinds = [o.kind for o in odes.odes]
+    outputs = [o.variable for o in odes.odes if o.kind == "output"]
+    text = ("The equations reduced to explicit ODEs (as cyphy solve does"
+            + (f", restricted to {', '.join(elements)}" if elements else "")
+            + f"): {kinds.count('state')} states")
+    if outputs:
+        text += (f"; {', '.join(outputs)} follow the states by the chain rule (they keep "
+                 "the relation to the states where it holds at the start)")
+    return text + ". Inputs and variables no equation determines stay constant."

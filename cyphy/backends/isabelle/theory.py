@@ -1,0 +1,398 @@
+"""An Isabelle session for a CyPhyCircus program: ``ROOT``, the prelude, the theory, a README.
+
+The theory lays the program out in define-before-use order (``../shared/spec/isabelle.md``
+section 2.3): the ``cycle``/``tscale`` axiomatization, the constants (``definition`` when they
+have a value, ``consts`` when open), the uninterpreted functions, the channels as one
+datatype, the state as two ``alphabet``s (visible fields, then the private ones on top), and
+one ``definition`` per action, each followed by its ``[closure]`` lemma. The Jinja2 templates
+in ``cyphy/backends/isabelle/templates/`` hold the layout; every term comes from
+:class:`cyphy.backends.isabelle.terms.IsabellePrinter`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from functools import lru_cache
+from typing import Any
+
+from cyphy import codes
+from cyphy.backends.isabelle.terms import (HOL_FUNCTIONS, IsabellePrinter, Symbols, UnsupportedNode,
+                                     bound_identifier)
+from cyphy.backends.isabelle.names import IsabelleNames, is_identifier
+from cyphy.semantics.circus.names import identifier
+from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.names import NameTable
+from cyphy.semantics.circus.namesets import (LossyInterleaving, action_nodes, find_lossy_interleavings,
+                                      with_namesets)
+from cyphy.semantics.circus.rules import functions
+from cyphy.semantics.scalarise import ScalariseError, scalar_process
+
+UNTRANSLATABLE = codes.code("E-ISABELLE", codes.E,
+                            "the CyPhyCircus program has no Isabelle/UTP counterpart")
+LOSSY_INTERLEAVING = codes.code("W-INTERLEAVE", codes.W,
+                                "an interleaving with empty name sets discards state updates")
+
+PRELUDE = "CyPhyCircus_Prelude"
+
+
+@dataclass(frozen=True)
+class IsabelleOptions:
+    namesets: bool = False  # keep updates of interleavings through a name-set partition
+
+
+@dataclass
+class Definition:
+    """One action definition as the template writes it."""
+
+    name: str
+    params: list[str]
+    type: str
+    body: str
+    lemma: str
+    simp_extra: str
+    caveat: str = ""
+
+
+@dataclass
+class IsabelleSession:
+    """The session's files (relative path → text) and what the reader of the theory needs:
+    the printed action ASTs by definition name, the identifier table and the caveats."""
+
+    files: dict[str, str]
+    theory_name: str
+    actions: dict[str, c.ActionDef]
+    names: IsabelleNames
+    symbols: Symbols
+    lossy: list[LossyInterleaving]
+    namesets_applied: bool
+
+
+class IsabelleError(Exception):
+    """The program cannot be written as Isabelle/UTP; the message says what, ``span``
+    where when it is known (else the mapping)."""
+
+    def __init__(self, message: str, span: Any = None, shapes: bool = False) -> None:
+        super().__init__(message)
+        self.span = span
+        self.shapes = shapes  # vector and matrix sizes that do not fit: an S3 error
+
+
+@lru_cache(maxsize=1)
+def _environment() -> Any:
+    from jinja2 import Environment, PackageLoader, StrictUndefined
+
+    return Environment(loader=PackageLoader("cyphy.backends.isabelle", "templates"),
+                       undefined=StrictUndefined, keep_trailing_newline=True,
+                       trim_blocks=True, lstrip_blocks=True, autoescape=False)
+
+
+@lru_cache(maxsize=1)
+def _prelude() -> str:
+    """The prelude theory: fixed text, shipped as is (no template)."""
+    from importlib.resources import files
+
+    return (files("cyphy.backends.isabelle") / "templates" / f"{PRELUDE}.thy").read_text("utf-8")
+
+
+def definition_order(actions: tuple[c.ActionDef, ...]) -> list[c.ActionDef]:
+    """The actions in define-before-use order: the given order where it already is one (the
+    rules build bottom-up), otherwise each moved after what it calls; a cycle is an error
+    (2020 ``definition`` is not recursive: recursion goes through ``MuC``)."""
+    by_name = {d.name: d for d in actions}
+    done: dict[str, c.ActionDef] = {}
+    visiting: set[str] = set()
+
+    def visit(d: c.ActionDef) -> None:
+        if d.name in done:
+            return
+        if d.name in visiting:
+            raise IsabelleError(f"action {d.name} calls itself through named actions")
+        visiting.add(d.name)
+        for callee in calls(d.body):
+            if callee in by_name:
+                visit(by_name[callee])
+        visiting.discard(d.name)
+        done[d.name] = d
+
+    for d in actions:
+        visit(d)
+    return list(done.values())
+
+
+def calls(action: object) -> list[str]:
+    """The named actions ``action`` calls, in order of appearance, each once."""
+    out: dict[str, None] = {}
+    for node in action_nodes(action):  # type: ignore[arg-type]
+        if isinstance(node, c.Call):
+            out.setdefault(node.name, None)
+    return list(out)
+
+
+def _constant_order(constants: tuple[c.Constant, ...]) -> list[c.Constant]:
+    by_name = {k.name: k for k in constants}
+    done: dict[str, c.Constant] = {}
+
+    def visit(k: c.Constant, depth: int = 0) -> None:
+        if k.name in done or depth > len(by_name):
+            return
+        for n in (c.names_in(k.value) if k.value is not None else ()):
+            if n in by_name and n != k.name:
+                visit(by_name[n], depth + 1)
+        done[k.name] = k
+
+    for k in constants:
+        visit(k)
+    return list(done.values())
+
+
+def _given_sets(program: c.Program) -> list[str]:
+    """The named types that are not HOL's (``typedecl``s), from every declaration."""
+    pm = program.pmodel
+    types: list[c.Type] = [b.type for b in program.globals.constants]
+    types += [k.type for k in pm.constants]
+    types += [t for ch in program.channels for v in ch.variants for t in v.types]
+    types += [f.type for f in (*pm.state.fields, *pm.local.fields)]
+    for d in pm.actions:
+        types += [p.type for p in d.params]
+        for node in action_nodes(d.body):
+            if isinstance(node, c.IndexedExtChoice):
+                types.append(node.var.type)
+            if isinstance(node, c.VarBlock):
+                types.append(node.var.type)
+    found: dict[str, None] = {}
+    while types:
+        t = types.pop(0)
+        if isinstance(t, c.TBasic) and t.name not in ("real", "nat", "int", "bool"):
+            found.setdefault(t.name, None)
+        elif isinstance(t, c.TSeq):
+            types.append(t.of)
+        elif isinstance(t, c.TProduct):
+            types.extend(t.items)
+    return list(found)
+
+
+def symbols_of(program: c.Program, taken: frozenset[str] = frozenset()) -> Symbols:
+    """Every global name of the program with its Isabelle identifier, registered in a
+    fixed order (types, constants, functions, channels, state, actions) so that the
+    identifiers, and the ``_v`` suffixes where a reserved word is hit, are deterministic;
+    ``taken``: identifiers the dialect reserves besides the common ones."""
+    pm = program.pmodel
+    names = IsabelleNames(taken)
+    prefix = identifier(pm.name)
+    for t in (f"{prefix}_chan", f"{prefix}_action", f"{prefix}Visible", pm.state.name):
+        names.add(t)
+    given = _given_sets(program)
+    for g in given:
+        names.add(g)
+    nat = {b.name for b in program.globals.constants if b.type == c.NAT}
+    nat |= {k.name for k in pm.constants if k.type == c.NAT}
+    for b in program.globals.constants:
+        names.add(b.name)
+    for k in pm.constants:
+        names.add(k.name)
+    functions = {}
+    for f in program.functions:
+        functions[f.name] = HOL_FUNCTIONS.get(f.name) or names.add(f.name)
+    constructors: dict[tuple[str, str | None], str] = {}
+    for ch in program.channels:
+        if not ch.variants:
+            constructors[(ch.name, None)] = names.add(ch.name)
+        for v in ch.variants:
+            constructors[(ch.name, v.tag)] = names.add(f"{ch.name}_{v.tag}"
+                                                       if v.tag else ch.name)
+    for f in pm.state.fields:
+        names.add(f.name)
+    for d in pm.actions:
+        names.add(d.name)
+    names.add("MainAction")
+    return Symbols(
+        names=names,
+        state=frozenset(f.name for f in pm.state.fields),
+        constants=frozenset({b.name for b in program.globals.constants}
+                            | {k.name for k in pm.constants}),
+        nat=frozenset(nat),
+        actions=frozenset(d.name for d in pm.actions),
+        functions=functions,
+        constructors=constructors,
+        given_sets=tuple(given),
+        locals=tuple(c.Binding(f.name, f.type) for f in pm.local.fields),
+    )
+
+
+@dataclass(frozen=True)
+class ScalarProgram:
+    """The program with the p-model's state made scalar (:mod:`cyphy.semantics.scalarise`),
+    and what that pass promoted to state and holds during evolutions."""
+
+    program: c.Program
+    promoted: tuple[str, ...]
+    held: tuple[str, ...]
+
+
+def scalar_program(program: c.Program, evolving_as_state: bool = True) -> ScalarProgram:
+    """Vectors and matrices as components, evolving locals as state (both dialects print
+    this, never ``real list`` arithmetic); raises :class:`IsabelleError` with the node's span
+    where the shapes do not fit."""
+    try:
+        scalar = scalar_process(program.pmodel, evolving_as_state)
+    except ScalariseError as err:
+        raise IsabelleError(str(err), getattr(err.node, "span", None), shapes=True) from None
+    # transpose and the like are gone once written per component: declare only what is used
+    return ScalarProgram(replace(program, pmodel=scalar.process,
+                                 functions=functions(scalar.process)),
+                         scalar.promoted, scalar.held)
+
+
+def evolution_note(scalar: ScalarProgram, names: IsabelleNames) -> str:
+    """What the theory's state and Evolve hold, for its header comment."""
+    text = ("The state is scalar: a vector or matrix X of the model is the fields X_1, X_2, "
+            "... (row by row, as cyphy solve names them); vector constants stay lists, read "
+            "with nth (A ! k, from 0). ")
+    if scalar.promoted:
+        text += ("Locals whose derivative appears, and one variable per running integral, "
+                 f"are state too ({', '.join(names[n] for n in scalar.promoted)}), so that "
+                 "EvolveC constrains their rates; the other locals are quantified at each "
+                 "instant. ")
+    text += ("State that no equation of Evolve determines: the numeric variables that "
+             "discrete actions write and no derivative governs (actuator set-points)")
+    if scalar.held:
+        text += f" are held: {', '.join(names[n] for n in scalar.held)}' = 0 in Evolve"
+    else:
+        text += " are held (x' = 0 in Evolve); there are none here"
+    return text + ("; all other state is free, constrained only by the equations (the "
+                   "world's inputs: sensor readings, joint outputs; Boolean set-points, which "
+                   "have no rate to hold).")
+
+
+def _caveat(finding: LossyInterleaving, applied: bool) -> str:
+    updated = ", ".join(sorted(finding.updated))
+    branches = " ||| ".join(finding.branches)
+    if applied:
+        return (f"{branches}: the branches update disjoint variables, so the interleaving "
+                f"is written with the name-set partition that keeps their updates "
+                f"({updated}) instead of the paper's empty name sets.")
+    overlap = ", ".join(sorted(finding.overlap))
+    why = (f"no name-set partition exists: the branches all may update {overlap}"
+           if overlap else "the paper's empty name sets are kept (see --isabelle-namesets)")
+    return (f"{branches} interleaves with empty name sets, as in the paper: the updates of "
+            f"{updated} are discarded when it ends; {why}.")
+
+
+def generate_session(program: c.Program, table: NameTable,
+                     options: IsabelleOptions = IsabelleOptions(),
+                     system_name: str | None = None) -> IsabelleSession:
+    """The session folder's files for ``program``; raises :class:`IsabelleError` when a
+    construct has no Isabelle/UTP counterpart."""
+    if system_name is not None and not is_identifier(system_name):
+        raise IsabelleError(f"the system name '{system_name}' is not an identifier")
+    scalar = scalar_program(program)
+    program = scalar.program
+    lossy = find_lossy_interleavings(program.pmodel)
+    pm = program.pmodel
+    applied = options.namesets and any(f.partition for f in lossy)
+    if options.namesets:
+        pm = with_namesets(pm)
+    symbols = symbols_of(program)
+    printer = IsabellePrinter(symbols)
+    names = symbols.names
+    theory = f"{identifier(pm.name)}_CyPhyCircus"
+    prefix = identifier(pm.name)
+    try:
+        context = _theory_context(program, pm, printer, lossy, options, applied)
+    except UnsupportedNode as err:
+        raise IsabelleError(str(err)) from None
+    context.update(evolution_note=evolution_note(scalar, names),
+                   theory=theory, prelude=PRELUDE, prefix=prefix, mapping=program.system.name,
+                   dmodel=program.dmodel.name, system=system_name or program.system.name,
+                   pmodel=pm.name, chan_type=names[f"{prefix}_chan"],
+                   action_type=names[f"{prefix}_action"])
+    env = _environment()
+    files = {
+        "ROOT": env.get_template("ROOT.j2").render(session=f"{prefix}_CyPhy", theory=theory,
+                                                    prelude=PRELUDE),
+        f"{PRELUDE}.thy": _prelude(),
+        f"{theory}.thy": env.get_template("theory.thy.j2").render(**context),
+        "README": env.get_template("README.j2").render(
+            session=f"{prefix}_CyPhy", theory=theory, prelude=PRELUDE,
+            mapping=program.system.name, pmodel=pm.name),
+    }
+    files["names.tsv"] = _names_table(table, names, symbols)
+    defs = {d.name: d for d in pm.actions}
+    defs["MainAction"] = c.ActionDef("MainAction", (), pm.main)
+    return IsabelleSession(files, theory, defs, names, symbols, lossy, applied)
+
+
+def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePrinter,
+                    lossy: list[LossyInterleaving], options: IsabelleOptions,
+                    applied: bool, action_type: str | None = None) -> dict[str, Any]:
+    """What the theory templates lay out; ``action_type`` is the type of an action
+    (default: the session's type synonym)."""
+    names = printer.symbols.names
+    globals_ = program.globals
+    axioms = [printer.doprint(w, "hol") for w in globals_.where]
+    constants = []
+    for k in _constant_order(pm.constants):
+        value = None if k.value is None else printer.doprint(k.value, "hol")
+        constants.append({"name": names[k.name], "type": _quoted(printer.type(k.type)),
+                          "value": value, "origin": k.origin})
+    functions = []
+    for f in program.functions:
+        ident = printer.symbols.functions[f.name]
+        if f.name in HOL_FUNCTIONS:
+            continue
+        tvars = [f"'a{i}" for i in range(1, f.arity + 1)] + ["'r"]
+        functions.append({"name": ident, "type": " \\<Rightarrow> ".join(tvars)})
+    constructors, channels = [], []
+    for ch in program.channels:
+        variants = ch.variants or (c.ChannelVariant(None, ()),)
+        for v in variants:
+            ident = printer.symbols.constructors[(ch.name, v.tag)]
+            payload = ""
+            if v.types:
+                payload = " \\<times> ".join(printer.type(t) for t in v.types)
+            channels.append({"name": ident, "type": _quoted(payload or "unit")})
+            constructors.append(ident + (f' "{payload}"' if payload else ""))
+    visible = [{"name": names[f.name], "type": _quoted(printer.type(f.type))}
+               for f in pm.state.fields if f.visible]
+    private = [{"name": names[f.name], "type": _quoted(printer.type(f.type))}
+               for f in pm.state.fields if not f.visible]
+    caveats = {f.action: _caveat(f, applied and f.partition) for f in lossy}
+    definitions = []
+    action_type = action_type or names[f"{identifier(pm.name)}_action"]
+    for d in [*definition_order(pm.actions), c.ActionDef("MainAction", (), pm.main)]:
+        with printer.binding([p.name for p in d.params]) as params:
+            body = printer.action(d.body)
+        ptypes = [printer.type(p.type) for p in d.params]
+        multi_input = any(isinstance(n, c.Comm) and sum(isinstance(f, c.In) for f in n.fields)
+                          > 1 for n in action_nodes(d.body))
+        definitions.append(Definition(
+            name=names[d.name], params=params,
+            type=" \\<Rightarrow> ".join([*ptypes, action_type]), body=body,
+            lemma=f"{names[d.name]}_NCSP",
+            simp_extra=" prod.case_eq_if" if multi_input else "",
+            caveat=caveats.get(d.name, "")))
+    return {
+        "cycle_constants": [{"name": names[b.name], "type": printer.type(b.type)}
+                            for b in globals_.constants],
+        "axioms": axioms, "constants": constants, "functions": functions,
+        "given_sets": [names[g] for g in printer.symbols.given_sets],
+        "constructors": constructors, "channels": channels, "visible": visible,
+        "private": private,
+        "visible_name": names[f"{identifier(pm.name)}Visible"], "state_name": names[pm.state.name],
+        "definitions": definitions, "namesets": options.namesets,
+    }
+
+
+def _quoted(t: str) -> str:
+    return t if t.replace("_", "").isalnum() else f'"{t}"'
+
+
+def _names_table(table: NameTable, names: IsabelleNames, symbols: Symbols) -> str:
+    """qualified RoboSim name, CyPhyCircus name, Isabelle identifier (locals are bound)."""
+    rows = ["qualified\tcyphycircus\tisabelle"]
+    globals_ = names.identifiers()
+    for qualified, mangled in table.items():
+        ident = names.get(mangled) or bound_identifier(mangled, globals_)
+        rows.append(f"{qualified}\t{mangled}\t{ident}")
+    return "\n".join(rows) + "\n"
+

@@ -1,0 +1,156 @@
+"""From checked files to a CyPhyCircus program: choose the mapping, read what the rules need
+of the d-model, elaborate the p-model, and apply Rule 1 (which applies the others)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from cyphy import codes
+from cyphy import expr as ex
+from cyphy.diagnostics import Report, Span
+from cyphy.lang import ast
+from cyphy.lang.resolve import Resolution
+from cyphy.lang.scopes import is_pmodel
+from cyphy.lang.workspace import Workspace
+from cyphy.model.elaborate import elaborate_pmodel
+from cyphy.model.elements import ElaboratedModel
+from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.names import NameTable
+from cyphy.semantics.circus.rules import Context, DModel, SemanticsError, Service, rule1_program
+from cyphy.semantics.circus.values import type_of
+from cyphy.wellformed.mappings import Platform, platform_of
+from cyphy.wellformed.registry import WFContext
+
+NO_MAPPING = codes.code("E-MAPPING", codes.E,
+                        "no platform mapping to give a semantics to")
+NO_PDF = codes.code("E-PDF", codes.E, "the LaTeX output cannot be typeset to PDF")
+UNTRANSLATABLE = codes.code("E-SEMANTICS", codes.E,
+                            "the mapping cannot be translated to CyPhyCircus")
+NO_MOTION = codes.code("W-SEMANTICS-MOTION", codes.W,
+                       "Evolve leaves out the equations of motion of the kinematic tree")
+
+
+@dataclass(frozen=True)
+class SemanticsOptions:
+    mapping: str | None = None  # the mapping (or its p-model) to translate
+    system_name: str | None = None  # the name of N (default: the mapping's)
+    tscale: float | None = None
+    consts: dict[str, object] | None = None
+    default_inertial: str | None = None  # "sdf": massless links get SDF's defaults (a warning)
+
+
+@dataclass
+class Semantics:
+    program: c.Program
+    names: NameTable
+    mapping: ast.PlatformMapping
+    model: ElaboratedModel | None = None  # what Evolve's equations come from (for solving)
+
+
+def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
+                    options: SemanticsOptions = SemanticsOptions()) -> Semantics | None:
+    """The CyPhyCircus program of one platform mapping of the given files, or None with
+    the reason reported."""
+    chosen = _choose_mapping(ws, report, options.mapping)
+    if chosen is None:
+        return None
+    file, mapping = chosen
+    wf = WFContext(ws, resolution, report)
+    found = wf.scopes.lookup(file, mapping.pmodel, is_pmodel)
+    pm = found[0] if found else None
+    pm_file = wf.file_of(pm) if pm is not None else None
+    if pm is None or pm_file is None:
+        report.report(NO_MAPPING, f"the p-model {'::'.join(mapping.pmodel)} of mapping "
+                      f"{mapping.name} is not among the files", mapping.pmodel_span,
+                      "give the p-model's file or folder too")
+        return None
+    model = elaborate_pmodel(ws, resolution, report, pm, pm_file, options.consts or {})
+    if model is not None and options.default_inertial is not None:
+        from cyphy.model.default_inertial import apply_default_inertial
+
+        apply_default_inertial(model, report, options.default_inertial)
+    if report.has_errors:
+        return None
+    platform = platform_of(wf, mapping)
+    dmodel = _dmodel(mapping, platform)
+    from cyphy.semantics.dynamics.equations import port_index
+
+    ctx = Context(model, mapping, dmodel, NameTable(),
+                  options.system_name or mapping.name, options.tscale,
+                  port_index(model), _motion(model, report))
+    try:
+        program = rule1_program(ctx)
+    except SemanticsError as err:
+        report.report(UNTRANSLATABLE, err.message, err.span, err.hint)
+        return None
+    return Semantics(program, ctx.names, mapping, model)
+
+
+def _motion(model: ElaboratedModel, report: Report) -> tuple[ex.Expr, ...]:
+    """The kinematic tree's equations of motion for ``Evolve``: the very equations ``cyphy
+    solve`` assembles by default, the root fixed to the world and gravity −9.81 m/s² along the
+    model's z (the semantics has no option for either: the axiomatic Isabelle dialect reduces
+    the same default equations). A tree that has none (a link without mass, a loop, more
+    joints than the symbolic limit) leaves them out with a warning: the rest of the semantics
+    does not depend on them."""
+    from cyphy.semantics.dynamics.rigid_body import DynamicsError
+    from cyphy.semantics.dynamics.equations import motion
+
+    try:
+        return tuple(e.expr for e in motion(model))
+    except DynamicsError as err:
+        report.report(NO_MOTION, f"Evolve has no equations of motion: {err.message}", err.span,
+                      err.hint)
+        return ()
+
+
+def _choose_mapping(ws: Workspace, report: Report, wanted: str | None
+                    ) -> tuple[ast.SourceFile, ast.PlatformMapping] | None:
+    mappings = [(f, i) for f in ws.user_files() for i in f.items
+                if isinstance(i, ast.PlatformMapping)]
+    named = [(f, m) for f, m in mappings if f.path in ws.named]
+    mappings = named or mappings
+    if wanted is not None:
+        mappings = [(f, m) for f, m in mappings
+                    if wanted in (m.name, m.pmodel[-1], "::".join(m.pmodel))]
+    where = Span.unknown(ws.targets[0] if ws.targets else "<input>")
+    if not mappings:
+        report.report(NO_MAPPING, "no platform mapping" +
+                      (f" named {wanted}" if wanted else "") + " among the files", where,
+                      "give the mapping file (map M dmodel D to pmodel P {…}) and the files "
+                      "of its p-model and d-model")
+        return None
+    if len(mappings) > 1:
+        names = ", ".join(m.name for _, m in mappings)
+        report.report(NO_MAPPING, f"several platform mappings: {names}", where,
+                      "choose one with --model NAME")
+        return None
+    return mappings[0]
+
+
+def _dmodel(mapping: ast.PlatformMapping, platform: Platform | None) -> DModel:
+    """The module name, cycle restriction and service signatures; without a d-model
+    (S1 reported it) the mapping alone gives untyped services."""
+    if platform is None:
+        return DModel("::".join(mapping.dmodel))
+    restriction = tuple(_cycle_equation(d.expr) for d in platform.module.cycle_defs)
+    dm = DModel(platform.module.name, restriction)
+    for name, s in platform.operations.items():
+        params = s.decl.params if isinstance(s.decl, ast.OperationSig) else ()
+        dm.operations[name] = Service(name, tuple(c.Binding(p.name, type_of(p.type))
+                                                  for p in params))
+    for name, s in platform.events.items():
+        typ = s.decl.type
+        dm.events[name] = Service(name, () if typ is None else
+                                  (c.Binding(name, type_of(typ)),))
+    for name, s in platform.variables.items():
+        dm.variables[name] = Service(name, (c.Binding(name, type_of(s.decl.type)),))
+    return dm
+
+
+def _cycle_equation(e: ex.Expr) -> ex.Expr:
+    """``cycleDef cycle == 1`` states the restriction itself; a bare value means
+    ``cycle == value``."""
+    if isinstance(e, ex.BinOp) and e.op in ("==", "<", "<=", ">", ">=", "!="):
+        return e
+    return ex.BinOp("==", ex.Name(("cycle",)), e)

@@ -1,0 +1,113 @@
+"""Values and types of the model as CyPhyCircus expressions and types.
+
+Evaluated constants (numbers, booleans, NumPy vectors and matrices) become literals; vectors
+and matrices are sequences (a matrix a sequence of rows), as the paper's expression
+semantics says. Quantities (``0.06m``) become their SI values, so no printer sees a unit.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from cyphy import expr as ex
+from cyphy.lang import ast
+from cyphy.model.evaluate import UNIT_FACTORS
+from cyphy.semantics.circus import ast as c
+
+_BASIC = {"real": c.REAL, "int": c.INT, "nat": c.NAT, "boolean": c.BOOL, "bool": c.BOOL}
+
+
+def type_of(t: ast.TypeRef | None) -> c.Type:
+    """The CyPhyCircus type of a declared RoboSim type: vectors and matrices are sequences,
+    named types stay named (given sets)."""
+    if t is None:
+        return c.REAL
+    if isinstance(t, ast.PrimitiveType):
+        return _BASIC.get(t.name, c.TBasic(t.name))
+    if isinstance(t, ast.VectorType):
+        return c.TSeq(type_of(t.element), _size(t.size))
+    if isinstance(t, ast.MatrixType):
+        rows, cols = _size(t.rows), _size(t.cols)
+        return c.TSeq(c.TSeq(type_of(t.element), cols), rows)
+    if isinstance(t, ast.SeqType):
+        return c.TSeq(type_of(t.element))
+    if isinstance(t, ast.NamedType):
+        name = t.name[-1]
+        return _BASIC.get(name, c.TBasic(name))
+    return c.TBasic(type(t).__name__)
+
+
+def _size(e: ex.Expr | None) -> int | None:
+    """A declared size when it is a positive literal (``matrix(real, 0, 0)`` is the
+    notation's "any size")."""
+    if isinstance(e, ex.Num) and e.is_integer and int(e.text) > 0:
+        return int(e.text)
+    return None
+
+
+def constant_type(value: Any) -> c.Type:
+    """The type of an evaluated constant that has no declaration at hand."""
+    if isinstance(value, bool):
+        return c.BOOL
+    if isinstance(value, int):
+        return c.INT
+    shape = getattr(value, "shape", None)
+    if shape is not None:
+        if len(shape) == 2:
+            return c.TSeq(c.TSeq(c.REAL, int(shape[1])), int(shape[0]))
+        return c.TSeq(c.REAL, int(shape[0]))
+    return c.REAL
+
+
+def value_expr(value: Any) -> ex.Expr:
+    """An evaluated value as a literal expression (shortest round-trip decimal text)."""
+    if isinstance(value, bool):
+        return ex.Bool(value)
+    if isinstance(value, int):
+        return ex.Num(str(value)) if value >= 0 else ex.UnaryOp("-", ex.Num(str(-value)))
+    if isinstance(value, float):
+        return _number(value)
+    if isinstance(value, str):
+        return ex.Str(value)
+    tolist = getattr(value, "tolist", None)
+    if tolist is not None:
+        return value_expr(tolist())
+    if isinstance(value, (list, tuple)):
+        return ex.Seq(tuple(value_expr(v) for v in value))
+    raise TypeError(f"no literal for {value!r}")
+
+
+def _number(value: float) -> ex.Expr:
+    if value != value or value in (float("inf"), float("-inf")):
+        raise ValueError(f"{value} has no literal")
+    if value == 0:
+        value = 0.0  # no -0.0
+    import numpy as np
+
+    # Positional, shortest round-trip digits: no exponent (Flow* and CZT reject `1e-5`).
+    text = np.format_float_positional(abs(value), unique=True, trim="0")
+    return ex.Num(text) if value >= 0 else ex.UnaryOp("-", ex.Num(text))
+
+
+def si_units(e: ex.Expr) -> ex.Expr:
+    """The expression as CyPhyCircus sees it: every quantity replaced by its value in SI
+    units (``0.06m`` → ``0.06``, ``90 deg`` → ``1.5707963267948966``; an expression value is
+    multiplied), vectors and matrices as sequences (a matrix a sequence of rows), numbers
+    with an exponent positional (``1e-5`` → ``0.00001``: CyPhyCircus numerals have none)."""
+
+    def swap(node: ex.Expr) -> ex.Expr | None:
+        if isinstance(node, ex.Num) and ("e" in node.text or "E" in node.text):
+            return _number(float(node.text))
+        if isinstance(node, (ex.Vector, ex.Matrix)):
+            rows = tuple(ex.Seq(r, span=node.span) for r in node.rows)
+            return rows[0] if len(rows) == 1 else ex.Seq(rows, span=node.span)
+        if not isinstance(node, ex.Quantity):
+            return None
+        factor = UNIT_FACTORS.get(node.unit, 1.0)
+        if factor == 1.0:
+            return node.value
+        if isinstance(node.value, ex.Num):
+            return _number(float(node.value.text) * factor)
+        return ex.BinOp("*", node.value, _number(factor), span=node.span)
+
+    return ex.transform(e, swap)

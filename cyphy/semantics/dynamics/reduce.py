@@ -1,0 +1,693 @@
+"""From assembled equations to explicit first-order ODEs ``x' = f(x, u, p)`` with SymPy.
+
+1. Every equation becomes scalar residuals: vectors and matrices component by component by
+   the one scalarisation pass that the Isabelle printers use
+   (:mod:`cyphy.semantics.scalarise`, components ``X_1`` … ``X_n``), constants with values
+   substituted exactly, component by component.
+2. Differentiated variables are the candidate states; a residual that mentions no unknown is a
+   constraint among states (``e == das - av`` where ``derivative(e)`` appears): the
+   constrained variable is solved from it and stops being a state, its derivative obtained by
+   differentiating the solution (index reduction), derivatives of inputs becoming inputs.
+3. The unknowns (state derivatives and algebraic variables) are matched to residuals
+   (NetworkX bipartite matching) and solved block by block in dependency order (strongly
+   connected components of the dependency graph: algebraic loops are solved jointly), but only
+   the blocks the state derivatives need.
+4. What cannot be solved is an obstacle, reported with its equations and variables: an
+   unmatched variable (underdetermined), a block SymPy cannot invert, an unknown inside an
+   uninterpreted function.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import networkx as nx
+import numpy as np
+import sympy
+from sympy.core.function import AppliedUndef
+
+from cyphy import expr as ex
+from cyphy.translate.to_sympy import T, SympyPrinter, UnsupportedNode
+from cyphy.lang import ast
+from cyphy.diagnostics import Report, Span
+from cyphy.semantics.dynamics.equations import OBSTACLE, Equation, System
+from cyphy.semantics.scalarise import ScalariseError, Scalariser, components
+
+
+@dataclass(frozen=True)
+class Obstacle:
+    kind: str  # underdetermined, algebraic-loop, unknown-function, unsupported, too-large
+    message: str
+    variables: tuple[str, ...]
+    equations: tuple[Equation, ...]
+
+
+@dataclass
+class Reduced:
+    states: list[str] = field(default_factory=list)
+    rhs: dict[str, Any] = field(default_factory=dict)  # state → f(x, u, p) (SymPy)
+    inputs: list[str] = field(default_factory=list)
+    parameters: list[str] = field(default_factory=list)
+    outputs: dict[str, Any] = field(default_factory=dict)  # solved algebraic variables
+    obstacles: list[Obstacle] = field(default_factory=list)
+    symbols: dict[str, Any] = field(default_factory=dict)  # name → SymPy symbol (plain)
+    closed_form: dict[str, Any] | None = None  # state → expression of t and x0
+    # named intermediate quantities the rhs and outputs use, in order: (name, value), the
+    # value a SymPy expression (an output the equations of motion use) or a
+    # ``cyphy.semantics.dynamics.articulated.Polynomial``; empty once inlined (see ``reduce_system``)
+    definitions: list[tuple[str, Any]] = field(default_factory=list)
+
+
+def type_shape(t: ast.TypeRef | None) -> tuple[int, ...] | None:
+    """The shape a declared vector or matrix type of literal sizes fixes (None otherwise)."""
+    def size(e: ex.Expr | None) -> int | None:
+        return int(e.text) if isinstance(e, ex.Num) and e.is_integer else None
+
+    if isinstance(t, ast.VectorType) and size(t.size):
+        return (size(t.size),)  # type: ignore[return-value]
+    if isinstance(t, ast.MatrixType) and size(t.rows) and size(t.cols):
+        return (size(t.rows), size(t.cols))  # type: ignore[return-value]
+    return None
+
+
+def _exact(v: Any) -> Any:
+    if isinstance(v, bool):
+        return sympy.true if v else sympy.false
+    if isinstance(v, int):
+        return sympy.Integer(v)
+    if isinstance(v, float):
+        return sympy.Rational(repr(v))
+    if isinstance(v, np.ndarray):
+        if v.ndim == 1:
+            return sympy.Matrix([_exact(float(x)) for x in v])
+        return sympy.Matrix([[_exact(float(x)) for x in row] for row in v])
+    return None
+
+
+class Reducer:
+    """``wanted``: algebraic variables to solve as outputs even where no state derivative
+    needs them (what cannot be solved among them is left out, not an obstacle)."""
+
+    def __init__(self, system: System, wanted: frozenset[str] = frozenset()) -> None:
+        self.system = system
+        self.wanted = wanted
+        self.funcs: dict[str, Any] = {}  # scalar variable → f(t)
+        shapes: dict[str, tuple[int, ...]] = {}
+        for name, t in system.variables.items():
+            shape = type_shape(t)
+            if shape is not None:
+                shapes[name] = shape
+        symbols: dict[str, Any] = {}
+        for name, value in system.parameters.items():
+            exact = _exact(value) if value is not None else None
+            if isinstance(exact, sympy.MatrixBase):
+                shapes[name] = tuple(np.shape(value))
+                for k, item in zip(components(name, shapes[name]), list(exact)):
+                    symbols[k] = item
+            else:
+                symbols[name] = exact if exact is not None else sympy.Symbol(name, real=True)
+        # variables and valued constants become their components; a constant without a
+        # value stays one symbol
+        self.scalariser = Scalariser(shapes, frozenset(shapes))
+        for name in system.variables:
+            for k in components(name, shapes.get(name, ())):
+                symbols[k] = self._func(k)
+        # definitions (equations of motion) are plain symbols that stand for their values:
+        # each hides the variables it depends on, which order the solving but are never
+        # solved from an equation that mentions only the definition
+        self.hidden: dict[str, frozenset[str]] = {}
+        for d in system.definitions:
+            names: set[str] = set()
+            for atom in d.value.atoms():
+                names |= self.hidden.get(atom, {atom})
+            self.hidden[d.name] = frozenset(names)
+            symbols[d.name] = sympy.Symbol(d.name, real=True)
+        self.printer = SympyPrinter(symbols=symbols)
+        self.inputs = {c for n in system.inputs for c in self._components(n)}
+        self.input_derivatives: dict[Any, Any] = {}
+        self.static: dict[Any, Any] = {}  # algebraic variables solved without states
+
+    def _func(self, name: str) -> Any:
+        f = sympy.Function(name, real=True)(T)
+        self.funcs[name] = f
+        return f
+
+    def _components(self, name: str) -> list[str]:
+        return components(name, self.scalariser.shapes.get(name, ()))
+
+    # ----- step 1: residuals
+    def residuals(self, obstacles: list[Obstacle]) -> list[tuple[Any, Equation]]:
+        out: list[tuple[Any, Equation]] = []
+        for eq in self.system.equations:
+            e = eq.expr
+            if not (isinstance(e, ex.BinOp) and e.op == "=="):
+                obstacles.append(Obstacle("unsupported", f"'{eq.origin}' has an equation that "
+                                          "is not lhs == rhs", (), (eq,)))
+                continue
+            try:
+                scalar = self.scalariser.predicate(e)
+                sides = [(self.printer.doprint(q.left), self.printer.doprint(q.right))
+                         for q in scalar if isinstance(q, ex.BinOp)]
+            except (ScalariseError, UnsupportedNode, TypeError, ValueError,
+                    sympy.ShapeError) as err:
+                obstacles.append(Obstacle("unsupported", f"cannot convert an equation of "
+                                          f"{eq.origin}: {err}", (), (eq,)))
+                continue
+            out.extend((sympy.expand((left - right).doit()), eq) for left, right in sides)
+        return out
+
+    def _derivative_symbol(self, f: Any) -> Any:
+        return sympy.Symbol(f"d_{f.func.__name__}", real=True)
+
+    def reduce(self) -> Reduced:
+        result = Reduced()
+        residuals = self.residuals(result.obstacles)
+        residuals = self._higher_derivatives(residuals)
+        states: set[str] = set()
+        for r, _ in residuals:
+            for d in sorted(r.atoms(sympy.Derivative), key=str):
+                name = d.expr.func.__name__
+                if name in self.inputs:
+                    continue
+                states.add(name)
+        while True:
+            residuals, presolved = self._presolve_static(residuals, states)
+            residuals, states, reduced = self._index_reduction(residuals, states, result)
+            if not presolved and not reduced:
+                break
+        residuals = [(self._input_derivatives(r), eq) for r, eq in residuals]
+        dsyms = {self._derivative_symbol(self.funcs[s]): s for s in sorted(states)}
+        to_symbol = {sympy.Derivative(self.funcs[s], T): self._derivative_symbol(self.funcs[s])
+                     for s in states}
+        rs = [(r.xreplace(to_symbol), eq) for r, eq in residuals]
+        algebraic = sorted(n for n in self.funcs if n not in states and n not in self.inputs)
+        unknown_of = {self.funcs[n]: n for n in algebraic}
+        unknown_of.update({d: f"d_{s}" for d, s in dsyms.items()})
+        self._solve(rs, unknown_of, dsyms, result)
+        result.states = sorted(s for s in states if s in result.rhs)
+        used = set().union(*(sympy.sympify(v).free_symbols | {f.func.__name__ for f in
+                                                               sympy.sympify(v).atoms(
+                                                                   sympy.Function)}
+                             for v in result.rhs.values())) if result.rhs else set()
+        if self.system.definitions and result.rhs:
+            used |= self._definitions(result)
+        used_names = {str(u) for u in used}
+        result.inputs = sorted(n for n in self.inputs | {str(s) for s in
+                                                          self.input_derivatives.values()}
+                               if n in used_names)
+        result.parameters = sorted(str(s) for s in used if isinstance(s, sympy.Symbol)
+                                   and str(s) in self.system.parameters)
+        return result
+
+    def _definitions(self, result: Reduced) -> set[Any]:
+        """Fill ``result.definitions``: the outputs the definitions use (a joint's effort
+        from the motor that drives it), then the definitions; returns the symbols they use."""
+        hidden = set().union(*self.hidden.values())
+        first = [(n, result.outputs[n]) for n in sorted(hidden) if n in result.outputs]
+        result.definitions = first + [(d.name, d.value) for d in self.system.definitions]
+        used: set[Any] = set()
+        for _, value in first:
+            used |= value.free_symbols
+        for d in self.system.definitions:
+            used |= {sympy.Symbol(a, real=True) for a in d.value.atoms()}
+        return used - {sympy.Symbol(d.name, real=True) for d in self.system.definitions}
+
+    def _higher_derivatives(self, residuals: list[tuple[Any, Equation]]
+                            ) -> list[tuple[Any, Equation]]:
+        """A second derivative of x introduces the state ``x_dot`` with x' = x_dot."""
+        extra: list[tuple[Any, Equation]] = []
+        out = []
+        for r, eq in residuals:
+            for d in sorted(r.atoms(sympy.Derivative), key=str):
+                if d.derivative_count >= 2 and d.expr.func.__name__ in self.funcs:
+                    name = d.expr.func.__name__
+                    dot = self.funcs.get(f"{name}_dot") or self._func(f"{name}_dot")
+                    self.system.variables.setdefault(f"{name}_dot",
+                                                     ast.PrimitiveType("real"))
+                    r = r.subs(d, sympy.Derivative(dot, (T, d.derivative_count - 1)))
+                    pair = (sympy.Derivative(d.expr, T) - dot, eq)
+                    if not any(p[0] == pair[0] for p in extra):
+                        extra.append(pair)
+            out.append((r, eq))
+        return out + extra if not extra else self._higher_derivatives(out + extra)
+
+    def _hidden_in(self, r: Any) -> set[str]:
+        """The variables that the definitions ``r`` mentions depend on."""
+        if not self.hidden:
+            return set()
+        out: set[str] = set()
+        for s in r.free_symbols:
+            out |= self.hidden.get(s.name, frozenset())
+        return {n for n in out if n in self.funcs}
+
+    def _unknowns_in(self, r: Any, states: set[str]) -> set[str]:
+        names = {f.func.__name__ for f in r.atoms(sympy.Function) if f.func.__name__ in
+                 self.funcs} | self._hidden_in(r)
+        derivs = {d.expr.func.__name__ for d in r.atoms(sympy.Derivative)}
+        algebraic = {n for n in names if n not in states and n not in self.inputs}
+        return algebraic | {f"d_{n}" for n in derivs if n in states}
+
+    def _index_reduction(self, residuals: list[tuple[Any, Equation]], states: set[str],
+                         result: Reduced) -> tuple[list[tuple[Any, Equation]], set[str]]:
+        """A residual with no unknown constrains the states: solve it for one of them,
+        which then becomes algebraic (its derivative from differentiating the solution)."""
+        changed, any_change = True, False
+        # whether each residual mentions an unknown (or a definition), kept up to date for
+        # the residuals a substitution changes: rescanning them all after every change made
+        # this quadratic in the size of the model (15 s of a 30-link chain's 60, measured)
+        blocked = [bool(self._unknowns_in(r, states) or self._hidden_in(r))
+                   for r, _ in residuals]
+        mentions = [{g.func.__name__ for g in r.atoms(AppliedUndef)} for r, _ in residuals]
+        while changed:
+            changed = False
+            for i, (r, eq) in enumerate(residuals):
+                if blocked[i]:
+                    continue
+                candidates = sorted(n for n in self._names(r) if n in states)
+                if not candidates:
+                    continue  # a relation among inputs and parameters: nothing to solve
+                lhs = eq.expr.left if isinstance(eq.expr, ex.BinOp) else None
+                preferred = [n for n in candidates if isinstance(lhs, ex.Name)
+                             and lhs.text == n] or candidates
+                name = preferred[0]
+                f = self.funcs[name]
+                linear = _linear_one([r], [f])
+                solutions = [linear[0][f]] if linear else sympy.solve(r, f)
+                if len(solutions) != 1:
+                    result.obstacles.append(Obstacle(
+                        "algebraic-loop", f"the constraint from {eq.origin} cannot be solved "
+                        f"for {name}", (name,), (eq,)))
+                    residuals.pop(i)
+                    blocked.pop(i)
+                    mentions.pop(i)
+                    changed = True
+                    break
+                value = solutions[0]
+                residuals.pop(i)
+                blocked.pop(i)
+                mentions.pop(i)
+                states.discard(name)
+                derivative = sympy.diff(value, T)
+                for k, (x, e) in enumerate(residuals):
+                    if name not in mentions[k]:
+                        continue
+                    x = sympy.expand(x.xreplace({sympy.Derivative(f, T): derivative})
+                                     .xreplace({f: value}))
+                    residuals[k] = (x, e)
+                    mentions[k] = {g.func.__name__ for g in x.atoms(AppliedUndef)}
+                    blocked[k] = bool(self._unknowns_in(x, states) or self._hidden_in(x))
+                residuals.append((f - value, eq))  # keeps `name` as an output
+                blocked.append(True)  # `name` is now algebraic: an unknown
+                mentions.append({name} | {g.func.__name__ for g in value.atoms(AppliedUndef)})
+                changed = any_change = True
+                break
+        return residuals, states, any_change
+
+    def _presolve_static(self, residuals: list[tuple[Any, Equation]], states: set[str]
+                         ) -> tuple[list[tuple[Any, Equation]], bool]:
+        """Solve the algebraic variables that do not depend on states (a mapping's wheel
+        speeds from the operation's arguments, a sensor's output from its input) and
+        substitute them, so that constraints they hide among states come to light."""
+        static = [(i, r) for i, (r, _) in enumerate(residuals)
+                  if not r.atoms(sympy.Derivative) and not (self._names(r) & states)]
+        unknown_of = {self.funcs[n]: n for n in sorted(set().union(*(self._names(r)
+                      for _, r in static))) if n not in self.inputs} if static else {}
+        if not unknown_of:
+            return residuals, False
+        defined_by = _match([(i, self._unknown_names(r, unknown_of, hidden=False))
+                             for i, r in static])
+        deps = nx.DiGraph()
+        for name, i in sorted(defined_by.items()):
+            deps.add_node(name)
+            for other in sorted(self._unknown_names(residuals[i][0], unknown_of)):
+                deps.add_edge(other, name)
+        undefined = set(unknown_of.values()) - set(defined_by)
+        solved: dict[Any, Any] = {}
+        used: set[int] = set()
+        for block in _blocks_in_order(deps):
+            if any(p in undefined for b in block for p in deps.predecessors(b)) or \
+                    any(b in undefined for b in block):
+                undefined.update(block)
+                continue
+            eqs = [residuals[defined_by[v]][0].xreplace(solved) for v in block]
+            objs = [self.funcs[v] for v in block]
+            solution = _linear_one(eqs, objs)
+            if solution is None:
+                try:
+                    solution = sympy.solve(eqs, objs, dict=True)
+                except (NotImplementedError, ValueError):
+                    solution = []
+            if len(solution) != 1 or set(solution[0]) != set(objs):
+                undefined.update(block)
+                continue
+            solved.update({k: _cancel(v) for k, v in solution[0].items()})
+            used.update(defined_by[v] for v in block)
+        if not solved:
+            return residuals, False
+        out = [(sympy.expand(r.xreplace(solved)), eq) for i, (r, eq) in enumerate(residuals)
+               if i not in used]
+        self.static.update(solved)
+        return out, True
+
+    def _input_derivatives(self, r: Any) -> Any:
+        for d in r.atoms(sympy.Derivative):
+            name = d.expr.func.__name__
+            if name in self.inputs:
+                sym = self.input_derivatives.setdefault(
+                    d, sympy.Symbol(f"der_{name}", real=True))
+                r = r.subs(d, sym)
+        return r
+
+    def _names(self, r: Any) -> set[str]:
+        return {f.func.__name__ for f in r.atoms(sympy.Function) if f.func.__name__ in
+                self.funcs} | self._hidden_in(r)
+
+    # ----- step 3: matching and block solving
+    def _solve(self, residuals: list[tuple[Any, Equation]], unknown_of: dict[Any, str],
+               dsyms: dict[Any, str], result: Reduced) -> None:
+        by_name = {v: k for k, v in unknown_of.items()}
+        defined_by = _match([(i, self._unknown_names(r, unknown_of, hidden=False))
+                             for i, (r, _) in enumerate(residuals)])
+        deps = nx.DiGraph()
+        for name, i in sorted(defined_by.items()):
+            deps.add_node(name)
+            for other in sorted(self._unknown_names(residuals[i][0], unknown_of)):
+                if other != name:
+                    deps.add_edge(other, name)
+
+        def closure(frontier: list[str]) -> set[str]:
+            seen: set[str] = set()
+            while frontier:
+                v = frontier.pop()
+                if v in seen:
+                    continue
+                seen.add(v)
+                if v in defined_by:
+                    frontier.extend(self._unknown_names(residuals[defined_by[v]][0],
+                                                        unknown_of))
+            return seen
+
+        needed = closure([f"d_{s}" for s in dsyms.values()])
+        extra = closure([v for v in sorted(self.wanted) if v in by_name]) - needed
+        missing = sorted(v for v in needed if v not in defined_by)
+        blocked: set[str] = {v for v in extra if v not in defined_by}
+        for v in missing:
+            users = [residuals[i][1] for n, i in defined_by.items()
+                     if v in self._unknown_names(residuals[i][0], unknown_of)]
+            shown = v[2:] + "'" if v.startswith("d_") else v
+            result.obstacles.append(Obstacle(
+                "underdetermined", f"no equation determines {shown}", (shown,),
+                tuple(dict.fromkeys(users))))
+            blocked.add(v)
+        solved: dict[Any, Any] = {}
+        sub = deps.subgraph((needed | extra) & set(defined_by))
+        for block in _blocks_in_order(sub):
+            if any(p in blocked for b in block for p in deps.predecessors(b)):
+                blocked.update(block)
+                continue
+            quiet = not needed.intersection(block)  # only wanted: no obstacle
+            eqs = [residuals[defined_by[v]][0].xreplace(solved) for v in block]
+            objs = [by_name[v] for v in block]
+            functions = [f for e in eqs for f in e.atoms(AppliedUndef)
+                         if f.func.__name__ not in self.funcs and any(f.has(o) for o in objs)]
+            if functions:
+                if not quiet:
+                    undefined = ", ".join(sorted({str(f.func) for f in functions}))
+                    result.obstacles.append(Obstacle(
+                        "unknown-function", f"{undefined} has no definition: "
+                        f"{', '.join(_shown(v) for v in block)} cannot be solved through it",
+                        tuple(_shown(v) for v in block),
+                        tuple(residuals[defined_by[v]][1] for v in block)))
+                blocked.update(block)
+                continue
+            solution = _linear_one(eqs, objs)
+            if solution is None:
+                try:
+                    solution = sympy.solve(eqs, objs, dict=True)
+                except (NotImplementedError, ValueError) as err:
+                    solution, _ = [], err
+            if len(solution) != 1 or set(solution[0]) != set(objs):
+                if not quiet:
+                    result.obstacles.append(Obstacle(
+                        "algebraic-loop", "SymPy cannot solve " + ", ".join(
+                            _shown(v) for v in block) + " from their equations (a "
+                        "non-invertible algebraic loop)", tuple(_shown(v) for v in block),
+                        tuple(residuals[defined_by[v]][1] for v in block)))
+                blocked.update(block)
+                continue
+            for obj, value in solution[0].items():
+                solved[obj] = _cancel(value)
+        plain = {f: sympy.Symbol(f.func.__name__, real=True) for f in self.funcs.values()}
+        plain.update({d: sym for d, sym in self.input_derivatives.items()})
+        for d, s in dsyms.items():
+            if d in solved:
+                result.rhs[s] = sympy.expand(solved[d].xreplace(plain))
+        for obj, value in solved.items():
+            name = unknown_of[obj]
+            if not name.startswith("d_"):
+                result.outputs[name] = sympy.expand(value.xreplace(plain))
+        for obj, value in self.static.items():
+            result.outputs[obj.func.__name__] = sympy.expand(value.xreplace(plain))
+        result.symbols = {str(s): s for s in plain.values()}
+
+    def _unknown_names(self, r: Any, unknown_of: dict[Any, str], hidden: bool = True
+                       ) -> set[str]:
+        """The unknowns ``r`` mentions; with ``hidden``, also those its definitions depend on
+        (for the order of solving, not for matching: ``r`` cannot be solved for them)."""
+        present = r.atoms(AppliedUndef) | r.free_symbols
+        out = {unknown_of[a] for a in present if a in unknown_of}
+        if hidden and self.hidden:
+            out |= {n for n in self._hidden_in(r) if self.funcs[n] in unknown_of}
+        return out
+
+
+def _match(equations: list[tuple[int, set[str]]]) -> dict[str, int]:
+    """A maximum matching of variables to the equations that mention them, preferring state
+    derivatives (``derivative(x) == y`` defines x', and then y is what is missing).
+
+    Kuhn's augmenting paths, variables taken in order of preference: once matched, a variable
+    stays matched, which is the preference NetworkX's Hopcroft-Karp cannot express. Plain
+    sorted order, so the same model gives the same reduction in every run."""
+    names = sorted(set().union(*(v for _, v in equations)),
+                   key=lambda n: (not n.startswith("d_"), n)) if equations else []
+    mentions: dict[str, list[int]] = {n: [] for n in names}
+    for k, (_, variables) in enumerate(equations):
+        for v in variables:
+            mentions[v].append(k)
+    owner: dict[int, str] = {}  # equation → variable
+
+    def augment(v: str, seen: set[int]) -> bool:
+        for k in mentions[v]:
+            if k in seen:
+                continue
+            seen.add(k)
+            if k not in owner or augment(owner[k], seen):
+                owner[k] = v
+                return True
+        return False
+
+    for v in names:
+        augment(v, set())
+    return {v: equations[k][0] for k, v in sorted(owner.items())}
+
+
+def _linear_one(eqs: list[Any], objs: list[Any]) -> list[dict[Any, Any]] | None:
+    """The solution of one equation linear in its one unknown, ``a·x + b = 0`` with ``a``
+    free of ``x`` and not zero: ``x = -b/a`` (what ``sympy.solve`` gives, without its
+    general machinery: most blocks are of this kind); None for anything else."""
+    if len(eqs) != 1:
+        return None
+    [r], [x] = eqs, objs
+    if any(d.has(x) for d in r.atoms(sympy.Derivative)):
+        return None
+    if isinstance(r, sympy.Add):  # the usual, expanded case, read off term by term
+        a, rest, linear = [], [], True
+        for term in r.args:
+            free, bound = term.as_independent(x, as_Add=False)
+            if bound == x:
+                a.append(free)
+            elif not term.has(x):
+                rest.append(term)
+            else:
+                linear = False
+                break
+        if linear and a:
+            coefficient = sympy.Add(*a)
+            if coefficient != 0:
+                return [{x: -sympy.Add(*rest) / coefficient}]
+    a = sympy.expand(sympy.diff(r, x))
+    if a == 0 or a.has(x):
+        return None
+    return [{x: -r.xreplace({x: 0}) / a}]
+
+
+def _cancel(value: Any) -> Any:
+    """``sympy.cancel`` where there is something to cancel: a denominator that is a sum
+    (cancelling the rest, most solutions, cost a third of a 10-link chain's reduction,
+    measured; they are expanded at the end anyway)."""
+    if any(p.exp.is_negative and p.base.is_Add for p in value.atoms(sympy.Pow)):
+        return sympy.cancel(value)
+    return value
+
+
+def _shown(v: str) -> str:
+    return v[2:] + "'" if v.startswith("d_") else v
+
+
+def _blocks_in_order(graph: nx.DiGraph) -> list[list[str]]:
+    condensed = nx.condensation(graph)
+    return [sorted(condensed.nodes[n]["members"]) for n in nx.topological_sort(condensed)]
+
+
+_OBSTACLE_HINTS = {
+    "underdetermined": "add an equation or relation that determines it, or restrict the "
+                       "system with --element",
+    "algebraic-loop": "rewrite the equations so the loop can be solved, or give the "
+                      "constants values (--const)",
+    "unknown-function": "the function is declared without a definition: SymPy cannot invert "
+                        "it",
+    "unsupported": "only equations lhs == rhs over numbers, vectors and matrices are solved",
+    "too-large": "`cyphy solve` and `cyphy simulate` keep them as named definitions and "
+                 "take trees of any size; for this target, restrict the model with "
+                 "elements/--element to fewer joints",
+}
+
+
+def report_obstacles(reduced: Reduced, report: Report) -> None:
+    """Each obstacle as an ``E-REDUCE`` diagnostic at its first equation."""
+    from cyphy.semantics.dynamics.rigid_body import TREE
+
+    for o in reduced.obstacles:
+        span = o.equations[0].span if o.equations else Span.unknown()
+        notes = [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
+        report.report(TREE if o.kind == "too-large" else OBSTACLE, o.message, span,
+                      _OBSTACLE_HINTS[o.kind], notes)
+
+
+#: The largest expression (in nodes, every definition written out) that
+#: ``inline_definitions`` writes out: the articulated-body definitions of a 2-joint arm
+#: written out take about 1.3·10⁵ nodes and SymPy's expansion of them 7 s (measured).
+INLINE_LIMIT = 20_000
+
+
+def reduce_system(system: System, wanted: frozenset[str] = frozenset()) -> Reduced:
+    """The explicit ODEs of ``system``; ``wanted`` algebraic variables are solved as outputs
+    too where they can be (the axiomatic Isabelle dialect wants every state field). The
+    system's definitions (the equations of motion's named quantities: ``assemble``'s
+    ``definitions``) stay names, listed in order in ``Reduced.definitions``."""
+    return Reducer(system, wanted).reduce()
+
+
+def inline_definitions(reduced: Reduced, system: System) -> None:
+    """Write the definitions into the rhs and outputs (and drop them), or, beyond
+    ``INLINE_LIMIT`` nodes, leave the expressions as they are with an ``E-DYNAMICS``
+    obstacle: closed expressions of a small tree's accelerations (one or two joints), to
+    compare them with a formula."""
+    sizes: dict[str, int] = {}
+    for name, value in reduced.definitions:
+        sizes[name] = value.size(sizes) if hasattr(value, "size") else \
+            int(sympy.count_ops(value, visual=False)) + 1
+    largest = max(sizes.values())
+    if largest > INLINE_LIMIT:
+        equations = tuple(eq for eq in system.equations if eq.origin.endswith(" motion"))
+        joints = len(equations)
+        reduced.obstacles.append(Obstacle(
+            "too-large", f"the equations of motion of this {joints}-joint tree written out as "
+            f"closed expressions take about {largest:.1e} terms (at most {INLINE_LIMIT:.0e} "
+            "are written out): this target needs closed expressions", (),
+            equations[:1]))
+        return
+    symbols: dict[str, Any] = {}
+    for name, value in reduced.definitions:
+        symbols[name] = value.to_sympy(symbols) if hasattr(value, "to_sympy") else value
+    names = {sympy.Symbol(name, real=True): symbols[name] for name, _ in reduced.definitions}
+    for s, v in list(reduced.rhs.items()):
+        reduced.rhs[s] = sympy.expand(v.xreplace(names))
+    for s, v in list(reduced.outputs.items()):
+        reduced.outputs[s] = sympy.expand(v.xreplace(names))
+    reduced.definitions = []
+
+
+def closed_form(reduced: Reduced, inputs: dict[str, Any] | None = None) -> dict[str, Any] | None:
+    """Each state as an expression of ``t`` and its initial value ``<state>_0``, for constant
+    inputs; None when the system is not linear with constant coefficients.
+
+    The states are split into blocks by their dependencies (strongly connected components);
+    blocks are solved in order: a state that does not feed back on itself is integrated
+    (``theta' = av``), a coupled block ``x' = A x + g`` with constant ``g`` is solved from the
+    eigen-decomposition of ``A`` (``x = x* + V e^{Λt} V⁻¹ (x0 - x*)``, written with real
+    exponentials, sines and cosines), anything else goes to ``dsolve``. Coefficients are
+    floating point: exact roots of a cubic or quartic are of no use to anyone."""
+    if not reduced.states:
+        return None
+    values = {sympy.Symbol(n, real=True): v for n, v in (inputs or {}).items()}
+    sym = {s: reduced.symbols.get(s, sympy.Symbol(s, real=True)) for s in reduced.states}
+    rhs = {s: sympy.N(reduced.rhs[s].xreplace(values)) for s in reduced.states}
+    deps = nx.DiGraph()
+    deps.add_nodes_from(reduced.states)
+    for s, f in rhs.items():
+        for other in reduced.states:
+            if f.has(sym[other]):
+                deps.add_edge(other, s)
+    solution: dict[str, Any] = {}
+    for block in _blocks_in_order(deps):
+        known = {sym[s]: solution[s] for s in solution}
+        fs = {s: rhs[s].xreplace(known) for s in block}
+        x0 = {s: sympy.Symbol(f"{s}_0", real=True) for s in block}
+        if len(block) == 1 and not fs[block[0]].has(sym[block[0]]):
+            s = block[0]
+            tau = sympy.Symbol("tau", real=True)
+            integral = sympy.integrate(fs[s].xreplace({T: tau}), (tau, 0, T))
+            solution[s] = sympy.expand(x0[s] + integral)
+            continue
+        try:
+            matrix, rest = sympy.linear_eq_to_matrix([fs[s] for s in block],
+                                                     [sym[s] for s in block])
+        except (sympy.polys.polyerrors.PolynomialError, ValueError):
+            return None
+        g = -rest
+        if any(v.has(T) for v in g) or any(v.free_symbols - {*values} and
+                                           not v.is_number for v in matrix):
+            return None
+        solved = _linear_block(matrix, g, [x0[s] for s in block])
+        if solved is None:
+            return None
+        solution.update(dict(zip(block, solved)))
+    return solution
+
+
+def _linear_block(matrix: Any, g: Any, x0: list[Any]) -> list[Any] | None:
+    """``x' = A x + g`` with constant ``A`` and ``g`` (``g`` may hold symbols, linearly)."""
+    a = np.array(matrix.evalf(), dtype=float)
+    if abs(np.linalg.det(a)) < 1e-12:
+        return None
+    eigenvalues, vectors = np.linalg.eig(a)
+    if np.linalg.cond(vectors) > 1e10:
+        return None  # defective: no basis of eigenvectors
+    inverse = np.linalg.inv(vectors)
+    a_inv = sympy.Matrix(np.linalg.inv(a).tolist())
+    steady = -(a_inv * g)
+    start = sympy.Matrix(x0) - steady
+    out = []
+    for i in range(len(x0)):
+        total = steady[i]
+        for k, lam in enumerate(eigenvalues):
+            weight = sum(complex(vectors[i, k] * inverse[k, j]) * start[j]
+                         for j in range(len(x0)))
+            total += _exp_term(complex(lam), weight)
+        total = sympy.expand(total)
+        noise = {f: 0 for f in total.atoms(sympy.Float) if abs(f) < 1e-12}
+        out.append(total.xreplace(noise))
+    return out
+
+
+def _exp_term(lam: complex, weight: Any) -> Any:
+    """The real part of ``weight·e^{λt}`` (complex pairs add up to real cosines and sines)."""
+    re, im = sympy.Float(lam.real), sympy.Float(lam.imag)
+    weight = sympy.expand(weight)
+    w_re = sympy.re(weight)
+    w_im = sympy.im(weight)
+    if abs(lam.imag) < 1e-14:
+        return w_re * sympy.exp(re * T)
+    return sympy.exp(re * T) * (w_re * sympy.cos(im * T) - w_im * sympy.sin(im * T))

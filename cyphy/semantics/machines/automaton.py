@@ -1,0 +1,302 @@
+"""A state machine compiled, under RoboSim's cycle semantics, to a finite automaton over its
+input events: what the Flow* export turns into modes and jumps (one jump per cycle).
+
+The compilation runs the interpreter (:mod:`cyphy.semantics.machines.cycle`) from every reachable
+configuration under every combination of the input events (present or absent), so the
+automaton *is* the interpreter's behaviour, not a second reading of the rules:
+
+- a **mode** is a configuration at the end of a cycle together with the operation calls
+  that cycle performed (the mode's calls take effect when it is entered; a mode without
+  calls leaves the actuators as they were, and is given the calls every path into it made
+  last when they agree: calls set actuator values, so repeating them changes nothing);
+- clock counts **saturate** at the first count past the largest constant the clock is
+  compared with (``since(C) < PI/av``: beyond it every comparison keeps its value), so
+  clocks add finitely many configurations; variables are explored by value and must take
+  finitely many (at most :data:`MAX_CONFIGURATIONS` configurations);
+- modes with the same calls and the same successors are merged (partition refinement),
+  and the input combinations leading from one mode to another are written as few
+  conjunctions of event literals as a prime-implicant cover gives;
+- the automaton starts in the mode the first cycle leads to, which must not depend on the
+  inputs (the Flow* automaton samples inputs first at the end of the first cycle).
+
+Operation definitions the machine calls are part of the configurations (the operation
+running and its callers' frames), so they compile like the machine itself; their clocks
+saturate in the same way. Output events the platform mapping maps are kept with the calls
+(their mapping gives their effect, as an operation's does); those it does not map
+(``interpreter.observable``) reach no input of the p-model and are left out. Typed input
+events (their values are not modelled) and clocks compared with anything but constants are
+reported, not approximated.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from cyphy import expr as ex
+from cyphy.model.machines import Machine, expressions
+from cyphy.semantics.machines.cycle import Configuration, MachineError, MachineInterpreter, Output
+
+MAX_CONFIGURATIONS = 5000
+MAX_EVENTS = 8
+_COMPARISONS = {"<", "<=", ">", ">=", "==", "!="}
+
+Literal = tuple[str, bool]  # (event, negated)
+
+
+@dataclass(frozen=True)
+class Mode:
+    name: str
+    node: str  # the machine node the mode rests in (in the operation running, if any)
+    calls: tuple[tuple[str, tuple[float, ...]], ...]
+
+
+@dataclass(frozen=True)
+class Edge:
+    source: str
+    target: str
+    guard: tuple[Literal, ...]  # a conjunction; () is true
+
+
+@dataclass(frozen=True)
+class Automaton:
+    events: tuple[str, ...]
+    modes: tuple[Mode, ...]
+    initial: str
+    edges: tuple[Edge, ...]  # only between different modes: staying is the rest
+
+
+def compile_machine(interpreter: MachineInterpreter) -> Automaton:
+    """The automaton of the machine (see the module docstring); raises
+    :class:`MachineError` when the machine cannot be compiled."""
+    m = interpreter.machine
+    typed = [e for e, d in m.platform.input_events.items() if d.type is not None]
+    if typed:
+        raise MachineError(f"the typed input event{'s' if len(typed) > 1 else ''} "
+                           f"{', '.join(typed)} of {m.name} cannot be compiled: the automaton "
+                           "models events as present or absent, not their values",
+                           m.decl.span, "use untyped events, or simulate the machine instead")
+    events = tuple(m.platform.input_events)
+    if len(events) > MAX_EVENTS:
+        raise MachineError(f"{m.name} reads {len(events)} input events: more than "
+                           f"{MAX_EVENTS} make too many combinations", m.decl.span)
+    caps: dict[str | None, dict[str, int]] = {None: clock_caps(interpreter)}
+    caps.update({name: clock_caps(interpreter, name) for name in interpreter.operations})
+    combos = list(itertools.product((False, True), repeat=len(events)))
+
+    def step(config: Configuration | None, combo: tuple[bool, ...]
+             ) -> tuple[Configuration, tuple[Output, ...]]:
+        if config is None:
+            interpreter.reset()
+        else:
+            interpreter.restore(config)
+        outputs = interpreter.cycle({e: (True if on else None)
+                                     for e, on in zip(events, combo)})
+        outputs = tuple(o for o in outputs if o[0] not in interpreter.observable)
+        interpreter.saturate(caps)
+        return interpreter.configuration(), outputs
+
+    first = {step(None, combo) for combo in combos}
+    if len(first) > 1:
+        raise MachineError(f"the first cycle of {m.name} depends on its inputs: the Flow* "
+                           "automaton first samples them at the end of the first cycle",
+                           m.decl.span, "let the first cycle end (exec) before reading events")
+    start = first.pop()
+    index: dict[tuple[Configuration, tuple[Output, ...]], int] = {start: 0}
+    keys = [start]
+    successors: list[list[int]] = []
+    k = 0
+    while k < len(keys):
+        config, _ = keys[k]
+        row = []
+        for combo in combos:
+            nxt = step(config, combo)
+            if nxt not in index:
+                if len(keys) >= MAX_CONFIGURATIONS:
+                    raise MachineError(
+                        f"{m.name} has more than {MAX_CONFIGURATIONS} configurations: its "
+                        "variables take too many values to be compiled", m.decl.span,
+                        "simulate the machine instead")
+                index[nxt] = len(keys)
+                keys.append(nxt)
+            row.append(index[nxt])
+        successors.append(row)
+        k += 1
+    calls = _held_calls([outputs for _, outputs in keys], successors)
+    blocks = _minimise(calls, successors)
+    return _automaton(m, events, combos, keys, calls, successors, blocks)
+
+
+def _held_calls(outputs: list[tuple[Output, ...]], successors: list[list[int]]
+                ) -> list[tuple[Output, ...]]:
+    """The calls of each configuration, where one without calls is given the calls that
+    every path into it performed last, when they are the same (least fixpoint of the sets of
+    last calls): calls set actuator values, so repeating them changes nothing, and the
+    automaton needs fewer modes (a stopped machine's mode keeps ``stop()``)."""
+    last: list[set[tuple[Output, ...]]] = [{o} if o else set() for o in outputs]
+    last[0] = last[0] or {()}  # before any call: the actuators' initial values
+    changed = True
+    while changed:
+        changed = False
+        for i, row in enumerate(successors):
+            for j in row:
+                if not outputs[j] and not last[i] <= last[j]:
+                    last[j] |= last[i]
+                    changed = True
+    return [o if o else next(iter(last[i])) if len(last[i]) == 1 else ()
+            for i, o in enumerate(outputs)]
+
+
+def clock_caps(interpreter: MachineInterpreter, operation: str | None = None
+               ) -> dict[str, int]:
+    """Per clock of the machine (or of the operation definition named), the count from
+    which every comparison ``since(C) op v`` has the same value: one past the largest ``v``
+    in cycles."""
+    m = interpreter.machine if operation is None else interpreter.operations[operation]
+    constants = interpreter.constants if operation is None else \
+        interpreter.op_constants[operation]
+    caps = {c: 0 for c in m.clocks}
+    for e, where in expressions(m):
+        for node in e.walk():
+            if isinstance(node, ex.BinOp) and node.op in _COMPARISONS:
+                for clock, other in ((_since(node.left), node.right),
+                                     (_since(node.right), node.left)):
+                    if clock is None or clock not in caps:
+                        continue
+                    value = _constant(interpreter, m, constants, other)
+                    if value is None:
+                        raise MachineError(
+                            f"{where}: since({clock}) is compared with something that is not "
+                            "a constant, so its clock cannot be bounded", node.span,
+                            "compare clocks with constants to compile the machine")
+                    caps[clock] = max(caps[clock],
+                                      math.floor(value / interpreter.period) + 1)
+    for e, where in expressions(m):
+        for node in e.walk():
+            clock = _since(node)
+            if clock is not None and not _compared(e, node):
+                raise MachineError(f"{where}: since({clock}) is used as a value, so its clock "
+                                   "cannot be bounded", node.span,
+                                   "compare clocks with constants to compile the machine")
+    return caps
+
+
+def _since(e: ex.Expr) -> str | None:
+    if isinstance(e, ex.Call) and isinstance(e.func, ex.Name) and e.func.text == "since" \
+            and len(e.args) == 1 and isinstance(e.args[0], ex.Name):
+        return e.args[0].text
+    return None
+
+
+def _compared(root: ex.Expr, call: ex.Expr) -> bool:
+    return any(isinstance(n, ex.BinOp) and n.op in _COMPARISONS and (
+        n.left is call or n.right is call) for n in root.walk())
+
+
+def _constant(interpreter: MachineInterpreter, m: Machine, constants: dict[str, object],
+              e: ex.Expr) -> float | None:
+    if any(isinstance(n, ex.PlatformRef) or _since(n) is not None for n in e.walk()):
+        return None
+    params = {p.name for p in m.decl.params}  # bound per call: not one value
+    if any(isinstance(n, ex.Name) and (n.text in m.variables or n.text in params)
+           for n in e.walk()):
+        return None
+    try:
+        value = interpreter._value(e, constants)
+    except MachineError:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    return float(value)
+
+
+def _minimise(outputs: list[tuple[Output, ...]], successors: list[list[int]]) -> list[int]:
+    """Block of each configuration: the coarsest partition with equal calls and, per input
+    combination, successors in equal blocks (numbered in order of first appearance)."""
+    def renumber(keys: list[Any]) -> list[int]:
+        seen: dict[Any, int] = {}
+        return [seen.setdefault(key, len(seen)) for key in keys]
+
+    blocks = renumber(outputs)
+    while True:
+        refined = renumber([(blocks[i], tuple(blocks[j] for j in successors[i]))
+                            for i in range(len(blocks))])
+        if max(refined) == max(blocks):
+            return refined
+        blocks = refined
+
+
+def _automaton(m: Machine, events: tuple[str, ...], combos: list[tuple[bool, ...]],
+               keys: list[tuple[Configuration, tuple[Output, ...]]],
+               calls: list[tuple[Output, ...]], successors: list[list[int]],
+               blocks: list[int]) -> Automaton:
+    first_of: dict[int, int] = {}
+    for i, b in enumerate(blocks):
+        first_of.setdefault(b, i)
+    names: dict[int, str] = {}
+    taken: set[str] = set()
+    for b in sorted(first_of):
+        config = keys[first_of[b]][0]
+        base = f"{config.running}::{config.node}" if config.running else config.node
+        base = base.replace("::", "_")
+        name, n = base, 2
+        while name in taken:
+            name, n = f"{base}_{n}", n + 1
+        taken.add(name)
+        names[b] = name
+    modes = tuple(Mode(names[b], keys[i][0].node, calls[i]) for b, i in
+                  sorted(first_of.items()))
+    edges: list[Edge] = []
+    for b, i in sorted(first_of.items()):
+        by_target: dict[int, list[tuple[bool, ...]]] = {}
+        for combo, j in zip(combos, successors[i]):
+            if blocks[j] != b:
+                by_target.setdefault(blocks[j], []).append(combo)
+        for target, minterms in sorted(by_target.items()):
+            for cube in _cover(minterms, len(events)):
+                guard = tuple((events[k], not v) for k, v in enumerate(cube) if v is not None)
+                edges.append(Edge(names[b], names[target], guard))
+    return Automaton(events, modes, names[blocks[0]], tuple(edges))
+
+
+def _cover(minterms: list[tuple[bool, ...]], n: int) -> list[tuple[bool | None, ...]]:
+    """Few cubes (``None``: either value) whose union is exactly ``minterms``: the prime
+    implicants (Quine-McCluskey), then a greedy cover."""
+    current: set[tuple[bool | None, ...]] = set(minterms)
+    primes: set[tuple[bool | None, ...]] = set()
+    while current:
+        merged: set[tuple[bool | None, ...]] = set()
+        used: set[tuple[bool | None, ...]] = set()
+        for a, b in itertools.combinations(sorted(current, key=repr), 2):
+            diff = [k for k in range(n) if a[k] != b[k]]
+            if len(diff) == 1 and a[diff[0]] is not None and b[diff[0]] is not None:
+                merged.add(tuple(None if k == diff[0] else a[k] for k in range(n)))
+                used.update((a, b))
+        primes |= current - used
+        current = merged
+
+    def covers(cube: tuple[bool | None, ...], term: tuple[bool, ...]) -> bool:
+        return all(c is None or c == t for c, t in zip(cube, term))
+
+    left = set(minterms)
+    chosen: list[tuple[bool | None, ...]] = []
+    for cube in sorted(primes, key=lambda c: (sum(x is not None for x in c), repr(c))):
+        if left and any(covers(cube, t) for t in left):
+            chosen.append(cube)
+            left = {t for t in left if not covers(cube, t)}
+    return chosen
+
+
+def describe(automaton: Automaton) -> str:
+    """The automaton as text (for messages and tests)."""
+    lines = [f"initial {automaton.initial}"]
+    for mode in automaton.modes:
+        calls = ", ".join(f"{n}({', '.join(f'{a:g}' for a in args)})"
+                          for n, args in mode.calls)
+        lines.append(f"mode {mode.name} [{calls}]")
+    for e in automaton.edges:
+        guard = " /\\ ".join(("not " if neg else "") + ev for ev, neg in e.guard) or "true"
+        lines.append(f"{e.source} -> {e.target} when {guard}")
+    return "\n".join(lines)

@@ -1,0 +1,93 @@
+"""The d-model's state machine as the scenario's controller (a scenario without
+``[controller]``): the machine is chosen (the one the mapped module's controller runs, or
+``machine = NAME`` / ``--machine NAME``), compiled under RoboSim's cycle semantics
+(:mod:`cyphy.semantics.machines.automaton`), and written into the scenario's ``initial``,
+``states`` (mode → calls) and ``transitions`` (guards: conjunctions of event literals), the
+structure a ``[controller]`` table gives, so the export treats both alike. The interpreter
+itself is returned too: ``cyphy simulate`` runs it, cycle by cycle, as the sampled controller.
+The operation definitions the machine calls run inside it; its output events that the
+mapping maps act like calls, the others are observable only (``interpreter.observable``)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from cyphy.diagnostics import Report, Span
+from cyphy.verify.flowstar.scenario import Scenario, Transition
+
+if TYPE_CHECKING:
+    from cyphy.semantics.machines.cycle import MachineInterpreter
+
+
+def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Report
+                       ) -> "MachineInterpreter | None":
+    """Fill the scenario's controller from the d-model's machine and return the machine's
+    interpreter (reset to its start); None (with diagnostics) when there is none to choose,
+    or it cannot be compiled."""
+    from cyphy.verify.flowstar.export import EXPORT
+    from cyphy.lang.scopes import Scopes
+    from cyphy.model.machines import select_machine
+    from cyphy.semantics.machines.cycle import MachineError, interpreter_for
+    from cyphy.semantics.machines.automaton import compile_machine
+
+    files = list(check.workspace.user_files())
+    span = scenario.span("machine") if scenario.machine else Span(scenario.path, 1, 1, 1, 2)
+    machine, problem = select_machine(files, check.resolution, pmodel, scenario.machine)
+    if machine is None:
+        message, hint = problem
+        report.report(EXPORT, message if scenario.machine else
+                      f"the scenario has no [controller], and {message}", span, hint)
+        return None
+    consts = {n: v for n, v in scenario.consts.items() if "::" not in n and
+              isinstance(v, (int, float)) and not isinstance(v, bool)}
+    try:
+        interpreter = interpreter_for(machine, files, check.resolution,
+                                      Scopes(check.workspace), consts, pmodel)
+        automaton = compile_machine(interpreter)
+    except MachineError as err:
+        report.report(EXPORT, f"state machine {machine.name}: {err.message}", err.span,
+                      err.hint)
+        return None
+    if not _same_cycle(interpreter, scenario, report):
+        return None
+    scenario.initial = automaton.initial
+    scenario.states = {mode.name: tuple(_call_text(n, args) for n, args in mode.calls)
+                       for mode in automaton.modes}
+    scenario.transitions = [
+        Transition(e.source, e.target, e.guard[0][0] if e.guard else "",
+                   e.guard[0][1] if e.guard else False, machine.decl.span, e.guard[1:])
+        for e in automaton.edges]
+    interpreter.reset()  # the compilation explored its configurations
+    return interpreter
+
+
+def _same_cycle(interpreter: "MachineInterpreter", scenario: Scenario, report: Report
+                ) -> bool:
+    """The controller runs every ``cycle × tscale`` seconds with the machine's own cycle
+    (``cycleDef cycle == k``): a scenario without ``cycle`` takes it; one that gives another
+    is reported, as is a cycle that is not a whole number of time units."""
+    import tomllib
+
+    from cyphy.verify.flowstar.export import EXPORT
+
+    period = interpreter.period
+    name = interpreter.machine.name
+    if period != int(period):
+        report.report(EXPORT, f"the cycle of {name} is {period:g} time units; the scenario's "
+                      "cycle must be a whole number of them", interpreter.machine.decl.span,
+                      "give the machine a whole cycle (cycleDef cycle == 1) and scale time "
+                      "with the scenario's tscale")
+        return False
+    if "cycle" not in tomllib.loads(scenario.text):
+        scenario.cycle = int(period)
+    elif scenario.cycle != int(period):
+        report.report(EXPORT, f"cycle = {scenario.cycle}, but {name} runs every "
+                      f"{int(period)} time unit{'s' if period != 1 else ''} "
+                      f"(cycleDef cycle == {int(period)})", scenario.span("cycle"),
+                      f"remove 'cycle' (the machine's is used) or write cycle = {int(period)}")
+        return False
+    return True
+
+
+def _call_text(name: str, args: tuple[float, ...]) -> str:
+    return f"{name}({', '.join(repr(float(a)) for a in args)})"
