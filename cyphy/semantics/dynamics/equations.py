@@ -24,6 +24,10 @@ from cyphy.model.evaluate import Value
 ASSEMBLY = codes.code("E-SOLVE", codes.E, "the equations to solve cannot be assembled")
 OBSTACLE = codes.code("E-REDUCE", codes.E,
                       "the equations cannot be reduced to explicit first-order ODEs")
+OVERDETERMINED = codes.code("E-OVERDETERMINED", codes.E,
+                            "more equations than unknowns: equations compete for a variable")
+UNDERDETERMINED = codes.code("E-UNDERDETERMINED", codes.E,
+                             "no equation determines a variable the evolution needs")
 
 
 @dataclass(frozen=True)
@@ -43,6 +47,12 @@ class System:
     # named intermediate quantities of the equations of motion, in order (each uses the
     # variables and the definitions before it): ``cyphy.semantics.dynamics.articulated.Definition``
     definitions: list[Any] = field(default_factory=list)
+    # device prefix → the span of the element that declares it in the user's files: where a
+    # diagnostic about a library device's equation points (the library is not the user's)
+    places: dict[str, Span] = field(default_factory=dict)
+    # the joints' efforts (``<Joint>_tau``): the equations of motion give a joint's
+    # acceleration from its effort, never an effort from a prescribed motion
+    efforts: set[str] = field(default_factory=set)
 
 
 class AssemblyError(Exception):
@@ -71,6 +81,7 @@ def assemble(model: ElaboratedModel, elements: list[str] | None = None,
     devices = _devices(model, elements)
     for device in devices:
         _add_device(system, device)
+    _add_places(system, model, devices)
     known = {p.mangled for d in devices for p in d.ports}
     if definitions:
         _add_explicit_motion(system, model, gravity, None if not elements else known,
@@ -113,6 +124,16 @@ def _add_device(system: System, device: Device) -> None:
             system.kinds[p.mangled] = p.kind.value.lower()
     for e in device.equations:
         system.equations.append(Equation(e, device.prefix, e.span))
+
+
+def _add_places(system: System, model: ElaboratedModel, devices: list[Device]) -> None:
+    for e in [*model.joints, *model.unconnected, *model.sensors, *model.actuators]:
+        if e.device is not None and e.device in devices:
+            system.places.setdefault(e.device.prefix, e.span)
+    for joint in model.joints:
+        port = joint.device.port("tau") if joint.device in devices else None
+        if port is not None:
+            system.efforts.add(port.mangled)
 
 
 def _add_motion(system: System, model: ElaboratedModel,

@@ -31,16 +31,23 @@ from cyphy import expr as ex
 from cyphy.translate.to_sympy import T, SympyPrinter, UnsupportedNode
 from cyphy.lang import ast
 from cyphy.diagnostics import Report, Span
-from cyphy.semantics.dynamics.equations import OBSTACLE, Equation, System
+from cyphy.semantics.dynamics.equations import (OBSTACLE, OVERDETERMINED, UNDERDETERMINED,
+                                                Equation, System)
+from cyphy.semantics.dynamics.structure import Competition, Row, overdetermined
 from cyphy.semantics.scalarise import ScalariseError, Scalariser, components
 
 
 @dataclass(frozen=True)
 class Obstacle:
-    kind: str  # underdetermined, algebraic-loop, unknown-function, unsupported, too-large
+    kind: str  # overdetermined, underdetermined, algebraic-loop, unknown-function,
+    #            unsupported, too-large
     message: str
     variables: tuple[str, ...]
     equations: tuple[Equation, ...]
+    # where to report it (in the user's files) and what to say about each equation; set by
+    # the reducer from the system's places (see ``Reducer.placed``)
+    span: Span | None = None
+    notes: tuple[str, ...] = ()
 
 
 @dataclass
@@ -164,6 +171,11 @@ class Reducer:
         result = Reduced()
         residuals = self.residuals(result.obstacles)
         residuals = self._higher_derivatives(residuals)
+        if not result.obstacles:
+            result.obstacles.extend(self._structure(residuals))
+        if result.obstacles:
+            result.obstacles = [self.placed(o) for o in result.obstacles]
+            return result  # never a reduction that leaves an equation out
         states: set[str] = set()
         for r, _ in residuals:
             for d in sorted(r.atoms(sympy.Derivative), key=str):
@@ -181,7 +193,9 @@ class Reducer:
         to_symbol = {sympy.Derivative(self.funcs[s], T): self._derivative_symbol(self.funcs[s])
                      for s in states}
         rs = [(r.xreplace(to_symbol), eq) for r, eq in residuals]
-        algebraic = sorted(n for n in self.funcs if n not in states and n not in self.inputs)
+        static = {f.func.__name__ for f in self.static}  # solved already: known
+        algebraic = sorted(n for n in self.funcs
+                           if n not in states and n not in self.inputs and n not in static)
         unknown_of = {self.funcs[n]: n for n in algebraic}
         unknown_of.update({d: f"d_{s}" for d, s in dsyms.items()})
         self._solve(rs, unknown_of, dsyms, result)
@@ -198,7 +212,42 @@ class Reducer:
                                if n in used_names)
         result.parameters = sorted(str(s) for s in used if isinstance(s, sympy.Symbol)
                                    and str(s) in self.system.parameters)
+        result.obstacles = [self.placed(o) for o in result.obstacles]
         return result
+
+    # ----- structural analysis (before any reduction)
+    def _structure(self, residuals: list[tuple[Any, Equation]]) -> list[Obstacle]:
+        """Over-determined equations (:func:`cyphy.semantics.dynamics.structure.overdetermined`)
+        as obstacles: the device equations and equations of motion are matched first, then
+        mappings' equations, then relations, so what is left over is the user's."""
+        efforts = {c for n in self.system.efforts for c in self._components(n)}
+        rows: list[Row[Equation]] = []
+        for r, eq in residuals:
+            direct = {f.func.__name__ for f in r.atoms(AppliedUndef)
+                      if f.func.__name__ in self.funcs} - self.inputs
+            hidden = self._hidden_in(r) - self.inputs
+            derived = {d.expr.func.__name__ for d in r.atoms(sympy.Derivative)} & direct
+            motion = eq.origin.endswith(" motion")
+            rows.append(Row(eq, frozenset(direct | hidden),
+                            frozenset(direct - efforts if motion else direct),
+                            frozenset(derived)))
+        rank = {"relation": 2, "mapping": 1}
+        rows.sort(key=lambda row: rank.get(row.equation.origin.split()[0], 0))
+        return [_competition(c) for c in overdetermined(rows)]
+
+    def placed(self, o: Obstacle) -> Obstacle:
+        """``o`` reported in the user's files: at its first equation written there, or else at
+        the element whose library device the equation comes from; one note per equation."""
+        from dataclasses import replace
+
+        def place(eq: Equation) -> Span | None:
+            if not _in_library(eq.span):
+                return eq.span
+            return self.system.places.get(eq.origin)
+
+        spans = [s for s in (place(eq) for eq in o.equations) if s is not None]
+        notes = list(o.notes) or [_note(eq, self.system.places) for eq in o.equations]
+        return replace(o, span=o.span or (spans[0] if spans else None), notes=tuple(notes))
 
     def _definitions(self, result: Reduced) -> set[Any]:
         """Fill ``result.definitions``: the outputs the definitions use (a joint's effort
@@ -462,6 +511,38 @@ class Reducer:
         return out
 
 
+def _in_library(span: Span) -> bool:
+    from cyphy.lang.workspace import LIBRARY_ROOT
+
+    return span.file.startswith(str(LIBRARY_ROOT))
+
+
+def _equation_text(eq: Equation) -> str:
+    from cyphy.lang.notation import to_notation
+
+    where = "relation" if eq.origin == "relation" else f"equation of {eq.origin}"
+    return f"{where} `{to_notation(eq.expr)}`"
+
+
+def _note(eq: Equation, places: dict[str, Span]) -> str:
+    note = f"{_equation_text(eq)} at {eq.span}"
+    if _in_library(eq.span) and eq.origin in places:
+        note += f" (the library's, for {eq.origin} declared at {places[eq.origin]})"
+    return note
+
+
+def _competition(c: Competition[Equation]) -> Obstacle:
+    """An over-determined equation and the equations that already determine its variables."""
+    rivals = "; ".join(f"{v} by the {_equation_text(eq)}" for v, eq in c.rivals)
+    variables = tuple(v for v, _ in c.rivals)
+    message = (f"the {_equation_text(c.equation)} over-determines the equations: it adds an "
+               f"equation but no unknown")
+    if rivals:
+        message += f", and each variable it names is already determined ({rivals})"
+    equations = (c.equation, *dict.fromkeys(eq for _, eq in c.rivals))
+    return Obstacle("overdetermined", message, variables, equations)
+
+
 def _match(equations: list[tuple[int, set[str]]]) -> dict[str, int]:
     """A maximum matching of variables to the equations that mention them, preferring state
     derivatives (``derivative(x) == y`` defines x', and then y is what is missing).
@@ -541,6 +622,12 @@ def _blocks_in_order(graph: nx.DiGraph) -> list[list[str]]:
 
 
 _OBSTACLE_HINTS = {
+    "overdetermined": "remove it or one of the equations it competes with: a relation may "
+                      "only set what nothing else determines, such as a joint's effort tau "
+                      "or a motor's demand das; cyphy solves a joint's acceleration from its "
+                      "effort, never an effort from a prescribed motion. A motor drives a "
+                      "joint through its torque alone (relation M.T == J.tau): see "
+                      "docs/equations.md",
     "underdetermined": "add an equation or relation that determines it, or restrict the "
                        "system with --element",
     "algebraic-loop": "rewrite the equations so the loop can be solved, or give the "
@@ -554,15 +641,25 @@ _OBSTACLE_HINTS = {
 }
 
 
-def report_obstacles(reduced: Reduced, report: Report) -> None:
-    """Each obstacle as an ``E-REDUCE`` diagnostic at its first equation."""
+def obstacle_code(o: Obstacle) -> Any:
+    """``E-OVERDETERMINED``, ``E-UNDERDETERMINED``, ``E-DYNAMICS`` (too large) or
+    ``E-REDUCE``."""
     from cyphy.semantics.dynamics.rigid_body import TREE
 
+    return {"overdetermined": OVERDETERMINED, "underdetermined": UNDERDETERMINED,
+            "too-large": TREE}.get(o.kind, OBSTACLE)
+
+
+def obstacle_span(o: Obstacle) -> Span:
+    return o.span or (o.equations[0].span if o.equations else Span.unknown())
+
+
+def report_obstacles(reduced: Reduced, report: Report) -> None:
+    """Each obstacle as a diagnostic (:func:`obstacle_code`) in the user's files."""
     for o in reduced.obstacles:
-        span = o.equations[0].span if o.equations else Span.unknown()
-        notes = [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
-        report.report(TREE if o.kind == "too-large" else OBSTACLE, o.message, span,
-                      _OBSTACLE_HINTS[o.kind], notes)
+        notes = list(o.notes) or [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
+        report.report(obstacle_code(o), o.message, obstacle_span(o), _OBSTACLE_HINTS[o.kind],
+                      notes)
 
 
 #: The largest expression (in nodes, every definition written out) that
