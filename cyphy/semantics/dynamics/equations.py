@@ -206,7 +206,12 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
         for atom in d.value.atoms():
             names |= uses.get(atom, {atom})
         uses[d.name] = names
-    clash = sorted((set(uses) | free) & (set(system.variables) | set(system.parameters)))
+    from cyphy.semantics.dynamics.reduce import type_shape
+    from cyphy.semantics.scalarise import components
+
+    taken = set(system.variables) | set(system.parameters) | {  # and their components
+        c for n, t in system.variables.items() for c in components(n, type_shape(t) or ())}
+    clash = sorted((set(uses) | free) & taken)
     if clash:
         joint = next((d.joint for d in motion.definitions if d.name == clash[0]),
                      motion.accelerations[0][0])

@@ -33,7 +33,8 @@ from cyphy.lang import ast
 from cyphy.diagnostics import Report, Span
 from cyphy.semantics.dynamics.equations import (OBSTACLE, OVERDETERMINED, UNDERDETERMINED,
                                                 Equation, System)
-from cyphy.semantics.dynamics.structure import Competition, Row, overdetermined
+from cyphy.semantics.dynamics.structure import (Competition, Row, overdetermined,
+                                               underdetermined)
 from cyphy.semantics.scalarise import ScalariseError, Scalariser, components
 
 
@@ -233,7 +234,21 @@ class Reducer:
                             frozenset(derived)))
         rank = {"relation": 2, "mapping": 1}
         rows.sort(key=lambda row: rank.get(row.equation.origin.split()[0], 0))
-        return [_competition(c) for c in overdetermined(rows)]
+        competitions = overdetermined(rows)
+        if competitions:
+            return [_competition(c) for c in competitions]
+        states = set().union(*(r.differentiated for r in rows))
+        freedom = underdetermined(rows, states)
+        if freedom is None:
+            return []
+        names = ", ".join(freedom.variables)
+        evolving = [v for v in freedom.variables if v in states]
+        what = (f"how {', '.join(evolving)} evolve" if evolving else
+                f"{names}, which the evolution needs")
+        more = "one unknown" if freedom.free == 1 else f"{freedom.free} unknowns"
+        return [Obstacle("underdetermined", f"the equations do not determine {what}: among "
+                         f"{names} there is {more} more than equations", freedom.variables,
+                         freedom.equations)]
 
     def placed(self, o: Obstacle) -> Obstacle:
         """``o`` reported in the user's files: at its first equation written there, or else at
@@ -650,6 +665,10 @@ def obstacle_code(o: Obstacle) -> Any:
             "too-large": TREE}.get(o.kind, OBSTACLE)
 
 
+def obstacle_hint(o: Obstacle) -> str:
+    return _OBSTACLE_HINTS[o.kind]
+
+
 def obstacle_span(o: Obstacle) -> Span:
     return o.span or (o.equations[0].span if o.equations else Span.unknown())
 
@@ -658,8 +677,7 @@ def report_obstacles(reduced: Reduced, report: Report) -> None:
     """Each obstacle as a diagnostic (:func:`obstacle_code`) in the user's files."""
     for o in reduced.obstacles:
         notes = list(o.notes) or [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
-        report.report(obstacle_code(o), o.message, obstacle_span(o), _OBSTACLE_HINTS[o.kind],
-                      notes)
+        report.report(obstacle_code(o), o.message, obstacle_span(o), obstacle_hint(o), notes)
 
 
 #: The largest expression (in nodes, every definition written out) that

@@ -46,14 +46,30 @@ class Competition(Generic[E]):
     rivals: tuple[tuple[str, E], ...]
 
 
+@dataclass(frozen=True)
+class Freedom(Generic[E]):
+    """Variables among which the equations leave ``free`` unknowns undetermined (the
+    under-determined part of the Dulmage–Mendelsohn decomposition), with those equations."""
+
+    variables: tuple[str, ...]
+    free: int
+    equations: tuple[E, ...]
+
+
+def match(rows: list[Row[E]]) -> dict[str, int]:
+    """A maximum matching, variable → row, in the order described above."""
+    owner: dict[str, int] = {}
+    for k in range(len(rows)):
+        _augment(rows, k, owner)
+    return owner
+
+
 def overdetermined(rows: list[Row[E]]) -> list[Competition[E]]:
     """The equations no maximum matching can give a variable of their own, with the
     equations they compete with; empty when every equation has one. Rows without variables
     (relations among inputs and constants) are no part of the structure."""
     rows = [r for r in rows if r.variables]
-    owner: dict[str, int] = {}  # variable → row
-    for k in range(len(rows)):
-        _augment(rows, k, owner)
+    owner = match(rows)
     matched = set(owner.values())
     out: list[Competition[E]] = []
     for k, row in enumerate(rows):
@@ -63,6 +79,43 @@ def overdetermined(rows: list[Row[E]]) -> list[Competition[E]]:
                        for v in sorted(row.matchable or row.variables) if v in owner)
         out.append(Competition(row.equation, rivals))
     return out
+
+
+def underdetermined(rows: list[Row[E]], states: set[str]) -> Freedom[E] | None:
+    """The variables that the equations leave free and that the evolution needs: from each
+    unmatched variable, those reachable along alternating paths (a variable, a row that may
+    be solved for it, the variable that row is matched to), kept when any of them is in a
+    row that mentions a state (a differentiated variable, directly or through a definition);
+    None when there are none."""
+    rows = [r for r in rows if r.variables]
+    owner = match(rows)
+    of_row = {k: v for v, k in owner.items()}
+    solvable: dict[str, list[int]] = {}
+    for k, row in enumerate(rows):
+        for v in row.matchable:
+            solvable.setdefault(v, []).append(k)
+    everything: set[str] = set().union(*(r.variables for r in rows)) if rows else set()
+    needed: set[str] = set().union(*(r.variables for r in rows if r.variables & states)) \
+        if rows else set()
+    variables: set[str] = set()
+    used: set[int] = set()
+    free = 0
+    for start in sorted(everything - set(owner)):
+        reached, frontier, tree = {start}, [start], set()
+        while frontier:
+            for k in solvable.get(frontier.pop(), []):
+                tree.add(k)
+                w = of_row[k]
+                if w not in reached:
+                    reached.add(w)
+                    frontier.append(w)
+        if reached & needed:
+            variables |= reached
+            used |= tree
+            free += 1
+    if not free:
+        return None
+    return Freedom(tuple(sorted(variables)), free, tuple(rows[k].equation for k in sorted(used)))
 
 
 def _augment(rows: list[Row[E]], start: int, owner: dict[str, int]) -> bool:
