@@ -53,6 +53,9 @@ class System:
     # the joints' efforts (``<Joint>_tau``): the equations of motion give a joint's
     # acceleration from its effort, never an effort from a prescribed motion
     efforts: set[str] = field(default_factory=set)
+    # the sensors' outputs (their measurements): solved as outputs even where no state's
+    # derivative needs them, so that `solve` and `simulate` show what each sensor reads
+    measured: set[str] = field(default_factory=set)
 
 
 class AssemblyError(Exception):
@@ -88,9 +91,11 @@ def assemble(model: ElaboratedModel, elements: list[str] | None = None,
                              floating_base)
     else:
         _add_motion(system, model, gravity, None if not elements else known, floating_base)
-    for relation in model.relations:
-        names = {n.text for n in relation.walk() if isinstance(n, ex.Name)}
-        if names <= known | set(system.parameters):
+    for relation in model.relations:  # all of them for the whole model: never one dropped
+        functions = {id(n.func) for n in relation.walk() if isinstance(n, ex.Call)}
+        names = {n.text for n in relation.walk()
+                 if isinstance(n, ex.Name) and id(n) not in functions}  # sin is no variable
+        if not elements or names <= known | set(system.parameters):
             system.equations.append(Equation(relation, "relation", relation.span))
     if mapping is not None and call is not None:
         _add_mapping_call(system, model, mapping, call, call_params)
@@ -134,6 +139,9 @@ def _add_places(system: System, model: ElaboratedModel, devices: list[Device]) -
         port = joint.device.port("tau") if joint.device in devices else None
         if port is not None:
             system.efforts.add(port.mangled)
+    for sensor in model.sensors:
+        if sensor.device is not None and sensor.device in devices:
+            system.measured.update(p.mangled for p in sensor.device.of_kind(ast.DeclKind.OUTPUT))
 
 
 def _add_motion(system: System, model: ElaboratedModel,

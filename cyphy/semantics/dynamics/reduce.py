@@ -118,6 +118,8 @@ class Reducer:
         # variables and valued constants become their components; a constant without a
         # value stays one symbol
         self.scalariser = Scalariser(shapes, frozenset(shapes))
+        self.wanted = wanted | {c for n in system.measured  # what the sensors read
+                                for c in components(n, shapes.get(n, ()))}
         for name in system.variables:
             for k in components(name, shapes.get(name, ())):
                 symbols[k] = self._func(k)
