@@ -189,7 +189,7 @@ class Reducer:
         while True:
             residuals, presolved = self._presolve_static(residuals, states)
             residuals, states, reduced = self._index_reduction(residuals, states, result)
-            if not presolved and not reduced:
+            if not presolved and not reduced and not self._uncover(residuals, states):
                 break
         residuals = [(self._input_derivatives(r), eq) for r, eq in residuals]
         dsyms = {self._derivative_symbol(self.funcs[s]): s for s in sorted(states)}
@@ -369,6 +369,36 @@ class Reducer:
                 changed = any_change = True
                 break
         return residuals, states, any_change
+
+    def _uncover(self, residuals: list[tuple[Any, Equation]], states: set[str]) -> bool:
+        """Bring a hidden constraint among states to light: a residual that no matching of
+        unknowns can use (``lv == v`` when ``e == dls - lv`` already determines lv and e is a
+        state) has its algebraic unknowns replaced by what their own equations give, when
+        those are explicit (no derivative, linear in the unknown), so that it becomes a
+        constraint the index reduction differentiates. Returns whether anything changed."""
+        unknowns = [self._unknowns_in(r, states) for r, _ in residuals]
+        defined_by = _match(list(enumerate(unknowns)))
+        used = set(defined_by.values())
+        for i, (r, _) in enumerate(residuals):
+            if i in used or not unknowns[i]:
+                continue
+            for y in sorted(v for v in unknowns[i] if not v.startswith("d_")):
+                j = defined_by.get(y)
+                if j is None or residuals[j][0].atoms(sympy.Derivative) or \
+                        self._hidden_in(residuals[j][0]):
+                    continue
+                f = self.funcs[y]
+                solution = _linear_one([residuals[j][0]], [f])
+                if solution is None:
+                    continue
+                value = solution[0][f]
+                for k, (x, eq) in enumerate(residuals):
+                    if k != j and x.has(f):
+                        residuals[k] = (sympy.expand(x.xreplace({sympy.Derivative(f, T):
+                                                                 sympy.diff(value, T)})
+                                                     .xreplace({f: value})), eq)
+                return True
+        return False
 
     def _presolve_static(self, residuals: list[tuple[Any, Equation]], states: set[str]
                          ) -> tuple[list[tuple[Any, Equation]], bool]:
