@@ -7,6 +7,8 @@ from typing import TYPE_CHECKING, Sequence
 
 from cyphy.deep import deep
 from cyphy.diagnostics import Span
+from cyphy.lang.scopes import Scopes
+from cyphy.model.machines import select_machine
 from cyphy.pipeline.check import CheckOptions, CheckResult, check
 
 if TYPE_CHECKING:
@@ -24,8 +26,7 @@ def machine_interpreter(paths: Sequence[str | Path], name: str | None = None,
     runs, else the only one. None (with diagnostics,
     code ``E-MACHINE`` for what is not a check) when the files have errors or there is no
     single machine to run."""
-    from cyphy.lang.scopes import Scopes
-    from cyphy.model.machines import select_machine
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.semantics.machines.cycle import MACHINE, MachineError, interpreter_for
 
     checked = check(paths, CheckOptions(search_paths=search_paths))

@@ -34,6 +34,7 @@ def generate_sdf(paths: Sequence[str | Path], options: SdfGenOptions = SdfGenOpt
     """SDF 1.6 for one p-model (``cyphy gen --sdf``): ``<Model>.sdf`` and the name table
     ``<Model>.names.json``, or, for a Gazebo model folder, ``model.sdf``, ``model.config``
     and the table. No files when the model has errors or constants without values."""
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.backends.robot_formats.sdf_xml import model_config, names_json, to_xml
     from cyphy.semantics.sdf.rules import SdfOptions, translate
 
@@ -72,6 +73,7 @@ def robot(paths: Sequence[str | Path], options: TreeGenOptions, target: str
     """The checked model as trees of links for ``target`` (``urdf``, ``mjcf``):
     ``(generated, robot or None, elaborated model)``. A mesh outside the model's folder is
     V2's warning, reported by the check for every target."""
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.semantics.sdf.robot_tree import build_robot
 
     checked, generated, model = geometric_model(paths, options.model, options.consts,
@@ -85,6 +87,7 @@ def robot(paths: Sequence[str | Path], options: TreeGenOptions, target: str
 
 def _mesh_paths(options: TreeGenOptions, model: "ElaboratedModel") -> Any:
     """Mesh paths as the export names them: from the output folder to the model's."""
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.backends.robot_formats.urdf import MeshPaths
 
     folder = Path(model.pmodel.span.file).resolve().parent
@@ -97,6 +100,7 @@ def generate_urdf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
                   ) -> Generated:
     """URDF 1.0 (``cyphy gen --urdf``): ``<Model>.urdf``, or one ``<Model>__<Root>.urdf`` per
     tree of links, and the name table. Loops are cut as for ``--target pybullet``."""
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.backends.robot_formats.sdf_xml import names_json, to_xml
     from cyphy.backends.robot_formats.urdf import robot_to_urdf
 
@@ -117,6 +121,7 @@ def generate_mjcf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
                   ) -> Generated:
     """MuJoCo's MJCF (``cyphy gen --mjcf``): ``<Model>.xml`` with every tree of links, a
     motor per driven joint, loops closed by equality constraints; and the name table."""
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.backends.robot_formats.mjcf import robot_to_mjcf
     from cyphy.backends.robot_formats.sdf_xml import names_json, to_xml
 

@@ -8,6 +8,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
 
+from cyphy.backends.circus.latex import STYLE, program_to_latex
+from cyphy.backends.circus.pdf import PdfError, typeset
+from cyphy.backends.circus.text import program_to_text
 from cyphy.deep import deep
 from cyphy.pipeline.check import CheckOptions, CheckResult, check
 from cyphy.pipeline.generated import Generated
@@ -35,6 +38,7 @@ def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = Semant
               ) -> tuple[CheckResult, Any]:
     """Check the files (and the files they use) and apply the paper's rules to the chosen
     platform mapping: ``(check result, Semantics or None)``."""
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.semantics.circus.build import SemanticsOptions, build_semantics
 
     # The value checks concern geometry and inertia, which the semantics does not use.
@@ -62,21 +66,16 @@ def generate_cyphycircus(paths: Sequence[str | Path], target: str,
         return result
     stem = built.program.system.name
     if target == "text":
-        from cyphy.backends.circus.text import program_to_text
-
         result.files[f"{stem}.cpc"] = program_to_text(built.program)
     else:
-        from cyphy.backends.circus.latex import STYLE, program_to_latex
-
         document = program_to_latex(built.program)
         result.files[f"{stem}.tex"] = document
         result.files["cyphycircus.sty"] = STYLE
         if options.pdf:
-            from cyphy.backends.circus.pdf import PdfError, typeset
-
             try:
                 result.files[f"{stem}.pdf"] = typeset(document, {"cyphycircus.sty": STYLE})
             except PdfError as err:
+                # lazy: NumPy: `cyphy check` must not pay for it
                 from cyphy.semantics.circus.build import NO_PDF
 
                 checked.report.report(NO_PDF, str(err), built.mapping.span, err.hint)
@@ -93,6 +92,7 @@ def generate_isabelle(paths: Sequence[str | Path],
     """The Isabelle session of one platform mapping: ``ROOT``, the prelude, the theory, a
     README and the names table. Files are empty when the model has errors. Interleavings
     that discard state updates are reported as warnings (W-INTERLEAVE)."""
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.backends.isabelle.session import session_files
 
     checked, built = semantics(paths, options)

@@ -11,6 +11,8 @@ from cyphy.deep import deep
 from cyphy.diagnostics import Report, Span
 from cyphy.pipeline.check import CheckResult
 from cyphy.pipeline.elaborate import ElaborateOptions, ElaborateResult, elaborate
+from cyphy.verify.flowstar.controller import CallEffects, ScenarioController
+from cyphy.verify.flowstar.scenario import SCENARIO, load_scenario
 
 
 @dataclass(frozen=True)
@@ -54,6 +56,7 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
     ``[controller]`` runs the d-model's state machine (``machine`` names it when there are
     several), as ``reach`` does: its interpreter is the controller, one cycle per
     ``cycle × tscale`` seconds, and the mapping's operations give its calls' effects."""
+    # lazy: NumPy, SciPy: `cyphy check` must not pay for it
     from cyphy.backends import simulate as sim
     from cyphy.semantics.dynamics import rigid_body as dynamics
     from cyphy.semantics.dynamics.equations import ASSEMBLY, AssemblyError
@@ -82,6 +85,7 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
                 result.numeric = True
                 result.trajectory = sim.simulate_tree(tree, settings)
                 return result
+        # lazy: NumPy, SymPy: `cyphy check` must not pay for it
         from cyphy.semantics.dynamics.reduce import reduce_system, report_obstacles
         from cyphy.semantics.dynamics.equations import assemble
 
@@ -114,10 +118,9 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
     environment, the effects of each state's calls, the events' predicates), integrated
     cycle by cycle under the ``[controller]`` table, or the d-model's state machine run by
     its interpreter (:mod:`cyphy.semantics.machines.cycle`) when the scenario has none."""
+    # lazy: NumPy, SciPy, SymPy: `cyphy check` must not pay for it
     from cyphy.backends import simulate as sim
-    from cyphy.verify.flowstar.controller import CallEffects, ScenarioController
     from cyphy.verify.flowstar.export import build_problem
-    from cyphy.verify.flowstar.scenario import SCENARIO, load_scenario
 
     report = Report()
     empty = ElaborateResult(CheckResult(None, report), None)  # type: ignore[arg-type]

@@ -61,6 +61,7 @@ class SolveResult:
 def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -> SolveResult:
     """Assemble the model's equations (optionally with one mapping call), reduce them to
     explicit ODEs with SymPy and, where SymPy finds one, give the closed form."""
+    # lazy: NumPy, SymPy: `cyphy check` must not pay for it
     from cyphy.semantics.dynamics.reduce import closed_form, reduce_system, report_obstacles
     from cyphy.semantics.dynamics.equations import AssemblyError, assemble, mapping_operation
 
@@ -85,6 +86,7 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
                                  options.gravity, definitions=True,
                                  floating_base=options.floating_base)
     except AssemblyError as err:
+        # lazy: NumPy: `cyphy check` must not pay for it
         from cyphy.semantics.dynamics.equations import ASSEMBLY
 
         report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)

@@ -35,6 +35,7 @@ def view(paths: Sequence[str | Path], request: ViewRequest = ViewRequest()
          ) -> tuple[Generated, Any]:
     """The picture of one p-model (``cyphy view``): ``(generated with <Model>.png, the
     Picture with the bodies' image positions)``; nothing when the model has errors."""
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.backends.show.view import ViewOptions, render
     from cyphy.semantics.sdf.robot_tree import build_robot
     from cyphy.wellformed.values import coincident
@@ -59,6 +60,7 @@ def _joint_positions(built: Any, given: dict[str, float], report: Report,
                      model: "ElaboratedModel") -> dict[str, float]:
     """``--set`` names to the exported joint names; an unknown or ambiguous name is an
     error (E-VIEW-JOINT) that lists the joints."""
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.backends.show.view import UNKNOWN_JOINT
 
     joints = [j for j in built.joints() if j.kind != "fixed"]

@@ -17,7 +17,11 @@ import sys
 from types import ModuleType
 from typing import NoReturn, Sequence
 
+import cyphy
+from cyphy import progress
 from cyphy.cli.options import common_options, joined_values
+from cyphy.deep import run_deep
+from cyphy.diagnostics import RENDERING
 
 #: The commands, in the order ``--help`` lists them: each the module ``cyphy.cli.<name>``.
 COMMANDS = ("check", "show", "solve", "simulate", "gen", "reach", "view")
@@ -49,8 +53,6 @@ class _Version(argparse.Action):
 
     def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
                  values: object, option_string: str | None = None) -> None:
-        import cyphy
-
         sys.stdout.write(f"cyphy {cyphy.__version__}\n")
         parser.exit()
 
@@ -60,9 +62,6 @@ def run() -> NoReturn:
     Freeing a large model object by object, and the final collection before it, take seconds
     on a 10,000-link model; everything has been written and closed by then, and the standard
     streams are flushed here (mypy ends the same way)."""
-    from cyphy import progress
-    from cyphy.deep import run_deep
-
     try:
         progress.start()
         try:  # deeply nested models need a deep stack (cyphy/deep.py)
@@ -79,8 +78,6 @@ def run() -> NoReturn:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    from cyphy.diagnostics import RENDERING
-
     args = _parser().parse_args(joined_values(sys.argv[1:] if argv is None else argv))
     if getattr(args, "max_copies", None):
         os.environ["CYPHY_MAX_COPIES"] = str(args.max_copies)  # read by cyphy.limits

@@ -5,7 +5,9 @@ from __future__ import annotations
 import argparse
 import sys
 
+from cyphy import codes
 from cyphy.cli.options import const_options, path_option, positive_int, const_values
+from cyphy.diagnostics import render_json, render_text
 
 
 def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
@@ -39,7 +41,7 @@ def _consistency_options(parser: argparse.ArgumentParser) -> None:
 def _list_rules() -> int:
     """Every condition ``cyphy check`` checks: the scope and typing conditions S1-S5, which
     name resolution and typing check as they go, then the registered rules."""
-    from cyphy import codes
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.wellformed import RULES
 
     for code in (codes.S1, codes.S2, codes.S3, codes.S4, codes.S5):
@@ -50,8 +52,8 @@ def _list_rules() -> int:
 
 
 def run(args: argparse.Namespace) -> int:
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import CheckOptions, check
-    from cyphy.diagnostics import render_json, render_text
 
     if args.list_rules:
         return _list_rules()

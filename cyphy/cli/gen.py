@@ -15,6 +15,9 @@ from pathlib import Path
 
 from cyphy.cli.options import const_options, path_option
 from cyphy.cli.target import Target
+from cyphy.diagnostics import diagnostics_json
+from cyphy.diagnostics import render_text
+from cyphy.outputs import OutputError, default_output_dir, write_all
 
 #: The modules holding ``cyphy gen``'s targets, in the order ``--help`` lists them.
 TARGET_MODULES = ("gen_sdf", "gen_trees", "gen_flowstar", "gen_semantics")
@@ -58,9 +61,6 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
 
 
 def run(args: argparse.Namespace) -> int:
-    from cyphy.diagnostics import render_text
-    from cyphy.outputs import OutputError, default_output_dir, write_all
-
     stray = _options_of_other_targets(args)
     if stray:
         sys.stderr.write(f"cyphy gen: error: {stray}\n")
@@ -86,8 +86,6 @@ def run(args: argparse.Namespace) -> int:
         except OutputError as err:
             problem = f"error: {err}"
     if as_json:  # one document on stdout: what was written and every diagnostic
-        from cyphy.diagnostics import diagnostics_json
-
         sys.stdout.write(json.dumps({"written": [str(p) for p in written], "error": problem,
                                      "diagnostics": diagnostics_json(diagnostics)},
                                     indent=2) + "\n")

@@ -13,6 +13,7 @@ if TYPE_CHECKING:
 
 
 def _flowstar_gen(args: argparse.Namespace) -> "Generated":
+    # lazy: --help imports every command module; these pull in the model
     from cyphy.verify.flowstar.commands import generate
 
     return generate(args.paths, args.scenario, args.model, tuple(args.path), const_values(args),

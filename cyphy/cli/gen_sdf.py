@@ -47,6 +47,7 @@ def _sdf_options(gen: argparse.ArgumentParser) -> None:
 
 
 def _sdf_run(args: argparse.Namespace) -> "Generated":
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import SdfGenOptions, generate_sdf
 
     if args.gazebo_model is not None:

@@ -46,6 +46,7 @@ def _tscale(text: str) -> float:
 def _system_name(text: str) -> str:
     """``--name``: an identifier, since it is printed into theories, comments and Z names
     (``*)`` in it would end an Isabelle comment)."""
+    # lazy: --help imports every command module; these pull in the model
     from cyphy.backends.isabelle.names import is_identifier
 
     if not is_identifier(text):
@@ -72,6 +73,7 @@ def _isabelle_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _isabelle(args: argparse.Namespace) -> "Generated":
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import generate_isabelle
 
     if args.isabelle_element and args.isabelle_dialect != "axiomatic":
@@ -89,6 +91,7 @@ def _isabelle(args: argparse.Namespace) -> "Generated":
 def _semantics_gen_options(args: argparse.Namespace) -> "SemanticsGenOptions":
     """The options of every generator built on the semantics, from the parsed arguments
     (``--pdf`` and ``--isabelle-namesets`` are each added by their own target)."""
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import SemanticsGenOptions
 
     return SemanticsGenOptions(args.model, args.name, args.tscale, const_values(args),
@@ -104,6 +107,7 @@ def _latex_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _gen_semantics(args: argparse.Namespace) -> "Generated":
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import generate_cyphycircus
 
     return generate_cyphycircus(args.paths, "text" if args.target == "cyphycircus"

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 from cyphy.cli.options import const_values
 from cyphy.cli.target import Target
+from cyphy.outputs import default_output_dir
 
 if TYPE_CHECKING:
     from cyphy.api import Generated, TreeGenOptions
@@ -15,8 +16,8 @@ if TYPE_CHECKING:
 def _tree_options(args: argparse.Namespace) -> "TreeGenOptions":
     """The options of ``--urdf`` and ``--mjcf``: mesh paths are written relative to the
     output folder, so it is fixed here as ``_gen`` will choose it."""
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import TreeGenOptions
-    from cyphy.outputs import default_output_dir
 
     output = args.output or str(default_output_dir(args.paths, args.target))
     return TreeGenOptions(args.model, const_values(args), tuple(args.path), output,
@@ -32,6 +33,7 @@ def _urdf_options(gen: argparse.ArgumentParser) -> None:
 
 
 def _urdf_run(args: argparse.Namespace) -> "Generated":
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import generate_urdf
 
     return generate_urdf(args.paths, _tree_options(args))
@@ -45,6 +47,7 @@ def _mjcf_options(gen: argparse.ArgumentParser) -> None:
 
 
 def _mjcf_run(args: argparse.Namespace) -> "Generated":
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import generate_mjcf
 
     return generate_mjcf(args.paths, _tree_options(args))

@@ -37,6 +37,7 @@ def const_options(parser: argparse.ArgumentParser) -> None:
 def const_values(args: argparse.Namespace) -> dict[str, object]:
     if not args.const and not args.consts:
         return {}
+    # lazy: --help imports every command module; these pull in the model (Lark, NumPy)
     from cyphy.model.constants import ConstantsError, parse_const_options
 
     try:

@@ -7,6 +7,8 @@ import sys
 from pathlib import Path
 
 from cyphy.cli.options import const_options, const_values, default_inertial_option, path_option
+from cyphy.diagnostics import render_text
+from cyphy.outputs import OutputError, default_output_dir, write_all
 
 
 def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
@@ -44,11 +46,10 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
 
 
 def run(args: argparse.Namespace) -> int:
-    from cyphy.diagnostics import render_text
+    # lazy: --help imports every command module; these pull in the model (Lark, NumPy, SymPy)
     from cyphy.verify.flowstar.commands import generate
     from cyphy.verify.flowstar.check import check
     from cyphy.verify.flowstar.verdict import FlowstarMissing, find_flowstar
-    from cyphy.outputs import OutputError, default_output_dir, write_all
 
     try:
         binary = find_flowstar(args.flowstar_bin)

@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from cyphy.cli.options import const_options, path_option, const_values
+from cyphy.diagnostics import render_text
 
 
 def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
@@ -27,9 +28,9 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
 
 
 def run(args: argparse.Namespace) -> int:
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import ElaborateOptions, elaborate
     from cyphy.backends.show.pmodel import model_to_json, model_to_text
-    from cyphy.diagnostics import render_text
 
     if args.dmodel:
         return _show_dmodel(args)
@@ -42,6 +43,7 @@ def run(args: argparse.Namespace) -> int:
     if result.model is None:
         return 1
     if args.format in ("dot", "svg"):
+        # lazy: --help imports every command module; these pull in the model (NumPy)
         from cyphy.backends.show.graph import GraphvizMissing, dot_to_svg, model_to_dot
 
         out = model_to_dot(result.model)
@@ -59,9 +61,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _show_dmodel(args: argparse.Namespace) -> int:
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import CheckOptions, check
     from cyphy.backends.show.dmodel import dmodel_to_dict, dmodel_to_json, dmodel_to_text
-    from cyphy.diagnostics import render_text
     from cyphy.lang import ast
     from cyphy.model.machines import machines_of
 

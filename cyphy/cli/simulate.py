@@ -9,6 +9,7 @@ from pathlib import Path
 
 from cyphy.cli.options import (const_options, const_values, default_inertial_option,
                                gravity_option, path_option)
+from cyphy.diagnostics import Report, render_text
 
 
 def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
@@ -60,9 +61,9 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
 
 
 def run(args: argparse.Namespace) -> int:
+    # lazy: --help imports every command module; these pull in the model (NumPy, SciPy)
     from cyphy.api import SimulateOptions, simulate
     from cyphy.backends import simulate as sim
-    from cyphy.diagnostics import render_text
 
     def pairs(items: list[str], option: str) -> dict[str, str] | None:
         out = {}
@@ -125,7 +126,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _scenario_horizon(path: str) -> float:
     """The scenario's horizon, or 1 when the file cannot be read (simulate reports why)."""
-    from cyphy.diagnostics import Report
+    # lazy: --help imports every command module; these pull in the model
     from cyphy.verify.flowstar.scenario import load_scenario
 
     scenario = load_scenario(path, Report())

@@ -7,6 +7,7 @@ import sys
 
 from cyphy.cli.options import (const_options, const_values, default_inertial_option,
                                gravity_option, path_option)
+from cyphy.diagnostics import render_text
 
 
 def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
@@ -32,9 +33,9 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
 
 
 def run(args: argparse.Namespace) -> int:
+    # lazy: --help imports every command module; these pull in the model (NumPy, SymPy)
     from cyphy.api import SolveOptions, UsageError, solve
     from cyphy.backends.odes import odes_to_json, odes_to_latex, odes_to_text
-    from cyphy.diagnostics import render_text
 
     options = SolveOptions(args.model, tuple(args.element), args.mapping_call, const_values(args),
                            tuple(args.path), gravity=args.gravity,

@@ -7,6 +7,8 @@ import sys
 from pathlib import Path
 
 from cyphy.cli.options import const_options, const_values, path_option
+from cyphy.diagnostics import render_text
+from cyphy.outputs import OutputError, write_all
 
 
 def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
@@ -36,9 +38,8 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
 
 
 def run(args: argparse.Namespace) -> int:
+    # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import ViewRequest, view
-    from cyphy.diagnostics import render_text
-    from cyphy.outputs import OutputError, write_all
 
     positions: dict[str, float] = {}
     for text in args.positions:

@@ -42,6 +42,7 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
               ) -> ElaborateResult:
     """Check the files, then elaborate one p-model. The model is None when the files have
     errors (generation must not run on them) or no p-model can be chosen."""
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.model.elaborate import elaborate as run
 
     checked = check(paths, CheckOptions(search_paths=options.search_paths))
@@ -52,6 +53,7 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
     model = run(checked.workspace, checked.resolution, checked.report, options.model,
                 options.consts)  # type: ignore[arg-type]
     if model is not None and options.default_inertial is not None:
+        # lazy: NumPy: `cyphy check` must not pay for it
         from cyphy.model.default_inertial import apply_default_inertial
 
         apply_default_inertial(model, checked.report, options.default_inertial)

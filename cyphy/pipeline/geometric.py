@@ -19,6 +19,7 @@ def geometric_model(paths: Sequence[str | Path], name: str | None,
     """Check the files and elaborate one p-model for a geometric export (SDF, URDF, MJCF,
     pictures): the model is None when the files have errors or a constant that geometry
     needs has no value (constants only the equations use may stay without one)."""
+    # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.model.elaborate import choose_pmodel, elaborate_pmodel, require_constants
     from cyphy.semantics.sdf.rules import unvalued
 
