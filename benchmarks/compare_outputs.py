@@ -5,9 +5,9 @@ output, the diagnostics and the exit statuses.
 
     python3 benchmarks/compare_outputs.py REV_A REV_B [--no-corpus] [--keep DIR]
 
-Each revision runs in one process per model folder (imports paid once, as a test would); paths
-of the worktree and of the output folder are replaced by placeholders before comparing. Exit
-status 1 when anything differs.
+Each revision runs in one process (imports paid once; the commands run in it one after the
+other, as the tests run them); paths of the worktree and of the output folder are replaced by
+placeholders before comparing. Exit status 1 when anything differs.
 """
 
 from __future__ import annotations
@@ -23,28 +23,37 @@ ROOT = Path(__file__).resolve().parent.parent
 CORPUS = ROOT.parent / "shared" / "corpus" / "pmodel-examples"
 TARGETS = ("sdf", "urdf", "mjcf", "isabelle", "cyphycircus", "latex")
 
-#: Runs in the revision's worktree: every command on one model folder, each command's exit
-#: status, stdout and stderr written to ``OUT/<command>.txt`` with paths made neutral.
+#: Runs in the revision's worktree: every command on each model folder (pairs of folder and
+#: output folder, one per line on stdin), each command's exit status, stdout and stderr
+#: written to ``OUT/<command>.txt`` with paths made neutral.
 _RUNNER = r"""
 import contextlib, io, sys
 from pathlib import Path
 from cyphy.cli import main
 
-folder, out, tree = sys.argv[1], Path(sys.argv[2]), sys.argv[3]
-targets = sys.argv[4].split(",")
-commands = {f"gen-{t}": ["gen", folder, f"--{t}", "-o", str(out / f"gen-{t}")] for t in targets}
-commands.update({"show": ["show", folder], "show-json": ["show", folder, "--format", "json"],
-                 "solve": ["solve", folder]})
-for name, argv in commands.items():
-    stdout, stderr = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
-        try:
-            code = main(argv)
-        except SystemExit as stop:
-            code = stop.code
-    text = f"exit {code}\n--- stdout\n{stdout.getvalue()}--- stderr\n{stderr.getvalue()}"
-    text = text.replace(str(out), "<OUT>").replace(tree, "<TREE>")
-    (out / f"{name}.txt").write_text(text)
+tree, targets = sys.argv[1], sys.argv[2].split(",")
+
+
+def run_folder(folder, out):
+    commands = {f"gen-{t}": ["gen", folder, f"--{t}", "-o", str(out / f"gen-{t}")]
+                for t in targets}
+    commands.update({"show": ["show", folder], "show-json": ["show", folder, "--format", "json"],
+                     "solve": ["solve", folder]})
+    for name, argv in commands.items():
+        stdout, stderr = io.StringIO(), io.StringIO()
+        with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+            try:
+                code = main(argv)
+            except SystemExit as stop:
+                code = stop.code
+        text = f"exit {code}\n--- stdout\n{stdout.getvalue()}--- stderr\n{stderr.getvalue()}"
+        text = text.replace(str(out), "<OUT>").replace(tree, "<TREE>")
+        (out / f"{name}.txt").write_text(text)
+
+
+for job in sys.stdin.read().splitlines():
+    folder, out = job.split("\t")
+    run_folder(folder, Path(out))
 """
 
 
@@ -65,13 +74,14 @@ def run_revision(rev: str, work: Path, corpus: bool) -> Path:
                    check=True, capture_output=True)
     results = work / f"out-{rev.replace('/', '_')}"
     try:
+        jobs = []
         for name, folder in folders(tree, corpus).items():
             out = results / name
             out.mkdir(parents=True)
-            subprocess.run([sys.executable, "-c", _RUNNER, str(folder), str(out), str(tree),
-                            ",".join(TARGETS)], cwd=tree, env={"PYTHONPATH": str(tree),
-                                                                "PATH": "/usr/bin:/bin"},
-                           check=True, timeout=3600)
+            jobs.append(f"{folder}\t{out}")
+        subprocess.run([sys.executable, "-c", _RUNNER, str(tree), ",".join(TARGETS)],
+                       input="\n".join(jobs), text=True, cwd=tree, check=True,
+                       env={"PYTHONPATH": str(tree), "PATH": "/usr/bin:/bin"})
     finally:
         subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)],
                        check=False, capture_output=True)
