@@ -15,8 +15,7 @@ from pathlib import Path
 
 from cyphy.cli.options import const_options, path_option
 from cyphy.cli.target import Target
-from cyphy.diagnostics import diagnostics_json
-from cyphy.diagnostics import render_text
+from cyphy.diagnostics import diagnostics_json, render_text
 from cyphy.outputs import OutputError, default_output_dir, write_all
 
 #: The modules holding ``cyphy gen``'s targets, in the order ``--help`` lists them.
