@@ -19,6 +19,7 @@ from cyphy.lang import ast
 from cyphy.lang.notation import to_notation
 from cyphy.model.elements import Device, ElaboratedModel
 from cyphy.model.evaluate import Value
+from cyphy.semantics.dynamics.errors import AssemblyError
 
 
 ASSEMBLY = codes.code("E-SOLVE", codes.E, "the equations to solve cannot be assembled")
@@ -56,12 +57,6 @@ class System:
     # the sensors' outputs (their measurements): solved as outputs even where no state's
     # derivative needs them, so that `solve` and `simulate` show what each sensor reads
     measured: set[str] = field(default_factory=set)
-
-
-class AssemblyError(Exception):
-    def __init__(self, message: str, span: Span, hint: str) -> None:
-        super().__init__(message)
-        self.message, self.span, self.hint = message, span, hint
 
 
 def assemble(model: ElaboratedModel, elements: list[str] | None = None,

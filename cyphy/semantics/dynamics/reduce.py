@@ -691,7 +691,7 @@ _OBSTACLE_HINTS = {
 def obstacle_code(o: Obstacle) -> Any:
     """``E-OVERDETERMINED``, ``E-UNDERDETERMINED``, ``E-DYNAMICS`` (too large) or
     ``E-REDUCE``."""
-    from cyphy.semantics.dynamics.rigid_body import TREE
+    from cyphy.semantics.dynamics.errors import TREE
 
     return {"overdetermined": OVERDETERMINED, "underdetermined": UNDERDETERMINED,
             "too-large": TREE}.get(o.kind, OBSTACLE)
