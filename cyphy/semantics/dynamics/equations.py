@@ -209,8 +209,7 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
         for atom in d.value.atoms():
             names |= uses.get(atom, {atom})
         uses[d.name] = names
-    from cyphy.semantics.dynamics.reduce import type_shape
-    from cyphy.semantics.scalarise import components
+    from cyphy.semantics.scalarise import components, type_shape
 
     taken = set(system.variables) | set(system.parameters) | {  # and their components
         c for n, t in system.variables.items() for c in components(n, type_shape(t) or ())}

@@ -30,14 +30,13 @@ import sympy
 
 from cyphy import codes
 from cyphy import expr as ex
-from cyphy.semantics.dynamics.reduce import (Reduced, obstacle_code, obstacle_hint,
-                                             reduce_system, type_shape)
+from cyphy.semantics.dynamics.reduce import Reduced, obstacle_code, obstacle_hint, reduce_system
 from cyphy.translate.to_sympy import T, NotAnExpression, to_expr
 from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.dynamics.equations import ASSEMBLY, AssemblyError, System, assemble
-from cyphy.semantics.scalarise import components
+from cyphy.semantics.scalarise import components, type_shape
 
 NOT_EXPLICIT = codes.code("E-ISABELLE-ODE", codes.E,
                           "Evolve cannot be written as the explicit ODE of the axiomatic "

@@ -35,7 +35,7 @@ from cyphy.semantics.dynamics.equations import (OBSTACLE, OVERDETERMINED, UNDERD
                                                 Equation, System)
 from cyphy.semantics.dynamics.structure import (Competition, Row, overdetermined,
                                                underdetermined)
-from cyphy.semantics.scalarise import ScalariseError, Scalariser, components
+from cyphy.semantics.scalarise import ScalariseError, Scalariser, components, type_shape
 
 
 @dataclass(frozen=True)
@@ -65,18 +65,6 @@ class Reduced:
     # value a SymPy expression (an output the equations of motion use) or a
     # ``cyphy.semantics.dynamics.articulated.Polynomial``; empty once inlined (see ``reduce_system``)
     definitions: list[tuple[str, Any]] = field(default_factory=list)
-
-
-def type_shape(t: ast.TypeRef | None) -> tuple[int, ...] | None:
-    """The shape a declared vector or matrix type of literal sizes fixes (None otherwise)."""
-    def size(e: ex.Expr | None) -> int | None:
-        return int(e.text) if isinstance(e, ex.Num) and e.is_integer else None
-
-    if isinstance(t, ast.VectorType) and size(t.size):
-        return (size(t.size),)  # type: ignore[return-value]
-    if isinstance(t, ast.MatrixType) and size(t.rows) and size(t.cols):
-        return (size(t.rows), size(t.cols))  # type: ignore[return-value]
-    return None
 
 
 def _exact(v: Any) -> Any:
