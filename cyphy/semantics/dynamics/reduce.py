@@ -19,7 +19,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import networkx as nx
@@ -30,6 +30,8 @@ from sympy.core.function import AppliedUndef
 from cyphy import expr as ex
 from cyphy.translate.to_sympy import T, SympyPrinter, UnsupportedNode
 from cyphy.lang import ast
+from cyphy.lang.notation import to_notation
+from cyphy.lang.workspace import LIBRARY_ROOT
 from cyphy.diagnostics import Report, Span
 from cyphy.semantics.dynamics.equations import (OBSTACLE, OVERDETERMINED, UNDERDETERMINED,
                                                 Equation, System)
@@ -208,9 +210,10 @@ class Reducer:
 
     # ----- structural analysis (before any reduction)
     def _structure(self, residuals: list[tuple[Any, Equation]]) -> list[Obstacle]:
-        """Over-determined equations (:func:`cyphy.semantics.dynamics.structure.overdetermined`)
-        as obstacles: the device equations and equations of motion are matched first, then
-        mappings' equations, then relations, so what is left over is the user's."""
+        """The structural analysis (:mod:`cyphy.semantics.dynamics.structure`) as obstacles:
+        equations left over (the device equations and equations of motion are matched first,
+        then mappings' equations, then relations, so what is left over is the user's), else
+        the free variables the evolution needs."""
         efforts = {c for n in self.system.efforts for c in self._components(n)}
         rows: list[Row[Equation]] = []
         for r, eq in residuals:
@@ -243,8 +246,6 @@ class Reducer:
     def placed(self, o: Obstacle) -> Obstacle:
         """``o`` reported in the user's files: at its first equation written there, or else at
         the element whose library device the equation comes from; one note per equation."""
-        from dataclasses import replace
-
         def place(eq: Equation) -> Span | None:
             if not _in_library(eq.span):
                 return eq.span
@@ -547,14 +548,10 @@ class Reducer:
 
 
 def _in_library(span: Span) -> bool:
-    from cyphy.lang.workspace import LIBRARY_ROOT
-
     return span.file.startswith(str(LIBRARY_ROOT))
 
 
 def _equation_text(eq: Equation) -> str:
-    from cyphy.lang.notation import to_notation
-
     where = "relation" if eq.origin == "relation" else f"equation of {eq.origin}"
     return f"{where} `{to_notation(eq.expr)}`"
 
