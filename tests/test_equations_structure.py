@@ -195,3 +195,32 @@ def test_the_axiomatic_dialect_refuses_an_overdetermined_robot(tmp_path: Path) -
     assert [d.code.id for d in errors] == ["E-OVERDETERMINED"] and generated.files == {}
     assert errors[0].span.file == str(tmp_path / "Robot.rsm")
     assert "LMotor_av == LHinge_v" in errors[0].message
+
+
+def test_reach_refuses_the_speed_relation_on_the_dc_motor_bench(tmp_path: Path) -> None:
+    """`cyphy reach` / `gen --flowstar` builds its problem from the same analysis: the motor
+    bench of examples/dcmotor with the speed relation added, and the shaft among the
+    scenario's elements, is E-OVERDETERMINED at the relation (it was reduced before, the
+    flywheel's equation of motion dropped)."""
+    from conftest import EXAMPLES
+
+    from cyphy.diagnostics import Report
+    from cyphy.verify.flowstar.export import build_problem
+    from cyphy.verify.flowstar.scenario import load_scenario
+
+    for source in (EXAMPLES / "dcmotor").glob("*.rsm"):
+        text = source.read_text().replace("relation Motor.T == Shaft.tau",
+                                          "relation Motor.T == Shaft.tau\n"
+                                          "\t\t\t\trelation Motor.av == Shaft.v")
+        (tmp_path / source.name).write_text(text)
+    scenario = (EXAMPLES / "dcmotor" / "sampled_stop.toml").read_text().replace(
+        '"DCMotorBase::Bench::Shaft::Motor"', '"DCMotorBase::Bench::Shaft"').replace(
+        "[environment]\n", "[environment]\nShaft_pV = { value = 0 }\nShaft_pA = { value = 0 }\n")
+    (tmp_path / "s.toml").write_text(scenario)
+    report = Report()
+    loaded = load_scenario(tmp_path / "s.toml", report)
+    assert loaded is not None
+    build_problem([tmp_path], loaded, report)
+    errors = [d for d in report.diagnostics if d.code.id == "E-OVERDETERMINED"]
+    assert len(errors) == 1 and "Motor_av == Shaft_v" in errors[0].message
+    assert errors[0].span.file == str(tmp_path / "DCMotorBase.rsm")
