@@ -14,6 +14,7 @@ from cyphy.deep import deep
 from cyphy.diagnostics import Report, Span
 from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
+from cyphy.lang.targets import declares_pmodel, folder_pmodel_files
 from cyphy.lang.workspace import Workspace, load_workspace
 
 if TYPE_CHECKING:  # the model needs NumPy and SciPy: `cyphy check` must not import them
@@ -31,6 +32,7 @@ class CheckOptions:
     value_checks: bool = True  # V1-V5 (geometry, inertia, meshes): what simulators need
     consistency: bool = False  # also C1-C5 on the platform mappings (imports Z3)
     z3_timeout_ms: int | None = None  # per Z3 query; None: the checks' default
+    find_pmodel: bool = False  # no p-model in the files given: the folder's (cyphy.lang.targets)
 
 
 @dataclass
@@ -57,7 +59,10 @@ def _front_end(paths: Sequence[str | Path], options: CheckOptions) -> CheckResul
     result = CheckResult(ws, report, sources=ws.texts)
     if options.syntax_only:
         return result
-    if options.neighbours_as_targets:
+    retarget = options.find_pmodel and not declares_pmodel(ws)
+    if retarget:
+        ws.targets = ws.targets + folder_pmodel_files(ws)
+    if options.neighbours_as_targets or retarget:
         ws.targets = _with_dependencies(ws)
     check_placement(ws.user_files(), report)
     progress.stage("resolving names")
@@ -169,7 +174,7 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
     errors (generation must not run on them) or no p-model can be chosen."""
     from cyphy.model.elaborate import elaborate as run
 
-    checked = check(paths, CheckOptions(search_paths=options.search_paths))
+    checked = check(paths, CheckOptions(search_paths=options.search_paths, find_pmodel=True))
     if checked.resolution is None or (checked.report.has_errors and not (
             options.despite_value_errors
             and all(_value_error(d) for d in checked.report.errors))):
@@ -559,7 +564,8 @@ def _geometric_model(paths: Sequence[str | Path], name: str | None,
     from cyphy.model.elaborate import choose_pmodel, elaborate_pmodel, require_constants
     from cyphy.semantics.sdf.rules import unvalued
 
-    checked = check(paths, CheckOptions(search_paths=search_paths, consts=dict(consts)))
+    checked = check(paths, CheckOptions(search_paths=search_paths, consts=dict(consts),
+                                        find_pmodel=True))
     generated = Generated(checked.report, checked.sources)
     if checked.report.has_errors or checked.resolution is None:
         return checked, generated, None

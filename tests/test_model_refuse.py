@@ -1,0 +1,115 @@
+"""Issue 27: a user's own model is right or refused, never silently wrong (items 3, 5-7:
+indexed connections, zero joint axes, a mapping given to `gen`, missing constants at once)."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from conftest import CORPUS, EXAMPLES, needs_corpus
+from cyphy import api
+from cyphy.cli import main
+
+pytest_plugins = ["sdf_tools.fixtures"]
+
+ARM = """\
+import physmod::joints::Revolute
+import physmod::sdf::annotations::*
+pmodel Arm {{
+  local link Base {{
+    def {{ inertial information {{ mass 1 inertia matrix {{ ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 }} }} }}
+    local body B {{ def {{ box(length = 0.1, width = 0.1, height = 0.1) }} }}
+    jref J = Revolute {{
+      annotation Revolute {{ axis = Axis {{ xyz = {xyz} }} }}
+      instantiation AXIS = {axis}
+      flexibly connected to Tip
+    }}
+  }}
+  local link Tip {{
+    pose {{ x = 0 y = 0 z = 0.5 roll = 0 pitch = 0 yaw = 0 }}
+    def {{ inertial information {{ mass 1 inertia matrix {{ ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 }} }} }}
+    local body B {{ def {{ box(length = 0.1, width = 0.1, height = 0.1) }} }}
+  }}
+}}
+"""
+
+
+def codes_of(report: object) -> list[str]:
+    return [d.code.id for d in report.diagnostics]  # type: ignore[attr-defined]
+
+
+# ----- item 5: a zero joint axis is an error
+@pytest.mark.parametrize("xyz, axis, what", [
+    ("(|0, 0, 0|)", "(|0, 0, 1|)", "the annotation's xyz of joint Arm::Base::J"),
+    ("(|0, 0, 1|)", "(|0, 0, 0|)", "the AXIS constant of joint Arm::Base::J"),
+])
+def test_zero_axis_is_an_error_and_gen_writes_nothing(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], xyz: str, axis: str,
+        what: str) -> None:
+    model = tmp_path / "arm.rsm"
+    model.write_text(ARM.format(xyz=xyz, axis=axis))
+    report = api.check([model]).report
+    [error] = report.errors
+    assert (error.code.id, error.span.line) == ("V6", 7)
+    assert what in error.message and "zero vector" in error.message
+    out = tmp_path / "out"
+    assert main(["gen", "--sdf", "-o", str(out), str(model)]) == 1
+    assert not out.exists() or not any(out.iterdir())
+    assert "ERROR V6" in capsys.readouterr().err
+
+
+def test_non_zero_axes_pass(tmp_path: Path) -> None:
+    model = tmp_path / "arm.rsm"
+    model.write_text(ARM.format(xyz="(|0, 0, 2|)", axis="(|0, 0, 1|)"))
+    assert api.check([model]).report.diagnostics == []
+
+
+def test_a_zero_axis_is_what_libsdformat_rejects(tmp_path: Path, sdf_checker: Path) -> None:
+    """Why V6 is an error: the SDF `gen --sdf` wrote for it before, which SDFormat refuses
+    (the non-zero variant passes, so the checker is not refusing everything)."""
+    from sdf_tools.validate import check_sdf
+
+    model = tmp_path / "arm.rsm"
+    model.write_text(ARM.format(xyz="(|0, 0, 1|)", axis="(|0, 0, 1|)"))
+    assert main(["gen", "--sdf", "-o", str(tmp_path), str(model)]) == 0
+    good = tmp_path / "Arm.sdf"
+    bad = tmp_path / "Zero.sdf"
+    bad.write_text(good.read_text().replace("<xyz>0 0 1</xyz>", "<xyz>0 0 0</xyz>"))
+    assert bad.read_text() != good.read_text()
+    verdicts = check_sdf([good, bad], strict=False, lints=False)
+    assert verdicts[good] == [] and verdicts[bad] != []
+
+
+# ----- item 6: a mapping (or any model file) given to `gen` reads its folder
+@pytest.mark.parametrize("flag, suffix", [("--sdf", "sdf"), ("--urdf", "urdf"),
+                                          ("--mjcf", "xml")])
+def test_gen_of_a_mapping_file_generates_its_pmodel(tmp_path: Path, flag: str,
+                                                    suffix: str) -> None:
+    marxbot = EXAMPLES / "marxbot"
+    assert main(["gen", flag, "-o", str(tmp_path / "a"), str(marxbot / "Mapping.rsm")]) == 0
+    assert main(["gen", flag, "-o", str(tmp_path / "b"), str(marxbot / "marXbotBase.rsm")]) == 0
+    from_mapping = (tmp_path / "a" / f"marXbotBase.{suffix}").read_text()
+    assert from_mapping == (tmp_path / "b" / f"marXbotBase.{suffix}").read_text()
+
+
+def test_gen_of_a_dmodel_file_takes_the_folders_only_pmodel(tmp_path: Path) -> None:
+    marxbot = EXAMPLES / "marxbot"
+    assert main(["gen", "--sdf", "-o", str(tmp_path), str(marxbot / "marXbotSoftware.rsm")]) == 0
+    assert (tmp_path / "marXbotBase.sdf").is_file()
+
+
+def test_the_pmodel_a_mapping_names_is_checked(tmp_path: Path,
+                                               capsys: pytest.CaptureFixture[str]) -> None:
+    """The p-model file found for the mapping is checked as if named: its errors stop `gen`."""
+    folder = tmp_path / "marxbot"
+    shutil.copytree(EXAMPLES / "marxbot", folder)
+    base = folder / "marXbotBase.rsm"
+    base.write_text(base.read_text().replace("mass 0.5kg", "mass -0.5kg", 1))
+    assert main(["gen", "--sdf", "-o", str(tmp_path / "out"), str(folder / "Mapping.rsm")]) == 1
+    err = capsys.readouterr().err
+    assert "ERROR V1" in err and "marXbotBase.rsm" in err
+    assert not (tmp_path / "out").exists()
+    # `solve` and `show` elaborate a model too
+    assert main(["show", str(folder / "Mapping.rsm")]) == 1
