@@ -113,3 +113,37 @@ def test_the_pmodel_a_mapping_names_is_checked(tmp_path: Path,
     assert not (tmp_path / "out").exists()
     # `solve` and `show` elaborate a model too
     assert main(["show", str(folder / "Mapping.rsm")]) == 1
+
+
+# ----- item 7: every missing constant a target needs, at once
+@needs_corpus
+def test_corpus_testvar_names_every_missing_constant_at_once(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The part's pose needs ``d`` as well as ``k``: before, ``d`` was named only once ``k``
+    and ``a`` had values."""
+    folder = CORPUS / "26_testvar"
+    out = tmp_path / "out"
+    assert main(["gen", "--sdf", "-o", str(out), str(folder)]) == 1
+    [line] = [l for l in capsys.readouterr().err.splitlines() if "ERROR E-CONST" in l]
+    assert line.endswith("needs values for 3 constants without one: "
+                         "my_sonar_sensor::a, testvar::d, testvar::k")
+    given = ["--const", "my_sonar_sensor::a=1", "--const", "testvar::k=1",
+             "--const", "testvar::d=0.5"]
+    assert main(["gen", "--sdf", "-o", str(out), *given, str(folder)]) == 0
+
+
+def test_missing_constants_in_one_expression_pose_and_inertial(tmp_path: Path) -> None:
+    model = tmp_path / "m.rsm"
+    model.write_text("""\
+pmodel M {
+  const a: real const b: real const c: real const d: real const e: real
+  local link L {
+    pose { x = a + b y = 0 z = c roll = 0 pitch = 0 yaw = 0 }
+    def { inertial information { mass d inertia matrix { ixx e ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+  }
+}
+""")
+    generated = api.generate_sdf([model])
+    [error] = generated.report.errors
+    assert error.code.id == "E-CONST" and error.message.endswith("M::a, M::b, M::c, M::d, M::e")
+    assert generated.files == {}

@@ -31,7 +31,7 @@ from cyphy.model.elements import (
     Sensor, glued,
 )
 from cyphy.model.evaluate import (
-    EvalError, UnboundName, Value, coerce, evaluate_fast, literal_value,
+    EvalError, UnboundName, Value, coerce, evaluate_fast, free_names, literal_value,
 )
 from cyphy.model.poses import Pose
 
@@ -264,11 +264,21 @@ class _Context:
             return evaluate_fast(e, env)
         except UnboundName as err:
             if self._known_missing(err.name, env):
+                self._look_up_all(e, env)
                 return None
             self.report.report(EVAL, err.message, err.span, err.hint)
         except EvalError as err:
             self.report.report(EVAL, err.message, err.span, err.hint)
         return None
+
+    def _look_up_all(self, e: ex.Expr, env: Env) -> None:
+        """Evaluation stops at the first constant without a value; the other constants ``e``
+        names are looked up too, so that they are recorded as missing now and a generator
+        lists every constant it needs at once, not one more per run (issue 27)."""
+        for name in sorted(free_names(e)):
+            found = env._find(name)
+            if isinstance(found, _Binding):
+                self.value_of(found)
 
     def _known_missing(self, name: str, env: Env) -> bool:
         found = env._find(name)
@@ -570,14 +580,13 @@ class _Elaborator:
 
     def _inertial(self, m: ast.Inertial, env: Env, body: Body | None
                   ) -> inertia_math.Inertial | None:
+        # All evaluated before any is found missing (see _pose).
         mass = self.ctx.evaluate(m.mass, env)
-        if not isinstance(mass, (int, float)) or isinstance(mass, bool):
-            return None
         com = self._pose(m.pose, env) if m.pose is not None else Pose.identity()
-        if com is None:
+        entries = {e.name: self.ctx.evaluate(e.value, env) for e in m.inertia or ()}
+        if not isinstance(mass, (int, float)) or isinstance(mass, bool) or com is None:
             return None
         if m.inertia is not None:
-            entries = {e.name: self.ctx.evaluate(e.value, env) for e in m.inertia}
             values = [entries.get(k) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
             if any(not isinstance(v, (int, float)) for v in values):
                 return None
@@ -751,14 +760,13 @@ class _Elaborator:
     def _pose(self, pose: ast.Pose | None, env: Env) -> Pose | None:
         if pose is None:
             return Pose.identity()
-        values = []
-        for key in POSE_KEYS:
-            e = pose.get(key)
-            v = 0.0 if e is None else self.ctx.evaluate(e, env)
-            if not isinstance(v, (int, float)) or isinstance(v, bool):
-                return None
-            values.append(float(v))
-        return Pose.from_xyz_rpy(*values)
+        # Every field is evaluated, even after one without a value: each records the
+        # constants it misses, and a generator reports them all at once.
+        values = [0.0 if pose.get(key) is None else self.ctx.evaluate(pose.get(key), env)
+                  for key in POSE_KEYS]
+        if any(not isinstance(v, (int, float)) or isinstance(v, bool) for v in values):
+            return None
+        return Pose.from_xyz_rpy(*(float(v) for v in values))
 
     # ----- second pass: connections and names
     def _connect(self, top: _Instance) -> None:
