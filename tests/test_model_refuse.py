@@ -147,3 +147,129 @@ pmodel M {
     [error] = generated.report.errors
     assert error.code.id == "E-CONST" and error.message.endswith("M::a, M::b, M::c, M::d, M::e")
     assert generated.files == {}
+
+
+# ----- item 3: indexed connections, element i to element i; unique qualified names
+ROVER = """\
+import physmod::joints::Revolute
+import physmod::sdf::annotations::*
+pmodel Rover {{
+  local link Chassis {{
+    def {{ inertial information {{ mass 4 inertia matrix {{ ixx 0.1 ixy 0 ixz 0 iyy 0.1 iyz 0 izz 0.1 }} }} }}
+    local body B {{ def {{ box(length = 0.4, width = 0.2, height = 0.1) }} }}
+    jref Axle = Revolute {{
+      {joint_index}
+      pose {{ x = {joint_x} y = 0.1 z = 0 roll = 0 pitch = 0 yaw = 0 }}
+      annotation Revolute {{ axis = Axis {{ xyz = (|0, 1, 0|) }} }}
+      instantiation AXIS = (|0, 1, 0|)
+      flexibly connected to Wheel
+    }}
+  }}
+  local link Wheel {{
+    {wheel_index}
+    pose {{ x = {wheel_x} y = 0.12 z = 0 roll = 0 pitch = 0 yaw = 0 }}
+    def {{ inertial information {{ mass 0.5 inertia matrix {{ ixx 0.01 ixy 0 ixz 0 iyy 0.01 iyz 0 izz 0.01 }} }} }}
+    local body B {{ def {{ cylinder(radius = 0.05, length = 0.02) }} }}
+  }}
+}}
+"""
+PAIRED = {"joint_index": "index i: [0, 2)", "joint_x": "0.3 * i - 0.1",
+          "wheel_index": "index i: [0, 2)", "wheel_x": "0.3 * i - 0.1"}
+
+
+def rover(tmp_path: Path, **changes: str) -> Path:
+    model = tmp_path / "rover.rsm"
+    model.write_text(ROVER.format(**{**PAIRED, **changes}))
+    return model
+
+
+def test_indexed_joint_to_indexed_link_pairs_element_i_with_element_i(tmp_path: Path) -> None:
+    """Before: four joints (two named Axle::0), each device shared between two of them."""
+    model = rover(tmp_path)
+    assert api.check([model]).report.diagnostics == []
+    elaborated = api.elaborate([model]).model
+    assert elaborated is not None
+    joints = [(j.name, j.child.name) for j in elaborated.joints]  # type: ignore[union-attr]
+    assert joints == [("Rover::Chassis::Axle::0", "Rover::Wheel::0"),
+                      ("Rover::Chassis::Axle::1", "Rover::Wheel::1")]
+    # Each joint sits where its own wheel is (by hand: x = 0.3 i - 0.1 on both sides, and
+    # y 0.1 against 0.12): 0.02 m from the wheel's origin, never 0.3 m off.
+    for j in elaborated.joints:
+        assert j.pose is not None
+        x, y, z = j.pose.to_xyz_rpy()[:3]
+        assert (x, y, z) == pytest.approx((0.0, -0.02, 0.0), abs=1e-12)
+    devices = [j.device.prefix for j in elaborated.joints]  # type: ignore[union-attr]
+    assert devices == ["Axle0", "Axle1"]
+
+
+def test_show_lists_each_joint_once(tmp_path: Path,
+                                    capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["show", str(rover(tmp_path))]) == 0
+    out = capsys.readouterr().out
+    lines = [l.split()[1] for l in out.splitlines() if l.strip().startswith("joint ")]
+    assert lines == ["Rover::Chassis::Axle::0", "Rover::Chassis::Axle::1"]
+
+
+@pytest.mark.parametrize("changes, what", [
+    ({"wheel_index": "index i: [0, 3)"},
+     "joint Axle has 2 copies but is connected to 3 copies of Wheel"),
+    ({"wheel_index": "index i: [1, 2]"},  # two and two, but other values: not element i to i
+     "joint Axle has 2 copies but is connected to 2 copies of Wheel"),
+    ({"joint_index": "", "joint_x": "0"},
+     "joint Rover::Chassis::Axle is one joint but is connected to 2 copies of Wheel"),
+])
+def test_unmatched_indexed_connections_are_IX3(tmp_path: Path, changes: dict[str, str],
+                                               what: str) -> None:
+    model = rover(tmp_path, **changes)
+    report = api.check([model]).report
+    assert [(d.code.id, d.span.line) for d in report.diagnostics] == [("IX3", 7)]
+    assert what in report.diagnostics[0].message
+    assert api.generate_sdf([model]).files == {}
+
+
+def test_a_joint_in_an_indexed_link_pairs_by_the_links_index(tmp_path: Path) -> None:
+    model = tmp_path / "legs.rsm"
+    model.write_text("""\
+import physmod::joints::Revolute
+pmodel Legs {
+  local link Hip {
+    index k: [0, 3)
+    pose { x = k y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
+    def { inertial information { mass 1 } }
+    jref Knee = Revolute { instantiation AXIS = (|0, 1, 0|) flexibly connected to Shin }
+  }
+  local link Shin {
+    index k: [0, 3)
+    pose { x = k y = 0 z = -1 roll = 0 pitch = 0 yaw = 0 }
+    def { inertial information { mass 1 } }
+  }
+}
+""")
+    assert [d.code.id for d in api.check([model]).report.errors] == []
+    elaborated = api.elaborate([model]).model
+    assert elaborated is not None
+    assert [(j.parent.name, j.child.name) for j in elaborated.joints] == [  # type: ignore
+        (f"Legs::Hip::{k}", f"Legs::Shin::{k}") for k in range(3)]
+
+
+@needs_corpus
+def test_corpus_joint_to_indexed_link_is_refused_where_robotool_duplicates_names() -> None:
+    """RoboTool's IJTIL: 4 prismatic joints to 2 copies of Top, written as 8 joints with
+    4 names (sdf-robotool.md 1.8)."""
+    folder = CORPUS / "Index" / "IndexedJointToIndexedLink"
+    report = api.check(sorted(folder.glob("*.pm"))).report
+    assert [d.code.id for d in report.errors] == ["IX3"]
+    assert "joint PJ has 4 copies but is connected to 2 copies of Top" in report.errors[0].message
+
+
+def test_a_connection_written_twice_is_IX4(tmp_path: Path) -> None:
+    model = tmp_path / "twice.rsm"
+    model.write_text("""\
+pmodel D {
+  local link A { def { inertial information { mass 1 } } fixed to B fixed to B }
+  local link B { def { inertial information { mass 1 } } }
+}
+""")
+    [error] = api.check([model]).report.errors
+    assert (error.code.id, error.span.line) == ("IX4", 2)
+    assert "two elements are named D::A::fixedJoint::D::B" in error.message

@@ -130,6 +130,7 @@ class _Instance:
     parts: dict[str, list[_Instance]] = field(default_factory=dict)
     joint_clauses: dict[str, ast.PartFlexible] = field(default_factory=dict)
     container: _Instance | None = None
+    index: dict[str, int] = field(default_factory=dict)  # a part copy's index values
 
 
 @dataclass
@@ -455,6 +456,7 @@ class _Elaborator:
             frame = inst.frame.compose(local) if inst.frame and local else None
             sub = self._instance(prefix, target, target_file, frame, inst, overrides,
                                  part.flexible)
+            sub.index = dict(values)
             for clause in part.fixed:
                 for link in sub.links.get(clause.link, []):
                     self.pending_fixed.append((link, clause.target, clause.part, inst,
@@ -770,29 +772,64 @@ class _Elaborator:
 
     # ----- second pass: connections and names
     def _connect(self, top: _Instance) -> None:
-        for p in self.pending:
-            proto = p.prototype
-            targets = (self._targets(p.instance, p.target, p.part) if p.target is not None
-                       else [])
-            if not targets:  # PMap1/Flex report it; there is nothing to join
-                self.model.unconnected.append(proto)
-                continue
-            for k, child in enumerate(targets):
-                joint = proto if k == 0 else replace(proto, sensors=list(proto.sensors),
-                                                     actuators=list(proto.actuators))
-                joint.child, joint.target_copy = child, k
-                if proto.parent is not None and proto.parent.pose and child.pose \
-                        and proto.local_pose:
-                    joint.pose = child.pose.inverse().compose(
-                        proto.parent.pose.compose(proto.local_pose))
-                self.model.joints.append(joint)
-                if proto.parent is not None:
-                    proto.parent.joints.append(joint)
+        groups: dict[tuple[int, int, str | None, str | None], list[_PendingJoint]] = {}
+        for p in self.pending:  # the copies of one joint block, in one p-model instance
+            groups.setdefault((id(p.block), id(p.instance), p.target, p.part), []).append(p)
+        for copies in groups.values():
+            first = copies[0]
+            targets = (self._targets(first.instance, first.target, first.part)
+                       if first.target is not None else [])
+            for p, children in zip(copies, self._pair(copies, targets, first.instance)):
+                self._join(p.prototype, children)
         for link, target, part, inst, span in self.pending_fixed:
             for child in self._targets(inst, target, part):
                 qname = link.qname + ("fixedJoint",) + child.qname
                 self.model.fixed.append(FixedJoint(qname, span, dict(link.index),
                                                    parent=link, child=child))
+
+    def _pair(self, copies: list[_PendingJoint], targets: list[Link], inst: _Instance
+              ) -> list[list[Link]]:
+        """The children of each copy of a joint: the one target; or, for a replicated target,
+        element i to element i (the copy of the joint, or of the link holding it, whose index
+        values are those of the target copy). A joint whose copies do not match the target's
+        one for one is recorded (IX3 reports it) and joined to every target copy, as
+        RoboTool does, so that the model stays whole for the other checks."""
+        if len(targets) <= 1:
+            return [targets] * len(copies)
+        own = [tuple((p.prototype.index or (p.prototype.parent.index
+                                            if p.prototype.parent else {})).values())
+               for p in copies]
+        theirs = self._target_values(targets, inst)
+        if len(set(own)) == len(own) and sorted(own) == sorted(theirs) \
+                and len(set(theirs)) == len(theirs):
+            by_values = dict(zip(theirs, targets))
+            return [[by_values[v]] for v in own]
+        self.model.mismatched.append((copies[0].prototype, len(copies), list(targets)))
+        return [targets] * len(copies)
+
+    def _target_values(self, targets: list[Link], inst: _Instance) -> list[tuple[int, ...]]:
+        """What tells the copies of a replicated target apart: its part copy's index values
+        (a link in an indexed part), then its own."""
+        part_of = {id(l): sub.index for subs in inst.parts.values() for sub in subs
+                   for ls in sub.links.values() for l in ls}
+        return [tuple(part_of.get(id(l), {}).values()) + tuple(l.index.values())
+                for l in targets]
+
+    def _join(self, proto: Joint, children: list[Link]) -> None:
+        if not children:  # PMap1/Flex report it; there is nothing to join
+            self.model.unconnected.append(proto)
+            return
+        for k, child in enumerate(children):
+            joint = proto if k == 0 else replace(proto, sensors=list(proto.sensors),
+                                                 actuators=list(proto.actuators))
+            joint.child, joint.target_copy = child, k
+            if proto.parent is not None and proto.parent.pose and child.pose \
+                    and proto.local_pose:
+                joint.pose = child.pose.inverse().compose(
+                    proto.parent.pose.compose(proto.local_pose))
+            self.model.joints.append(joint)
+            if proto.parent is not None:
+                proto.parent.joints.append(joint)
 
     def _targets(self, inst: _Instance, link: str, part: str | None) -> list[Link]:
         if part is None:

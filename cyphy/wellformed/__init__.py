@@ -13,6 +13,7 @@ from cyphy.wellformed import links  # noqa: E402,F401
 from cyphy.wellformed import connections  # noqa: E402,F401
 from cyphy.wellformed import parts  # noqa: E402,F401
 from cyphy.wellformed import indexing  # noqa: E402,F401
+from cyphy.wellformed import replication  # noqa: E402,F401
 from cyphy.wellformed import annotations  # noqa: E402,F401
 from cyphy.wellformed import mappings  # noqa: E402,F401
 from cyphy.wellformed import values  # noqa: E402,F401
