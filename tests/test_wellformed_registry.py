@@ -22,8 +22,8 @@ EXPECTED = (["PM1", *_ids("L", 8), *_ids("B", 3), *_ids("J", 3), *_ids("SE", 3),
 # The state-machine conditions are cyphy's own (wellformedness.md covers p-models and mappings).
 MACHINES = _ids("STM", 7)
 # Conditions of issue 27, beyond wellformedness.md: indexed connections (element i to
-# element i), unique qualified names, a non-zero joint axis (docs/modelling-checks.md).
-OWN = ["IX3", "IX4", "V6"]
+# element i), unique qualified names, a non-zero joint axis, units (docs/modelling-checks.md).
+OWN = ["IX3", "IX4", "V6", "U1"]
 SPEC = ROOT.parent / "shared" / "spec" / "wellformedness.md"
 
 

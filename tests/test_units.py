@@ -1,0 +1,118 @@
+"""Units (issue 27, item 4): every value with a unit has the dimension of where it is used
+(U1), with Pint's units; values are still converted to SI."""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+from cyphy import api
+from cyphy.model.units import TABLE, from_pint, units
+
+MODEL = """\
+import physmod::joints::Revolute
+import physmod::actuators::SpeedControlMotor
+pmodel Arm {{
+  local link Base {{
+    pose {{ x = {x} y = 0 z = 0 roll = 0 pitch = 0 yaw = {yaw} }}
+    def {{ inertial information {{ mass {mass} inertia matrix {{ ixx {ixx} ixy 0 ixz 0 iyy 1 iyz 0 izz 1 }} }} }}
+    local body B {{ def {{ box(length = {length}, width = 0.1m, height = 10cm) }} }}
+    jref J = Revolute {{
+      instantiation AXIS = (|0, 0, 1|)
+      aref M = SpeedControlMotor {{ instantiation J = {rotor} }}
+      flexibly connected to Tip
+    }}
+  }}
+  local link Tip {{ def {{ inertial information {{ mass 2kg }} }} }}
+}}
+"""
+GOOD = {"x": "0.5m", "yaw": "30deg", "mass": "2kg", "ixx": "1", "length": "20cm",
+        "rotor": "0.01"}
+
+
+def u1(tmp_path: Path, **changes: str) -> list[tuple[int, str, str]]:
+    model = tmp_path / "arm.rsm"
+    model.write_text(MODEL.format(**{**GOOD, **changes}))
+    report = api.check([model]).report
+    return [(d.span.line, d.message, d.hint) for d in report.diagnostics if d.code.id == "U1"]
+
+
+def test_the_table_is_pints() -> None:
+    """The stored table is what Pint says (the oracle), for exactly the grammar's suffixes."""
+    pytest.importorskip("pint")
+    import json
+
+    stored = json.loads(TABLE.read_text())
+    assert stored == from_pint(stored)
+    grammar = (ROOT / "cyphy" / "lang" / "robosim.lark").read_text()
+    pattern = re.search(r"^UNIT\.3: /(.*)/$", grammar, re.M).group(1)  # type: ignore[union-attr]
+    suffixes = set(re.findall(r"(?<![A-Za-z?])([A-Za-z]{1,9})(?=[|)])", pattern))
+    assert suffixes == set(stored)
+
+
+def test_a_correct_model_has_no_unit_error(tmp_path: Path) -> None:
+    assert u1(tmp_path) == []
+
+
+@pytest.mark.parametrize("changes, line, text, hint", [
+    ({"mass": "2m"}, 6, "the mass of link Arm::Base (2m) has the dimension [length]; "
+     "expected [mass]", "kg, g"),
+    ({"length": "3kg"}, 7, "the box's length of body Arm::Base::B (3kg) has the dimension "
+     "[mass]; expected [length]", "m, cm, km, mm"),
+    ({"length": "30deg"}, 7, "the box's length of body Arm::Base::B (30deg) is dimensionless "
+     "(an angle); expected [length]", "m, cm"),
+    ({"yaw": "2m"}, 5, "the pose's yaw of link Arm::Base (2m) has the dimension [length]; "
+     "expected dimensionless", "rad, deg"),
+    ({"x": "1s"}, 5, "the pose's x of link Arm::Base (1s) has the dimension [time]; expected "
+     "[length]", "m"),
+    ({"ixx": "1kg"}, 6, "the inertia ixx of link Arm::Base (1kg) has the dimension [mass]; "
+     "expected [mass] * [length] ** 2", "plain number in SI units (no suffix"),
+    ({"x": "0.5m + 2kg"}, 5, "(0.5m + 2kg) adds [length] to [mass]", "m"),
+    ({"rotor": "2kg"}, 10, "SpeedControlMotor's J in actuator Arm::Base::J::M (2kg) has the "
+     "dimension [mass]; expected [mass] * [length] ** 2", "plain number"),
+    ({"mass": "(2 * 3m) / 2s"}, 6, "has the dimension [length] / [time]; expected [mass]",
+     "kg"),
+])
+def test_a_unit_of_another_dimension_is_U1(tmp_path: Path, changes: dict[str, str],
+                                           line: int, text: str, hint: str) -> None:
+    [(at, message, how)] = u1(tmp_path, **changes)
+    assert at == line and text in message and hint in how, message
+
+
+def test_u1_refuses_generation(tmp_path: Path) -> None:
+    model = tmp_path / "arm.rsm"
+    model.write_text(MODEL.format(**{**GOOD, "mass": "2m"}))
+    generated = api.generate_sdf([model])
+    assert generated.files == {} and [d.code.id for d in generated.report.errors] == ["U1"]
+
+
+def test_values_are_still_converted_to_si(tmp_path: Path) -> None:
+    model = tmp_path / "arm.rsm"
+    model.write_text(MODEL.format(**{**GOOD, "x": "50cm", "mass": "2000g"}))
+    elaborated = api.elaborate([model]).model
+    assert elaborated is not None
+    base = elaborated.links[0]
+    x, _, _, _, _, yaw = base.pose.to_xyz_rpy()  # type: ignore[union-attr]
+    assert (x, yaw) == pytest.approx((0.5, math.pi / 6), rel=1e-12)
+    assert base.inertial.mass == pytest.approx(2.0)  # type: ignore[union-attr]
+    assert elaborated.bodies[0].size["length"] == pytest.approx(0.2)
+    assert units()["deg"].factor == math.pi / 180
+
+
+def test_check_does_not_import_pint(tmp_path: Path) -> None:
+    """Pint costs seconds to import and set up; `cyphy check` reads the stored table."""
+    model = tmp_path / "arm.rsm"
+    model.write_text(MODEL.format(**GOOD))
+    code = ("import sys; from cyphy import api; "
+            f"assert not api.check([{str(model)!r}]).report.has_errors; "
+            "print('pint' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          cwd=ROOT, timeout=120, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert done.stdout.strip() == "False", done.stderr
