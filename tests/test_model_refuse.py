@@ -100,6 +100,18 @@ def test_gen_of_a_dmodel_file_takes_the_folders_only_pmodel(tmp_path: Path) -> N
     assert (tmp_path / "marXbotBase.sdf").is_file()
 
 
+@pytest.mark.parametrize("given", ["marXbotBase.rsm", "marXbotSoftware.rsm"])
+def test_the_semantics_of_a_pmodel_or_dmodel_file_uses_the_folders_mapping(
+        tmp_path: Path, given: str) -> None:
+    """`gen --cyphycircus` (and --isabelle, --latex) of the p-model or the d-model file: the
+    mapping of the folder that maps them (before: E-MAPPING, no platform mapping)."""
+    marxbot = EXAMPLES / "marxbot"
+    assert main(["gen", "--cyphycircus", "-o", str(tmp_path / "a"), str(marxbot / given)]) == 0
+    assert main(["gen", "--cyphycircus", "-o", str(tmp_path / "b"),
+                 str(marxbot / "Mapping.rsm")]) == 0
+    assert (tmp_path / "a" / "M.cpc").read_text() == (tmp_path / "b" / "M.cpc").read_text()
+
+
 def test_the_pmodel_a_mapping_names_is_checked(tmp_path: Path,
                                                capsys: pytest.CaptureFixture[str]) -> None:
     """The p-model file found for the mapping is checked as if named: its errors stop `gen`."""

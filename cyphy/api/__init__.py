@@ -14,7 +14,7 @@ from cyphy.deep import deep
 from cyphy.diagnostics import Report, Span
 from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
-from cyphy.lang.targets import declares_pmodel, folder_pmodel_files
+from cyphy.lang.targets import folder_files
 from cyphy.lang.workspace import Workspace, load_workspace
 
 if TYPE_CHECKING:  # the model needs NumPy and SciPy: `cyphy check` must not import them
@@ -32,7 +32,7 @@ class CheckOptions:
     value_checks: bool = True  # V1-V5 (geometry, inertia, meshes): what simulators need
     consistency: bool = False  # also C1-C5 on the platform mappings (imports Z3)
     z3_timeout_ms: int | None = None  # per Z3 query; None: the checks' default
-    find_pmodel: bool = False  # no p-model in the files given: the folder's (cyphy.lang.targets)
+    find_in_folder: str = ""  # "pmodel", "mapping": the folder's when the files have none
 
 
 @dataclass
@@ -59,10 +59,9 @@ def _front_end(paths: Sequence[str | Path], options: CheckOptions) -> CheckResul
     result = CheckResult(ws, report, sources=ws.texts)
     if options.syntax_only:
         return result
-    retarget = options.find_pmodel and not declares_pmodel(ws)
-    if retarget:
-        ws.targets = ws.targets + folder_pmodel_files(ws)
-    if options.neighbours_as_targets or retarget:
+    found = folder_files(ws, options.find_in_folder) if options.find_in_folder else []
+    ws.targets = ws.targets + found  # cyphy/lang/targets.py
+    if options.neighbours_as_targets or found:
         ws.targets = _with_dependencies(ws)
     check_placement(ws.user_files(), report)
     progress.stage("resolving names")
@@ -174,7 +173,8 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
     errors (generation must not run on them) or no p-model can be chosen."""
     from cyphy.model.elaborate import elaborate as run
 
-    checked = check(paths, CheckOptions(search_paths=options.search_paths, find_pmodel=True))
+    checked = check(paths, CheckOptions(search_paths=options.search_paths,
+                                        find_in_folder="pmodel"))
     if checked.resolution is None or (checked.report.has_errors and not (
             options.despite_value_errors
             and all(_value_error(d) for d in checked.report.errors))):
@@ -468,7 +468,8 @@ def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = Semant
     # The value checks concern geometry and inertia, which the semantics does not use.
     checked = check(paths, CheckOptions(search_paths=options.search_paths,
                                         consts=dict(options.consts),
-                                        neighbours_as_targets=True, value_checks=False))
+                                        neighbours_as_targets=True, value_checks=False,
+                                        find_in_folder="mapping"))
     if checked.report.has_errors or checked.resolution is None:
         return checked, None
     built = build_semantics(checked.workspace, checked.resolution, checked.report,
@@ -565,7 +566,7 @@ def _geometric_model(paths: Sequence[str | Path], name: str | None,
     from cyphy.semantics.sdf.rules import unvalued
 
     checked = check(paths, CheckOptions(search_paths=search_paths, consts=dict(consts),
-                                        find_pmodel=True))
+                                        find_in_folder="pmodel"))
     generated = Generated(checked.report, checked.sources)
     if checked.report.has_errors or checked.resolution is None:
         return checked, generated, None
