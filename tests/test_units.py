@@ -116,3 +116,27 @@ def test_check_does_not_import_pint(tmp_path: Path) -> None:
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           cwd=ROOT, timeout=120, env={**os.environ, "PYTHONPATH": str(ROOT)})
     assert done.stdout.strip() == "False", done.stderr
+
+
+def test_a_constant_has_the_dimension_of_its_value(tmp_path: Path) -> None:
+    model = tmp_path / "c.rsm"
+    model.write_text("""\
+pmodel C {
+  const H: real = 0.05m
+  const W: real = 2 * H
+  const M: real = 3kg
+  const Bad: real = 1m + 1kg
+  local link L {
+    pose { x = W y = H z = 0 roll = 0 pitch = 0 yaw = 0 }
+    def { inertial information { mass H } }
+    local body B { def { box(length = W, width = M, height = Bad) } }
+    local body D { def { box(length = Bad, width = 1, height = 1) } }
+  }
+}
+""")
+    found = [(d.span.line, d.message) for d in api.check([model]).report.diagnostics
+             if d.code.id == "U1"]
+    assert [line for line, _ in found] == [5, 8, 9]  # Bad's sum once, at its definition
+    assert "(1m + 1kg) adds [length] to [mass]" in found[0][1]
+    assert "the mass of link C::L (H) has the dimension [length]" in found[1][1]
+    assert "the box's width of body C::L::B (M) has the dimension [mass]" in found[2][1]

@@ -5,19 +5,19 @@ dimension: ``mass 2m``, ``box(length = 3kg)`` and ``length = 30deg`` were silent
 2 kg, 3 m and 0.52 m. The dimensions come from Pint (``cyphy/model/units.py``); where each
 place expects which is the notation's meaning (sdf.md: SI lengths, masses, radians) and, for
 the library's constants, the units its comments give. A value without a unit is a number in
-SI and is never questioned; a named constant is not followed (its unit is checked where it is
-defined, if that is one of these places).
+SI and is never questioned; a named constant has the dimension of its value.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.model.units import Dimension, units
+from cyphy.wellformed.indexing import Lookup, lookup_in, part_names, site_names
 from cyphy.wellformed.registry import WFContext, rule
 
 LENGTH = Dimension.of({"[length]": 1})
@@ -46,19 +46,25 @@ class _Mixed(Exception):
         self.node, self.left, self.right = node, left, right
 
 
-def dimension_of(e: ex.Expr) -> Dimension | None:
-    """The dimension of ``e`` from its unit suffixes; None when no unit decides it (plain
-    numbers, names, calls). Raises :class:`_Mixed` for ``2m + 3kg``."""
+NameDimension = Callable[[ex.Name], "Dimension | None"]
+
+
+def dimension_of(e: ex.Expr, named: NameDimension = lambda n: None) -> Dimension | None:
+    """The dimension of ``e`` from its unit suffixes (``named`` gives a name's: that of the
+    constant's value); None when no unit decides it (plain numbers, calls, constants written
+    without a unit). Raises :class:`_Mixed` for ``2m + 3kg``."""
+    if isinstance(e, ex.Name):
+        return named(e)
     if isinstance(e, ex.Quantity):
         unit = units().get(e.unit)
-        inner = dimension_of(e.value)
+        inner = dimension_of(e.value, named)
         if unit is None:  # E-EVAL reports an unknown unit
             return None
         return unit.dimension * inner if inner is not None else unit.dimension
     if isinstance(e, ex.UnaryOp) and e.op == "-":
-        return dimension_of(e.operand)
+        return dimension_of(e.operand, named)
     if isinstance(e, ex.BinOp):
-        left, right = dimension_of(e.left), dimension_of(e.right)
+        left, right = dimension_of(e.left, named), dimension_of(e.right, named)
         if e.op in ("+", "-"):
             if left is not None and right is not None and left != right:
                 raise _Mixed(e, left, right)
@@ -76,44 +82,89 @@ def dimension_of(e: ex.Expr) -> Dimension | None:
     return None
 
 
-def _places(ctx: WFContext) -> Iterator[tuple[ex.Expr, Dimension, str]]:
-    """Every value the notation gives a dimension: (expression, expected, what it is)."""
+Place = tuple[ex.Expr, Dimension, Callable[[], str], Callable[[], Lookup]]
+
+
+def _places(ctx: WFContext) -> Iterator[Place]:
+    """Every value the notation gives a dimension: (expression, expected, what it is, how to
+    look up the names visible there). The texts and lookups are made only for the few values
+    that are not plain numbers: most blocks of a large model have only numbers."""
     for site in ctx.blocks():
-        where = f"{site.block.kind.value} {site.qualified}"
-        yield from _pose(site.block.pose, where)
+        def where(site: Any = site) -> str:
+            return f"{site.block.kind.value} {site.qualified}"
+
+        def lookup(site: Any = site) -> Lookup:
+            return lookup_in(ctx, site.file, site_names(ctx, site))
+
+        def outer(site: Any = site) -> Lookup:
+            return lookup_in(ctx, site.file, site_names(ctx, site, inside=False))
+
+        yield from _pose(site.block.pose, where, lookup)
         for d in site.block.definitions:
-            yield from _members(d.members, where)
+            yield from _members(d.members, where, lookup)
         target = ctx.target(site.block)
         if isinstance(target, ast.Definition) and target.name in LIBRARY_CONSTANTS:
             expected = LIBRARY_CONSTANTS[target.name]
-            for i in site.block.instantiations:
+            for i in site.block.instantiations:  # evaluated where the block is written
                 if i.name in expected:
-                    yield i.value, expected[i.name], f"{target.name}'s {i.name} in {where}"
-    for _, d in ctx.definitions():
-        yield from _members(d.members, f"{d.kind.value} {d.name}")
-    for _, pm in ctx.pmodels():
+                    yield (i.value, expected[i.name],
+                           lambda n=target.name, i=i.name, w=where: f"{n}'s {i} in {w()}",
+                           outer)
+    for f, d in ctx.definitions():
+        names = {m.name: m for m in d.members if isinstance(m, ast.VarDecl)}
+        yield from _members(d.members, lambda d=d: f"{d.kind.value} {d.name}",
+                            lambda f=f, names=names: lookup_in(ctx, f, names))
+    for f, pm in ctx.pmodels():
         for part in pm.parts:
-            yield from _pose(part.pose, f"part {pm.name}::{part.name}")
+            yield from _pose(part.pose, lambda pm=pm, part=part: f"part {pm.name}::{part.name}",
+                             lambda f=f, pm=pm, part=part: lookup_in(ctx, f,
+                                                                     part_names(pm, part)))
 
 
-def _pose(pose: ast.Pose | None, where: str) -> Iterator[tuple[ex.Expr, Dimension, str]]:
+def _pose(pose: ast.Pose | None, where: Callable[[], str], lookup: Callable[[], Lookup]
+          ) -> Iterator[Place]:
     for f in pose.fields if pose is not None else ():
-        yield f.value, POSE[f.key], f"the pose's {f.key} of {where}"
+        if not isinstance(f.value, ex.Num):  # nearly every value: a plain number in SI
+            yield f.value, POSE[f.key], lambda k=f.key: f"the pose's {k} of {where()}", lookup
 
 
-def _members(members: Any, where: str) -> Iterator[tuple[ex.Expr, Dimension, str]]:
+def _members(members: Any, where: Callable[[], str], lookup: Callable[[], Lookup]
+             ) -> Iterator[Place]:
     for m in members:
         if isinstance(m, ast.Shape):
             for a in m.args:
-                yield a.value, LENGTH, f"the {m.kind}'s {a.name} of {where}"
+                if isinstance(a.value, ex.Num):
+                    continue
+                yield (a.value, LENGTH, lambda k=m.kind, n=a.name: f"the {k}'s {n} of {where()}",
+                       lookup)
         elif isinstance(m, ast.Mesh) and m.scaling is not None:
-            yield m.scaling, Dimension(), f"the mesh scaling of {where}"
+            yield m.scaling, Dimension(), lambda: f"the mesh scaling of {where()}", lookup
         elif isinstance(m, ast.Inertial):
             if m.mass is not None:
-                yield m.mass, MASS, f"the mass of {where}"
+                yield m.mass, MASS, lambda: f"the mass of {where()}", lookup
             for entry in m.inertia or ():
-                yield entry.value, INERTIA, f"the inertia {entry.name} of {where}"
-            yield from _pose(m.pose, f"the inertial information of {where}")
+                yield (entry.value, INERTIA,
+                       lambda n=entry.name: f"the inertia {n} of {where()}", lookup)
+            yield from _pose(m.pose, lambda: f"the inertial information of {where()}", lookup)
+
+
+def _constants(lookup: Lookup) -> NameDimension:
+    """A name's dimension: that of the value of the constant it names (``const H: real =
+    0.05m``), followed through constants defined by constants; None for anything else."""
+    busy: set[int] = set()
+
+    def named(name: ex.Name) -> Dimension | None:
+        decl = lookup(name)
+        if not isinstance(decl, ast.VarDecl) or decl.kind is not ast.DeclKind.CONST \
+                or decl.value is None or id(decl) in busy:
+            return None
+        busy.add(id(decl))  # a constant defined by itself: E-EVAL's, not followed
+        try:
+            return dimension_of(decl.value, named)
+        finally:
+            busy.discard(id(decl))
+
+    return named
 
 
 def _written(ctx: WFContext, span: Span) -> str:
@@ -148,15 +199,21 @@ def check_U1_unit_dimensions(ctx: WFContext) -> None:
     where it is used: lengths for sizes and positions, angles for orientations, a mass, a mass
     times a length squared for inertia entries, the library's units for its constants; the
     terms of a sum agree with each other."""
-    for value, expected, what in _places(ctx):
+    mixed: set[Span] = set()
+    for value, expected, what, lookup in _places(ctx):
+        if isinstance(value, ex.Num):
+            continue
         try:
-            found = dimension_of(value)
+            found = dimension_of(value, _constants(lookup()))
         except _Mixed as err:
-            ctx.error("U1", err.node.span, f"{what} ({_written(ctx, err.node.span)}) adds "
+            if err.node.span in mixed:  # a constant's sum, met again where it is used
+                continue
+            mixed.add(err.node.span)
+            ctx.error("U1", err.node.span, f"{what()} ({_written(ctx, err.node.span)}) adds "
                       f"{_dimension(err.left)} to {_dimension(err.right)}; expected "
                       f"{_dimension(expected)}", _how(expected))
             continue
         if found is not None and found != expected:
-            ctx.error("U1", value.span, f"{what} ({_written(ctx, value.span)}) {_is(found)}; "
+            ctx.error("U1", value.span, f"{what()} ({_written(ctx, value.span)}) {_is(found)}; "
                       f"expected {_dimension(expected)}",
                       _how(expected))
