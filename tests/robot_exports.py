@@ -164,6 +164,26 @@ def mujoco_bias(mjcf: Path, q: dict[str, float], qd: dict[str, float]) -> Bias:
     return names, data.qfrc_bias[dofs].copy()
 
 
+def random_states(rng: np.random.Generator, joints: int, count: int
+                  ) -> list[tuple[list[float], list[float]]]:
+    """``count`` states (positions in [-2, 2], velocities in [-3, 3]) of ``joints`` joints."""
+    return [(rng.uniform(-2, 2, joints).tolist(), rng.uniform(-3, 3, joints).tolist())
+            for _ in range(count)]
+
+
+def random_trees() -> Any:
+    """Hypothesis: ``(link specs, parents)`` of chains and trees of 2-8 links, for
+    ``test_mjcf._tree_model`` (a root at a random pose, revolute and prismatic joints with
+    random axes and poses, random masses, centres of mass and rotated inertias)."""
+    from hypothesis import strategies as st
+
+    from test_mjcf import links
+
+    return st.lists(links, min_size=2, max_size=8).flatmap(
+        lambda specs: st.tuples(st.just(specs), st.tuples(
+            *[st.integers(0, i) for i in range(len(specs) - 1)])))
+
+
 def names_table(path: Path) -> dict[str, str]:
     """The export's name table: exported (URDF, MJCF) name → qualified RoboSim name."""
     return json.loads(path.read_text())

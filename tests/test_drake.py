@@ -14,8 +14,9 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 
 from conftest import EXAMPLES
 from cyphy import api
-from robot_exports import compare, cyphy_joint_space, drake_bias, drake_mass, names_table
-from test_mjcf import _tree_model, links
+from robot_exports import (compare, cyphy_joint_space, drake_bias, drake_mass, names_table,
+                           random_states, random_trees)
+from test_mjcf import _tree_model
 
 pytest.importorskip("pydrake")
 
@@ -126,10 +127,8 @@ def test_dropping_a_non_zero_initial_position_is_a_warning(tmp_path: Path, initi
 
 @pytest.mark.parametrize("example", sorted(MODELS))
 def test_examples_agree_with_drake(tmp_path: Path, example: str) -> None:
-    rng = np.random.default_rng(2027)
     n = {"manipulator": 3, "marxbot": 2, "dcmotor": 1}[example]
-    states = [(rng.uniform(-2, 2, n).tolist(), rng.uniform(-3, 3, n).tolist())
-              for _ in range(5)]
+    states = random_states(np.random.default_rng(2027), n, 5)
     worst_m, worst_h = worst_disagreement([EXAMPLES / example], tmp_path, states,
                                           MODELS[example])
     assert worst_m < TOLERANCE and worst_h < TOLERANCE, (worst_m, worst_h)
@@ -150,10 +149,7 @@ def test_a_wrong_inertia_is_caught_by_drake(tmp_path: Path) -> None:
 
 @settings(max_examples=10, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
-@given(st.lists(links, min_size=2, max_size=8).flatmap(
-    lambda specs: st.tuples(st.just(specs), st.tuples(
-        *[st.integers(0, i) for i in range(len(specs) - 1)]))),
-    st.integers(0, 2**32 - 1))
+@given(random_trees(), st.integers(0, 2**32 - 1))
 def test_random_trees_agree_with_drake(tmp_path_factory, tree, seed: int) -> None:
     """Chains and trees of 2-8 links (the root at a random pose), revolute and prismatic
     joints with random axes and poses, random masses, centres of mass and rotated inertias
@@ -161,9 +157,6 @@ def test_random_trees_agree_with_drake(tmp_path_factory, tree, seed: int) -> Non
     specs, parents = tree
     folder = tmp_path_factory.mktemp("random")
     (folder / "Random.rsm").write_text(_tree_model(list(parents), specs))
-    rng = np.random.default_rng(seed)
-    n = len(specs) - 1
-    states = [(rng.uniform(-2, 2, n).tolist(), rng.uniform(-3, 3, n).tolist())
-              for _ in range(2)]
+    states = random_states(np.random.default_rng(seed), len(specs) - 1, 2)
     worst_m, worst_h = worst_disagreement([folder / "Random.rsm"], folder / "out", states)
     assert worst_m < TOLERANCE and worst_h < TOLERANCE, (worst_m, worst_h)

@@ -7,6 +7,7 @@ import shutil
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
 
 from conftest import CORPUS, EXAMPLES, needs_corpus
 from cyphy import api
@@ -285,3 +286,40 @@ pmodel D {
     [error] = api.check([model]).report.errors
     assert (error.code.id, error.span.line) == ("IX4", 2)
     assert "two elements are named D::A::fixedJoint::D::B" in error.message
+
+
+@settings(max_examples=25, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.one_of(st.none(), st.tuples(st.integers(0, 2), st.integers(0, 3))),
+       st.one_of(st.none(), st.tuples(st.integers(0, 2), st.integers(0, 3))))
+def test_any_indexed_connection_is_paired_or_refused(tmp_path_factory, joint_range,
+                                                     wheel_range) -> None:
+    """Whatever the two ranges: either IX3, or every joint has one child, the copy of Wheel
+    with its own index value (or the only Wheel), and no two elements share a name."""
+    def index(r: tuple[int, int] | None) -> str:
+        return "" if r is None else f"index i: [{r[0]}, {r[1]})"
+
+    def values(r: tuple[int, int] | None) -> list[int]:
+        return [] if r is None else list(range(r[0], r[1]))
+
+    folder = tmp_path_factory.mktemp("ranges")
+    model = rover(folder, joint_index=index(joint_range), wheel_index=index(wheel_range),
+                  joint_x="0", wheel_x="0")
+    report = api.check([model]).report
+    codes = {d.code.id for d in report.errors}
+    joints, wheels = values(joint_range), values(wheel_range)
+    if wheel_range is not None and not wheels:
+        return  # no wheel at all: nothing to connect to (IX1 warns about the empty range)
+    paired = wheel_range is None or len(wheels) == 1 or joints == wheels
+    if not paired or (joint_range is not None and not joints):
+        assert "IX3" in codes or (joint_range is not None and not joints), codes
+        return
+    assert "IX3" not in codes and "IX4" not in codes, codes
+    elaborated = api.elaborate([model]).model
+    assert elaborated is not None
+    names = [e.name for e in [*elaborated.links, *elaborated.joints, *elaborated.bodies]]
+    assert len(names) == len(set(names))
+    for j in elaborated.joints:
+        assert j.child is not None
+        if len(wheels) > 1:
+            assert j.child.index == j.index
