@@ -140,3 +140,36 @@ pmodel C {
     assert "(1m + 1kg) adds [length] to [mass]" in found[0][1]
     assert "the mass of link C::L (H) has the dimension [length]" in found[1][1]
     assert "the box's width of body C::L::B (M) has the dimension [mass]" in found[2][1]
+
+
+def test_annotation_values_have_their_sdf_units(tmp_path: Path) -> None:
+    """Joint limits are angles for a revolute joint and lengths for a prismatic one; sensor
+    ranges are lengths (SDFormat's units, physmod::sdf::annotations)."""
+    model = tmp_path / "a.rsm"
+    model.write_text("""\
+import physmod::joints::Revolute
+import physmod::joints::Prismatic
+import physmod::sdf::annotations::*
+pmodel A {
+  local link Base {
+    def { inertial information { mass 1 } }
+    jref J = Revolute {
+      annotation Revolute { axis = Axis { limit = Limit { lower = -90deg upper = 2m } } }
+      flexibly connected to Tip
+    }
+    jref P = Prismatic {
+      annotation Prismatic { axis = Axis { limit = Limit { lower = -10cm upper = 30deg } } }
+      flexibly connected to Tip2
+    }
+    local sensor S { def { annotation Sonar { sonar = SonarDetails { min = 2cm max = 4kg } } } }
+  }
+  local link Tip { def { inertial information { mass 1 } } }
+  local link Tip2 { def { inertial information { mass 1 } } }
+}
+""")
+    found = [(d.span.line, d.message) for d in api.check([model]).report.diagnostics
+             if d.code.id == "U1"]
+    assert [line for line, _ in found] == [8, 12, 15], found
+    assert "axis.limit.upper of joint A::Base::J (2m) has the dimension [length]" in found[0][1]
+    assert "axis.limit.upper of joint A::Base::P (30deg) is dimensionless" in found[1][1]
+    assert "sonar.max of sensor A::Base::S (4kg) has the dimension [mass]" in found[2][1]

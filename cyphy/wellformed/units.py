@@ -28,6 +28,27 @@ INERTIA = MASS * LENGTH ** 2
 FORCE = MASS * LENGTH / TIME ** 2
 
 POSE = {"x": LENGTH, "y": LENGTH, "z": LENGTH, "roll": ANGLE, "pitch": ANGLE, "yaw": ANGLE}
+FREQUENCY = TIME ** -1
+# Annotation values (physmod::sdf::annotations, SDFormat's units): a joint axis's position,
+# limits and dynamics, rotational or translational by the joint's template, and sensor ranges
+# and rates. Paths are the nested template parameters, the last one the value's.
+_ROTATION = {("limit", "lower"): ANGLE, ("limit", "upper"): ANGLE,
+             ("limit", "velocity"): ANGLE / TIME, ("limit", "effort"): FORCE * LENGTH,
+             ("initial_position",): ANGLE, ("dynamics", "spring_reference"): ANGLE,
+             ("dynamics", "damping"): FORCE * LENGTH * TIME}
+_TRANSLATION = {("limit", "lower"): LENGTH, ("limit", "upper"): LENGTH,
+                ("limit", "velocity"): LENGTH / TIME, ("limit", "effort"): FORCE,
+                ("initial_position",): LENGTH, ("dynamics", "spring_reference"): LENGTH,
+                ("dynamics", "damping"): FORCE * TIME / LENGTH}
+_SENSOR = {("update_rate",): FREQUENCY, ("sonar", "min"): LENGTH, ("sonar", "max"): LENGTH,
+           ("sonar", "_radius"): LENGTH, ("ray", "range", "min"): LENGTH,
+           ("ray", "range", "max"): LENGTH}
+ANNOTATIONS: dict[str, dict[tuple[str, ...], Dimension]] = {
+    **{t: {(axis, *k): d for axis in ("axis", "axis2") for k, d in _ROTATION.items()}
+       for t in ("Revolute", "Revolute2", "Universal", "Gearbox")},
+    "Prismatic": {("axis", *k): d for k, d in _TRANSLATION.items()},
+    **{t: _SENSOR for t in ("Sonar", "Ray", "Camera", "IMU", "Contact", "Logical_camera")},
+}
 # The library's constants a model instantiates, with the units the library's comments give
 # (cyphy/lang/library/physmod): the rotor's inertia, viscous friction (torque per angular
 # speed, force per speed) and the joints' axes (directions).
@@ -100,6 +121,8 @@ def _places(ctx: WFContext) -> Iterator[Place]:
             return lookup_in(ctx, site.file, site_names(ctx, site, inside=False))
 
         yield from _pose(site.block.pose, where, lookup)
+        for a in site.block.annotations:
+            yield from _annotation(a.instance, where, lookup)
         for d in site.block.definitions:
             yield from _members(d.members, where, lookup)
         target = ctx.target(site.block)
@@ -128,9 +151,28 @@ def _pose(pose: ast.Pose | None, where: Callable[[], str], lookup: Callable[[], 
             yield f.value, POSE[f.key], lambda k=f.key: f"the pose's {k} of {where()}", lookup
 
 
+def _annotation(instance: ast.TemplateInstance, where: Callable[[], str],
+                lookup: Callable[[], Lookup]) -> Iterator[Place]:
+    expected = ANNOTATIONS.get(instance.template[-1])
+    if expected is None:
+        return
+    stack: list[tuple[tuple[str, ...], ast.TemplateInstance]] = [((), instance)]
+    while stack:
+        path, inst = stack.pop()
+        for arg in inst.args:
+            at = (*path, arg.name)
+            if isinstance(arg.value, ast.TemplateInstance):
+                stack.append((at, arg.value))
+            elif at in expected and not isinstance(arg.value, ex.Num):
+                yield (arg.value, expected[at],
+                       lambda at=at: f"the annotation's {'.'.join(at)} of {where()}", lookup)
+
+
 def _members(members: Any, where: Callable[[], str], lookup: Callable[[], Lookup]
              ) -> Iterator[Place]:
     for m in members:
+        if isinstance(m, ast.Annotation):
+            yield from _annotation(m.instance, where, lookup)
         if isinstance(m, ast.Shape):
             for a in m.args:
                 if isinstance(a.value, ex.Num):
