@@ -88,6 +88,15 @@ def test_drake_refuses_sdf_16_and_loads_the_drake_target(tmp_path: Path, example
         assert "W-SDF-DRAKE" not in [d.code.id for d in result.report.diagnostics]
 
 
+def test_the_command_line_target(tmp_path: Path) -> None:
+    from cyphy.cli import main
+
+    out = tmp_path / "out"
+    assert main(["gen", "--sdf", "--target", "drake", "-o", str(out),
+                 str(EXAMPLES / "manipulator")]) == 0
+    assert drake_parse_error(out / "Manipulator.sdf") == ""
+
+
 ONE_JOINT = """\
 import physmod::joints::Revolute
 import physmod::sdf::annotations::*
