@@ -169,3 +169,18 @@ def test_random_trees_agree_with_drake(tmp_path_factory, tree, seed: int) -> Non
     states = random_states(np.random.default_rng(seed), len(specs) - 1, 2)
     worst_m, worst_h = worst_disagreement([folder / "Random.rsm"], folder / "out", states)
     assert worst_m < TOLERANCE and worst_h < TOLERANCE, (worst_m, worst_h)
+
+
+def test_paired_indexed_joints_agree_with_drake(tmp_path: Path) -> None:
+    """Issue 27 item 3 against a real tool: a rover whose indexed axles go element i to
+    element i is a tree of two wheels, and Drake, reading its SDF and URDF, gets cyphy's
+    dynamics (RoboTool's cross product gave two joints per wheel: no tree at all)."""
+    from test_model_refuse import PAIRED, ROVER
+
+    model = tmp_path / "rover.rsm"
+    model.write_text(ROVER.format(**PAIRED))
+    states = random_states(np.random.default_rng(27), 2, 3)
+    worst_m, worst_h = worst_disagreement([model], tmp_path / "out", states)
+    assert worst_m < TOLERANCE and worst_h < TOLERANCE, (worst_m, worst_h)
+    assert sorted(drake_mass(tmp_path / "out" / "sdf" / "Rover.sdf", {})[0]) == [
+        "Chassis__Axle_0", "Chassis__Axle_1"]
