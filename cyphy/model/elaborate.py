@@ -386,6 +386,7 @@ class _Elaborator:
         self.relation_queue: list[tuple[ex.Expr, ast.Block, Device | None,
                                         dict[str, int]]] = []
         self.copies = 0  # of indexed blocks and parts, against limits.max_copies()
+        self.part_index: dict[int, dict[int, dict[str, int]]] = {}  # see _target_values
         self.too_many = False
 
     def run(self, pm: ast.PModel, file: ast.SourceFile) -> ElaboratedModel:
@@ -810,8 +811,11 @@ class _Elaborator:
     def _target_values(self, targets: list[Link], inst: _Instance) -> list[tuple[int, ...]]:
         """What tells the copies of a replicated target apart: its part copy's index values
         (a link in an indexed part), then its own."""
-        part_of = {id(l): sub.index for subs in inst.parts.values() for sub in subs
-                   for ls in sub.links.values() for l in ls}
+        part_of = self.part_index.get(id(inst))
+        if part_of is None:  # once per instance: a model may connect many joints into it
+            part_of = self.part_index[id(inst)] = {
+                id(l): sub.index for subs in inst.parts.values() for sub in subs
+                for ls in sub.links.values() for l in ls}
         return [tuple(part_of.get(id(l), {}).values()) + tuple(l.index.values())
                 for l in targets]
 
