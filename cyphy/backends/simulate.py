@@ -48,7 +48,7 @@ class SimulationOptions:
     t_end: float = 1.0
     init: dict[str, float] = field(default_factory=dict)
     inputs: dict[str, str] = field(default_factory=dict)  # name → expression of t
-    method: str = "LSODA"  # stiff-capable: switches between Adams and BDF
+    method: str | None = None  # solve_ivp's method; None: the one that fits (:func:`method_for`)
     rtol: float = 1e-6
     atol: float = 1e-9
     samples: int = 201  # output instants, evenly spaced over [0, t_end]
@@ -65,6 +65,8 @@ class Trajectory:
     times: np.ndarray
     values: np.ndarray  # len(times) x len(names)
     events: list[tuple[float, str, tuple[float, ...]]] = field(default_factory=list)
+    method: str = ""  # the integrator that ran (solve_ivp's name)
+    engine: str = ""  # what evaluated the dynamics, for the user's note
 
     def column(self, name: str) -> np.ndarray:
         return self.values[:, self.names.index(name)]
@@ -191,9 +193,11 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
         return np.array(rows, dtype=float).reshape(len(times), len(states) + len(outputs))
 
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
+    method = method_for(options, stiff=True)
     if controller is None or period is None:
-        times, xs = _integrate(f, x0, grid, options)
-        return Trajectory([*states, *outputs], times, observe(times, xs))
+        times, xs = _integrate(f, x0, grid, options, method=method)
+        return Trajectory([*states, *outputs], times, observe(times, xs), method=method,
+                          engine="the compiled equations")
     all_t, all_rows = [], []
     sent: list[tuple[float, str, tuple[float, ...]]] = []
     start, x, k = 0.0, x0, 0
@@ -207,7 +211,8 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
         held.update((effects or (lambda _c: {}))(calls))
         inside = grid[(grid >= start) & (grid < stop)]
         local = np.unique(np.concatenate([[start], inside, [stop]]))
-        times, xs = _integrate(f, x, local, options, offset=(start, options.t_end))
+        times, xs = _integrate(f, x, local, options, offset=(start, options.t_end),
+                               method=method)
         keep = np.isin(times, inside) | (times == start) | \
             ((times == stop) & (stop >= options.t_end))
         all_t.append(times[keep])
@@ -216,12 +221,31 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     times = np.concatenate(all_t)
     rows = np.vstack(all_rows)
     order = np.unique(times, return_index=True)[1]
-    return Trajectory([*states, *outputs], times[order], rows[order], sent)
+    return Trajectory([*states, *outputs], times[order], rows[order], sent, method,
+                      "the compiled equations")
+
+
+#: Explicit (non-stiff) and implicit (stiff-capable) methods of solve_ivp.
+EXPLICIT = ("RK45", "DOP853", "RK23")
+STIFF = ("LSODA", "BDF", "Radau")
+
+
+def method_for(options: SimulationOptions, stiff: bool) -> str:
+    """The method asked for, else the one that fits: a kinematic tree alone is a non-stiff
+    mechanical system, which an explicit Runge–Kutta method integrates at a fraction of the
+    cost of LSODA (past 20 links LSODA switches to BDF with finite-difference Jacobians:
+    100 links took 392 s, RK45 12.6 s, issue 31); a whole model with devices may be stiff
+    (motors' electrical time constants), so it keeps LSODA, which switches by itself."""
+    if options.method:
+        return options.method
+    return "LSODA" if stiff else "RK45"
 
 
 def _integrate(f: Callable[[float, np.ndarray], np.ndarray], x0: np.ndarray,
                times: np.ndarray, options: SimulationOptions,
-               offset: tuple[float, float] | None = None) -> tuple[np.ndarray, np.ndarray]:
+               offset: tuple[float, float] | None = None, method: str = "LSODA",
+               jac: Callable[[float, np.ndarray], np.ndarray] | None = None
+               ) -> tuple[np.ndarray, np.ndarray]:
     from scipy.integrate import solve_ivp
 
     if len(x0) == 0:
@@ -235,8 +259,9 @@ def _integrate(f: Callable[[float, np.ndarray], np.ndarray], x0: np.ndarray,
             options.progress(min(tt / total, 1.0) if total > 0 else 1.0)
         return f(tt, x)
 
-    solution = solve_ivp(tracked, (times[0], times[-1]), x0, method=options.method,
-                         t_eval=times, rtol=options.rtol, atol=options.atol)
+    extra = {"jac": jac} if jac is not None and method in STIFF else {}
+    solution = solve_ivp(tracked, (times[0], times[-1]), x0, method=method,
+                         t_eval=times, rtol=options.rtol, atol=options.atol, **extra)
     if not solution.success:
         raise SimulationError(f"the integrator stopped at t = {solution.t[-1]:g}: "
                               f"{solution.message}",
@@ -301,7 +326,13 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     """Integrate a kinematic tree alone with the articulated-body algorithm: states the
     coordinates ``<J>_theta`` (``<J>_theta_1`` … for a joint of several, ``<Root>_x`` … for
     a floating base) then their rates (``<J>_v``, ``<Root>_vx`` …), in tree order; inputs the
-    joint efforts ``<J>_tau`` (a floating base has none)."""
+    joint efforts ``<J>_tau`` (a floating base has none).
+
+    The accelerations come from Pinocchio's compiled ABA when it is installed and the tree
+    maps onto its joints (:mod:`cyphy.backends.pinocchio_tree`), else from cyphy's NumPy ABA,
+    which the tests check against Pinocchio, MuJoCo and the symbolic path; a stiff method
+    gets Pinocchio's analytic Jacobian."""
+    from cyphy.backends.pinocchio_tree import available, pinocchio_model
     from cyphy.semantics.dynamics.rigid_body import forward_dynamics
 
     n = tree.dof
@@ -321,18 +352,37 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     given = _input_functions(efforts, options.inputs)
     constant = all(name not in options.inputs for name in efforts)
     zero = np.zeros(n)
+    compiled_tree = pinocchio_model(tree)
+    accelerations = compiled_tree.forward_dynamics if compiled_tree is not None else \
+        (lambda q, qd, tau: forward_dynamics(tree, q, qd, tau))
+
+    def efforts_at(tt: float) -> np.ndarray:
+        if constant:
+            return zero
+        tau = np.zeros(n)
+        tau[slots] = [g(tt) for g in given]
+        return tau
 
     def f(tt: float, x: np.ndarray) -> np.ndarray:
-        tau = zero
-        if not constant:
-            tau = np.zeros(n)
-            tau[slots] = [g(tt) for g in given]
-        return np.concatenate([x[n:], forward_dynamics(tree, x[:n], x[n:], tau)])
+        return np.concatenate([x[n:], accelerations(x[:n], x[n:], efforts_at(tt))])
+
+    jac = None
+    if compiled_tree is not None:
+        def jac(tt: float, x: np.ndarray) -> np.ndarray:
+            return compiled_tree.jacobian(x[:n], x[n:], efforts_at(tt))
 
     x0 = np.array([float(options.init.get(s, 0.0)) for s in states])
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
-    times, xs = _integrate(f, x0, grid, options)
-    return Trajectory(states, times, xs.T.copy())
+    method = method_for(options, stiff=False)
+    times, xs = _integrate(f, x0, grid, options, method=method, jac=jac)
+    if compiled_tree is not None:
+        engine = "Pinocchio's articulated-body algorithm"
+    else:
+        engine = "cyphy's NumPy articulated-body algorithm (" + (
+            "the tree has universal, ball or floating joints, whose Euler-angle coordinates "
+            "Pinocchio's joints do not share" if available() else
+            "Pinocchio, the pip package pin, is not installed") + ")"
+    return Trajectory(states, times, xs.T.copy(), method=method, engine=engine)
 
 
 # ----------------------------------------------------------------------------- output

@@ -40,9 +40,11 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
     simulate.add_argument("--input", action="append", default=[], metavar="NAME=EXPR",
                           help="an input as an expression of t, e.g. 'Motor_das=10*sin(t)' "
                           "(default 0); repeatable")
-    simulate.add_argument("--method", default="LSODA",
-                          choices=("LSODA", "BDF", "Radau", "RK45", "DOP853"),
-                          help="solve_ivp's method (default LSODA, stiff-capable)")
+    simulate.add_argument("--method", default=None,
+                          choices=("LSODA", "BDF", "Radau", "RK45", "DOP853", "RK23"),
+                          help="solve_ivp's method (default: RK45, explicit, for the "
+                          "kinematic tree alone (--numeric); LSODA, stiff-capable, for whole "
+                          "models); the choice is noted on stderr")
     simulate.add_argument("--rtol", type=float, default=1e-6, help="relative tolerance")
     simulate.add_argument("--atol", type=float, default=1e-9, help="absolute tolerance")
     simulate.add_argument("--samples", type=int, default=201,
@@ -116,6 +118,11 @@ def run(args: argparse.Namespace) -> int:
     if result.numeric:
         sys.stderr.write("cyphy simulate: the kinematic tree alone (articulated-body "
                          "algorithm): the other devices' equations are not simulated\n")
+    chosen = "asked for" if args.method else (
+        "explicit, the default for a kinematic tree alone" if result.numeric
+        else "stiff-capable, the default for a whole model")
+    sys.stderr.write(f"cyphy simulate: integrated with {result.trajectory.method} ({chosen}; "
+                     f"--method to change), dynamics by {result.trajectory.engine}\n")
     text = (sim.to_json if args.format == "json" else sim.to_csv)(result.trajectory)
     if args.output:
         Path(args.output).write_text(text)
