@@ -6,16 +6,19 @@ compiled ``aba`` about 5 µs. The model is built from :class:`KinematicTree` dir
 through the URDF export, which the oracle tests read), so that the tests comparing against
 Pinocchio-from-URDF, MuJoCo and the symbolic path stay independent of this builder.
 
-Frames: Pinocchio turns a revolute joint about an axis through its joint frame's origin, while
-the tree puts each body's frame at its child link and the axis through ``point``. Each joint
-frame here is the child body frame moved (not turned) to ``point``, so
+Frames: Pinocchio turns a joint about its joint frame's origin and axes, while the tree puts
+each body's frame at its child link, the joint's origin at ``point`` and a ball joint's Euler
+axes (and the floating base's world axes) in ``frame``. Each joint frame here is the child
+body frame moved to ``point`` and, for ball joints and the floating base, turned to ``frame``:
+``offset = (frame, point)``, so
 
-    joint placement = Trans(−point_parent) · placement · Trans(point),
+    joint placement = offset_parent⁻¹ · placement · offset,
 
-and the body's inertia sits at ``Trans(−point)`` in its joint frame. Only revolute and
-prismatic joints are mapped: the tree's universal joints, ball joints and floating base use
-ZYX Euler-angle coordinates (rates as velocities) that Pinocchio's quaternion joints do not
-share, so such trees keep the NumPy algorithm (:func:`pinocchio_model` returns ``None``).
+and the body's inertia sits at ``offset⁻¹`` in its joint frame. Revolute, prismatic and
+universal joints map to Pinocchio's joints of the same axes; a ball joint to
+``JointModelSphericalZYX`` (the tree's ZYX Euler angles, the velocities their rates, as
+Pinocchio's); the floating base to a translation along the world axes then a ZYX joint, with
+a massless body between. Every one has as many velocities as coordinates, in the tree's order.
 """
 
 from __future__ import annotations
@@ -27,9 +30,6 @@ import numpy as np
 
 from cyphy.semantics.dynamics.rigid_body import KinematicTree, TreeJoint
 
-#: The joint kinds mapped to a Pinocchio joint of the same coordinates.
-MAPPED = frozenset({"revolute", "prismatic"})
-
 
 @dataclass(frozen=True)
 class CompiledTree:
@@ -37,6 +37,10 @@ class CompiledTree:
 
     model: Any
     data: Any
+    #: Whether :meth:`jacobian` is exact: Pinocchio's ABA derivatives take each joint's motion
+    #: subspace as constant in its frame, which the universal and ZYX joints' are not (their
+    #: columns turn with q), so a tree with them has no analytic Jacobian here.
+    derivatives: bool = True
 
     def forward_dynamics(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """``q̈ = M(q)⁻¹(τ − h(q, q̇))`` (Pinocchio's ABA), coordinates in tree order."""
@@ -68,33 +72,55 @@ def available() -> bool:
 
 
 def pinocchio_model(tree: KinematicTree) -> CompiledTree | None:
-    """The tree as a Pinocchio model, or ``None`` when Pinocchio is absent or the tree has a
-    joint that is not revolute or prismatic (see the module's docstring)."""
-    if not tree.joints or any(j.kind not in MAPPED for j in tree.joints) or not available():
+    """The tree as a Pinocchio model (see the module's docstring), or ``None`` when Pinocchio
+    is absent or the tree is empty."""
+    if not tree.joints or not available():
         return None
     import pinocchio
 
     model = pinocchio.Model()
     model.gravity = pinocchio.Motion(np.asarray(tree.gravity, dtype=float), np.zeros(3))
     ids: list[int] = []
-    for joint in tree.joints:
-        parent_point = tree.joints[joint.parent].point if joint.parent >= 0 else np.zeros(3)
-        placement = _translation(-parent_point) @ joint.placement @ _translation(joint.point)
+    offsets = [_offset(joint) for joint in tree.joints]
+    for joint, offset in zip(tree.joints, offsets):
+        parent_offset = offsets[joint.parent] if joint.parent >= 0 else np.eye(4)
+        placement = _se3(np.linalg.inv(parent_offset) @ joint.placement @ offset)
         parent_id = ids[joint.parent] if joint.parent >= 0 else 0
-        axis = np.asarray(joint.axis, dtype=float)
-        kind = (pinocchio.JointModelRevoluteUnaligned if joint.kind == "revolute"
-                else pinocchio.JointModelPrismaticUnaligned)
-        index = model.addJoint(parent_id, kind(axis), _se3(placement), joint.name)
-        model.appendBodyToJoint(index, _inertia(joint),
-                                pinocchio.SE3(np.eye(3), -np.asarray(joint.point, float)))
+        if joint.kind == "floating":
+            parent_id = model.addJoint(parent_id, pinocchio.JointModelTranslation(),
+                                       placement, f"{joint.name}_translation")
+            placement = pinocchio.SE3.Identity()
+        index = model.addJoint(parent_id, _joint_model(joint), placement, joint.name)
+        model.appendBodyToJoint(index, _inertia(joint), _se3(np.linalg.inv(offset)))
         ids.append(index)
-    return CompiledTree(model, model.createData())
+    if model.nq != tree.dof or model.nv != tree.dof:  # a joint kind this module does not know
+        return None
+    constant_subspaces = all(j.kind in ("revolute", "prismatic") for j in tree.joints)
+    return CompiledTree(model, model.createData(), constant_subspaces)
 
 
-def _translation(p: np.ndarray) -> np.ndarray:
+def _offset(joint: TreeJoint) -> np.ndarray:
+    """The joint frame in the child body frame: at ``point``, with the axes of ``frame`` for
+    the joints whose Euler angles turn about them, else the body's."""
     out = np.eye(4)
-    out[:3, 3] = p
+    if joint.kind in ("spherical", "floating"):
+        out[:3, :3] = joint.frame
+    out[:3, 3] = joint.point
     return out
+
+
+def _joint_model(joint: TreeJoint) -> Any:
+    import pinocchio
+
+    axis = np.asarray(joint.axis, dtype=float)
+    if joint.kind == "revolute":
+        return pinocchio.JointModelRevoluteUnaligned(axis)
+    if joint.kind == "prismatic":
+        return pinocchio.JointModelPrismaticUnaligned(axis)
+    if joint.kind == "universal":
+        first, second = (np.asarray(a, dtype=float) for a in joint.axes)
+        return pinocchio.JointModelUniversal(first, second)
+    return pinocchio.JointModelSphericalZYX()  # spherical, and the floating base's turn
 
 
 def _se3(matrix: np.ndarray) -> Any:

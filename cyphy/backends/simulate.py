@@ -328,12 +328,13 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     a floating base) then their rates (``<J>_v``, ``<Root>_vx`` …), in tree order; inputs the
     joint efforts ``<J>_tau`` (a floating base has none).
 
-    The accelerations come from Pinocchio's compiled ABA when it is installed and the tree
-    maps onto its joints (:mod:`cyphy.backends.pinocchio_tree`), else from cyphy's NumPy ABA,
-    which the tests check against Pinocchio, MuJoCo and the symbolic path; a stiff method
-    gets Pinocchio's analytic Jacobian."""
-    from cyphy.backends.pinocchio_tree import available, pinocchio_model
-    from cyphy.semantics.dynamics.rigid_body import forward_dynamics
+    The accelerations come from Pinocchio's compiled ABA when it is installed
+    (:mod:`cyphy.backends.pinocchio_tree`), else from cyphy's NumPy ABA, which the tests check
+    against Pinocchio, MuJoCo and the symbolic path; a stiff method gets Pinocchio's analytic
+    Jacobian when the tree has only revolute and prismatic joints (else the method's finite
+    differences)."""
+    from cyphy.backends.pinocchio_tree import pinocchio_model
+    from cyphy.semantics.dynamics.rigid_body import EULER, euler_singularity, forward_dynamics
 
     n = tree.dof
     thetas, speeds = list(tree.coordinates("theta")), list(tree.coordinates("v"))
@@ -353,8 +354,14 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     constant = all(name not in options.inputs for name in efforts)
     zero = np.zeros(n)
     compiled_tree = pinocchio_model(tree)
-    accelerations = compiled_tree.forward_dynamics if compiled_tree is not None else \
-        (lambda q, qd, tau: forward_dynamics(tree, q, qd, tau))
+    euler = any(j.kind in EULER for j in tree.joints)
+
+    def accelerations(q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        if compiled_tree is None:
+            return forward_dynamics(tree, q, qd, tau)
+        if euler:  # Pinocchio divides by cos(pitch) without a word: refuse as the NumPy ABA
+            euler_singularity(tree, q)
+        return compiled_tree.forward_dynamics(q, qd, tau)
 
     def efforts_at(tt: float) -> np.ndarray:
         if constant:
@@ -367,21 +374,20 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
         return np.concatenate([x[n:], accelerations(x[:n], x[n:], efforts_at(tt))])
 
     jac = None
-    if compiled_tree is not None:
+    if compiled_tree is not None and compiled_tree.derivatives:
         def jac(tt: float, x: np.ndarray) -> np.ndarray:
             return compiled_tree.jacobian(x[:n], x[n:], efforts_at(tt))
 
     x0 = np.array([float(options.init.get(s, 0.0)) for s in states])
+    # the NumPy ABA once: its diagnostic for a massless subtree (a singular mass matrix),
+    # where Pinocchio would return NaN
+    forward_dynamics(tree, x0[:n], x0[n:], efforts_at(0.0))
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
     method = method_for(options, stiff=False)
     times, xs = _integrate(f, x0, grid, options, method=method, jac=jac)
-    if compiled_tree is not None:
-        engine = "Pinocchio's articulated-body algorithm"
-    else:
-        engine = "cyphy's NumPy articulated-body algorithm (" + (
-            "the tree has universal, ball or floating joints, whose Euler-angle coordinates "
-            "Pinocchio's joints do not share" if available() else
-            "Pinocchio, the pip package pin, is not installed") + ")"
+    engine = "Pinocchio's articulated-body algorithm" if compiled_tree is not None else \
+        "cyphy's NumPy articulated-body algorithm (Pinocchio, the pip package pin, is not " \
+        "installed: it is about 100 times faster)"
     return Trajectory(states, times, xs.T.copy(), method=method, engine=engine)
 
 
