@@ -77,12 +77,12 @@ def _chain(tmp_path: Path, links: int) -> Path:
 def test_numeric_chain_agrees_with_mujoco(tmp_path: Path, capsys) -> None:
     """A 5-link arm (full inertias, offset centres of mass), 1 s from rest under gravity: the
     joint angles agree with MuJoCo (RK4 at 0.1 ms, contacts off) on cyphy's MJCF to 1e-5 rad;
-    the default integrator is RK45 and the note says so."""
+    the default integrator is DOP853 and the note says so."""
     mujoco = pytest.importorskip("mujoco")
     folder = _chain(tmp_path, 5)
     assert main(["simulate", str(folder), "--numeric", "--samples", "11"]) == 0
     captured = capsys.readouterr()
-    assert "integrated with RK45 (explicit" in captured.err
+    assert "integrated with DOP853 (explicit" in captured.err
     assert "Pinocchio's articulated-body algorithm" in captured.err
     ours = _csv(captured.out)
     assert main(["gen", str(folder), "--mjcf", "-o", str(tmp_path / "mjcf")]) == 0

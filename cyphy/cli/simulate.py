@@ -42,7 +42,7 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
                           "(default 0); repeatable")
     simulate.add_argument("--method", default=None,
                           choices=("LSODA", "BDF", "Radau", "RK45", "DOP853", "RK23"),
-                          help="solve_ivp's method (default: RK45, explicit, for the "
+                          help="solve_ivp's method (default: DOP853, explicit, for the "
                           "kinematic tree alone (--numeric); LSODA, stiff-capable, for whole "
                           "models); the choice is noted on stderr")
     simulate.add_argument("--rtol", type=float, default=1e-6, help="relative tolerance")
