@@ -850,9 +850,16 @@ class _MappingChecker:
             if steps is None:
                 continue
             first = steps[0][0]
-            if scope.find(first) is not None or first in BUILTIN_NAMES:
+            local = scope.find(first)
+            if local is not None:
+                self.c.resolution.uses.append((steps[0][1], (first,), local))
                 continue
-            if self.c.scopes.lookup(self.c.file, tuple(s[0] for s in steps), is_value):
+            if first in BUILTIN_NAMES:
+                continue
+            found = self.c.scopes.lookup(self.c.file, tuple(s[0] for s in steps), is_value)
+            if found:
+                self.c.resolution.uses.append((steps[-1][1], tuple(s[0] for s in steps),
+                                               found[0]))
                 continue
             if len(steps) == 1:
                 if self.c.scopes.lookup(self.c.file, (first,), is_value) or not known:

@@ -333,7 +333,8 @@ def _names_in_scope(analysis: Analysis, path: str, line: int, column: int) -> li
     out: list[Completion] = []
     for level in Scopes(ws).levels(file):
         for name, decls in sorted(level.items()):
-            out.append(Completion(name, _completion_kind(decls[0]), _detail(decls[0])))
+            if decls:
+                out.append(Completion(name, _completion_kind(decls[0]), _detail(decls[0])))
     for node in _enclosing(file, line, column):
         for m in _local_members(node):
             name = getattr(m, "name", None)

@@ -11,9 +11,11 @@ never to the protocol: the server keeps the last answers it had.
 from __future__ import annotations
 
 import asyncio
+import functools
+import os
 import traceback
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 from lsprotocol import types as lsp
 from pygls.lsp.server import LanguageServer
@@ -40,6 +42,7 @@ class CyphyServer(LanguageServer):
         self.analyses: dict[str, Analysis] = {}  # folder → its last analysis
         self.published: dict[str, set[str]] = {}  # folder → files given diagnostics
         self.pending: dict[str, asyncio.Task[None]] = {}
+        self.last_parsed: dict[str, Analysis] = {}  # file → last analysis where it parsed
 
     # ------------------------------------------------------------------ documents
     def open_texts(self) -> dict[str, str]:
@@ -64,15 +67,20 @@ class CyphyServer(LanguageServer):
             analysis = features.analyse(targets, texts, self.search_paths, self.consistency)
         except (Exception, RecursionError) as err:  # a bug of ours: log it, keep serving
             self.window_log_message(lsp.LogMessageParams(
-                lsp.MessageType.Error, f"cyphy: internal error while checking {folder}: "
+                type=lsp.MessageType.Error, message=f"cyphy: internal error while checking {folder}: "
                 f"{type(err).__name__}: {err}\n{traceback.format_exc()}"))
             return
         self.analyses[folder] = analysis
-        by_file: dict[str, list[Diagnostic]] = {p: [] for p in opened}
+        for path in targets:
+            if path in analysis.result.workspace.files:
+                self.last_parsed[path] = analysis
+        # Every file of the folder gets its diagnostics (an editor lists those of closed
+        # files too); one with no file (a folder's) goes to the first open one.
+        by_file: dict[str, list[Diagnostic]] = {p: [] for p in targets}
         for d in analysis.result.report.diagnostics:
-            file = d.span.file if d.span.file in by_file else opened[0]
-            by_file[file].append(d)
-        self._publish(folder, {p: [_diagnostic(texts[p], d) for d in ds]
+            by_file[d.span.file if d.span.file in by_file else opened[0]].append(d)
+        sources = analysis.result.sources
+        self._publish(folder, {p: [_diagnostic(texts.get(p, sources.get(p)), d) for d in ds]
                                for p, ds in by_file.items()})
 
     def _publish(self, folder: str, diagnostics: dict[str, list[lsp.Diagnostic]]) -> None:
@@ -110,7 +118,11 @@ class CyphyServer(LanguageServer):
         self.flush(folder)
         if folder not in self.analyses and path in self.open_texts():
             self.analyse_folder(folder)
-        return path, self.analyses.get(folder)
+        analysis = self.analyses.get(folder)
+        if analysis is not None and path not in analysis.result.workspace.files:
+            # Half typed, it does not parse: answer from when it last did.
+            analysis = self.last_parsed.get(path, analysis)
+        return path, analysis
 
 
 def _uri(path: str) -> str:
@@ -128,9 +140,9 @@ def _line_text(text: str, line: int) -> str:
 
 def to_lsp(text: str | None, line: int, column: int) -> lsp.Position:
     if line <= 0:
-        return lsp.Position(0, 0)
+        return lsp.Position(line=0, character=0)
     prefix = _line_text(text, line)[:column - 1] if text is not None else "x" * (column - 1)
-    return lsp.Position(line - 1, len(prefix.encode("utf-16-le")) // 2)
+    return lsp.Position(line=line - 1, character=len(prefix.encode("utf-16-le")) // 2)
 
 
 def from_lsp(text: str, pos: lsp.Position) -> tuple[int, int]:
@@ -143,11 +155,11 @@ def from_lsp(text: str, pos: lsp.Position) -> tuple[int, int]:
 
 
 def _range(text: str | None, span: Span) -> lsp.Range:
-    return lsp.Range(to_lsp(text, span.line, span.column),
-                     to_lsp(text, span.end_line, span.end_column))
+    return lsp.Range(start=to_lsp(text, span.line, span.column),
+                     end=to_lsp(text, span.end_line, span.end_column))
 
 
-def _diagnostic(text: str, d: Diagnostic) -> lsp.Diagnostic:
+def _diagnostic(text: str | None, d: Diagnostic) -> lsp.Diagnostic:
     severity = (lsp.DiagnosticSeverity.Error if d.severity is Severity.ERROR
                 else lsp.DiagnosticSeverity.Warning)
     message = d.message + "".join(f"\nnote: {n}" for n in d.notes) + (
@@ -162,6 +174,24 @@ def _location(server: CyphyServer, analysis: Analysis, span: Span) -> lsp.Locati
 
 
 # --------------------------------------------------------------------------- the protocol
+
+
+def _guarded(default: Any) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """A request that raises answers ``default`` (and the error goes to the editor's log):
+    a bug met on a half-typed file must not turn into an error box at every keystroke."""
+    def wrap(handler: Callable[..., Any]) -> Callable[..., Any]:
+        @functools.wraps(handler)
+        def guarded(ls: CyphyServer, params: Any) -> Any:
+            try:
+                return handler(ls, params)
+            except (Exception, RecursionError) as err:
+                ls.window_log_message(lsp.LogMessageParams(
+                    type=lsp.MessageType.Error, message=f"cyphy: internal error in "
+                    f"{handler.__name__}: {type(err).__name__}: {err}\n"
+                    f"{traceback.format_exc()}"))
+                return default() if callable(default) else default
+        return guarded
+    return wrap
 
 
 def build(search_paths: tuple[str, ...] = ()) -> CyphyServer:
@@ -201,6 +231,7 @@ def build(search_paths: tuple[str, ...] = ()) -> CyphyServer:
             ls.analyse_folder(str(Path(path).parent))
 
     @server.feature(lsp.TEXT_DOCUMENT_DEFINITION)
+    @_guarded(None)
     def definition(ls: CyphyServer, params: lsp.DefinitionParams) -> lsp.Location | None:
         path, analysis = ls.analysis_of(params.text_document.uri)
         site = _site(ls, analysis, path, params.position)
@@ -210,6 +241,7 @@ def build(search_paths: tuple[str, ...] = ()) -> CyphyServer:
         return _location(ls, analysis, span) if span is not None else None
 
     @server.feature(lsp.TEXT_DOCUMENT_REFERENCES)
+    @_guarded(list)
     def references(ls: CyphyServer, params: lsp.ReferenceParams) -> list[lsp.Location]:
         path, analysis = ls.analysis_of(params.text_document.uri)
         site = _site(ls, analysis, path, params.position)
@@ -222,6 +254,7 @@ def build(search_paths: tuple[str, ...] = ()) -> CyphyServer:
         return [_location(ls, analysis, s) for s in spans]
 
     @server.feature(lsp.TEXT_DOCUMENT_HOVER)
+    @_guarded(None)
     def hover(ls: CyphyServer, params: lsp.HoverParams) -> lsp.Hover | None:
         path, analysis = ls.analysis_of(params.text_document.uri)
         text = ls.open_texts().get(path)
@@ -232,33 +265,39 @@ def build(search_paths: tuple[str, ...] = ()) -> CyphyServer:
         if found is None:
             return None
         markdown, span = found
-        return lsp.Hover(lsp.MarkupContent(lsp.MarkupKind.Markdown, markdown),
-                         _range(text, span))
+        return lsp.Hover(contents=lsp.MarkupContent(kind=lsp.MarkupKind.Markdown, value=markdown),
+                         range=_range(text, span))
 
     @server.feature(lsp.TEXT_DOCUMENT_COMPLETION,
                     lsp.CompletionOptions(trigger_characters=[":", "{"]))
+    @_guarded(_no_completions)
     def completion(ls: CyphyServer, params: lsp.CompletionParams) -> lsp.CompletionList:
         path, analysis = ls.analysis_of(params.text_document.uri)
         text = ls.open_texts().get(path, "")
         line, column = from_lsp(text, params.position)
-        items = [lsp.CompletionItem(c.label, kind=_COMPLETION_KIND.get(
+        items = [lsp.CompletionItem(label=c.label, kind=_COMPLETION_KIND.get(
             c.kind, lsp.CompletionItemKind.Text), detail=c.detail or None)
             for c in features.completions(analysis, path, text, line, column)]
         return lsp.CompletionList(is_incomplete=False, items=items)
 
     @server.feature(lsp.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
+    @_guarded(list)
     def document_symbol(ls: CyphyServer, params: lsp.DocumentSymbolParams
                         ) -> list[lsp.DocumentSymbol]:
         path, analysis = ls.analysis_of(params.text_document.uri)
         if analysis is None:
             return []
         file = analysis.result.workspace.files.get(path)
-        if file is None:  # it does not parse now: no outline rather than a stale one
+        if file is None:  # it never parsed
             return []
         text = ls.open_texts().get(path)
         return [_symbol(text, s) for s in features.document_symbols(analysis.index, file)]
 
     return server
+
+
+def _no_completions() -> lsp.CompletionList:
+    return lsp.CompletionList(is_incomplete=False, items=[])
 
 
 def _site(ls: CyphyServer, analysis: Analysis | None, path: str,
@@ -288,6 +327,9 @@ def _symbol(text: str | None, s: Symbol) -> lsp.DocumentSymbol:
 
 
 def serve(search_paths: tuple[str, ...] = ()) -> None:
-    """Serve over stdin and stdout until the client exits."""
-    build(search_paths).start_io()
+    """Serve over stdin and stdout until the client exits. The server reads and writes
+    copies of the two descriptors, which it closes when the client leaves; the process's own
+    streams stay open for the command line's orderly exit."""
+    with os.fdopen(os.dup(0), "rb") as stdin, os.fdopen(os.dup(1), "wb") as stdout:
+        build(search_paths).start_io(stdin, stdout)
 
