@@ -18,6 +18,8 @@ import sys
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 pytest.importorskip("pygls")
 pytest_lsp = pytest.importorskip("pytest_lsp")
@@ -329,5 +331,62 @@ async def test_document_symbols(client: LanguageClient, tmp_path: Path) -> None:
     assert top["Core"].selection_range.start == doc.at("local link Core", 11)
 
 
-def run(coro):  # noqa: ANN001, ANN201 - a helper for the Hypothesis test below
-    return asyncio.new_event_loop().run_until_complete(coro)
+# --------------------------------------------------------------------------- fuzzed edits
+
+PIECES = ["{", "}", "(", ")", "=", ":", "::", ",", ".", " ", "\n", "link", "local link L {",
+          "pose {", "x = ", "0.5m", "PI", "const c: real = ", "jref J = Revolute {", "import ",
+          "physmod::", "@", "'", "\"", "//", "/*", "é", "∀", "\t"]
+
+
+@st.composite
+def edits(draw: st.DrawFn) -> list[tuple[float, int, str]]:
+    """Incremental edits: where (a fraction of the text's length), how many characters to
+    delete, what to insert."""
+    return draw(st.lists(st.tuples(
+        st.floats(0, 1), st.integers(0, 12),
+        st.lists(st.sampled_from(PIECES), max_size=4).map("".join)), min_size=1, max_size=8))
+
+
+async def fuzz_session(folder: Path, name: str, changes: list[tuple[float, int, str]]
+                       ) -> tuple[list, list]:
+    client = await SERVER.start()
+    try:
+        await client.initialize_session(lsp.InitializeParams(
+            capabilities=lsp.ClientCapabilities()))
+        doc = Doc(client, folder / name)
+        for where, delete, insert in changes:
+            start = int(where * len(doc.text))
+            doc.replace(start, min(len(doc.text), start + delete), insert)
+            # Requests between edits, answered whatever state the text is in.
+            position = lsp_position(doc.text, start)
+            await client.text_document_hover_async(lsp.HoverParams(
+                text_document=doc.ident(), position=position))
+            await client.text_document_completion_async(lsp.CompletionParams(
+                text_document=doc.ident(), position=position))
+        doc.replace_all(doc.text)  # a full re-sync
+        got = seen(await doc.diagnostics())
+        errors = [m.message for m in client.log_messages
+                  if m.type == lsp.MessageType.Error]
+        await client.shutdown_session()
+        return got, errors
+    finally:
+        await client.stop()
+
+
+@pytest.mark.parametrize("name", ["Mapping.rsm", "Treel.rsm"])
+def test_fuzzed_edits_never_crash_and_resync_to_cyphy_check(name: str,
+                                                           tmp_path_factory) -> None:
+    @settings(max_examples=4, deadline=None, derandomize=True,
+              suppress_health_check=list(HealthCheck))
+    @given(edits())
+    def one(changes: list[tuple[float, int, str]]) -> None:
+        folder = copy_example("marxbot", tmp_path_factory.mktemp("fuzz"))
+        got, errors = asyncio.run(fuzz_session(folder, name, changes))
+        assert errors == []  # no request or check failed inside the server
+        text = (folder / name).read_text(encoding="utf-8")
+        for where, delete, insert in changes:
+            start = int(where * len(text))
+            text = text[:start] + insert + text[min(len(text), start + delete):]
+        assert got == cyphy_check(folder / name, text)
+
+    one()
