@@ -23,11 +23,19 @@ from cyphy.pipeline.check import CheckOptions, CheckResult, check
 
 @dataclass
 class Analysis:
-    """One check of a folder's open files and what an editor reads from it."""
+    """One check of a folder's open files and what an editor reads from it. The index of
+    names is built on the first request that needs it: diagnostics, sent at every pause in
+    typing, do not wait for it."""
 
     result: CheckResult
-    index: Index
+    _index: Index | None = field(default=None, repr=False)
     _poses: dict[int, str] | None = field(default=None, repr=False)
+
+    @property
+    def index(self) -> Index:
+        if self._index is None:
+            self._index = build_index(self.result.workspace, self.result.resolution)
+        return self._index
 
     def diagnostics_of(self, path: str) -> list[Diagnostic]:
         return [d for d in self.result.report.diagnostics if d.span.file == path]
@@ -39,7 +47,7 @@ def analyse(targets: Sequence[str], overrides: Mapping[str, str],
     result = check(list(targets), CheckOptions(search_paths=tuple(search_paths),
                                                overrides=dict(overrides),
                                                consistency=consistency))
-    return Analysis(result, build_index(result.workspace, result.resolution))
+    return Analysis(result)
 
 
 # --------------------------------------------------------------------------- hover

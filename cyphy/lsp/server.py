@@ -23,6 +23,7 @@ from pygls.uris import from_fs_path, to_fs_path
 
 import cyphy
 from cyphy.diagnostics import Diagnostic, Severity, Span
+from cyphy.lang import parse_cache
 from cyphy.lang.workspace import MODEL_SUFFIXES, model_files_in
 from cyphy.lsp import features
 from cyphy.lsp.features import Analysis, Symbol
@@ -195,6 +196,7 @@ def _guarded(default: Any) -> Callable[[Callable[..., Any]], Callable[..., Any]]
 
 
 def build(search_paths: tuple[str, ...] = ()) -> CyphyServer:
+    parse_cache.keep_recent()  # unchanged files are checked again at every edit
     server = CyphyServer(search_paths)
 
     @server.feature(lsp.INITIALIZE)
