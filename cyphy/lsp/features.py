@@ -52,11 +52,23 @@ def analyse(targets: Sequence[str], overrides: Mapping[str, str],
 
 # --------------------------------------------------------------------------- hover
 
-_SI_UNIT = {**dict.fromkeys(("m", "metre", "meter", "metres", "meters", "cm", "mm", "km"), "m"),
-            **dict.fromkeys(("kg", "kilogram", "kilograms", "g"), "kg"),
-            **dict.fromkeys(("s", "second", "seconds", "ms"), "s"),
-            **dict.fromkeys(("rad", "radian", "radians", "deg", "degree", "degrees"), "rad"),
-            **dict.fromkeys(("N", "newton", "newtons"), "N")}
+_SI_SYMBOL = {"[mass]": "kg", "[length]": "m", "[time]": "s", "[current]": "A",
+              "[temperature]": "K", "[substance]": "mol", "[luminosity]": "cd"}
+
+
+def si_unit(suffix: str) -> str | None:
+    """The SI unit a value written with ``suffix`` is evaluated in (``cm`` → ``m``,
+    ``N`` → ``kg m s^-2``; an angle, dimensionless, → ``rad``), from the unit table."""
+    # lazy: the unit table is read only when a constant is hovered
+    from cyphy.model.units import units
+
+    unit = units().get(suffix)
+    if unit is None:
+        return None
+    if not unit.dimension.exponents:
+        return "rad"  # the only dimensionless suffixes are angles
+    return " ".join(_SI_SYMBOL.get(k, k) + ("" if v == 1 else f"^{v:g}")
+                    for k, v in unit.dimension.exponents)
 
 
 def hover(analysis: Analysis, path: str, line: int, column: int) -> tuple[str, Span] | None:
@@ -126,7 +138,7 @@ def _constant_value(analysis: Analysis, decl: ast.VarDecl) -> str:
         value = evaluate(decl.value, _environment(analysis, decl.value, 0))
     except (EvalError, RecursionError):
         return "value: not a constant expression"
-    unit = _SI_UNIT.get(decl.value.unit) if isinstance(decl.value, ex.Quantity) else None
+    unit = si_unit(decl.value.unit) if isinstance(decl.value, ex.Quantity) else None
     shown = repr(value.tolist()) if hasattr(value, "tolist") else repr(value)
     return f"value: `{shown}{' ' + unit if unit else ''}`" + (
         f" (written in {decl.value.unit})" if unit and unit != decl.value.unit else "")
