@@ -390,3 +390,15 @@ def test_fuzzed_edits_never_crash_and_resync_to_cyphy_check(name: str,
         assert got == cyphy_check(folder / name, text)
 
     one()
+
+
+def test_positions_are_utf16_code_units_both_ways() -> None:
+    """LSP counts UTF-16 code units; cyphy counts code points from 1. A character outside
+    the Basic Multilingual Plane is two units (by hand: '𝜃' is U+1D703)."""
+    from cyphy.lsp.server import from_lsp, to_lsp
+
+    text = "const a: real = 1\n// 𝜃é x\n"
+    assert to_lsp(text, 2, 6) == lsp.Position(line=1, character=6)  # " " after "// 𝜃é"
+    assert to_lsp(text, 2, 7) == lsp.Position(line=1, character=7)
+    assert from_lsp(text, lsp.Position(line=1, character=7)) == (2, 7)
+    assert from_lsp(text, lsp.Position(line=0, character=6)) == (1, 7)
