@@ -255,6 +255,33 @@ async def test_definition_and_references(client: LanguageClient, tmp_path: Path)
 
 
 @pytest.mark.asyncio
+async def test_machine_names_go_to_states_events_operations_and_constants(
+        client: LanguageClient, tmp_path: Path) -> None:
+    folder = copy_example("marxbot", tmp_path)
+    doc = Doc(client, folder / "marXbotSoftware.rsm")
+    lines = doc.text.splitlines()
+
+    async def declared(position: lsp.Position) -> str:
+        found = await client.text_document_definition_async(lsp.DefinitionParams(
+            text_document=doc.ident(), position=position))
+        assert isinstance(found, lsp.Location) and found.uri == uri(doc.path)
+        return lines[found.range.start.line].strip()
+
+    assert await declared(doc.at("from Forward to Cruising", 5)) == "state Forward {"
+    assert await declared(doc.at("to Cruising }", 3)) == "state Cruising {}"
+    assert await declared(doc.at("condition $obstacle", 11)) == "event obstacle"
+    assert (await declared(doc.at("entry $move(lv, 0)", 7))).startswith("move(")
+    assert (await declared(doc.at("entry $move(lv, 0)", 12))).startswith("const lv: real")
+
+    refs = await client.text_document_references_async(lsp.ReferenceParams(
+        text_document=doc.ident(), position=doc.at("event obstacle", 6),
+        context=lsp.ReferenceContext(include_declaration=True)))
+    conditions = [r for r in refs if "$obstacle" in lines[r.range.start.line]]
+    by_hand = [n for n, ln in enumerate(lines) if "$obstacle" in ln and "//" not in ln]
+    assert sorted(r.range.start.line for r in conditions) == by_hand
+
+
+@pytest.mark.asyncio
 async def test_hover_shows_values_units_poses_and_signatures(
         client: LanguageClient, tmp_path: Path) -> None:
     folder = copy_example("marxbot", tmp_path)

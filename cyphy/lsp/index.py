@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from typing import Iterator
 
 from cyphy.diagnostics import Span
+from cyphy import expr as ex
 from cyphy.expr import Expr, fields_of
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
@@ -84,7 +85,45 @@ def build_index(ws: Workspace, resolution: Resolution | None) -> Index:
             index.uses.setdefault(span.file, []).append(
                 Site(name_span(text, span, name[-1], use=True), target))
             index.nodes[id(target)] = target
+        _machine_uses(index, ws, resolution)
     return index
+
+
+def _machine_uses(index: Index, ws: Workspace, resolution: Resolution) -> None:
+    """The names of state machines and operation definitions, as the machines' semantics
+    resolves them (:mod:`cyphy.model.machines`): a transition's ends are nodes of its
+    scope; a name in a trigger, guard or action is the machine's variable, constant or
+    clock, or an event or operation of the interfaces it uses."""
+    # lazy: the machines' model is built only when a request needs the index
+    from cyphy.model.machines import expressions, machines_of
+
+    try:
+        machines = machines_of(list(ws.user_files()), resolution, operations=True)
+    except Exception:  # a half-written machine: its names are simply not indexed
+        return
+    for m in machines:
+        for t in m.transitions:
+            for key, span in ((t.source, t.decl.source_span), (t.target, t.decl.target_span)):
+                node = m.nodes.get(key) if key is not None else None
+                if node is not None and span is not None:
+                    _use(index, span, node.decl)
+        tables = (m.variables, m.constants, m.clocks, m.platform.input_events,
+                  m.platform.output_events, m.platform.operations)
+        for e, _ in expressions(m):
+            for name in e.walk():
+                parts = name.parts if isinstance(name, ex.Name) else (
+                    name.name if isinstance(name, ex.PlatformRef) else ())
+                if len(parts) == 1:
+                    target = next((t[parts[0]] for t in tables if parts[0] in t), None)
+                    if target is not None:
+                        text = index.texts.get(name.span.file, "")
+                        _use(index, name_span(text, name.span, parts[0]), target)
+
+
+def _use(index: Index, span: Span, target: object) -> None:
+    if span.line > 0:
+        index.uses.setdefault(span.file, []).append(Site(span, target))
+        index.nodes[id(target)] = target
 
 
 def walk(node: object) -> Iterator[object]:
