@@ -89,7 +89,8 @@ class Doc:
     def send(self, changes: list) -> None:
         self.version += 1
         self.client.text_document_did_change(lsp.DidChangeTextDocumentParams(
-            text_document=lsp.VersionedTextDocumentIdentifier(uri=uri(self.path), version=self.version),
+            text_document=lsp.VersionedTextDocumentIdentifier(uri=uri(self.path),
+                                                              version=self.version),
             content_changes=changes))
 
     def sub(self, old: str, new: str) -> None:
@@ -229,13 +230,15 @@ async def test_definition_and_references(client: LanguageClient, tmp_path: Path)
     doc = Doc(client, folder / "marXbotBase.rsm")
 
     found = await client.text_document_definition_async(lsp.DefinitionParams(
-        text_document=doc.ident(), position=doc.at("jref LHinge = Revolute", 15)))  # into the library
+        text_document=doc.ident(),
+        position=doc.at("jref LHinge = Revolute", 15)))  # into the library
     assert isinstance(found, lsp.Location)
     assert found.uri == uri(LIBRARY / "joints.rsm")
     assert found.range.start.line == library_line("joints.rsm", r"^\s*joint Revolute\b")
 
     found = await client.text_document_definition_async(lsp.DefinitionParams(
-        text_document=doc.ident(), position=doc.at("Wheel in LTreel", 0)))  # a link of another file's p-model
+        text_document=doc.ident(),
+        position=doc.at("Wheel in LTreel", 0)))  # a link of another file's p-model
     assert found.uri == uri(folder / "Treel.rsm")
     treel = (folder / "Treel.rsm").read_text(encoding="utf-8").splitlines()
     assert treel[found.range.start.line].strip().startswith("local link Wheel")
@@ -289,7 +292,8 @@ async def test_hover_shows_values_units_poses_and_signatures(
     base = Doc(client, folder / "marXbotBase.rsm")
 
     hover = await client.text_document_hover_async(lsp.HoverParams(
-        text_document=mapping.ident(), position=mapping.at("/axisLength", 1)))  # a use, resolved to the constant
+        text_document=mapping.ident(),
+        position=mapping.at("/axisLength", 1)))  # a use, resolved to the constant
     assert "const axisLength: real = 0.06m" in hover.contents.value
     assert "value: `0.06 m`" in hover.contents.value
 
@@ -325,12 +329,14 @@ async def test_completion(client: LanguageClient, tmp_path: Path) -> None:
     start = doc.text.index("import physmod::math::*")
     doc.replace(start, start, "import physmod::joints::\n")
     got = labels(await client.text_document_completion_async(lsp.CompletionParams(
-        text_document=doc.ident(), position=doc.at("import physmod::joints::\n", len("import physmod::joints::")))))
+        text_document=doc.ident(),
+        position=doc.at("import physmod::joints::\n", len("import physmod::joints::")))))
     by_hand = set(re.findall(r"^\s*joint (\w+)", (LIBRARY / "joints.rsm").read_text(),
                              re.MULTILINE))
     assert by_hand and by_hand <= got
     got = labels(await client.text_document_completion_async(lsp.CompletionParams(
-        text_document=doc.ident(), position=doc.at("import physmod::joints::\n", len("import physmod::")))))
+        text_document=doc.ident(),
+        position=doc.at("import physmod::joints::\n", len("import physmod::")))))
     assert {"joints", "sensors", "actuators", "math", "sdf"} <= got
 
     inside = doc.at("local link Core {", len("local link Core {"))  # inside a link

@@ -98,8 +98,8 @@ def _read(path: Path, report: Report) -> str | None:
 
 
 def load_workspace(
-    paths: Iterable[str | Path], search_paths: Iterable[str | Path] = (), report: Report | None = None,
-    overrides: Mapping[str, str] | None = None,
+    paths: Iterable[str | Path], search_paths: Iterable[str | Path] = (),
+    report: Report | None = None, overrides: Mapping[str, str] | None = None,
 ) -> tuple[Workspace, Report]:
     """Read and parse the given files or folders (and their neighbours) into a workspace.
     ``overrides`` maps a path (as the file is named) to the text to use instead of what is on

@@ -68,7 +68,8 @@ class CyphyServer(LanguageServer):
             analysis = features.analyse(targets, texts, self.search_paths, self.consistency)
         except (Exception, RecursionError) as err:  # a bug of ours: log it, keep serving
             self.window_log_message(lsp.LogMessageParams(
-                type=lsp.MessageType.Error, message=f"cyphy: internal error while checking {folder}: "
+                type=lsp.MessageType.Error,
+                message=f"cyphy: internal error while checking {folder}: "
                 f"{type(err).__name__}: {err}\n{traceback.format_exc()}"))
             return
         self.analyses[folder] = analysis
@@ -114,8 +115,7 @@ class CyphyServer(LanguageServer):
             self.analyse_folder(folder)
 
     def analysis_of(self, uri: str) -> tuple[str, Analysis | None]:
-        path = to_fs_path(uri) or uri
-        folder = str(Path(path).parent)
+        path, folder = to_fs_path(uri) or uri, _folder(uri)
         self.flush(folder)
         if folder not in self.analyses and path in self.open_texts():
             self.analyse_folder(folder)
@@ -124,6 +124,11 @@ class CyphyServer(LanguageServer):
             # Half typed, it does not parse: answer from when it last did.
             analysis = self.last_parsed.get(path, analysis)
         return path, analysis
+
+
+def _folder(uri: str) -> str:
+    """The folder of a document: the project it is checked with."""
+    return str(Path(to_fs_path(uri) or uri).parent)
 
 
 def _uri(path: str) -> str:
@@ -208,29 +213,23 @@ def build(search_paths: tuple[str, ...] = ()) -> CyphyServer:
             if isinstance(extra, list):
                 ls.search_paths = ls.search_paths + tuple(str(p) for p in extra)
 
+    # Opening or closing a file changes what its folder's check covers: check it now. An
+    # edit or a save: once typing pauses.
     @server.feature(lsp.TEXT_DOCUMENT_DID_OPEN)
     def did_open(ls: CyphyServer, params: lsp.DidOpenTextDocumentParams) -> None:
-        path = to_fs_path(params.text_document.uri)
-        if path is not None:
-            ls.analyse_folder(str(Path(path).parent))
-
-    @server.feature(lsp.TEXT_DOCUMENT_DID_CHANGE)
-    def did_change(ls: CyphyServer, params: lsp.DidChangeTextDocumentParams) -> None:
-        path = to_fs_path(params.text_document.uri)
-        if path is not None:
-            ls.schedule(str(Path(path).parent))
-
-    @server.feature(lsp.TEXT_DOCUMENT_DID_SAVE)
-    def did_save(ls: CyphyServer, params: lsp.DidSaveTextDocumentParams) -> None:
-        path = to_fs_path(params.text_document.uri)
-        if path is not None:
-            ls.schedule(str(Path(path).parent))
+        ls.analyse_folder(_folder(params.text_document.uri))
 
     @server.feature(lsp.TEXT_DOCUMENT_DID_CLOSE)
     def did_close(ls: CyphyServer, params: lsp.DidCloseTextDocumentParams) -> None:
-        path = to_fs_path(params.text_document.uri)
-        if path is not None:
-            ls.analyse_folder(str(Path(path).parent))
+        ls.analyse_folder(_folder(params.text_document.uri))
+
+    @server.feature(lsp.TEXT_DOCUMENT_DID_CHANGE)
+    def did_change(ls: CyphyServer, params: lsp.DidChangeTextDocumentParams) -> None:
+        ls.schedule(_folder(params.text_document.uri))
+
+    @server.feature(lsp.TEXT_DOCUMENT_DID_SAVE)
+    def did_save(ls: CyphyServer, params: lsp.DidSaveTextDocumentParams) -> None:
+        ls.schedule(_folder(params.text_document.uri))
 
     @server.feature(lsp.TEXT_DOCUMENT_DEFINITION)
     @_guarded(None)
