@@ -74,18 +74,20 @@ def cache_root() -> Path | None:
     return (Path(xdg) if xdg else Path.home() / ".cache") / "cyphy"
 
 
-def parse(text: str, path: str) -> ParseResult:
+def parse(text: str, path: str, store: bool = True) -> ParseResult:
     """The syntax tree and diagnostics of ``text`` read from ``path``, from the cache when
-    this exact text was parsed at this path before."""
+    this exact text was parsed at this path before. Without ``store`` a new result is not
+    written to disk: an editor's unsaved text changes at every keystroke, and the saved
+    file is what a later command reads."""
     root = cache_root()
     if root is None:
         return _parse(text, path)
     if not _KEEP_RECENT:
-        return _parse_cached(root, text, path)
+        return _parse_cached(root, text, path, store)
     recent = _RECENT.get(path)
     if recent is not None and recent[0] == text:
         return recent[1]
-    parsed = _parse_cached(root, text, path)
+    parsed = _parse_cached(root, text, path, store)
     if len(_RECENT) >= _RECENT_MAX:
         _RECENT.clear()
     _RECENT[path] = (text, parsed)
@@ -107,7 +109,7 @@ def keep_recent() -> None:
     _KEEP_RECENT = True
 
 
-def _parse_cached(root: Path, text: str, path: str) -> ParseResult:
+def _parse_cached(root: Path, text: str, path: str, store: bool) -> ParseResult:
     folder = root / f"parse-{fingerprint()}"
     entry = folder / (hashlib.sha256(path.encode()).hexdigest()[:32] + ".pickle")
     digest = hashlib.sha256(text.encode()).digest()
@@ -120,7 +122,7 @@ def _parse_cached(root: Path, text: str, path: str) -> ParseResult:
     except Exception:  # missing, corrupt or from an incompatible run: parse instead
         pass
     parsed = _parse(text, path)
-    if parsed.file is not None:
+    if store and parsed.file is not None:
         _store(folder, entry, digest, parsed)
     return parsed
 

@@ -140,11 +140,12 @@ def load_workspace(
         seen.add(key)
         progress.stage(f"reading {p.name} ({i + 1}/{len(every)})")
         text = overrides.get(str(p))
+        unsaved = text is not None
         if text is None:
             text = _read(p, report)
         if text is None:
             continue
-        parsed = parse_cache.parse(text, str(p))
+        parsed = parse_cache.parse(text, str(p), store=not unsaved)
         report.extend(parsed.diagnostics)
         ws.texts[str(p)] = text
         if parsed.file is not None:
