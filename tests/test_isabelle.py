@@ -182,11 +182,13 @@ def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:
             'move_dsl::real \\<bullet> \\<^bold>\\<exists> move_dsr::real') in text
     assert "(registerWrite_move?(lv)?(av) \\<^bold>\\<rightarrow> (MoveCall lv av))" in text
     assert "by (simp add: MoveFromDModel_def closure prod.case_eq_if)" in text
-    assert '"ReceiveFromDModel = (MoveFromDModel ||| StopFromDModel)"' in text
+    # ours, not the paper's |||: the calls' updates persist until the cycle's first tock
+    assert ('"ReceiveFromDModel = (MuC (\\<lambda> Y. ((MoveFromDModel ;; Y) \\<box> '
+            '((StopFromDModel ;; Y) \\<box> (tock \\<^bold>\\<rightarrow> Skip)))))"') in text
     assert "($timer\\<acute> =\\<^sub>u 1)" in text
     assert ("(InterruptCondC Evolve (&timer \\<ge>\\<^sub>u \\<guillemotleft>((real cycle) * "
             "tscale)\\<guillemotright>))") in text
-    assert "(WaitC tock cycle)" in text
+    assert "(ReceiveFromDModel ;; ((WaitC tock (cycle - 1)) ;;" in text
     assert "| registerWrite_move \"real \\<times> real\"" in text
     assert 'globals_3: "(cycle = 1)"' in text
     # vectors are written per component (no transpose, no list arithmetic), evolving locals
@@ -206,21 +208,18 @@ def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:
     assert "are held: LMotor_das, RMotor_das' = 0 in Evolve" in " ".join(text.split())
 
 
-def test_marxbot_caveat_is_a_warning_and_a_comment(tmp_path: Path) -> None:
+def test_marxbot_calls_persist_without_a_caveat() -> None:
+    """ReceiveFromDModel is a loop of sequential receptions, not the paper's lossy |||: no
+    W-INTERLEAVE, and the theory's header states the deviation (with the utp-main lines
+    that make the interleaving lossy)."""
     generated = api.generate_isabelle([MARXBOT])
-    warnings = [d for d in generated.report.diagnostics if d.code.id == "W-INTERLEAVE"]
-    assert len(warnings) == 1 and not generated.report.has_errors
-    assert "ReceiveFromDModel" in warnings[0].message
-    assert "LMotor_das, RMotor_das are discarded" in warnings[0].message
-    assert "--isabelle-namesets" in warnings[0].hint
+    assert not [d for d in generated.report.diagnostics if d.code.id == "W-INTERLEAVE"]
+    assert not generated.report.has_errors
     text = generated.files["marXbotBase_CyPhyCircus.thy"]
-    assert "(* Caveat: MoveFromDModel ||| StopFromDModel interleaves with empty name" in text
-    # no partition exists: both operations write both motors
-    chosen = api.generate_isabelle([MARXBOT], api.SemanticsGenOptions(namesets=True))
-    [warning] = [d for d in chosen.report.diagnostics if d.code.id == "W-INTERLEAVE"]
-    assert "no name-set partition exists" in warning.hint
-    assert '"ReceiveFromDModel = (MoveFromDModel ||| StopFromDModel)"' in \
-        chosen.files["marXbotBase_CyPhyCircus.thy"]
+    assert "|||" not in text.split("begin", 1)[1] and "Caveat" not in text
+    header = " ".join(text.split("*)")[0].split())
+    assert "Deviation from the paper: ReceiveFromDModel receives the d-model's calls" in header
+    assert "utp_circus_parallel.thy:846-847" in header
 
 
 def test_marxbot_generation_is_deterministic() -> None:
@@ -243,7 +242,7 @@ def test_cli_writes_the_session(tmp_path: Path, capsys) -> None:
         "CyPhyCircus_Prelude.thy", "README", "ROOT", "marXbotBase_CyPhyCircus.thy",
         "names.tsv"]
     assert '"(tscale = 0.01)"' in (out / "marXbotBase_CyPhyCircus.thy").read_text()
-    assert "W-INTERLEAVE" in capsys.readouterr().err
+    assert "W-INTERLEAVE" not in capsys.readouterr().err
     readme = (out / "README").read_text()
     assert "isabelle build -d <utp-main> -D ." in readme
 
@@ -375,7 +374,10 @@ def test_generated_mappings_pass_every_static_check(tmp_path_factory, model, nam
     check_session(session, sem.program)
 
 
-def test_namesets_partition_keeps_disjoint_updates(tmp_path: Path) -> None:
+def test_disjoint_updates_persist_without_namesets(tmp_path: Path) -> None:
+    """An operation and an output event that write different variables: the receiving loop
+    keeps both updates without a name-set partition, so --isabelle-namesets (which the
+    paper's ||| needed) finds no interleaving to repair and changes nothing."""
     software = SOFTWARE.format(ops="move(lv: real)", events="event bump",
                                outputs=" event lamp: boolean")
     mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
@@ -384,15 +386,13 @@ def test_namesets_partition_keeps_disjoint_updates(tmp_path: Path) -> None:
                "  output event lamp ? on { action Base::Lamp.on = on }\n}\n")
     paths = write_model(tmp_path, software, mapping)
     paper = api.generate_isabelle(paths)
-    assert [d.code.id for d in paper.report.diagnostics] == ["W-INTERLEAVE"]
-    assert '"ReceiveFromDModel = (MoveFromDModel ||| LampFromDModel)"' in \
-        paper.files["Robot_CyPhyCircus.thy"]
+    assert paper.report.diagnostics == []
+    text = paper.files["Robot_CyPhyCircus.thy"]
+    assert ('"ReceiveFromDModel = (MuC (\\<lambda> Y. ((MoveFromDModel ;; Y) \\<box> '
+            '((LampFromDModel ;; Y) \\<box> (tock \\<^bold>\\<rightarrow> Skip)))))"') in text
     chosen = api.generate_isabelle(paths, api.SemanticsGenOptions(namesets=True))
     assert chosen.report.diagnostics == []
-    text = chosen.files["Robot_CyPhyCircus.thy"]
-    assert ('"ReceiveFromDModel = (MoveFromDModel \\<lbrakk>M_das\\<parallel>'
-            'Lamp_on\\<rbrakk> LampFromDModel)"') in text
-    assert "name-set partition that keeps their updates" in text
+    assert chosen.files["Robot_CyPhyCircus.thy"] == text
     sem = semantics(paths)
     check_session(generate_session(sem.program, sem.names, IsabelleOptions(namesets=True)),
                   sem.program)

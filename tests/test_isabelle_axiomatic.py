@@ -126,12 +126,14 @@ def test_marxbot_terms_use_the_axiomatic_notation(marxbot) -> None:
         "((\\<exists> move_dsl::real. \\<exists> move_dsr::real. (LMotor_das = move_dsl)")
     assert bodies["MoveCall"].endswith(")\\<^sub>e)")
     assert ":[" not in text  # the generic Spec notation is not bound to cSpec (B6)
-    assert bodies["ReceiveFromDModel"] == \
-        "ReceiveFromDModel = (MoveFromDModel \\<interleave> StopFromDModel)"
+    # ours, not the paper's \<interleave>: the calls' updates persist until the first tock
+    assert bodies["ReceiveFromDModel"] == (
+        "ReceiveFromDModel = (\\<mu> Y. ((MoveFromDModel ;; Y) \\<box> ((StopFromDModel ;; Y) "
+        "\\<box> (tock \\<rightarrow> Skip))))")
     assert bodies["MainAction"] == (
-        "MainAction = (Init ;; (\\<mu> X. (SendToDModel ;; ((ReceiveFromDModel \\<triangle> "
-        "(WaitT cycle)) ;; ((timer := 0) ;; ((Evolve_v \\<triangle>\\<^sub>p (timer \\<ge> "
-        "((real cycle) * tscale))) ;; X))))))")
+        "MainAction = (Init ;; (\\<mu> X. (SendToDModel ;; (ReceiveFromDModel ;; "
+        "((WaitT (cycle - 1)) ;; ((timer := 0) ;; ((Evolve_v \\<triangle>\\<^sub>p (timer "
+        "\\<ge> ((real cycle) * tscale))) ;; X)))))))")
     assert '"WaitT 0 = Skip" |\n  "WaitT (Suc n) = (tock \\<rightarrow> WaitT n)"' in text
     assert "axiomatization where\n  globals_1: \"(cycle > 0)\" and" in text
 

@@ -10,7 +10,8 @@ Z; the two never meet because mapping equations have no derivatives.
 from __future__ import annotations
 
 from cyphy import expr as ex
-from cyphy.backends.circus.actions import ATOMIC, INTERLEAVE, PREFIX, ActionPrinter
+from cyphy.backends.circus.actions import (ATOMIC, INTERLEAVE, PREFIX, ActionPrinter,
+                                          deviation_comments)
 from cyphy.lang.notation import ATOM, NotationPrinter
 from cyphy.semantics.circus import ast as c
 
@@ -110,7 +111,8 @@ class CircusText(ActionPrinter):
     def program(self, p: c.Program) -> str:
         i = self.indent
         g = p.globals
-        lines = [f"{self.bindings(g.constants)} | {self.conjunction(g.where)}", ""]
+        lines = [*deviation_comments("// "), "",
+                 f"{self.bindings(g.constants)} | {self.conjunction(g.where)}", ""]
         for ch in p.channels:
             if not ch.variants:
                 lines.append(f"channel {ch.name}")

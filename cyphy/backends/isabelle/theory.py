@@ -24,7 +24,7 @@ from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable
 from cyphy.semantics.circus.namesets import (LossyInterleaving, action_nodes, find_lossy_interleavings,
                                       with_namesets)
-from cyphy.semantics.circus.rules import functions
+from cyphy.semantics.circus.rules import DEVIATIONS, functions
 from cyphy.semantics.scalarise import ScalariseError, scalar_process
 
 UNTRANSLATABLE = codes.code("E-ISABELLE", codes.E,
@@ -380,6 +380,7 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
         "private": private,
         "visible_name": names[f"{identifier(pm.name)}Visible"], "state_name": names[pm.state.name],
         "definitions": definitions, "namesets": options.namesets,
+        "deviations": DEVIATIONS,
     }
 
 
