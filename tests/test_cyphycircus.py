@@ -128,8 +128,11 @@ def test_evolve_has_every_equation_once_and_timer(marxbot: c.Program) -> None:
     # the two hinges' equations of motion (their values: tests/test_semantics_motion.py)
     motion_equations = [si_units(e.expr) for e in motion(model)]
     assert [e.left.text for e in motion_equations] == ["LHinge_tau", "RHinge_tau"]
+    # the hinges hang from the root link Core, fixed to the world: their parent twists are 0
+    zero = ex.Seq(tuple(ex.Num("0") for _ in range(6)))
+    twists = [ex.BinOp("==", _name(f"{h}Hinge_{p}"), zero) for h in "LR" for p in ("pV", "pA")]
     expected = [e for d in model.devices for e in d.equations] + list(model.relations) + \
-        motion_equations
+        twists + motion_equations
     evolution = _actions(marxbot)["Evolve"].body
     assert isinstance(evolution, c.Evolution)
     assert evolution.state == "marXbotBaseState" and evolution.locals == "marXbotBaseLocal"

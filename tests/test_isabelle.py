@@ -175,7 +175,16 @@ def test_marxbot_theory_order(marxbot_session) -> None:
 
 def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:
     text = marxbot_session.files["marXbotBase_CyPhyCircus.thy"]
-    assert '"Init = ((timer, LMotor_das, RMotor_das) :=\\<^sub>C (0, 0, 0))"' in text
+    # Init starts every ODE state at 0 (Rule 2): each variable whose rate Evolve gives,
+    # but the PI error e, whose rate is only read (Kd * e'): its equation gives its value
+    init = re.search(r'"Init = \(\(([^)]*)\) :=\\<\^sub>C \(([^)]*)\)\)"', text)
+    assert init is not None
+    targets, values = init.group(1).split(", "), init.group(2).split(", ")
+    assert targets[:3] == ["timer", "LMotor_das", "RMotor_das"] and set(values) == {"0"}
+    evolve = text.split('"Evolve = ')[1].split("lemma")[0]
+    rated = set(re.findall(r"\$(\w+)\\<acute>", evolve))
+    assert set(targets) == rated - {"LMotor_e", "RMotor_e"}
+    assert {"LHinge_theta", "LHinge_v", "LMotor_av", "LMotor_i", "LMotor_e_int"} <= set(targets)
     assert ("registerRead_obstacle!(true) \\<^bold>\\<rightarrow> Skip) \\<triangleleft> "
             "(&Proximity1_voltage \\<ge>\\<^sub>u \\<guillemotleft>3.0\\<guillemotright>)") in text
     assert ('"MoveCall lv av = ({LMotor_das, RMotor_das}\\<^sub>v:[true, (\\<^bold>\\<exists> '

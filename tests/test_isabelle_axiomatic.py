@@ -114,7 +114,11 @@ def test_marxbot_theory_type_checks(marxbot) -> None:
 def test_marxbot_terms_use_the_axiomatic_notation(marxbot) -> None:
     text = marxbot.files[THEORY]
     bodies = {n: b for n, _, b in definitions(text)}
-    assert bodies["Init"] == "Init = ((timer, LMotor_das, RMotor_das) := (0, 0, 0))"
+    # Init also starts every state of the reduction (cyphy solve's, below) at 0 (Rule 2)
+    states = ["LMotor_av", "LMotor_i", "LMotor_int1", "LMotor_theta", "RMotor_av", "RMotor_i",
+              "RMotor_int2", "RMotor_theta"]
+    assert bodies["Init"] == (f"Init = ((timer, LMotor_das, RMotor_das, {', '.join(states)}) "
+                              f":= ({', '.join(['0'] * 11)}))")
     assert bodies["ObstacleToDModel"] == (
         "ObstacleToDModel = ((registerRead_obstacle\\<^bold>!(True) \\<rightarrow> Skip) \\<lhd> "
         "(Proximity1_voltage \\<ge> 3.0) \\<rhd> (registerRead_obstacle\\<^bold>!(False) "

@@ -24,6 +24,7 @@ from cyphy.backends.isabelle.theory import (IsabelleError, IsabelleOptions, Isab
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, identifier
 from cyphy.semantics.circus.namesets import action_nodes, find_lossy_interleavings, with_namesets
+from cyphy.semantics.scalarise import initialised
 
 PARENT = "Axiomatic_CyPhyCircus"
 PARENT_IMPORT = '"Axiomatic_CyPhyCircus.Ax_CyPhyCircus"'
@@ -40,6 +41,11 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
     if system_name is not None and not is_identifier(system_name):
         raise IsabelleError(f"the system name '{system_name}' is not an identifier")
     program = scalar_program(program, evolving_as_state=False).program
+    if odes is not None:  # the reduction's states start at 0 or their declared values
+        states = [o.variable for o in odes.odes if o.kind == "state"]
+        pm = program.pmodel
+        program = replace(program, pmodel=replace(pm, actions=tuple(
+            initialised(d, states, pm.initial) for d in pm.actions)))
     lossy = find_lossy_interleavings(program.pmodel)
     pm = program.pmodel
     applied = options.namesets and any(f.partition for f in lossy)
@@ -82,7 +88,8 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
         added_note=(f"{', '.join(names[a] for a in added)}: evolving variables that no state "
                     "field holds (device locals, integrals); Evolve's explicit ODE needs them "
                     "in the state. The paper quantifies them afresh in every Evolve; here "
-                    "they keep their values between cycles, and Init leaves them open."))
+                    "they keep their values between cycles, and Init starts them at 0 or "
+                    "their declared initial values."))
     env = _environment()
     evolve = ("Ax_CyPhyCircus's evolution takes an explicit ODE. The p-model's equations were "
               "reduced to one as `cyphy solve` does"

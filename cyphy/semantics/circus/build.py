@@ -90,18 +90,20 @@ def _motion(model: ElaboratedModel, report: Report) -> tuple[ex.Expr, ...]:
     """The kinematic tree's equations of motion for ``Evolve``: the very equations ``cyphy
     solve`` assembles by default, the root fixed to the world and gravity −9.81 m/s² along the
     model's z (the semantics has no option for either: the axiomatic Isabelle dialect reduces
-    the same default equations). A tree that has none (a link without mass, a loop, more
+    the same default equations), after the zero parent twist and rate of every joint on a
+    root link (:func:`~cyphy.semantics.dynamics.equations.fixed_root_twists`). A tree that has none (a link without mass, a loop, more
     joints than the symbolic limit) leaves them out with a warning: the rest of the semantics
     does not depend on them."""
     from cyphy.semantics.dynamics.rigid_body import DynamicsError
-    from cyphy.semantics.dynamics.equations import motion
+    from cyphy.semantics.dynamics.equations import fixed_root_twists, motion
 
+    twists = tuple(e.expr for e in fixed_root_twists(model))  # the root is fixed: pV = pA = 0
     try:
-        return tuple(e.expr for e in motion(model))
+        return twists + tuple(e.expr for e in motion(model))
     except DynamicsError as err:
         report.report(NO_MOTION, f"Evolve has no equations of motion: {err.message}", err.span,
                       err.hint)
-        return ()
+        return twists
 
 
 def _choose_mapping(ws: Workspace, report: Report, wanted: str | None

@@ -165,7 +165,9 @@ def rule2_pmodel_process(ctx: Context) -> c.BasicProcess:
         c.Assign((TIMER,), (ex.Num("0"),)),
         c.InterruptCond(c.Call("Evolve"), ex.BinOp(">=", timer, cycle_length)),
         c.Call("X"))))))
-    return c.BasicProcess(name, consts, state, local, tuple(actions), main)
+    initial = tuple((p.mangled, si_units(p.initial)) for _, device in _device_elements(ctx.model)
+                    for p in device.of_kind(ast.DeclKind.LOCAL) if p.initial is not None)
+    return c.BasicProcess(name, consts, state, local, tuple(actions), main, initial)
 
 
 def constants(ctx: Context) -> tuple[c.Constant, ...]:
