@@ -95,11 +95,14 @@ def check_session(session, program: c.Program) -> None:  # type: ignore[no-untyp
     assert theory_header(text)[1] == ["CyPhyCircus_Prelude"]
     assert f"theories\n    CyPhyCircus_Prelude\n    {session.theory_name}\n" in session.files["ROOT"]
 
-    definitions = read_definitions(text)
+    # D, when the files have a machine, and the composition N (with its channel set) last
+    composed = isinstance(program.dmodel, c.BasicProcess)
+    system = session.names[program.system.name] if composed else None
+    definitions = [d for d in read_definitions(text) if d[0] != system]
     # Exactly one [closure] lemma right after each action definition, same parameters.
     assert len(definitions) == text.count("\ndefinition") - len(
-        [k for k in program.pmodel.constants if k.value is not None])
-    assert text.count("[closure]") == len(definitions)
+        [k for k in program.pmodel.constants if k.value is not None]) - 2 * composed
+    assert text.count("[closure]") == len(definitions) + composed
     names = [d[0] for d in definitions]
     assert names == [session.names[a] for a in session.actions]
     for name, params, _, lemma, stated in definitions:
@@ -151,6 +154,10 @@ def check_session(session, program: c.Program) -> None:  # type: ignore[no-untyp
         original = session.actions[session.names.inverse()[name]]
         assert read_action(body, params, session.symbols, pm.state.name, local) == \
             original.body, name
+    if composed:  # N composes D's main action and P's, after both
+        assert f'"{system} = HideCSP ((state {session.names[program.dmodel.state.name]} ' \
+            f'\\<bullet> {definitions[-1][0]})' in text
+        assert f"lemma {system}_NCSP [closure]" in text.split(f'"{system} = ')[1]
 
 
 # ---------------------------------------------------------------- marXbot
@@ -170,7 +177,10 @@ def test_marxbot_theory_order(marxbot_session) -> None:
     landmarks += [f"definition {a} ::" for a in MARXBOT_ACTIONS]
     positions = [text.index(m) for m in landmarks]
     assert positions == sorted(positions)
-    assert [d[0] for d in read_definitions(text)] == MARXBOT_ACTIONS
+    # then D (the machine SMovement: init, read, step, write, main) and the composition M
+    d_actions = [f"marXbotSoftware{a}" for a in ("Init", "Read", "Step", "Write", "Main")]
+    assert [d[0] for d in read_definitions(text)] == MARXBOT_ACTIONS + d_actions + ["M"]
+    assert text.index("alphabet marXbotSoftwareState =") < text.index("definition Init ::")
 
 
 def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:

@@ -181,12 +181,15 @@ class CircusLatex(ActionPrinter):
                "\\end{zsection}", ""]
         out += self._globals(p)
         out += self._channels(p)
+        if isinstance(p.dmodel, c.BasicProcess):  # D, from the d-model's state machine
+            out += self._process(p.dmodel)
         out += self._process(p.pmodel)
-        out += [f"% {name(p.dmodel.name)}: the d-model's process. Its tock-CSP semantics is "
-                "not generated;", "% Chaos stands for it (every process refines Chaos).",
-                "\\begin{circus}",
-                f"  \\circprocess {name(p.dmodel.name)} \\circdef \\circbegin \\circspot "
-                "\\Chaos \\circend", "\\end{circus}", ""]
+        if not isinstance(p.dmodel, c.BasicProcess):
+            out += [f"% {name(p.dmodel.name)}: the d-model's process. The files have no state "
+                    "machine to write it from;", "% Chaos stands for it (every process "
+                    "refines Chaos).", "\\begin{circus}",
+                    f"  \\circprocess {name(p.dmodel.name)} \\circdef \\circbegin "
+                    "\\circspot \\Chaos \\circend", "\\end{circus}", ""]
         body = p.system.body
         out += ["\\begin{circus}",
                 f"  \\circprocess {section} \\circdef {self._process_expr(body, p)}",

@@ -125,10 +125,20 @@ class CircusText(ActionPrinter):
             lines.append(f"function {f.name}/{f.arity}")
         if p.functions:
             lines.append("")
-        lines.append(f"process {p.dmodel.name}")
+        if isinstance(p.dmodel, c.BasicProcess):
+            lines += self.process(p.dmodel)
+        else:
+            lines.append(f"process {p.dmodel.name}")
         lines.append("")
-        proc = p.pmodel
-        lines.append(f"process {proc.name} ≙ begin")
+        lines += self.process(p.pmodel)
+        lines.append("")
+        lines.append(f"process {p.system.name} ≙ {self.process_expr(p.system.body)}")
+        return "\n".join(lines) + "\n"
+
+    def process(self, proc: c.BasicProcess) -> list[str]:
+        """``process P ≙ begin … end``, one declaration or action per line."""
+        i = self.indent
+        lines = [f"process {proc.name} ≙ begin"]
         for k in proc.constants:
             value = f" = {self.expr(k.value)}" if k.value is not None else ""
             lines.append(f"{i}const {k.name} : {type_text(k.type)}{value}")
@@ -139,9 +149,7 @@ class CircusText(ActionPrinter):
             lines.append(f"{i}{d.name} ≙ {params}{self.action(d.body)}")
         lines.append(f"{i}• {self.action(proc.main)}")
         lines.append("end")
-        lines.append("")
-        lines.append(f"process {p.system.name} ≙ {self.process_expr(p.system.body)}")
-        return "\n".join(lines) + "\n"
+        return lines
 
     def schema(self, s: c.Schema) -> str:
         fields = "; ".join(("visible " if f.visible else "") + f"{f.name} : {type_text(f.type)}"

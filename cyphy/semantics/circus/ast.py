@@ -386,7 +386,7 @@ class Program:
 
     globals: AxDef
     channels: tuple[ChannelDecl, ...]
-    dmodel: OpaqueProcess
+    dmodel: "OpaqueProcess | BasicProcess"  # D: written from its state machine, else opaque
     pmodel: BasicProcess
     system: ProcessDef
     functions: tuple[FunctionDecl, ...] = ()
