@@ -1,0 +1,73 @@
+"""The d-model process ``D`` (issue 26): written from the d-model's state machine as the
+automaton ``simulate`` and ``reach`` run, checked against the cycle semantics of the
+dcmotor's machine derived by hand; a machine ``D`` cannot express is a warning at the
+machine, the process left opaque."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from cyphy import api
+from cyphy import expr as ex
+from cyphy.backends.circus.text import CircusText
+from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.build import build_semantics
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+DCMOTOR = EXAMPLES / "dcmotor"
+
+
+def _semantics(paths: list[Path]):  # type: ignore[no-untyped-def]
+    checked = api.check(paths, api.CheckOptions(neighbours_as_targets=True))
+    assert not checked.report.has_errors, checked.report.diagnostics
+    return build_semantics(checked.workspace, checked.resolution, checked.report), checked
+
+
+def test_dcmotor_d_is_the_speed_machine_by_hand() -> None:
+    """SSpeed (DCMotorSoftware.rsm) under RoboSim's cycle semantics, by hand: the first cycle
+    enters Cruise, whose entry calls drive(wref = 10); every later cycle in Cruise takes the
+    exec transition to the junction and returns to Cruise (drive(10) again) unless near,
+    when t3 calls stop() and rests in Stopped, where nothing changes the actuator (stop()
+    repeated). So two modes: Cruise (drive 10) → Stopped (stop) on near."""
+    sem, _ = _semantics([DCMOTOR / "Mapping.rsm"])
+    d = sem.program.dmodel
+    assert isinstance(d, c.BasicProcess) and d.name == "DCMotorSoftware"
+    text = CircusText()
+    acts = {a.name: text.action(a.body) for a in d.actions}
+    mode, near = "DCMotorSoftware_mode", "DCMotorSoftware_near"
+    assert [f.name for f in d.state.fields] == [mode, near]
+    assert acts["DCMotorSoftwareInit"] == f"{mode}, {near} := 0, false"
+    assert acts["DCMotorSoftwareRead"] == f"registerRead.near?near_in → {near} := near_in"
+    assert acts["DCMotorSoftwareStep"] == \
+        f"if {mode} = 0 ∧ {near} then {mode} := 1 else Skip"
+    assert acts["DCMotorSoftwareWrite"] == (
+        f"if {mode} = 0 then registerWrite.drive!10.0 → Skip else if {mode} = 1 then "
+        "registerWrite.stop → Skip else Skip")
+    wait = c.Wait(ex.Name(("cycle",)))
+    call = {n: c.Call(f"DCMotorSoftware{n}") for n in ("Init", "Read", "Step", "Write")}
+    assert d.main == c.Seq((call["Init"], call["Read"], call["Write"], wait, c.Mu("X", c.Seq((
+        call["Read"], call["Step"], call["Write"], wait, c.Call("X"))))))
+    # N composes D (no longer opaque) with P, as the spec's Structure says
+    assert sem.program.system.body == c.PHide(c.PParallel(
+        c.PRef("DCMotorSoftware"), ("registerRead", "registerWrite", "tock"),
+        c.PRef("DCMotorBase")), ("registerRead", "registerWrite", "tock"))
+
+
+def test_a_machine_d_cannot_express_is_a_warning_at_the_machine(tmp_path: Path) -> None:
+    """A typed input event: the automaton models events as present or absent only."""
+    (tmp_path / "DCMotorBase.rsm").write_text((DCMOTOR / "DCMotorBase.rsm").read_text())
+    mapping = (DCMOTOR / "Mapping.rsm").read_text()
+    (tmp_path / "Mapping.rsm").write_text(mapping.replace(
+        "input event near {\n\t\tpredicate Bench::Range.range <= 1.0\n",
+        "input event near ? d {\n\t\tpredicate Bench::Range.range <= 1.0\n"
+        "\t\tequation d == Bench::Range.range\n"))
+    software = (DCMOTOR / "DCMotorSoftware.rsm").read_text()
+    (tmp_path / "DCMotorSoftware.rsm").write_text(
+        software.replace("event near\n", "event near: real\n"))
+    sem, checked = _semantics([tmp_path / "Mapping.rsm"])
+    assert sem is not None and isinstance(sem.program.dmodel, c.OpaqueProcess)
+    [warning] = [d for d in checked.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
+    assert "typed input event" in warning.message and "SSpeed" in warning.message
+    assert warning.span.file.endswith("DCMotorSoftware.rsm")
+    stm_line = software.splitlines().index("stm SSpeed {") + 1
+    assert warning.span.line == stm_line
