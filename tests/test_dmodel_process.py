@@ -71,3 +71,26 @@ def test_a_machine_d_cannot_express_is_a_warning_at_the_machine(tmp_path: Path) 
     assert warning.span.file.endswith("DCMotorSoftware.rsm")
     stm_line = software.splitlines().index("stm SSpeed {") + 1
     assert warning.span.line == stm_line
+
+
+def test_gen_machine_option_chooses_d_and_an_unknown_one_is_an_error(tmp_path: Path,
+                                                                     capsys) -> None:
+    """--machine picks the machine D is written from, as for simulate and reach: the
+    marXbot's SStop (stop on obstacle, for good) has two modes, SMovement (the default, the
+    one its module runs) turns after the stop; a machine not among the files is E-MACHINE,
+    nothing written."""
+    from cyphy.cli import main
+
+    marxbot = EXAMPLES / "marxbot"
+    assert main(["gen", "--cyphycircus", str(marxbot), "--machine", "SStop", "-o",
+                 str(tmp_path / "stop")]) == 0
+    text = (tmp_path / "stop" / "M.cpc").read_text()
+    assert ("marXbotSoftwareStep ≙ if marXbotSoftware_mode = 0 ∧ marXbotSoftware_obstacle "
+            "then marXbotSoftware_mode := 1 else Skip\n") in text
+    assert main(["gen", "--cyphycircus", str(marxbot), "-o", str(tmp_path / "default")]) == 0
+    turning = (tmp_path / "default" / "M.cpc").read_text()
+    assert "registerWrite.move!0.0!0.5" in turning and "registerWrite.move!0.0!0.5" not in text
+    capsys.readouterr()
+    assert main(["gen", "--cyphycircus", str(marxbot), "--machine", "Nope", "-o",
+                 str(tmp_path / "none")]) == 1
+    assert "E-MACHINE" in capsys.readouterr().err and not (tmp_path / "none").exists()

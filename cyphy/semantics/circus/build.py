@@ -87,6 +87,8 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
         report.report(UNTRANSLATABLE, err.message, err.span, err.hint)
         return None
     dprocess = _dmodel_process(ws, resolution, report, mapping, program, options.machine)
+    if report.has_errors:
+        return None
     if dprocess is not None:
         program = replace(program, dmodel=dprocess)
     return Semantics(program, ctx.names, mapping, model)
@@ -98,17 +100,20 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
     """``D`` from the state machine that controls the mapped p-model (``name``, else the
     one its module runs, as ``simulate`` and ``reach`` choose it), compiled as they compile
     it; None, the d-model left opaque, when the files have no machine (said in every
-    output) or, with a warning at the machine, when it cannot be written yet."""
+    output) or, with a warning at the machine, when it cannot be written yet; None with an
+    error when the machine asked for by ``name`` is not among the files."""
     from cyphy.lang.scopes import Scopes
     from cyphy.model.machines import select_machine
     from cyphy.semantics.circus.dmodel import dmodel_process
     from cyphy.semantics.machines.automaton import compile_machine
-    from cyphy.semantics.machines.cycle import MachineError, interpreter_for
+    from cyphy.semantics.machines.cycle import MACHINE, MachineError, interpreter_for
 
     files = list(ws.user_files())
     machine, (message, hint) = select_machine(files, resolution, mapping.pmodel[-1], name)
     if machine is None:
-        if name is not None or "several" in message:
+        if name is not None:  # asked for by name: no semantics without it
+            report.report(MACHINE, message, mapping.span, hint)
+        elif "several" in message:
             report.report(OPAQUE_DMODEL, f"the d-model process is left opaque: {message}",
                           mapping.span, hint)
         return None
