@@ -94,3 +94,97 @@ def test_gen_machine_option_chooses_d_and_an_unknown_one_is_an_error(tmp_path: P
     assert main(["gen", "--cyphycircus", str(marxbot), "--machine", "Nope", "-o",
                  str(tmp_path / "none")]) == 1
     assert "E-MACHINE" in capsys.readouterr().err and not (tmp_path / "none").exists()
+
+
+# ------------------------------------------------------------ D run against the interpreter
+
+
+class _RunD:
+    """Runs D's cycle actions (the AST the printers print) on a dictionary state: reads
+    the cycle's events, takes the step, records what it writes."""
+
+    def __init__(self, d: c.BasicProcess) -> None:
+        self.actions = {a.name: a.body for a in d.actions}
+        self.state: dict[str, object] = {}
+        self.events: dict[str, bool] = {}
+        self.written: list[tuple[str, tuple[float, ...]]] = []
+
+    def value(self, e: ex.Expr, bound: dict[str, object]) -> object:
+        if isinstance(e, ex.Name):
+            return bound[e.text] if e.text in bound else self.state[e.text]
+        if isinstance(e, ex.Num):
+            return float(e.text)
+        if isinstance(e, ex.Bool):
+            return e.value
+        if isinstance(e, ex.UnaryOp) and e.op == "not":
+            return not self.value(e.operand, bound)
+        assert isinstance(e, ex.BinOp), e
+        left, right = self.value(e.left, bound), self.value(e.right, bound)
+        return {"==": lambda: left == right, "/\\": lambda: bool(left and right)}[e.op]()
+
+    def run(self, a: c.Action, bound: dict[str, object] | None = None) -> None:
+        bound = bound or {}
+        if isinstance(a, c.Call):
+            self.run(self.actions[a.name])
+        elif isinstance(a, c.Seq):
+            for item in a.items:
+                self.run(item, bound)
+        elif isinstance(a, c.Cond):
+            self.run(a.then if self.value(a.cond, bound) else a.orelse, bound)
+        elif isinstance(a, c.Assign):
+            values = [self.value(v, bound) for v in a.values]
+            self.state.update(zip(a.targets, values))
+        elif isinstance(a, c.Prefix):
+            comm = a.comm
+            if comm.channel == "registerRead":
+                [field] = comm.fields
+                self.run(a.then, {**bound, field.name: self.events.get(comm.tag, False)})
+            else:
+                self.written.append((comm.tag, tuple(float(self.value(f.value, bound))
+                                                      for f in comm.fields)))
+                self.run(a.then, bound)
+        else:
+            assert isinstance(a, c.Skip), a
+
+    def cycle(self, events: dict[str, bool], first: bool) -> tuple:
+        self.events, self.written = events, []
+        prefix = next(iter(self.actions))[:-len("Init")]
+        names = ["Init", "Read", "Write"] if first else ["Read", "Step", "Write"]
+        for n in names:
+            self.run(c.Call(prefix + n))
+        return tuple(self.written)
+
+
+def _effect(previous: tuple, calls: tuple) -> tuple:
+    """What the actuators hold after a cycle: the calls it made, else the last ones (a
+    cycle without calls leaves them as they were)."""
+    return calls or previous
+
+
+def test_d_writes_what_the_machine_interpreter_calls_cycle_by_cycle() -> None:
+    """D, run on random event sequences, leaves the actuators as RoboSim's cycle semantics
+    (the machine's interpreter, stepped directly) does, for the dcmotor's SSpeed and the
+    marXbot's SMovement (clocks: it turns for a number of cycles after each stop)."""
+    import random
+
+    from cyphy.semantics.machines.cycle import MachineInterpreter
+
+    for folder, module, machine in ((DCMOTOR, "DCMotorSoftware", None),
+                                    (EXAMPLES / "marxbot", "marXbotSoftware", None)):
+        sem, _ = _semantics([folder / "Mapping.rsm"])
+        d = sem.program.dmodel
+        assert isinstance(d, c.BasicProcess) and d.name == module
+        events = [f.name[len(module) + 1:] for f in d.state.fields[1:]]
+        rng = random.Random(26)
+        for _ in range(20):
+            interpreter, _checked = api.machine_interpreter(
+                [folder], machine, pmodel=sem.program.pmodel.name)
+            assert isinstance(interpreter, MachineInterpreter)
+            runner = _RunD(d)
+            want = got = ()
+            for k in range(40):
+                present = {e: rng.random() < 0.3 for e in events}
+                calls = interpreter.cycle({e: True if v else None for e, v in present.items()})
+                want = _effect(want, tuple((n, tuple(a)) for n, a in calls))
+                got = _effect(got, runner.cycle(present, first=k == 0))
+                assert got == want, (folder.name, k)
