@@ -86,8 +86,10 @@ class Context:
 
 def rule1_program(ctx: Context) -> c.Program:
     """Rule 1: global constants ``cycle : ℕ`` and ``tscale : ℝ`` (positive, with the
-    d-model's cycle restriction and a fixed ``tscale`` if given), the channels, the opaque
-    d-model process ``D``, the p-model process ``P`` (Rule 2) and
+    d-model's cycle restriction and a fixed ``tscale`` if given), the channels, the d-model
+    process ``D`` (opaque here: :mod:`cyphy.semantics.circus.build` writes it from the
+    d-model's state machine, :mod:`cyphy.semantics.circus.dmodel`), the p-model process ``P``
+    (Rule 2) and
     ``N = (D ⟦ registerRead, registerWrite, tock ⟧ P) \\ {registerRead, registerWrite, tock}``."""
     cycle, tscale = ex.Name(("cycle",)), ex.Name(("tscale",))
     where: list[ex.Expr] = [ex.BinOp(">", cycle, ex.Num("0")),
