@@ -101,7 +101,10 @@ def test_marxbot_passes_the_static_checks(marxbot) -> None:
     names = dict(line.split("\t")[1:] for line in marxbot.files["names.tsv"].splitlines()[1:]
                  if line.count("\t") == 2)
     expected = [{"Evolve": "Evolve_v"}.get(a, a) for a in MARXBOT_ACTIONS]
+    # then the d-model process D (from the machine SMovement), over its own state
+    expected += [f"marXbotSoftware{a}" for a in ("Init", "Read", "Step", "Write", "Main")]
     assert [n for n, _, _ in definitions(text)] == expected
+    assert '"(marXbotBase_chan, marXbotSoftwareState) cyphyaction"' in text
     assert "chantype marXbotBase_chan =\n  tock :: unit\n  registerRead_obstacle :: bool\n" \
         "  registerWrite_move :: \"real \\<times> real\"\n  registerWrite_stop :: unit\n" in text
     assert names.get("LMotor_das") == "LMotor_das"

@@ -19,7 +19,7 @@ from cyphy.backends.isabelle.terms import HOL_FUNCTIONS, UnsupportedNode
 from cyphy.backends.isabelle.ax_terms import AX_RESERVED, AxiomaticPrinter
 from cyphy.backends.isabelle.names import is_identifier
 from cyphy.backends.isabelle.theory import (IsabelleError, IsabelleOptions, IsabelleSession,
-                                            _environment, _names_table, _theory_context,
+                                            _dprocess_actions, _environment, _names_table, _theory_context,
                                             scalar_program, symbols_of)
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, identifier
@@ -70,6 +70,7 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
         raise IsabelleError(str(err)) from None
     defs = {d.name: d for d in pm.actions}
     defs["MainAction"] = c.ActionDef("MainAction", (), pm.main)
+    defs.update(_dprocess_actions(program))
     uses_wait = any(isinstance(n, c.Wait) for d in defs.values() for n in action_nodes(d.body))
     evolving = {names[d.name] for d in defs.values()
                 if any(isinstance(n, c.Evolution) for n in action_nodes(d.body))}
