@@ -64,6 +64,17 @@ def hol_to_sympy(term: str) -> sympy.Expr:
                          locals={n: sympy.Symbol(n, real=True) for n in names})
 
 
+def _split_top(text: str) -> list[str]:
+    """The comma-separated items of a printed tuple's inside, split at depth 0."""
+    items, depth, start = [], 0, 0
+    for k, ch in enumerate(text):
+        depth += (ch == "(") - (ch == ")")
+        if ch == "," and depth == 0:
+            items.append(text[start:k].strip())
+            start = k + 1
+    return items + [text[start:].strip()]
+
+
 def check_static(files: dict[str, str], theory: str) -> str:
     """The static properties of an axiomatic session; returns the theory text."""
     assert set(files) == {"ROOT", "README", "names.tsv", theory}
@@ -137,10 +148,13 @@ def test_marxbot_terms_use_the_axiomatic_notation(marxbot) -> None:
     assert bodies["ReceiveFromDModel"] == (
         "ReceiveFromDModel = (\\<mu> Y. ((MoveFromDModel ;; Y) \\<box> ((StopFromDModel ;; Y) "
         "\\<box> (tock \\<rightarrow> Skip))))")
-    assert bodies["MainAction"] == (
-        "MainAction = (Init ;; (\\<mu> X. (SendToDModel ;; (ReceiveFromDModel ;; "
-        "((WaitT (cycle - 1)) ;; ((timer := 0) ;; ((Evolve_v \\<triangle>\\<^sub>p (timer "
-        "\\<ge> ((real cycle) * tscale))) ;; X)))))))")
+    # the timer's reset also puts the outputs on their definitions (values: the test below)
+    main = re.fullmatch(
+        r"MainAction = \(Init ;; \(\\<mu> X\. \(SendToDModel ;; \(ReceiveFromDModel ;; "
+        r"\(\(WaitT \(cycle - 1\)\) ;; \(\(\(timer, LMotor_T, Proximity1_voltage, RMotor_T\) := "
+        r"\(0, .*\)\) ;; \(\(Evolve_v \\<triangle>\\<\^sub>p \(timer \\<ge> \(\(real cycle\) \* "
+        r"tscale\)\)\) ;; X\)\)\)\)\)\)\)", bodies["MainAction"])
+    assert main is not None, bodies["MainAction"]
     assert '"WaitT 0 = Skip" |\n  "WaitT (Suc n) = (tock \\<rightarrow> WaitT n)"' in text
     assert "axiomatization where\n  globals_1: \"(cycle > 0)\" and" in text
 
@@ -165,6 +179,17 @@ def test_marxbot_evolve_is_the_reduction_of_cyphy_solve(marxbot) -> None:
                        for s in reduced.states)
         assert sympy.simplify(hol_to_sympy(printed[output]) - expected) == 0, output
     assert printed["Proximity1_voltage"] == "0"  # its input, the distance, is held
+    # before each evolution the outputs are set to their values over the states and inputs
+    # (the reduction's solutions): the IR law ties the voltage to the distance again
+    main = re.search(r'"MainAction = .*?\(\(timer, ([\w, ]+)\) := \(0, (.*)\)\) ;; '
+                     r'\(\(Evolve_v', marxbot.files[THEORY])
+    assert main is not None
+    tied = main.group(1).split(", ")
+    assert tied == ["LMotor_T", "Proximity1_voltage", "RMotor_T"]
+    values = _split_top(main.group(2))
+    for output, value in zip(tied, values):
+        expected = reduced.outputs[output].xreplace(zero)
+        assert sympy.simplify(hol_to_sympy(value) - expected) == 0, output
     assert printed["timer"] == "1"
     assert set(printed) == set(reduced.states) | {"LMotor_T", "RMotor_T", "Proximity1_voltage",
                                                   "timer"}
