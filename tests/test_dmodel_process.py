@@ -39,7 +39,7 @@ def test_dcmotor_d_is_the_speed_machine_by_hand() -> None:
     assert acts["DCMotorSoftwareInit"] == f"{mode}, {near} := 0, false"
     assert acts["DCMotorSoftwareRead"] == f"registerRead.near?near_in → {near} := near_in"
     assert acts["DCMotorSoftwareStep"] == \
-        f"if {mode} = 0 ∧ {near} then {mode} := 1 else Skip"
+        f"if {mode} = 0 ∧ {near} = true then {mode} := 1 else Skip"
     assert acts["DCMotorSoftwareWrite"] == (
         f"if {mode} = 0 then registerWrite.drive!10.0 → Skip else if {mode} = 1 then "
         "registerWrite.stop → Skip else Skip")
@@ -86,7 +86,7 @@ def test_gen_machine_option_chooses_d_and_an_unknown_one_is_an_error(tmp_path: P
                  str(tmp_path / "stop")]) == 0
     text = (tmp_path / "stop" / "M.cpc").read_text()
     assert ("marXbotSoftwareStep ≙ if marXbotSoftware_mode = 0 ∧ marXbotSoftware_obstacle "
-            "then marXbotSoftware_mode := 1 else Skip\n") in text
+            "= true then marXbotSoftware_mode := 1 else Skip\n") in text
     assert main(["gen", "--cyphycircus", str(marxbot), "-o", str(tmp_path / "default")]) == 0
     turning = (tmp_path / "default" / "M.cpc").read_text()
     assert "registerWrite.move!0.0!0.5" in turning and "registerWrite.move!0.0!0.5" not in text

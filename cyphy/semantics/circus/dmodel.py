@@ -34,7 +34,7 @@ def dmodel_process(name: str, automaton: Automaton, reads: tuple[str, ...],
     (``registerRead`` variants: an event it does not map never occurs), ``writes`` the
     operations and output events it maps with their arity. Raises ``ValueError`` naming a
     call the mapping has no ``registerWrite`` variant for (the rules report it)."""
-    prefix = name
+    prefix = name  # D's names: <D>_mode, <D>_<event>, <D>Read, …
     mode = f"{prefix}_{MODE}"
     read = [e for e in automaton.events if e in reads]
     fields = [c.SchemaField(mode, c.NAT)] + [c.SchemaField(f"{prefix}_{e}", c.BOOL)
@@ -47,10 +47,13 @@ def dmodel_process(name: str, automaton: Automaton, reads: tuple[str, ...],
                  c.Assign((f"{prefix}_{e}",), (_name(f"{e}_in"),))) for e in read]
     step: c.Action = c.Skip()
     for edge in reversed(automaton.edges):  # nested: the first edge is tested first
+        if any(e not in read and not negated for e, negated in edge.guard):
+            continue  # needs an event the mapping does not map, which never occurs
+        # an event read is a Boolean compared with true or false (Z has no Boolean
+        # predicates); one the mapping does not map is absent: its negation holds
         literals: list[ex.Expr] = [ex.BinOp("==", _name(mode), ex.Num(str(index[edge.source])))]
-        for event, negated in edge.guard:
-            value: ex.Expr = _name(f"{prefix}_{event}") if event in read else ex.Bool(False)
-            literals.append(ex.UnaryOp("not", value) if negated else value)
+        literals += [ex.BinOp("==", _name(f"{prefix}_{e}"), ex.Bool(not negated))
+                     for e, negated in edge.guard if e in read]
         step = c.Cond(ex.conjunction(literals),
                       c.Assign((mode,), (ex.Num(str(index[edge.target])),)), step)
     write: c.Action = c.Skip()
