@@ -35,7 +35,8 @@ import sympy
 from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span, did_you_mean
-from cyphy.verify.flowstar.constraints import Conjunction, dnf, negated_dnf
+from cyphy.verify.flowstar.constraints import Conjunction, dnf
+from cyphy.verify.flowstar.guards import targets
 from cyphy.verify.flowstar.printer import FUNCTIONS, NotExpressible, flowstar_text, number, valid_name
 from cyphy.verify.flowstar.scenario import Scenario
 
@@ -677,23 +678,22 @@ def render(p: Problem, output_name: str) -> str:
 
 def _jumps(p: Problem, variables: set[Any], final: set[str]
            ) -> list[tuple[str, str, Conjunction]]:
-    """Per controller state, in the scenario's order: each transition's ``when`` (one jump
-    per disjunct), then staying, guarded by the closure of "no ``when`` holds". A final
-    state has none: it flows to the horizon."""
+    """Per controller state, in the scenario's order: one guard per target, the event
+    combinations whose first ``when`` (in file order; none: stay) leads there, as disjoint
+    cubes (:mod:`cyphy.verify.flowstar.guards`: no two jumps with the same target and reset
+    overlap), each cube one jump per disjunct of its predicate. A final state has none: it
+    flows to the horizon."""
     out: list[tuple[str, str, Conjunction]] = []
     for state in p.effects:
         if state in final:
             continue
-        whens = []
-        for t in p.scenario.transitions:
-            if t.source != state:
-                continue
-            values = _mode_values(p, state)
-            pred = sympy.And(*[sympy.Not(p.events[e].xreplace(values)) if negated
-                               else p.events[e].xreplace(values) for e, negated in t.literals])
-            whens.append(pred)
-            out += [(state, t.target, c) for c in dnf(pred, variables)]
-        out += [(state, state, c) for c in negated_dnf(whens, variables)]
+        values = _mode_values(p, state)
+        leaving = [(t.target, t.literals) for t in p.scenario.transitions if t.source == state]
+        for target, cubes in targets(state, leaving):
+            for cube in cubes:
+                pred = sympy.And(*[sympy.Not(p.events[e].xreplace(values)) if negated
+                                   else p.events[e].xreplace(values) for e, negated in cube])
+                out += [(state, target, c) for c in dnf(pred, variables)]
     return out
 
 
