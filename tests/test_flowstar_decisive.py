@@ -120,3 +120,109 @@ def test_flowstar_computes_one_path_on_a_machine_with_a_self_transition(tmp_path
     problem = _problem(tmp_path, SELF.format(horizon=0.5, av=0, distance="[0.95, 1.05]",
                                              env="0"))
     assert _flowpipes(render(problem, "self"), tmp_path) == 5 * 11 + 1
+
+
+# --------------------------------------------------------------------------- 3. falsification
+
+EXAMPLE = (DCMOTOR / "sampled_stop.toml").read_text().replace("max_jumps = 25\n", "")
+
+
+def _example(tmp_path: Path, name: str, *edits: tuple[str, str]) -> Path:
+    text = EXAMPLE
+    for old, new in edits:
+        assert old in text, old
+        text = text.replace(old, new)
+    path = tmp_path / f"{name}.toml"
+    path.write_text(text)
+    return path
+
+
+# The obstacle approaches at 2 m/s whatever the controller does: d(t) = d0 - 2 t. It comes
+# within 0.02 m by t = 1 exactly when d0 <= 2.02: the lowest 5% of [2.0, 2.4].
+CORNER = [("Range_distance = [3, 3.1]", "Range_distance = [2.0, 2.4]"),
+          ('constraints = ["Motor_av >= 20"]',
+           'constraints = ["Range_distance <= 0.02", "t <= 1"]'),
+          ("horizon = 2.0", "horizon = 1.2")]
+
+
+@needs_flowstar
+def test_a_violation_from_a_five_percent_corner_is_unsafe_with_its_witness(tmp_path):
+    from cyphy.verify.flowstar.check import check
+
+    report = Report()
+    scenario = load_scenario(_example(tmp_path, "corner", *CORNER), report)
+    problem, _ = build_problem([DCMOTOR], scenario, report)
+    result = check(problem, "corner", str(flowstar_binary()), jobs=1)
+    assert result.verdict == "UNSAFE", result.reason
+    start, entry = dict(result.witness.start.values), dict(result.witness.entry.values)
+    d0, t = start["Range_distance"], result.witness.entry.time
+    assert 2.0 <= d0 <= 2.02 and t <= 1.0
+    assert entry["Range_distance"] == pytest.approx(d0 - 2 * t, abs=1e-6)  # the closed form
+    assert entry["Range_distance"] <= 0.02
+
+
+@needs_flowstar
+def test_without_the_corner_the_same_property_is_not_unsafe(tmp_path, capsys):
+    from cyphy.cli import main
+
+    path = _example(tmp_path, "clear", ("Range_distance = [3, 3.1]",
+                                        "Range_distance = [2.03, 2.4]"), *CORNER[1:])
+    rc = main(["reach", str(DCMOTOR), "--scenario", str(path), "-o", str(tmp_path / "o"),
+               "--flowstar-bin", str(flowstar_binary())])
+    out = capsys.readouterr().out
+    assert rc == 0 and out.startswith("SAFE"), out  # min d = 0.03 > 0.02
+
+
+# --------------------------------------------------------------------------- 4. bounds
+
+@pytest.mark.parametrize("edit, message", [
+    (("Range_distance = [3, 3.1]", "Range_distance = [-1e308, 1e308]"), "beyond ±1e+15"),
+    (("order = 6", "order = 100000"), "'flowstar.order' = 100000 is above 50"),
+    (("order = 6", "order = [4, 100000]"), "'flowstar.order' = 100000 is above 50"),
+    (("precision = 53", "precision = 100000"), "'flowstar.precision' = 100000 is above"),
+    (("cutoff = 1e-12", "cutoff = 1e-12\nmax_jumps = 2147483648"),
+     "'flowstar.max_jumps' = 2147483648 is above 2147483647"),
+    (("horizon = 2.0", "horizon = 1e9"), "more jumps than Flow* can count"),
+])
+def test_settings_that_would_overflow_or_run_for_days_are_refused(tmp_path, capsys, edit,
+                                                                  message):
+    from cyphy.cli import main
+
+    path = _example(tmp_path, "bad", edit)
+    rc = main(["gen", "--flowstar", str(DCMOTOR), "--scenario", str(path), "-o",
+               str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 1 and message in err, err  # gen's exit status for a model with errors
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("option", [["--timeout", "nan"], ["--timeout", "inf"],
+                                    ["--timeout", "0"], ["--split", "100000"],
+                                    ["--split", "0"]])
+def test_reach_options_out_of_range_exit_2(tmp_path, capsys, option):
+    from cyphy.cli import main
+
+    with pytest.raises(SystemExit) as stop:
+        main(["reach", str(DCMOTOR), "--scenario", str(DCMOTOR / "sampled_stop.toml"),
+              "-o", str(tmp_path / "o"), *option])
+    assert stop.value.code == 2
+    assert option[0] in capsys.readouterr().err
+
+
+@needs_flowstar
+def test_the_output_folder_holds_the_models_flowstar_ran(tmp_path, capsys):
+    """Two boxes: two runs, each model the box's initial interval, and each one Flow*
+    decides the same again when re-run from the file."""
+    from cyphy.cli import main
+    from cyphy.verify.flowstar.verdict import run_text
+
+    out = tmp_path / "o"
+    path = _example(tmp_path, "two", ("horizon = 2.0", "horizon = 1.3"))
+    rc = main(["reach", str(DCMOTOR), "--scenario", str(path), "-o", str(out), "--split", "2",
+               "--flowstar-bin", str(flowstar_binary())])
+    assert rc == 0, capsys.readouterr()
+    runs = sorted((out / "runs").iterdir())
+    assert [r.name for r in runs] == ["two.001.model", "two.002.model"]
+    boxes = [parse_model(r.read_text()).init["Range_distance"] for r in runs]
+    assert boxes == [("3", "3.05"), ("3.05", "3.1")]
+    assert run_text(runs[0].read_text(), str(flowstar_binary())).verdict == "SAFE"

@@ -453,14 +453,16 @@ def _add_reach(sub: argparse._SubParsersAction) -> None:
                        help="the controller scenario (TOML)")
     reach.add_argument("--flowstar-bin", metavar="PATH",
                        help="the Flow* executable (default: flowstar on PATH)")
-    reach.add_argument("--timeout", type=float, metavar="SECONDS",
+    from cyphy.verify.flowstar import limits
+
+    reach.add_argument("--timeout", type=limits.seconds, metavar="SECONDS",
                        help="give up (UNKNOWN) when a Flow* run takes longer")
-    reach.add_argument("--split", type=int, default=1, metavar="N",
+    reach.add_argument("--split", type=limits.boxes, default=1, metavar="N",
                        help="split the initial set into N boxes along its widest state, one "
                        "Flow* run each (default 1; a run ending UNKNOWN is retried with "
                        "4 boxes unless --no-auto-split)")
     reach.add_argument("--no-auto-split", action="store_true",
-                       help="do not retry an UNKNOWN run on smaller boxes")
+                       help="do not retry an UNKNOWN run (finer settings, smaller boxes)")
     reach.add_argument("--jobs", type=int, metavar="N",
                        help="Flow* runs at a time (default: the number of cores)")
     reach.add_argument("-o", "--output", metavar="DIR",
@@ -507,7 +509,8 @@ def _reach(args: argparse.Namespace) -> int:
     try:
         result = check(problem, model.stem, binary, args.timeout, args.split,
                        not args.no_auto_split, args.jobs)
-    except FlowstarMissing as err:
+        write_all(result.runs, out_dir)  # the models Flow* ran (parts, boxes, rungs)
+    except (FlowstarMissing, OutputError) as err:
         sys.stderr.write(f"cyphy reach: error: {err}\n")
         return 2
     line = f"{result.verdict}: {result.reason} (Flow* runs {result.seconds:.1f} s; model {model})\n"
@@ -516,7 +519,7 @@ def _reach(args: argparse.Namespace) -> int:
     if result.witness is not None:
         stream.write("the trajectory (time, event, controller state, state):\n")
         stream.write("\n".join(result.witness.lines(result.names)) + "\n")
-    if len(result.details) > 1 or result.verdict != "SAFE":
+    if result.details and (len(result.details) > 1 or result.verdict != "SAFE"):
         stream.write("Flow* runs:\n" + "\n".join(result.details) + "\n")
     return result.exit_code
 

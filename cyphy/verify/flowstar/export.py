@@ -37,6 +37,7 @@ from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.verify.flowstar.constraints import Conjunction, dnf
 from cyphy.verify.flowstar.guards import targets
+from cyphy.verify.flowstar.limits import MAX_JUMPS
 from cyphy.verify.flowstar.printer import FUNCTIONS, NotExpressible, flowstar_text, number, valid_name
 from cyphy.verify.flowstar.scenario import Scenario
 
@@ -221,6 +222,11 @@ class _Builder:
                           dict(self.call_effects), self.machine,
                           self._operation_effects(frame) if self.machine else {})
         self._check_init(problem)
+        if problem.required_jumps > MAX_JUMPS:
+            raise self.fail(
+                f"the horizon of {s.horizon:g} s is {problem.required_jumps - 1} cycles of "
+                f"{s.period:g} s: more jumps than Flow* can count ({MAX_JUMPS}, a C int)",
+                s.span("horizon"), "shorten the horizon or lengthen the cycle")
         if s.settings.max_jumps is not None and s.settings.max_jumps < problem.required_jumps:
             raise self.fail(
                 f"max_jumps = {s.settings.max_jumps} is too small: the horizon of "
