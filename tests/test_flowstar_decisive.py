@@ -226,3 +226,112 @@ def test_the_output_folder_holds_the_models_flowstar_ran(tmp_path, capsys):
     boxes = [parse_model(r.read_text()).init["Range_distance"] for r in runs]
     assert boxes == [("3", "3.05"), ("3.05", "3.1")]
     assert run_text(runs[0].read_text(), str(flowstar_binary())).verdict == "SAFE"
+
+
+# --------------------------------------------------------------------------- 2. precision
+
+DECAY = HEAD.format(horizon=5.0, av="[9.5, 10]", distance=0, env="0").replace(
+    "Motor_i = 0", "Motor_i = [0, 0.5]") + """[controller]
+initial = "stopped"
+[controller.states.stopped]
+calls = ["stop()"]
+[unsafe]
+constraints = ["Motor_av >= 12"]
+"""
+
+
+def _decay_peak() -> float:
+    """The largest speed over [0, 5] s from the initial box, from the motor's equations
+    written by hand (spec example: i' = 10 (2 (wref - w) + 5 z - i - 0.05 w), w' = -w + 5 i,
+    z' = wref - w, wref = 0): linear, so at each time the largest w over the box is the
+    sum over coordinates of the larger of the two ends (SciPy's matrix exponential)."""
+    import numpy as np
+    from scipy.linalg import expm
+
+    a = np.array([[-1.0, 5.0, 0.0], [-20.5, -10.0, 50.0], [-1.0, 0.0, 0.0]])
+    box = [(9.5, 10.0), (0.0, 0.5), (0.0, 0.0)]
+    peak = -np.inf
+    for t in np.linspace(0, 5, 2001):
+        row = expm(a * t)[0]
+        peak = max(peak, sum(max(r * lo, r * hi) for r, (lo, hi) in zip(row, box)))
+    return peak
+
+
+@needs_flowstar
+def test_a_decaying_motor_over_five_seconds_is_safe_with_lti_ode(tmp_path):
+    from cyphy.verify.flowstar.check import check
+    from cyphy.verify.flowstar.verdict import run_text
+
+    assert _decay_peak() < 12  # the truth: SAFE
+    problem = _problem(tmp_path, DECAY, "decay")
+    text = render(problem, "decay")
+    assert parse_model(text).modes["stopped"].ode == "lti ode"
+    result = check(problem, "decay", str(flowstar_binary()), jobs=1)
+    assert result.verdict == "SAFE", result.reason
+    assert len(result.runs) == 1  # decided by the first run: no ladder, no split
+    # the same automaton in poly ode 2: the enclosure explodes before 5 s (issue 28)
+    poly = run_text(text.replace("lti ode", "poly ode 2"), str(flowstar_binary()), 300)
+    assert poly.verdict != "SAFE"
+
+
+WAVE = HEAD.format(horizon=1.0, av=0, distance="[1.4, 1.5]",
+                   env="-0.5 + 0.3*cos(3*t)").replace("tscale = 0.1", "tscale = 0.05\ncycle = 2") \
+    + """[controller]
+initial = "cruise"
+[controller.states.cruise]
+calls = ["drive(8)"]
+[controller.states.coast]
+calls = []
+[controller.states.stopped]
+calls = ["stop()"]
+[[controller.transitions]]
+from = "cruise"
+to = "coast"
+when = "near"
+[[controller.transitions]]
+from = "coast"
+to = "stopped"
+when = "not near"
+[unsafe]
+constraints = ["Motor_av >= 12"]
+"""
+
+
+@needs_flowstar
+def test_a_held_input_beside_cos_3t_is_decided(tmp_path):
+    """The actuator input is held in coast; the obstacle moves as -0.5 + 0.3 cos(3t). In
+    nonpoly ode Flow* computed no flowpipe at the default step; with cos(3t) as a linear
+    state pair every mode is affine and the property is proved. Its truth: the speed peaks
+    near 10.0 (independent simulation of the reduced equations, cycle by cycle)."""
+    import numpy as np
+    from flowstar_sim import simulate_direct
+
+    from cyphy.verify.flowstar.check import check
+
+    problem = _problem(tmp_path, WAVE, "wave")
+    assert "cyphy_cos1" in problem.states
+    samples = np.linspace(0, 1.0, 401)
+    peak = max(np.nanmax(simulate_direct(problem, {
+        "Motor_av": 0, "Motor_i": 0, "Motor_int1": 0, "Motor_theta": 0, "Range_distance": d,
+        "cyphy_sin1": 0, "cyphy_cos1": 1}, samples)["Motor_av"]) for d in (1.4, 1.45, 1.5))
+    assert 9 < peak < 12
+    result = check(problem, "wave", str(flowstar_binary()), jobs=1)
+    assert result.verdict == "SAFE", result.reason
+
+
+@needs_flowstar
+def test_the_ladder_halves_a_step_too_large_before_splitting(tmp_path):
+    """Step 0.02 is beyond the motor's limit (h·‖A‖∞ ≳ 1: "not completed", spec §7); the
+    first rung, step 0.01, completes and proves the example's property."""
+    from cyphy.verify.flowstar.check import check
+
+    report = Report()
+    scenario = load_scenario(_example(tmp_path, "coarse", ("step = 0.01", "step = 0.02"),
+                                      ("horizon = 2.0", "horizon = 1.3")), report)
+    problem, _ = build_problem([DCMOTOR], scenario, report)
+    result = check(problem, "coarse", str(flowstar_binary()), jobs=1)
+    assert result.verdict == "SAFE", result.reason
+    assert len(result.runs) == 2
+    assert "did not complete" in result.details[0] and "retried with step 0.01" in \
+        result.details[0]
+    assert "fixed steps 0.01" in result.runs["runs/coarse.002.model"]
