@@ -321,17 +321,18 @@ def test_a_held_input_beside_cos_3t_is_decided(tmp_path):
 
 @needs_flowstar
 def test_the_ladder_halves_a_step_too_large_before_splitting(tmp_path):
-    """Step 0.02 is beyond the motor's limit (h·‖A‖∞ ≳ 1: "not completed", spec §7); the
-    first rung, step 0.01, completes and proves the example's property."""
+    """At step 0.05 the example's enclosure of the speed reaches [-13, 27] (UNKNOWN for
+    Motor_av >= 20; the simulated range is [-2.5, 13.0]); the first rung, step 0.025,
+    proves it, before any split."""
     from cyphy.verify.flowstar.check import check
 
     report = Report()
-    scenario = load_scenario(_example(tmp_path, "coarse", ("step = 0.01", "step = 0.02"),
+    scenario = load_scenario(_example(tmp_path, "coarse", ("step = 0.01", "step = 0.05"),
                                       ("horizon = 2.0", "horizon = 1.3")), report)
     problem, _ = build_problem([DCMOTOR], scenario, report)
     result = check(problem, "coarse", str(flowstar_binary()), jobs=1)
     assert result.verdict == "SAFE", result.reason
     assert len(result.runs) == 2
-    assert "did not complete" in result.details[0] and "retried with step 0.01" in \
-        result.details[0]
-    assert "fixed steps 0.01" in result.runs["runs/coarse.002.model"]
+    assert result.details[0].startswith("  run: UNKNOWN") and \
+        result.details[0].endswith("retried with step 0.025")
+    assert "fixed steps 0.025" in result.runs["runs/coarse.002.model"]
