@@ -336,3 +336,68 @@ def test_the_ladder_halves_a_step_too_large_before_splitting(tmp_path):
     assert result.details[0].startswith("  run: UNKNOWN") and \
         result.details[0].endswith("retried with step 0.025")
     assert "fixed steps 0.025" in result.runs["runs/coarse.002.model"]
+
+
+# --------------------------------------------------------------------------- 5. for all time
+
+# cruise (drive(8)) and coast (drive(6)) on the range finder's event; the obstacle stays far,
+# so every cycle of 0.5 s (cycle = 5) jumps from cruise to cruise. The motor's equilibrium
+# under drive(8) is w = 8, i = 1.6, z = 0.4; the box around it below is invariant.
+PERIODIC = HEAD.format(horizon=2.0, av="[7.8, 8.2]", distance="[3, 3.1]", env="0").replace(
+    "Motor_i = 0", "Motor_i = [1.38, 1.82]").replace("Motor_int1 = 0", "Motor_int1 = [0.36, 0.44]"
+    ).replace("tscale = 0.1", "tscale = 0.1\ncycle = 5") + """[controller]
+initial = "cruise"
+[controller.states.cruise]
+calls = ["drive(8)"]
+[controller.states.coast]
+calls = ["drive(6)"]
+[[controller.transitions]]
+from = "cruise"
+to = "coast"
+when = "near"
+[[controller.transitions]]
+from = "coast"
+to = "cruise"
+when = "not near"
+[unsafe]
+constraints = ["Motor_av >= 20"]
+"""
+
+
+def _maps_box_inside(period: float) -> bool:
+    """The independent oracle: the motor's hand-written linear flow (see _decay_peak) with
+    wref = 8, shifted to its equilibrium, maps the box's half-widths r strictly inside
+    themselves after one period: |expm(A T)| r < r componentwise."""
+    import numpy as np
+    from scipy.linalg import expm
+
+    a = np.array([[-1.0, 5.0, 0.0], [-20.5, -10.0, 50.0], [-1.0, 0.0, 0.0]])
+    assert np.allclose(a @ np.array([8.0, 1.6, 0.4]) + np.array([0, 160.0, 8.0]), 0)
+    r = np.array([0.2, 0.22, 0.04])
+    return bool(np.all(np.abs(expm(a * period)) @ r < r))
+
+
+@needs_flowstar
+def test_a_periodic_controller_whose_box_recurs_is_safe_for_every_horizon(tmp_path):
+    from cyphy.verify.flowstar.check import check, parts
+    from cyphy.verify.flowstar.invariant import invariant_model
+
+    assert _maps_box_inside(0.5)
+    assert not _maps_box_inside(0.1)  # with a cycle of 0.1 s no such box recurs
+    problem = _problem(tmp_path, PERIODIC, "periodic")
+    assert invariant_model(problem, "cycle") is None  # the angle grows from its point
+    (part,) = parts(problem)  # the speed's part leaves the angle out
+    model = parse_model(invariant_model(part, "cycle"))
+    # one cycle, then the sinks: 2 faces per coordinate that moves; the distance does not
+    assert set(model.unsafe) == {"cruise", "cyphy_elsewhere"} | {
+        f"cyphy_face{k}" for k in range(1, 7)}
+    result = check(problem, "periodic", str(flowstar_binary()), jobs=1)
+    assert result.verdict == "SAFE", result.reason
+    assert "for every horizon" in result.reason
+    # the obstacle approaching (never near within 2 s): the distance leaves the box, so
+    # the same SAFE holds up to the horizon only
+    moving = _problem(tmp_path, PERIODIC.replace('Range_distance = "0"',
+                                                 'Range_distance = "-0.1"'), "moving")
+    result = check(moving, "moving", str(flowstar_binary()), jobs=1)
+    assert result.verdict == "SAFE" and "up to the horizon of 2 s" in result.reason, \
+        result.reason

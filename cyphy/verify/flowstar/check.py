@@ -286,9 +286,10 @@ def check(p: Problem, name: str, binary: str, timeout: float | None = None,
         what = "every disjunct of the unsafe set" if len(disjuncts) > 1 else "the initial set"
         jointly = " (its independent parts jointly: none proved it alone)" if any(
             pc.joint and pc.proved for pc in pieces) else ""
+        scope = _for_all_time(disjuncts, name, binary, timeout, runs, notes)
         return Result("SAFE", f"Flow* proved {what} safe{jointly} in {count} run"
-                      f"{'s' if count > 1 else ''}, every computation completed", elapsed,
-                      details(), runs=runs)
+                      f"{'s' if count > 1 else ''}, every computation completed; {scope}",
+                      time.perf_counter() - started, details(), runs=runs)
     unsafe = [o for pc in pieces for o in pc.outcomes if o.verdict == "UNSAFE"]
     if unsafe:
         return Result("UNKNOWN", "Flow* found a flowpipe inside the unsafe set, but no "
@@ -299,6 +300,37 @@ def check(p: Problem, name: str, binary: str, timeout: float | None = None,
              for t, o in zip(pc.tasks, pc.outcomes) if o.verdict != "SAFE"]
     return Result("UNKNOWN", "not proved: " + "; ".join(open_[:6]) +
                   (" …" if len(open_) > 6 else ""), elapsed, details(), runs=runs)
+
+
+def _for_all_time(disjuncts: list[Problem], name: str, binary: str, timeout: float | None,
+                  runs: dict[str, str], notes: list[str]) -> str:
+    """Which SAFE it is: for every horizon when, for each disjunct, some independent part's
+    initial box is an inductive invariant that one cycle keeps clear of the unsafe set
+    (:mod:`cyphy.verify.flowstar.invariant`, one Flow* run per part), else up to the
+    horizon. The runs are recorded in ``runs`` and ``notes``."""
+    from cyphy.verify.flowstar.invariant import invariant_model
+
+    horizon = f"up to the horizon of {disjuncts[0].scenario.horizon:g} s"
+    candidates = [(j, part, invariant_model(part, name)) for j, d in enumerate(disjuncts)
+                  for part in parts(d)]
+    candidates = [(j, part, text) for j, part, text in candidates if text is not None]
+    if not {j for j, _, _ in candidates} >= set(range(len(disjuncts))):
+        return f"{horizon} (no invariant to check: the clock is read, or a point " \
+            "coordinate changes over a cycle)"
+    tasks = [Task(f"invariant of {part.scenario.initial} [{', '.join(part.states)}]", part,
+                  text) for _, part, text in candidates]
+    outcomes = [run_text(t.text, binary, timeout, 1) for t in tasks]  # one jump: a cycle
+    for task, outcome in zip(tasks, outcomes):
+        file = f"runs/{name}.{len(runs) + 1:03d}.model"
+        runs[file] = task.text
+        notes.append(f"  {task.label}: {outcome.verdict} ({outcome.reason}) [{file}]")
+    held = {j for (j, _, _), o in zip(candidates, outcomes) if o.verdict == "SAFE"}
+    if held >= set(range(len(disjuncts))):
+        period = disjuncts[0].scenario.period
+        return ("for every horizon: one cycle of "
+                f"{period:g} s from the initial box ends inside it and avoids the unsafe "
+                "set (an inductive invariant, checked by Flow*)")
+    return f"{horizon} (the initial box is not proved invariant over one cycle)"
 
 
 def _next_round(disjuncts: list[Problem], pieces: list[_Piece], proved: set[int], name: str,

@@ -692,8 +692,10 @@ def _ode(rhs: dict[str, Any], variables: list[Any]) -> tuple[str, dict[str, str]
     when every one is affine with numeric coefficients (Flow*'s linear integrator keeps
     the enclosure of a stable flow tight for any horizon, where ``poly ode 2``'s grows
     until the computation stops, spec §7), else ``poly ode 2`` when polynomial, else
-    ``nonpoly ode``."""
-    if all(_affine(f, variables) is not None for f in rhs.values()):
+    ``nonpoly ode``. Never an all-zero ``lti ode``: Flow* 2.1.0 crashes on one (tested:
+    segmentation fault)."""
+    if any(f != 0 for f in rhs.values()) and \
+            all(_affine(f, variables) is not None for f in rhs.values()):
         return "lti ode", {x: _lti_text(_affine(f, variables), variables)
                            for x, f in rhs.items()}
     poly = all(f.is_polynomial(*variables) for f in rhs.values())
