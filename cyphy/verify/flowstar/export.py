@@ -715,10 +715,12 @@ def _affine(f: Any, variables: list[Any]) -> tuple[list[Any], Any] | None:
 
 
 def _lti_text(affine: tuple[list[Any], Any], variables: list[Any]) -> str:
-    """``lti ode`` syntax (spec §4.5): a sum or difference of ``NUM*ID`` terms and ``NUM``,
-    no parentheses; a leading minus is part of the first number."""
+    """``lti ode`` syntax (spec §4.5): a sum or difference of ``NUM*ID``, ``ID`` and ``NUM``
+    terms, no parentheses; a leading minus is part of the first number (or, before a name,
+    the grammar's unary minus)."""
     coeffs, constant = affine
-    terms = [(c, f"{number(c)}*{v}") for c, v in zip(coeffs, variables) if c != 0]
+    terms = [(c, str(v) if abs(c) == 1 else f"{number(c)}*{v}")
+             for c, v in zip(coeffs, variables) if c != 0]
     if constant != 0 or not terms:
         terms.append((constant, number(constant)))
     out = ""
