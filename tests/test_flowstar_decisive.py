@@ -401,3 +401,24 @@ def test_a_periodic_controller_whose_box_recurs_is_safe_for_every_horizon(tmp_pa
     result = check(moving, "moving", str(flowstar_binary()), jobs=1)
     assert result.verdict == "SAFE" and "up to the horizon of 2 s" in result.reason, \
         result.reason
+
+
+@pytest.mark.parametrize("flowpipes, scope", [(10, "up to the horizon of 2 s"),
+                                              (60, "for every horizon")])
+def test_an_invariant_safe_counts_only_when_the_jumps_reached_the_sinks(tmp_path, flowpipes,
+                                                                        scope):
+    """A scripted Flow* that says SAFE for every model: with no more flowpipes than one
+    cycle of 0.5 s at step 0.01 has (50 steps and the one ending on the guard), no jump
+    reached a sink and the invariant's SAFE would be vacuous."""
+    import sys
+
+    from cyphy.verify.flowstar.check import check
+
+    script = tmp_path / "flowstar"
+    script.write_text(
+        f"#!{sys.executable}\nimport sys\nsys.stdin.read()\n"
+        f"print('Computation completed: {flowpipes} flowpipe(s) computed.')\n"
+        "print('Result of the safety verification on the computed flowpipes: SAFE')\n")
+    script.chmod(0o755)
+    result = check(_problem(tmp_path, PERIODIC, "periodic"), "periodic", str(script), jobs=1)
+    assert result.verdict == "SAFE" and scope in result.reason, result.reason

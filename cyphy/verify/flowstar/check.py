@@ -37,6 +37,7 @@ Why each step is sound:
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 import re
 import time
@@ -324,13 +325,24 @@ def _for_all_time(disjuncts: list[Problem], name: str, binary: str, timeout: flo
         file = f"runs/{name}.{len(runs) + 1:03d}.model"
         runs[file] = task.text
         notes.append(f"  {task.label}: {outcome.verdict} ({outcome.reason}) [{file}]")
-    held = {j for (j, _, _), o in zip(candidates, outcomes) if o.verdict == "SAFE"}
+    # a SAFE counts only when a jump reached a sink: more flowpipes than the cycle alone
+    # has (its steps and the one ending on the guard), else the check would be vacuous
+    held = {j for (j, part, _), o in zip(candidates, outcomes) if o.verdict == "SAFE" and
+            (o.flowpipes or 0) >= _cycle_flowpipes(part) + 1}
     if held >= set(range(len(disjuncts))):
         period = disjuncts[0].scenario.period
         return ("for every horizon: one cycle of "
                 f"{period:g} s from the initial box ends inside it and avoids the unsafe "
                 "set (an inductive invariant, checked by Flow*)")
     return f"{horizon} (the initial box is not proved invariant over one cycle)"
+
+
+def _cycle_flowpipes(p: Problem) -> int:
+    """The most flowpipes one cycle alone can take: its steps (the smallest step, when
+    adaptive) and the one ending on the guard ``timer = cycle × tscale``."""
+    step = p.scenario.settings.step
+    smallest = step[0] if isinstance(step, tuple) else step
+    return math.ceil(p.scenario.period / smallest - 1e-9) + 1
 
 
 def _next_round(disjuncts: list[Problem], pieces: list[_Piece], proved: set[int], name: str,
