@@ -70,7 +70,10 @@ def reach_time(path: Path, binary: str, out: Path, timeout: float) -> tuple[floa
     except subprocess.TimeoutExpired:
         return time.perf_counter() - started, f"(no verdict within {timeout:g} s)"
     text = done.stdout or done.stderr
-    return time.perf_counter() - started, text.splitlines()[0][:60] if text else ""
+    line = text.splitlines()[0] if text else ""
+    scope = " (for every horizon)" if "for every horizon" in line else \
+        " (up to the horizon)" if line.startswith("SAFE") else ""
+    return time.perf_counter() - started, line.split(":")[0] + scope
 
 
 def main() -> int:
