@@ -88,3 +88,69 @@ def test_show_on_ball_and_universal_joints_gives_pinocchio_efforts(tmp_path: Pat
                                for p in tree.prefixes])
         reference = pin.rnea(robot, robot.createData(), q, qd, qdd)
         assert np.abs(ours - reference).max() <= 1e-9 * np.abs(reference).max()
+
+
+# ----------------------------------------------------------------------------- --const
+
+CONST_PENDULUM = """
+import physmod::joints::*
+
+pmodel P {
+    const M2: real = 2.0
+    const L: real
+    local link Base {
+        def { inertial information { mass 1.0 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+        jref J = Revolute {
+            instantiation AXIS = (|1, 0, 0|)
+            flexibly connected to Bob
+        }
+    }
+    local link Bob {
+        pose { x = 0 y = 0 z = L roll = 0 pitch = 0 yaw = 0 }
+        def { inertial information { mass M2 inertia matrix { ixx 0.5 ixy 0 ixz 0 iyy 0.5 iyz 0 izz 0.5 } } }
+    }
+}
+"""
+
+
+def _pendulum_qdd(mass: float, length: float, theta: float) -> float:
+    """By hand: a body of ``mass`` (inertia 0.5 about x at its centre) hanging ``length``
+    below a hinge about x: ``(0.5 + m·L²)·θ̈ = −m·g·L·sin θ``."""
+    return -mass * 9.81 * length * np.sin(theta) / (0.5 + mass * length ** 2)
+
+
+def test_const_overrides_a_declared_value_in_show_solve_and_simulate(tmp_path: Path,
+                                                                     capsys) -> None:
+    folder = _write(tmp_path / "p", CONST_PENDULUM)
+    given = ["--const", "L=-0.5", "--const", "M2=5.0"]
+    assert main(["show", str(folder), "--format", "json", *given]) == 0
+    shown = json.loads(capsys.readouterr().out)
+    assert [link["inertial"]["mass"] for link in shown["links"]] == [1, 5]
+    assert shown["motion"][0]["mass"] == 5
+    assert main(["solve", str(folder), "--format", "json", *given]) == 0
+    out = json.loads(capsys.readouterr().out)
+    from test_articulated import _evaluate
+
+    scope = _evaluate(out, {"J_theta": 0.1, "J_v": 0.0, "J_tau": 0.0})
+    assert scope["J_qdd"] == pytest.approx(_pendulum_qdd(5.0, 0.5, 0.1), rel=1e-12)
+    assert main(["simulate", str(folder), *given, "--init", "J_theta=0.1", "--t-end", "0.01",
+                 "--samples", "2", "--rtol", "1e-10", "--atol", "1e-12"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    header, last = lines[0].split(","), lines[-1].split(",")
+    speed = float(last[header.index("J_v")])
+    assert speed == pytest.approx(_pendulum_qdd(5.0, 0.5, 0.1) * 0.01, rel=1e-3)
+
+
+@pytest.mark.parametrize("command", [["show"], ["solve"], ["simulate", "--t-end", "0.01"],
+                                     ["gen", "--urdf"], ["view"]])
+def test_const_naming_no_constant_is_an_error(tmp_path: Path, capsys, command) -> None:
+    folder = _write(tmp_path / "p", CONST_PENDULUM)
+    extra = ["-o", str(tmp_path / "out")] if command[0] == "gen" else \
+        ["-o", str(tmp_path / "v.png")] if command[0] == "view" else []
+    code = main([*command, str(folder), *extra, "--const", "L=-0.5", "--const", "Lx=3"])
+    captured = capsys.readouterr()
+    assert code == 1
+    assert captured.out == ""
+    assert "E-CONST-NAME" in captured.err and "--const Lx" in captured.err
+    assert "did you mean 'L'?" in captured.err
+    assert not (tmp_path / "out").exists() and not (tmp_path / "v.png").exists()

@@ -176,6 +176,8 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
         return ElaborateResult(checked, None)
     model = run(checked.workspace, checked.resolution, checked.report, options.model,
                 options.consts)  # type: ignore[arg-type]
+    if any(d.code.id == "E-CONST-NAME" for d in checked.report.errors):
+        return ElaborateResult(checked, None)  # a misspelt --const: nothing is shown
     if model is not None and options.default_inertial is not None:
         from cyphy.model.default_inertial import apply_default_inertial
 

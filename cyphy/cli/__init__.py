@@ -748,8 +748,9 @@ def _path_option(parser: argparse.ArgumentParser) -> None:
 
 def _const_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
-                        help="value of a constant that has none (NAME may be qualified: "
-                        "Treel::HEIGHT); repeatable")
+                        help="value of a constant, which wins over the model's own (NAME may be "
+                        "qualified: Treel::HEIGHT; one the model lacks is an error); "
+                        "repeatable")
     parser.add_argument("--consts", metavar="FILE",
                         help="constant values from a TOML or JSON file (NAME = VALUE)")
 

@@ -39,6 +39,8 @@ MODEL = codes.code("E-MODEL", codes.E, "the p-model to elaborate cannot be chose
 EVAL = codes.code("E-EVAL", codes.E, "a constant expression cannot be evaluated")
 MISSING = codes.code("E-CONST", codes.E, "constants without values that a generator needs")
 INDEX = codes.code("E-INDEX", codes.E, "an index range that is not a range of integers")
+CONST_NAME = codes.code("E-CONST-NAME", codes.E,
+                        "a --const or --consts name that names no constant of the model")
 
 DEVICE_KINDS = (ast.DeclKind.INPUT, ast.DeclKind.OUTPUT, ast.DeclKind.INOUT,
                 ast.DeclKind.LOCAL, ast.DeclKind.CONST)
@@ -150,6 +152,7 @@ class _Context:
         self.scopes = Scopes(ws)
         self.consts = dict(consts)
         self.used_consts: set[str] = set()
+        self.declared: set[tuple[str, str, str]] = set()  # (qualified, definition, name)
         self.missing: dict[str, list[Span]] = {}
         self.constants: dict[str, Value] = {}
         self.literals: dict[ex.Expr, Value] = {}
@@ -163,6 +166,7 @@ class _Context:
     # ----- constants
     def binding(self, decl: ast.VarDecl, env: Env | None, qualified: str, definition: str,
                 override: ex.Expr | None = None, override_env: Env | None = None) -> _Binding:
+        self.declared.add((qualified, definition, decl.name))
         if override is not None:
             return _Binding(decl, override, override_env, qualified, definition)
         return _Binding(decl, decl.value, env, qualified, definition)
@@ -179,6 +183,7 @@ class _Context:
                 qualified = f"{package}::{decl.name}" if package else decl.name
                 env = Env(self, decl_file)
                 binding = _Binding(decl, decl.value, env, qualified, qualified)
+                self.declared.add((qualified, qualified, decl.name))
             self._globals[key] = binding
         return self._globals[key]
 
@@ -202,8 +207,10 @@ class _Context:
             return None
         b.state = "busy"
         value: Value | None = None
-        if b.expr is None:
-            value = self._user_value(b)
+        given = self._user_value(b) if b.expr is None or b.expr is b.decl.value else None
+        if given is not None:  # --const wins over the declaration's own value
+            value = given
+        elif b.expr is None:
             if value is None:
                 b.state = "missing"
                 self.missing.setdefault(b.definition, []).append(b.decl.span)
@@ -228,14 +235,28 @@ class _Context:
         name, the definition name, a ``::`` suffix of either, or the bare name."""
         best: tuple[int, str] | None = None
         for key in self.consts:
-            for full in (b.qualified, b.definition):
-                if full == key or full.endswith("::" + key) or key == b.decl.name:
-                    if best is None or len(key) > best[0]:
-                        best = (len(key), key)
+            if _names(key, b.qualified, b.definition, b.decl.name):
+                if best is None or len(key) > best[0]:
+                    best = (len(key), key)
         if best is None:
             return None
         self.used_consts.add(best[1])
         return self.consts[best[1]]
+
+    def report_unknown_consts(self, span: Span) -> None:
+        """Report (``E-CONST-NAME``) each ``--const``/``--consts`` name that names none of
+        the constants the model declares (a typo would otherwise be silently ignored);
+        the commands that elaborate stop on it as on any error."""
+        from cyphy.diagnostics import did_you_mean
+
+        candidates = {n for names in self.declared for n in names}
+        unknown = [key for key in sorted(self.consts) if key not in self.used_consts and
+                   not any(_names(key, *names) for names in self.declared)]
+        for key in unknown:
+            self.report.report(CONST_NAME, f"--const {key}: the model has no constant named "
+                               f"{key}", span, did_you_mean(key, candidates) or
+                               "name a constant the model declares (its bare name, or "
+                               "qualified: Model::Link::NAME)")
 
     def evaluate(self, e: ex.Expr | None, env: Env) -> Value | None:
         """The value of ``e``, or None when it needs a constant without a value (recorded)
@@ -276,6 +297,13 @@ class _Context:
 
 
 # --------------------------------------------------------------------------- elaboration
+
+
+def _names(key: str, qualified: str, definition: str, name: str) -> bool:
+    """Whether a ``--const`` key names the constant: its instance-qualified or definition
+    name, a ``::`` suffix of either, or its bare name."""
+    return key == name or any(full == key or full.endswith("::" + key)
+                              for full in (qualified, definition))
 
 
 def require_constants(model: ElaboratedModel, report: Report, what: str) -> bool:
@@ -358,7 +386,10 @@ def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: 
     model."""
     ctx = _Context(ws, resolution, report, consts or {})
     with collector.paused():  # see cyphy/collector.py
-        return _Elaborator(ctx, devices).run(pm, file)
+        model = _Elaborator(ctx, devices).run(pm, file)
+    if devices:  # the whole model: every constant it declares has been seen
+        ctx.report_unknown_consts(pm.span)
+    return model
 
 
 class _Elaborator:
