@@ -154,3 +154,108 @@ def test_const_naming_no_constant_is_an_error(tmp_path: Path, capsys, command) -
     assert "E-CONST-NAME" in captured.err and "--const Lx" in captured.err
     assert "did you mean 'L'?" in captured.err
     assert not (tmp_path / "out").exists() and not (tmp_path / "v.png").exists()
+
+
+# ----------------------------------------------------------------------------- damping, limits
+
+LIMITED = """
+import physmod::joints::*
+import physmod::sdf::annotations::*
+
+pmodel P {
+    local link Base {
+        def { inertial information { mass 1.0 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 1 } } }
+        jref J = Revolute {
+            annotation Revolute { axis = Axis { xyz = (|0, 1, 0|)
+                dynamics = Dynamics { DYNAMICS }
+                limit = Limit { lower = -1 upper = 1 } } }
+            instantiation AXIS = (|0, 1, 0|)
+            flexibly connected to Bob
+        }
+    }
+    local link Bob {
+        pose { x = 0.5 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
+        def { inertial information { mass 2.0 inertia matrix { ixx 0.01 ixy 0 ixz 0 iyy 0.02 iyz 0 izz 0.03 } } }
+    }
+}
+"""
+
+
+def _mujoco_run(mjcf: Path, times: list[float], qpos0: float = 0.0) -> dict[float, tuple]:
+    """MuJoCo's RK4 at 0.1 ms on cyphy's MJCF export: (position, rate) at ``times``."""
+    mujoco = pytest.importorskip("mujoco")
+    model = mujoco.MjModel.from_xml_path(str(mjcf))
+    model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    model.opt.timestep = 1e-4
+    data = mujoco.MjData(model)
+    data.qpos[0] = qpos0
+    out = {}
+    for step in range(round(max(times) / 1e-4) + 1):
+        t = step * 1e-4
+        for s in times:
+            if abs(t - s) < 1e-9:
+                out[s] = (float(data.qpos[0]), float(data.qvel[0]))
+        mujoco.mj_step(model, data)
+    return out
+
+
+def _simulated(folder: Path, t_end: float, samples: int, numeric: bool = False,
+               init: dict[str, float] | None = None):
+    from cyphy import api
+    from cyphy.backends.simulate import SimulationOptions
+
+    settings = SimulationOptions(t_end=t_end, samples=samples, rtol=1e-10, atol=1e-10,
+                                 init=init or {})
+    result = api.simulate([folder], api.SimulateOptions(simulation=settings,
+                                                        numeric=numeric))
+    assert result.trajectory is not None, result.report.diagnostics
+    return result.trajectory
+
+
+@pytest.mark.parametrize("numeric", [False, True])
+def test_damped_limited_pendulum_stops_at_its_limit_as_in_mujoco(tmp_path: Path,
+                                                                 numeric: bool) -> None:
+    """A pendulum released horizontally, damped (0.5 N·m·s/rad) and limited to ±1 rad:
+    `simulate` (symbolic and numeric paths) follows MuJoCo (RK4) on cyphy's own MJCF export
+    until the stop, then both rest against the limit (the two contact models differ: a
+    few milliradians of penetration)."""
+    folder = _write(tmp_path / "p", LIMITED.replace("DYNAMICS", "damping = 0.5"))
+    assert main(["gen", "--mjcf", str(folder), "-o", str(tmp_path / "mjcf")]) == 0
+    reference = _mujoco_run(tmp_path / "mjcf" / "P.xml", [0.1, 0.2, 0.3, 1.0, 2.0])
+    trajectory = _simulated(folder, 2.0, 21, numeric)
+    theta, speed = trajectory.column("J_theta"), trajectory.column("J_v")
+    for k, t in ((1, 0.1), (2, 0.2), (3, 0.3)):  # before the stop: the same motion
+        assert theta[k] == pytest.approx(reference[t][0], rel=1e-5)
+        assert speed[k] == pytest.approx(reference[t][1], rel=1e-5)
+    assert reference[0.3][0] < 1.0 < reference[1.0][0]  # MuJoCo reached the limit
+    assert theta.max() < 1.03  # it stops there: without the limit it swings to 2.46 rad
+    for t, k in ((1.0, 10), (2.0, 20)):  # and rests against the limit in both
+        assert abs(theta[k] - 1.0) < 5e-3 and abs(reference[t][0] - 1.0) < 5e-3
+        assert abs(speed[k]) < 1e-3 and abs(reference[t][1]) < 1e-3
+
+
+def test_spring_and_damping_follow_mujoco_and_are_in_the_written_out_equations(
+        tmp_path: Path) -> None:
+    """A spring (stiffness 3 N·m/rad about 0.2 rad) and damping within the limits: the
+    whole motion agrees with MuJoCo, and the written-out equation (Flow*, theories) has
+    ``J_tau == M·J_a + h + 0.5·J_v + 3·(J_theta − 0.2)``."""
+    from cyphy import api
+    from cyphy.lang.notation import to_notation
+    from cyphy.semantics.dynamics.rigid_body import motion_equations
+
+    folder = _write(tmp_path / "p", LIMITED.replace(
+        "DYNAMICS", "damping = 0.5 spring_stiffness = 3 spring_reference = 0.2")
+        .replace("lower = -1 upper = 1", "lower = -10 upper = 10")
+        .replace("x = 0.5 y = 0 z = 0", "x = 0 y = 0 z = 0.5"))  # standing: it would fall
+    assert main(["gen", "--mjcf", str(folder), "-o", str(tmp_path / "mjcf")]) == 0
+    text = (tmp_path / "mjcf" / "P.xml").read_text()
+    assert 'stiffness="3"' in text and 'springref="0.2"' in text
+    times = [0.5, 1.0, 2.0]
+    reference = _mujoco_run(tmp_path / "mjcf" / "P.xml", times, qpos0=0.1)
+    trajectory = _simulated(folder, 2.0, 5, init={"J_theta": 0.1})
+    for k, t in ((1, 0.5), (2, 1.0), (4, 2.0)):
+        assert trajectory.column("J_theta")[k] == pytest.approx(reference[t][0], abs=1e-6)
+    model = api.elaborate([folder]).model
+    [(equation, _)] = motion_equations(model)
+    printed = to_notation(equation)
+    assert "0.5 * J_v" in printed and "3.0 * J_theta" in printed, printed

@@ -5,7 +5,7 @@ Nothing here prints or exits; :mod:`cyphy.cli` renders what these functions retu
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
@@ -357,6 +357,8 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
         if reduced.obstacles:
             report_obstacles(reduced, report)
             return result
+        if several:
+            settings = replace(settings, pitches=sim.euler_pitches(tree))
         result.trajectory = sim.simulate_reduced(reduced, settings)
     except AssemblyError as err:
         report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
@@ -625,6 +627,7 @@ def generate_urdf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
                   ) -> Generated:
     """URDF 1.0 (``cyphy gen --urdf``): ``<Model>.urdf``, or one ``<Model>__<Root>.urdf`` per
     tree of links, and the name table. Loops are cut as for ``--target pybullet``."""
+    from cyphy.backends.robot_formats.names import complete_names
     from cyphy.backends.robot_formats.sdf_xml import names_json, to_xml
     from cyphy.backends.robot_formats.urdf import robot_to_urdf
 
@@ -636,7 +639,8 @@ def generate_urdf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
     if report.has_errors:
         return generated
     generated.files = {name: to_xml(node) for name, node in files.items()}
-    generated.files[f"{built.name}.names.json"] = names_json(_names(built))
+    generated.files[f"{built.name}.names.json"] = names_json(
+        complete_names(_names(built), files.values()))
     return generated
 
 
@@ -646,6 +650,7 @@ def generate_mjcf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
     """MuJoCo's MJCF (``cyphy gen --mjcf``): ``<Model>.xml`` with every tree of links, a
     motor per driven joint, loops closed by equality constraints; and the name table."""
     from cyphy.backends.robot_formats.mjcf import robot_to_mjcf
+    from cyphy.backends.robot_formats.names import complete_names
     from cyphy.backends.robot_formats.sdf_xml import names_json, to_xml
 
     generated, built, model = robot(paths, options, "mjcf")
@@ -656,8 +661,8 @@ def generate_mjcf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
                          options.free_base)
     if report.has_errors:
         return generated
-    generated.files = {f"{built.name}.xml": to_xml(root),
-                       f"{built.name}.names.json": names_json(_names(built))}
+    generated.files = {f"{built.name}.xml": to_xml(root), f"{built.name}.names.json":
+                       names_json(complete_names(_names(built), [root]))}
     return generated
 
 

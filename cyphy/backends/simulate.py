@@ -53,6 +53,9 @@ class SimulationOptions:
     atol: float = 1e-9
     samples: int = 201  # output instants, evenly spaced over [0, t_end]
     progress: Callable[[float], None] | None = None  # called with the fraction done
+    # the states that are pitches of ZYX Euler angles → what they turn ("ball joint J"):
+    # the run stops with a message where one reaches ±π/2 (the angles' singularity)
+    pitches: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass
@@ -177,7 +180,12 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     def u(tt: float) -> list[float]:
         return [held[n] if n in held else f(tt) for n, f in zip(inputs, given)]
 
+    guarded = [(states.index(n), what) for n, what in sorted(options.pitches.items())
+               if n in states]
+
     def f(tt: float, x: np.ndarray) -> np.ndarray:
+        for k, what in guarded:
+            _pitch_guard(what, float(x[k]), tt)
         return np.asarray(rhs(*x, *u(tt), tt), dtype=float).reshape(-1)
 
     x0 = np.array([float(options.init.get(s, 0.0)) for s in states])
@@ -217,6 +225,33 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     rows = np.vstack(all_rows)
     order = np.unique(times, return_index=True)[1]
     return Trajectory([*states, *outputs], times[order], rows[order], sent)
+
+
+def euler_pitches(tree: Any) -> dict[str, str]:
+    """The coordinates that are pitches of ZYX Euler angles (a ball joint's second, a
+    floating base's ``pitch``), with what they turn, for ``simulate``'s guard."""
+    from cyphy.semantics.dynamics.rigid_body import EULER, coordinate_names
+
+    return {coordinate_names(j, "theta")[-2]:
+            f"{'floating base' if j.kind == 'floating' else 'ball joint'} {j.name}"
+            for j in tree.joints if j.kind in EULER}
+
+
+#: How close to ±π/2 (in ``|cos(pitch)|``) ZYX Euler angles may come: ``q̈ = B⁻¹·w`` loses
+#: about ``1e-16/|cos(pitch)|`` of its relative accuracy (rigid_body.subspace_factors), 1e-7
+#: here, and the rates of yaw and roll grow as ``1/|cos(pitch)|``.
+PITCH_GUARD = 1e-9
+
+
+def _pitch_guard(what: str, pitch: float, t: float) -> None:
+    import math
+
+    if abs(math.cos(pitch)) < PITCH_GUARD:
+        raise SimulationError(
+            f"the {what} reached pitch {pitch:.12g} rad at t = {t:g} s, where its ZYX Euler "
+            "angles are singular (yaw and roll turn about one axis; their rates are "
+            "unbounded)", "turn the joint frame (its pose) so that the motion stays away from "
+            "pitch ±π/2")
 
 
 def _integrate(f: Callable[[float, np.ndarray], np.ndarray], x0: np.ndarray,
@@ -322,17 +357,46 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     constant = all(name not in options.inputs for name in efforts)
     zero = np.zeros(n)
 
+    annotated = _annotated_efforts(tree)
+
     def f(tt: float, x: np.ndarray) -> np.ndarray:
         tau = zero
         if not constant:
             tau = np.zeros(n)
             tau[slots] = [g(tt) for g in given]
+        if annotated is not None:
+            tau = tau + annotated(x[:n], x[n:])
         return np.concatenate([x[n:], forward_dynamics(tree, x[:n], x[n:], tau)])
 
     x0 = np.array([float(options.init.get(s, 0.0)) for s in states])
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
     times, xs = _integrate(f, x0, grid, options)
     return Trajectory(states, times, xs.T.copy())
+
+
+def _annotated_efforts(tree: Any) -> Callable[[np.ndarray, np.ndarray], np.ndarray] | None:
+    """The efforts of the joints' annotated damping, springs and limit stops as a function
+    of the coordinates and rates (:mod:`cyphy.semantics.dynamics.joint_forces`, as the
+    symbolic path has them), or None when no joint has any."""
+    from cyphy.semantics.dynamics.joint_forces import axis_forces, passive_efforts, stop
+    from cyphy.semantics.dynamics.rigid_body import mass_matrix
+
+    forces = [(k, f) for joint, start in zip(tree.joints, tree.offsets)
+              for k, f in enumerate(axis_forces(joint.kind, joint.element), start=start)
+              if f.passive or f.limited]
+    if not forces:
+        return None
+    rest = np.diag(mass_matrix(tree, [0.0] * tree.dof)).astype(float)
+    index = np.array([k for k, _ in forces], dtype=int)
+    axes = [f for _, f in forces]
+
+    def efforts(q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        out = np.zeros(len(q))
+        out[index] = passive_efforts(axes, q[index], qd[index])
+        out[index] += [stop(f, rest[k], q[k], qd[k]) for k, f in forces]
+        return out
+
+    return efforts
 
 
 # ----------------------------------------------------------------------------- output
