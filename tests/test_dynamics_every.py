@@ -259,3 +259,214 @@ def test_spring_and_damping_follow_mujoco_and_are_in_the_written_out_equations(
     [(equation, _)] = motion_equations(model)
     printed = to_notation(equation)
     assert "0.5 * J_v" in printed and "3.0 * J_theta" in printed, printed
+
+
+# ----------------------------------------------------------------------------- near pitch ±π/2
+
+def _rates(angles):
+    """By hand, for ZYX Euler angles (yaw, pitch, roll), ``R = Rz·Ry·Rx``: the matrix that
+    turns their rates into the angular velocity in the turned frame."""
+    _, p, r = angles
+    return np.array([[-np.sin(p), 0.0, 1.0],
+                     [np.cos(p) * np.sin(r), np.cos(r), 0.0],
+                     [np.cos(p) * np.cos(r), -np.sin(r), 0.0]])
+
+
+def _rates_derivative(angles, speeds):
+    """``d/dt(E)·(ẏ, ṗ, ṙ)``, differentiated by hand."""
+    _, p, r = angles
+    dy, dp, dr = speeds
+    sp, cp, sr, cr = np.sin(p), np.cos(p), np.sin(r), np.cos(r)
+    return np.array([-cp * dp * dy,
+                     -sr * dr * dp + dy * (-sp * dp * sr + cp * cr * dr),
+                     -cr * dr * dp + dy * (-sp * dp * cr - cp * sr * dr)])
+
+
+def _quaternion(angles):
+    from scipy.spatial.transform import Rotation
+
+    x, y, z, w = Rotation.from_euler("ZYX", angles).as_quat()
+    return np.array([w, x, y, z])
+
+
+def _euler_accelerations(angles, speeds, angular_acceleration):
+    """MuJoCo's angular acceleration (turned frame) as the angles' accelerations:
+    ``q̈ = E⁻¹·(ω̇ − Ė·q̇)``."""
+    return np.linalg.solve(_rates(angles), angular_acceleration
+                           - _rates_derivative(angles, speeds))
+
+
+DELTAS = (1e-4, 1e-6, 1e-8)
+
+
+@pytest.mark.parametrize("delta", DELTAS)
+def test_free_body_at_rest_near_pitch_half_pi_falls_freely(tmp_path: Path, capsys,
+                                                           delta: float) -> None:
+    """A free body at rest, its pitch ``δ`` from π/2: it falls with ``g`` and does not turn
+    (by hand), in solve's definitions and in the numeric algorithm (the issue: ``z̈ = −10.3``
+    at 1e-7, angular accelerations of −57 rad/s² at 1e-8)."""
+    from test_dynamics_joints import FREE, _definitions_at
+
+    folder = _write(tmp_path / "free", FREE)
+    assert main(["solve", str(folder), "--floating-base", "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    values = {n: 0.0 for n in out["states"]}
+    values["Body_pitch"] = np.pi / 2 - delta
+    scope = _definitions_at(out, values)
+    expected = np.array([0.0, 0.0, -9.81, 0.0, 0.0, 0.0])
+    ours = np.array([scope[f"Body_qdd_{k}"] for k in range(1, 7)])
+    assert np.abs(ours - expected).max() <= 1e-6 * 9.81
+    tree = dynamics.kinematic_tree(_elaborated(folder), floating_base=True)
+    q = np.zeros(6)
+    q[4] = np.pi / 2 - delta
+    numeric = dynamics.forward_dynamics(tree, q, np.zeros(6), np.zeros(6))
+    assert np.abs(numeric - expected).max() <= 1e-6 * 9.81
+
+
+def _mujoco_accelerations(mjcf: Path, qpos, qvel):
+    mujoco = pytest.importorskip("mujoco")
+    model = mujoco.MjModel.from_xml_path(str(mjcf))
+    data = mujoco.MjData(model)
+    data.qpos[:] = qpos
+    data.qvel[:] = qvel
+    mujoco.mj_forward(model, data)
+    return data.qacc.copy()
+
+
+@pytest.mark.parametrize("delta", DELTAS)
+def test_moving_free_body_near_pitch_half_pi_agrees_with_mujoco(tmp_path: Path, capsys,
+                                                                delta: float) -> None:
+    """A free body turning and moving, pitch ``δ`` from π/2: solve's definitions and the
+    numeric algorithm against MuJoCo's free joint (quaternion) on cyphy's MJCF export, its
+    angular acceleration turned into the angles' by hand, to 1e-6 relative (an inertia
+    inside the triangle inequality: on its boundary, MuJoCo's ``balanceinertia`` changes it)."""
+    from test_dynamics_joints import FREE, _definitions_at
+
+    folder = _write(tmp_path / "free", FREE.replace("izz 0.3", "izz 0.25"))
+    assert main(["gen", "--mjcf", "--mjcf-free-base", str(folder), "-o",
+                 str(tmp_path / "mjcf")]) == 0
+    capsys.readouterr()
+    assert main(["solve", str(folder), "--floating-base", "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    rng = np.random.default_rng(int(-np.log10(delta)))
+    position = rng.uniform(-1, 1, 3)
+    angles = np.array([rng.uniform(-2, 2), np.pi / 2 - delta, rng.uniform(-2, 2)])
+    velocity, speeds = rng.uniform(-1, 1, 3), rng.uniform(-1, 1, 3)
+    qacc = _mujoco_accelerations(tmp_path / "mjcf" / "Free.xml",
+                                 [*(position + [0, 0, 1]), *_quaternion(angles)],
+                                 [*velocity, *(_rates(angles) @ speeds)])
+    reference = np.concatenate([qacc[:3], _euler_accelerations(angles, speeds, qacc[3:])])
+    names = ("x", "y", "z", "yaw", "pitch", "roll")
+    values = dict(zip([f"Body_{n}" for n in names], [*position, *angles]))
+    values.update(zip([f"Body_v{n}" for n in names], [*velocity, *speeds]))
+    scope = _definitions_at(out, values)
+    ours = np.array([scope[f"Body_qdd_{k}"] for k in range(1, 7)])
+    scale = np.abs(reference).max()
+    assert np.abs(ours - reference).max() <= 1e-6 * scale, (ours, reference)
+    tree = dynamics.kinematic_tree(_elaborated(folder), floating_base=True)
+    numeric = dynamics.forward_dynamics(tree, [*position, *angles], [*velocity, *speeds],
+                                        np.zeros(6))
+    assert np.abs(numeric - reference).max() <= 1e-6 * scale
+
+
+@pytest.mark.parametrize("delta", DELTAS)
+def test_ball_joint_near_pitch_half_pi_agrees_with_mujoco(tmp_path: Path, capsys,
+                                                          delta: float) -> None:
+    """The ball–universal chain, the ball joint's pitch ``δ`` from π/2, moving: solve's
+    definitions and the numeric algorithm against MuJoCo's ball joint (quaternion) on
+    cyphy's MJCF export (the universal joint as its two hinges), to 1e-6 relative."""
+    from test_dynamics_joints import _definitions_at
+
+    folder = _write(tmp_path / "multi", MULTI)
+    assert main(["gen", "--mjcf", str(folder), "-o", str(tmp_path / "mjcf")]) == 0
+    capsys.readouterr()
+    assert main(["solve", str(folder), "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    rng = np.random.default_rng(int(-np.log10(delta)))
+    angles = np.array([rng.uniform(-2, 2), np.pi / 2 - delta, rng.uniform(-2, 2)])
+    speeds, wrist, wrist_speeds = (rng.uniform(-1, 1, n) for n in (3, 2, 2))
+    qacc = _mujoco_accelerations(tmp_path / "mjcf" / "Multi.xml",
+                                 [*_quaternion(angles), *wrist],
+                                 [*(_rates(angles) @ speeds), *wrist_speeds])
+    reference = np.concatenate([_euler_accelerations(angles, speeds, qacc[:3]), qacc[3:]])
+    values = {f"Shoulder_theta_{k + 1}": x for k, x in enumerate(angles)}
+    values.update({f"Shoulder_v_{k + 1}": x for k, x in enumerate(speeds)})
+    values.update({f"Wrist_theta_{k + 1}": x for k, x in enumerate(wrist)})
+    values.update({f"Wrist_v_{k + 1}": x for k, x in enumerate(wrist_speeds)})
+    values.update({n: 0.0 for n in out["inputs"]})  # the efforts
+    scope = _definitions_at(out, values)
+    ours = np.array([scope[f"{j}_qdd_{k}"] for j, n in (("Shoulder", 3), ("Wrist", 2))
+                     for k in range(1, n + 1)])
+    scale = np.abs(reference).max()
+    assert np.abs(ours - reference).max() <= 1e-6 * scale, (ours, reference)
+    tree = dynamics.kinematic_tree(_elaborated(folder))
+    numeric = dynamics.forward_dynamics(tree, [*angles, *wrist], [*speeds, *wrist_speeds],
+                                        np.zeros(5))
+    assert np.abs(numeric - reference).max() <= 1e-6 * scale
+
+
+# ----------------------------------------------------------------------------- names
+
+_FUNCTIONS = {"cos", "sin", "Piecewise", "True", "False"}
+
+
+def _undefined(out: dict) -> set[str]:
+    """The names solve's JSON uses (in its ODEs, outputs and definitions) that it defines
+    nowhere (not a state, input, parameter, definition or output)."""
+    import re
+
+    defined = {*out["states"], *out["inputs"], *out["parameters"], *out["outputs"],
+               *(d["name"] for d in out["definitions"])}
+    used: set[str] = set()
+    for text in [*out["odes"].values(), *out["outputs"].values(),
+                 *(d["value"] for d in out["definitions"])]:
+        used |= set(re.findall(r"(?<![0-9.eE])[A-Za-z_][A-Za-z0-9_]*", text))
+    return used - defined - _FUNCTIONS
+
+
+@pytest.mark.parametrize("model,options", [("multi", ()), ("multi", ("--floating-base",)),
+                                           ("manipulator", ())])
+def test_every_name_in_solve_json_is_defined(tmp_path: Path, capsys, model: str,
+                                             options: tuple[str, ...]) -> None:
+    """The issue: ``"J1_fV_1": "J1_pV_1"`` with ``J1_pV_1`` defined nowhere (a joint's
+    parent-twist input that only an output reads)."""
+    folder = _write(tmp_path / "multi", MULTI) if model == "multi" else \
+        Path(__file__).resolve().parent.parent / "examples" / "manipulator"
+    assert main(["solve", str(folder), "--format", "json", *options]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["outputs"] and not _undefined(out)
+
+
+def test_exports_name_every_joint_and_the_urdf_ball_has_solves_coordinates(
+        tmp_path: Path) -> None:
+    """Every link, body and joint name of the URDF and MJCF exports is in names.json; the
+    URDF's three revolute joints of the ball joint are its yaw, pitch and roll (coordinates
+    ``[1]``…``[3]``), so Pinocchio's mass matrix of the URDF at cyphy's coordinates is
+    cyphy's."""
+    import re
+
+    from robot_exports import pinocchio_mass
+
+    folder = _write(tmp_path / "multi", MULTI)
+    for target, extra in (("urdf", ()), ("mjcf", ()), ("mjcf", ("--mjcf-free-base",))):
+        out = tmp_path / f"{target}{len(extra)}"
+        assert main(["gen", f"--{target}", str(folder), "-o", str(out), *extra]) == 0
+        [table_file] = out.glob("*.names.json")
+        table = json.loads(table_file.read_text())
+        assert len(set(table.values())) == len(table)  # it inverts
+        for path in out.glob("*.urdf" if target == "urdf" else "*.xml"):
+            text = path.read_text()
+            named = set(re.findall(r'<(?:link|body|joint|freejoint) name="([^"]+)"', text))
+            assert named <= set(table), named - set(table)
+    table = json.loads((tmp_path / "urdf0" / "Multi.names.json").read_text())
+    exported = {qualified: name for name, qualified in table.items()}
+    tree = dynamics.kinematic_tree(_elaborated(folder))
+    coordinates = [exported[f"{j.name}[{k}]" if k > 1 else j.name]
+                   for j in tree.joints for k in range(1, j.dof + 1)]
+    rng = np.random.default_rng(5)
+    for _ in range(3):
+        q = rng.uniform(-1.2, 1.2, tree.dof)
+        names, m = pinocchio_mass(tmp_path / "urdf0" / "Multi.urdf", dict(zip(coordinates, q)))
+        order = [names.index(n) for n in coordinates]
+        ours = dynamics.mass_matrix(tree, q)
+        assert np.abs(m[np.ix_(order, order)] - ours).max() <= 1e-9 * np.abs(ours).max()

@@ -3,8 +3,9 @@ and ``gen --mjcf``): every link, body and joint the file names, not only those t
 for one RoboSim element. A joint of several coordinates is written as several (a universal
 joint as two hinges, a ball joint in URDF as three revolute joints through massless links,
 a floating base as MuJoCo's free joint): each extra name maps to its coordinate in the
-notation's vector form, ``Model::Link::Wrist[2]`` (``cyphy solve``'s ``Wrist_theta_2``), and
-a massless link to the joint it serves."""
+notation's vector form, ``Model::Link::Wrist[2]`` (``cyphy solve``'s ``Wrist_theta_2``), a
+massless link between them to ``Model::Link::Wrist (link 1)``, and MuJoCo's free joint to
+``Model::Root (floating base)``: every value is one name's, so the table inverts."""
 
 from __future__ import annotations
 
@@ -19,20 +20,21 @@ _TAGS = frozenset({"link", "body", "joint", "freejoint"})
 
 def complete_names(table: dict[str, str], roots: Iterable[Node]) -> dict[str, str]:
     """``table`` (exported name → qualified name) with every other name the files give to a
-    link, body or joint: ``J__2`` → ``<J's qualified name>[2]``, ``J__2_link`` → ``J``'s
-    qualified name, ``B__free`` → the floating base's root link."""
+    link, body or joint: ``J__2`` → ``<J's qualified name>[2]``, ``J__2_link`` →
+    ``<J's> (link 2)``, ``B__free`` → ``<B's> (floating base)``."""
     out = dict(table)
     for node in _walk(roots):
         name = node.attrs.get("name")
         if node.tag not in _TAGS or name is None or name in out:
             continue
         if node.tag == "freejoint" and name.endswith("__free") and name[:-6] in table:
-            out[name] = table[name[:-6]]
+            out[name] = f"{table[name[:-6]]} (floating base)"
             continue
         found = _EXTRA.match(name)
         if found and found["base"] in table:
             base = table[found["base"]]
-            out[name] = base if found["link"] else f"{base}[{found['index']}]"
+            out[name] = f"{base} (link {found['index']})" if found["link"] else \
+                f"{base}[{found['index']}]"
     return out
 
 
