@@ -470,3 +470,23 @@ def test_exports_name_every_joint_and_the_urdf_ball_has_solves_coordinates(
         order = [names.index(n) for n in coordinates]
         ours = dynamics.mass_matrix(tree, q)
         assert np.abs(m[np.ix_(order, order)] - ours).max() <= 1e-9 * np.abs(ours).max()
+
+
+def test_simulate_of_a_free_body_at_rest_near_pitch_half_pi_falls(tmp_path: Path) -> None:
+    """The issue: at pitch π/2 − 1e-6 at rest, `simulate` ran past 600 s. Now it falls
+    (z = −g·t²/2, by hand) without turning, in both paths."""
+    from test_dynamics_joints import FREE
+
+    folder = _write(tmp_path / "free", FREE)
+    from cyphy import api
+    from cyphy.backends.simulate import SimulationOptions
+
+    pitch = np.pi / 2 - 1e-6
+    for numeric in (False, True):
+        settings = SimulationOptions(t_end=1.0, samples=3, init={"Body_pitch": pitch})
+        result = api.simulate([folder], api.SimulateOptions(
+            simulation=settings, numeric=numeric, floating_base=True))
+        assert result.trajectory is not None, result.report.diagnostics
+        z = result.trajectory.column("Body_z")
+        assert z[-1] == pytest.approx(-9.81 / 2, rel=1e-6)
+        assert np.abs(result.trajectory.column("Body_pitch") - pitch).max() < 1e-9

@@ -31,8 +31,12 @@ subspace ``S`` (6×nᵢ, :func:`joint_subspace`): the screw axis of a revolute o
 joint as one column of numbers; for a joint of several coordinates (universal, ball, the
 floating base: ``dynamics.DOF``) ``S(q)`` depends on the coordinates, its entries named
 ``p_S_k_c``, and the twist gains the rate of the subspace ``Ṡ·q̇`` (``p_dS_k``, in ``c``).
-Such a joint has ``p_U_k_c``, ``p_D_a_b`` (symmetric, a ≤ b), ``D⁻¹`` by its adjugate
-(``p_det``, ``p_Dinv_a_b``), ``p_u_a`` and ``p_qdd_a``, its coordinates named as
+Such a joint has ``p_U_k_c``, ``p_D_a_b`` (symmetric, a ≤ b), ``D⁻¹`` by its LDLᵀ
+factorisation (``p_Dd_k``, ``p_L_a_b``, ``p_Li_a_b``, ``p_Dinv_a_b``), ``p_u_a`` and
+``p_qdd_a``. A ball joint or floating base runs the recursion in the rates ``w = B·q̇`` of
+``S(q) = S0·B(q)`` (its angular velocity, ``p_S0_k_c``), whose ``D`` has no singularity, and
+turns ``p_w_a`` into ``p_qdd_a = B⁻¹·w`` (``1/cos(pitch)`` as ``1/p_cp``), the only loss of
+accuracy near pitch ±π/2 being the Euler rates' own. Its coordinates are named as
 ``cyphy solve`` names a vector's components (``Wrist_theta_1``; a floating base's
 ``<Root>_x`` … and rates ``<Root>_vx`` …, :func:`cyphy.semantics.dynamics.rigid_body.coordinate_names`,
 with no effort: nothing drives it).
