@@ -408,7 +408,7 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
     subspaces: list[list[list[Any]]] = []  # S, 6 rows of dof columns
     twists: list[list[Any]] = []
     products: list[list[Any]] = []  # c = ad(V)·S·q̇ (+ Ṡ·q̇)
-    factors: dict[int, tuple[list[list[Any]], list[list[Any]] | None]] = {}  # (S0, B⁻¹)
+    factors: dict[int, tuple[list[list[Any]], list[list[Any]]]] = {}  # (S0, B⁻¹)
     for i, joint in enumerate(tree.joints):
         p = joint.prefix
         q = coordinates(joint, "theta")
