@@ -490,3 +490,22 @@ def test_simulate_of_a_free_body_at_rest_near_pitch_half_pi_falls(tmp_path: Path
         z = result.trajectory.column("Body_z")
         assert z[-1] == pytest.approx(-9.81 / 2, rel=1e-6)
         assert np.abs(result.trajectory.column("Body_pitch") - pitch).max() < 1e-9
+
+
+@pytest.mark.parametrize("command", [
+    ["check"], ["show"], ["show", "--format", "json"], ["solve"], ["solve", "--floating-base"],
+    ["simulate", "--t-end", "0.05", "--samples", "3"],
+    ["simulate", "--t-end", "0.05", "--samples", "3", "--numeric", "--floating-base"],
+    ["gen", "--sdf"], ["gen", "--urdf"], ["gen", "--mjcf"], ["gen", "--mjcf", "--mjcf-free-base"],
+    ["view"]])
+def test_every_command_takes_ball_and_universal_joints(tmp_path: Path, capsys,
+                                                       command: list[str]) -> None:
+    """The issue: `show` exited 70 on a ball or universal joint while the other commands
+    worked. Each command on the ball–universal chain succeeds and prints no traceback."""
+    folder = _write(tmp_path / "multi", MULTI)
+    extra = ["-o", str(tmp_path / "out")] if command[0] == "gen" else \
+        ["-o", str(tmp_path / "v.png")] if command[0] == "view" else []
+    assert main([*command, str(folder), *extra]) == 0
+    captured = capsys.readouterr()
+    assert "internal error" not in captured.err and "Traceback" not in captured.err
+    assert captured.out or extra or command == ["check"]
