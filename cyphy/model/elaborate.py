@@ -252,6 +252,10 @@ class _Context:
         candidates = {n for names in self.declared for n in names}
         unknown = [key for key in sorted(self.consts) if key not in self.used_consts and
                    not any(_names(key, *names) for names in self.declared)]
+        if unknown:  # a constant of another part of the files (a d-model's) is no typo
+            elsewhere = _declared_constants(self.ws)
+            candidates |= elsewhere
+            unknown = [key for key in unknown if key.split("::")[-1] not in elsewhere]
         for key in unknown:
             self.report.report(CONST_NAME, f"--const {key}: the model has no constant named "
                                f"{key}", span, did_you_mean(key, candidates) or
@@ -297,6 +301,26 @@ class _Context:
 
 
 # --------------------------------------------------------------------------- elaboration
+
+
+def _declared_constants(ws: Workspace) -> set[str]:
+    """The names of every constant the user's files declare, wherever (a d-model's, an
+    operation's): ``--const`` may give them values for the commands that read them."""
+    import dataclasses
+
+    out: set[str] = set()
+    todo: list[object] = [item for f in ws.user_files() for item in f.items]
+    while todo:
+        node = todo.pop()
+        if isinstance(node, ast.VarDecl):
+            if node.kind is ast.DeclKind.CONST:
+                out.add(node.name)
+            continue
+        if isinstance(node, (list, tuple)):
+            todo.extend(node)
+        elif dataclasses.is_dataclass(node) and not isinstance(node, ex.Expr):
+            todo.extend(getattr(node, f.name) for f in dataclasses.fields(node))
+    return out
 
 
 def _names(key: str, qualified: str, definition: str, name: str) -> bool:
@@ -368,17 +392,19 @@ def _files_span(ws: Workspace) -> Span:
 
 
 def elaborate(ws: Workspace, resolution: Resolution, report: Report, model: str | None = None,
-              consts: Mapping[str, Value] | None = None) -> ElaboratedModel | None:
+              consts: Mapping[str, Value] | None = None, strict_consts: bool = True
+              ) -> ElaboratedModel | None:
     """Elaborate one p-model of the workspace (see :func:`choose_pmodel`)."""
     chosen = choose_pmodel(ws, model, report)
     if chosen is None:
         return None
-    return elaborate_pmodel(ws, resolution, report, *chosen, consts)
+    return elaborate_pmodel(ws, resolution, report, *chosen, consts,
+                            strict_consts=strict_consts)
 
 
 def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: ast.PModel,
                      file: ast.SourceFile, consts: Mapping[str, Value] | None = None,
-                     devices: bool = True) -> ElaboratedModel:
+                     devices: bool = True, strict_consts: bool = True) -> ElaboratedModel:
     """Elaborate the given p-model (as the top-level model) of ``file``. Without
     ``devices`` the model has links, bodies, joints (with their axes and annotations) and
     their values, but no sensors, actuators, devices, equations or relations: the value
@@ -387,7 +413,7 @@ def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: 
     ctx = _Context(ws, resolution, report, consts or {})
     with collector.paused():  # see cyphy/collector.py
         model = _Elaborator(ctx, devices).run(pm, file)
-    if devices:  # the whole model: every constant it declares has been seen
+    if devices and strict_consts:  # the whole model: every constant it declares was seen
         ctx.report_unknown_consts(pm.span)
     return model
 
