@@ -100,11 +100,10 @@ def link_equations(tree: KinematicTree, theta: str = "theta", v: str = "v", a: s
         p = joint.prefix
         span = joint.element.span
         parent = tree.joints[joint.parent].prefix if joint.parent >= 0 else None
-        names = {port: coordinate_names(joint, port) if joint.dof > 1 else (f"{p}_{port}",)
-                 for port in (theta, v, a)}
-        if joint.dof > 1:  # coordinate names as solve names them, for the arithmetic
-            names = {port: coordinate_names(joint, key) for port, key in
-                     ((theta, "theta"), (v, "v"), (a, "a"))}
+        # a joint of several coordinates: its coordinates as solve names them, for the
+        # arithmetic (``_variables`` says how the equations write them)
+        names = {port: (f"{p}_{port}",) if joint.dof == 1 else coordinate_names(joint, key)
+                 for port, key in ((theta, "theta"), (v, "v"), (a, "a"))}
         shown = _variables(joint, names, (theta, v, a))
         q = [Polynomial.atom(n) for n in names[theta]]
         raw = _parent_to_child(joint, q[0] if joint.dof == 1 else q, _cos, _sin)
