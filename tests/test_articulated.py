@@ -245,7 +245,8 @@ def test_ldl_inverse_inverts_small_matrices() -> None:
     """The inverse of ``D`` for joints of several coordinates: its LDLᵀ factorisation in
     named definitions, evaluated in order, against NumPy's (LAPACK) inverse, for a well and
     a badly conditioned symmetric positive definite matrix."""
-    from cyphy.semantics.dynamics.articulated import Polynomial, _ldl_inverse
+    from cyphy.semantics.dynamics.articulated import _ldl_inverse
+    from cyphy.semantics.dynamics.polynomial import Polynomial
 
     rng = np.random.default_rng(3)
     for size, condition in ((3, 1e1), (6, 1e8)):

@@ -3,7 +3,7 @@ definitions: the articulated-body algorithm (Featherstone, *Rigid Body Dynamics 
 2008, ch. 7, Table 7.1) run on symbols, in the conventions of :mod:`cyphy.semantics.dynamics.rigid_body`
 (Lynch and Park, *Modern Robotics* ch. 8: twists and wrenches angular part first, ``X`` the
 Adjoint that carries the parent's twists into the child frame), with the same transforms
-(``dynamics._parent_to_child``).
+(``dynamics.parent_to_child``).
 
 Why named definitions: written as one expression, ``q̈ = M(q)⁻¹(τ − h(q, q̇))`` grows
 exponentially with the depth of the tree, and SymPy's reduction with it (2.1-2.4 s for a
@@ -51,11 +51,12 @@ import numpy as np
 
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics.dynamics.joint_forces import AxisForces, axis_forces, passive_efforts
+from cyphy.semantics.dynamics.polynomial import Polynomial, _cos, _dot, _sin, _single
 from cyphy.semantics.dynamics.rigid_body import (EULER, STANDARD_GRAVITY, DynamicsError,
-                                      KinematicTree, TreeJoint, _parent_to_child,
-                                      _port_size, _subspace, _subspace_rate, coordinate_names,
+                                      KinematicTree, TreeJoint, coordinate_names,
                                       forward_dynamics, joint_kind, kinematic_tree,
-                                      subspace_factors)
+                                      motion_subspace, motion_subspace_rate, parent_to_child,
+                                      port_size, subspace_factors)
 from cyphy.semantics.scalarise import component_name
 
 
@@ -101,226 +102,6 @@ def subspace(joint: TreeJoint) -> np.ndarray:
     return np.where(np.abs(s) < 1e-12 * max(float(np.abs(s).max()), 1e-300), 0.0, s)
 
 
-def _accumulate(terms: dict[tuple[str, ...], float], key: tuple[str, ...], c: float) -> None:
-    """Add ``c`` to the coefficient of ``key``, dropping a term that cancels to zero (so
-    that a polynomial's terms are its non-zero ones, and ``is_number`` can trust them)."""
-    total = terms.get(key, 0.0) + c
-    if total == 0.0:
-        terms.pop(key, None)
-    else:
-        terms[key] = total
-
-
-class Polynomial:
-    """A sum of products ``Σ cₖ·∏ atoms`` with float coefficients: the algorithm's arithmetic
-    without SymPy's (whose assumption queries on every product made a 10-link arm take 20 s,
-    measured with cProfile). An atom is a name: a symbol, ``cos:q``, ``sin:q`` or ``inv:D``
-    (``1/D``). Only products and sums are needed; ``to_sympy`` builds an expression
-    once at the end."""
-
-    __slots__ = ("terms",)
-
-    def __init__(self, terms: dict[tuple[str, ...], float] | None = None) -> None:
-        self.terms = terms or {}
-
-    @staticmethod
-    def atom(name: str) -> "Polynomial":
-        return Polynomial({(name,): 1.0})
-
-    @staticmethod
-    def lift(value: Any) -> "Polynomial":
-        if isinstance(value, Polynomial):
-            return value
-        number = float(value)
-        return Polynomial({(): number} if number != 0.0 else {})
-
-    def is_number(self) -> bool:
-        return not self.terms or (len(self.terms) == 1 and () in self.terms)
-
-    def number(self) -> float:
-        return self.terms.get((), 0.0)
-
-    def __add__(self, other: Any) -> "Polynomial":
-        other = Polynomial.lift(other)
-        if not other.terms:
-            return self
-        terms = dict(self.terms)
-        for key, c in other.terms.items():
-            _accumulate(terms, key, c)
-        return Polynomial(terms)
-
-    __radd__ = __add__
-
-    def __neg__(self) -> "Polynomial":
-        return Polynomial({k: -c for k, c in self.terms.items()})
-
-    def __sub__(self, other: Any) -> "Polynomial":
-        return self + (-Polynomial.lift(other))
-
-    def __rsub__(self, other: Any) -> "Polynomial":
-        return Polynomial.lift(other) + (-self)
-
-    def __mul__(self, other: Any) -> "Polynomial":
-        if not isinstance(other, Polynomial):
-            number = float(other)
-            if number == 0.0:
-                return Polynomial()
-            return Polynomial({k: c * number for k, c in self.terms.items()})
-        terms: dict[tuple[str, ...], float] = {}
-        for k1, c1 in self.terms.items():
-            for k2, c2 in other.terms.items():
-                _accumulate(terms, tuple(sorted(k1 + k2)) if k1 and k2 else k1 or k2, c1 * c2)
-        return Polynomial(terms)
-
-    __rmul__ = __mul__
-
-    def atoms(self) -> set[str]:
-        """The names it uses (``q`` of ``cos:q``, ``D`` of ``inv:D``)."""
-        return {a.partition(":")[2] or a for key in self.terms for a in key}
-
-    def size(self, sizes: dict[str, int]) -> int:
-        """Its node count with every name in ``sizes`` written out (that many nodes)."""
-        return sum(1 + sum(sizes.get(a.partition(":")[2] or a, 1) for a in key)
-                   for key in self.terms) or 1
-
-    def _terms(self, atom: Callable[[str], str], power: str) -> list[tuple[float, str]]:
-        out = []
-        for key, c in sorted(self.terms.items()):
-            up, down = [], []
-            for name in sorted(set(key)):
-                count = key.count(name)
-                kind, _, arg = name.partition(":")
-                base = atom(arg) if kind == "inv" else atom(name)
-                text = base if count == 1 else f"{base}{power}{count}"
-                (down if kind == "inv" else up).append(text)
-            body = "*".join(up)
-            if down:
-                body = (body or "1") + "/" + "/".join(down)
-            out.append((c, body))
-        return out
-
-    def text(self, atom: Callable[[str], str] | None = None, power: str = "**") -> str:
-        """In the notation of ``sympy.sstr`` (``0.5*J0_V_1**2 - cos(J0_theta)/J0_D``),
-        coefficients written exactly (``repr`` of the float); ``atom`` prints a name or a
-        ``cos:q``/``sin:q`` atom (default: as SymPy does)."""
-        atom = atom or _plain_atom
-        parts: list[str] = []
-        for c, body in self._terms(atom, power):
-            magnitude = abs(c)
-            if not body:
-                term = repr(magnitude)
-            elif magnitude == 1.0:
-                term = body
-            else:
-                term = f"{repr(magnitude)}*{body}"
-            if not parts:
-                parts.append(f"-{term}" if c < 0 else term)
-            else:
-                parts.append(f" - {term}" if c < 0 else f" + {term}")
-        return "".join(parts) or "0"
-
-    def to_sympy(self, symbols: dict[str, Any]) -> Any:
-        """The SymPy expression (``symbols``: name → SymPy value, filled with real symbols
-        for the names not in it)."""
-        import sympy
-
-        def atom(name: str) -> Any:
-            kind, _, arg = name.partition(":")
-            if not arg:
-                if name not in symbols:
-                    symbols[name] = sympy.Symbol(name, real=True)
-                return symbols[name]
-            inner = atom(arg)
-            return {"cos": sympy.cos, "sin": sympy.sin}[kind](inner) if kind != "inv" \
-                else 1 / inner
-
-        total = sympy.Integer(0)
-        for key, c in self.terms.items():
-            term = sympy.Float(c) if c != 1.0 else sympy.Integer(1)
-            for name in key:
-                term = term * atom(name)
-            total = total + term
-        return total
-
-    def trig_reduced(self) -> "Polynomial":
-        """With ``sin²q`` written ``1 − cos²q`` until no term holds a sine twice: the
-        transforms' products of rotations then collect (``cos³q + cos q·sin²q`` is
-        ``cos q``)."""
-        out = Polynomial()
-        for key, c in self.terms.items():
-            term = Polynomial({(): c})
-            for name in sorted(set(key)):
-                count = key.count(name)
-                if name.startswith("sin:") and count >= 2:
-                    cos = Polynomial.atom("cos:" + name[4:])
-                    factor = Polynomial.lift(1.0)
-                    for _ in range(count // 2):
-                        factor = factor * (1.0 - cos * cos)
-                    if count % 2:
-                        factor = factor * Polynomial.atom(name)
-                    term = term * factor
-                else:
-                    term = term * Polynomial({(name,) * count: 1.0})
-            out = out + term
-        return out
-
-    def to_expr(self) -> Any:
-        """As the shared expression AST (``cyphy.expr``): a sum of products, coefficients as
-        decimal numbers (``repr`` of the float), ``cos``/``sin`` calls, ``1/D`` a division."""
-        from cyphy import expr as ex
-
-        def atom(name: str) -> ex.Expr:
-            kind, _, arg = name.partition(":")
-            if not arg:
-                return ex.Name((name,))
-            return ex.Call(ex.Name((kind,)), (ex.Name((arg,)),))
-
-        out: ex.Expr | None = None
-        for key, c in sorted(self.terms.items()):
-            up = [atom(a) for a in key if not a.startswith("inv:")]
-            down = [atom(a[4:]) for a in key if a.startswith("inv:")]
-            magnitude = abs(c)
-            number = str(int(magnitude)) if magnitude.is_integer() and magnitude < 1e15 \
-                else repr(magnitude)
-            factors = ([ex.Num(number)] if magnitude != 1.0 or not up else []) + up
-            term = factors[0]
-            for f in factors[1:]:
-                term = ex.BinOp("*", term, f)
-            for d in down:
-                term = ex.BinOp("/", term, d)
-            if out is None:
-                out = ex.UnaryOp("-", term) if c < 0 else term
-            else:
-                out = ex.BinOp("-" if c < 0 else "+", out, term)
-        return out if out is not None else ex.Num("0")
-
-    def chopped(self, relative: float = 1e-12, absolute: float = 1e-15) -> "Polynomial":
-        """Without float noise (``1e-17·cos q`` where a term of a transform cancels)."""
-        if not self.terms:
-            return self
-        limit = max(relative * max(abs(c) for c in self.terms.values()), absolute)
-        return Polynomial({k: c for k, c in self.terms.items() if abs(c) >= limit})
-
-
-def _plain_atom(name: str) -> str:
-    kind, _, arg = name.partition(":")
-    return f"{kind}({arg})" if arg else name
-
-
-def _cos(q: Polynomial) -> Polynomial:
-    return Polynomial.atom(f"cos:{_single(q)}")
-
-
-def _sin(q: Polynomial) -> Polynomial:
-    return Polynomial.atom(f"sin:{_single(q)}")
-
-
-def _single(q: Polynomial) -> str:
-    [(key, coefficient)] = q.terms.items()
-    assert coefficient == 1.0 and len(key) == 1, "a joint coordinate is one symbol"
-    return key[0]
-
-
 class _Namer:
     """Collects definitions; a value that is a number is used as it is (so a component
     that is not defined is a number: zero for a twist's)."""
@@ -334,22 +115,6 @@ class _Namer:
             return value
         self.definitions.append((name, value, joint))
         return Polynomial.atom(name)
-
-
-def _dot(row: Sequence[Any], column: Sequence[Any]) -> Any:
-    """``Σ rowₖ·columnₖ`` skipping exact zeros."""
-    total: Any = Polynomial()
-    for a, b in zip(row, column):
-        if _zero(a) or _zero(b):
-            continue
-        total = total + a * b
-    return total
-
-
-def _zero(value: Any) -> bool:
-    if isinstance(value, Polynomial):
-        return not value.terms
-    return float(value) == 0.0
 
 
 def _matvec(m: Any, v: Sequence[Any]) -> list[Any]:
@@ -413,7 +178,7 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
         p = joint.prefix
         q = coordinates(joint, "theta")
         qd = coordinates(joint, "v")
-        raw = _parent_to_child(joint, q[0] if len(q) == 1 else q, _cos, _sin)
+        raw = parent_to_child(joint, q[0] if len(q) == 1 else q, _cos, _sin)
         xs.append([[_clean(raw[r, k]) for k in range(6)] for r in range(6)])
         s, rate = joint_subspace(joint, q, qd, name)
         subspaces.append(s)
@@ -570,15 +335,15 @@ def joint_subspace(joint: TreeJoint, q: Sequence[Polynomial], qd: Sequence[Polyn
                    name: Callable[..., Any]) -> tuple[list[list[Any]], list[Any]]:
     """``(S, Ṡ·q̇)`` of the joint at coordinates ``q`` and rates ``qd`` (6 rows of ``dof``
     columns, and a 6-vector): numbers for one coordinate (:func:`subspace`, no rate); for
-    several, ``dynamics._subspace`` and ``_subspace_rate`` on symbols, each entry that is
-    not a number named (``p_S_k_c``, ``p_dS_k``) through ``name``."""
+    several, ``dynamics.motion_subspace`` and ``motion_subspace_rate`` on symbols, each
+    entry that is not a number named (``p_S_k_c``, ``p_dS_k``) through ``name``."""
     if joint.dof == 1:
         return [[float(x) for x in row] for row in subspace(joint)], [0.0] * 6
     p = joint.prefix
-    raw = _subspace(joint, list(q), _cos, _sin)
+    raw = motion_subspace(joint, list(q), _cos, _sin)
     s = [[name(f"{p}_S_{k + 1}_{c + 1}", _clean(raw[k, c]), joint)
           for c in range(joint.dof)] for k in range(6)]
-    rate = _subspace_rate(joint, list(q), list(qd), _cos, _sin)
+    rate = motion_subspace_rate(joint, list(q), list(qd), _cos, _sin)
     return s, [name(f"{p}_dS_{k + 1}", _clean(rate[k]), joint) for k in range(6)]
 
 
@@ -660,7 +425,7 @@ def model_motion(model: ElaboratedModel, gravity: Sequence[float] = STANDARD_GRA
         if joint.kind == "floating":
             return coordinate_names(joint, name)
         found = joint.element.device.port(name)  # type: ignore[union-attr]
-        size = _port_size(found.type)
+        size = port_size(found.type)
         if (joint.dof == 1) != (size is None) or (size is not None and size != joint.dof):
             raise DynamicsError(
                 f"joint {joint.name} has {joint.dof} coordinate"

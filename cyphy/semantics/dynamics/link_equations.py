@@ -35,9 +35,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from cyphy import expr as ex
-from cyphy.semantics.dynamics.articulated import Polynomial, _cos, _sin, subspace
-from cyphy.semantics.dynamics.rigid_body import (KinematicTree, TreeJoint, _parent_to_child,
-                                                 _subspace, _subspace_rate, coordinate_names)
+from cyphy.semantics.dynamics.articulated import subspace
+from cyphy.semantics.dynamics.polynomial import Polynomial, _cos, _sin
+from cyphy.semantics.dynamics.rigid_body import (KinematicTree, TreeJoint, coordinate_names,
+                                                 motion_subspace, motion_subspace_rate,
+                                                 parent_to_child)
 
 
 @dataclass(frozen=True)
@@ -106,7 +108,7 @@ def link_equations(tree: KinematicTree, theta: str = "theta", v: str = "v", a: s
                  for port, key in ((theta, "theta"), (v, "v"), (a, "a"))}
         shown = _variables(joint, names, (theta, v, a))
         q = [Polynomial.atom(n) for n in names[theta]]
-        raw = _parent_to_child(joint, q[0] if joint.dof == 1 else q, _cos, _sin)
+        raw = parent_to_child(joint, q[0] if joint.dof == 1 else q, _cos, _sin)
         x = _matrix_of(raw, shown)
         axis = _name(p, "A")
         rate, accel = shown[v], shown[a]
@@ -122,8 +124,8 @@ def link_equations(tree: KinematicTree, theta: str = "theta", v: str = "v", a: s
             pairs = [(axis, _column(subspace(joint)))]
         else:
             qd = [Polynomial.atom(n) for n in names[v]]
-            pairs = [(axis, _matrix_of(_subspace(joint, q, _cos, _sin), shown)),
-                     (_name(p, "dA"), _vector_of(_subspace_rate(joint, q, qd, _cos, _sin),
+            pairs = [(axis, _matrix_of(motion_subspace(joint, q, _cos, _sin), shown)),
+                     (_name(p, "dA"), _vector_of(motion_subspace_rate(joint, q, qd, _cos, _sin),
                                                  shown))]
             terms.append(_name(p, "dA"))
         wrench = ex.BinOp("-", _product(_name(p, "G"), _name(p, "dV")),
