@@ -25,6 +25,7 @@ from dataclasses import dataclass, replace
 from typing import Callable
 
 from cyphy import expr as ex
+from cyphy.lang import ast
 from cyphy.semantics.circus import ast as c
 
 Shape = tuple[int, ...]
@@ -647,3 +648,15 @@ def scalar_process(pm: c.BasicProcess, evolving_as_state: bool = True) -> Scalar
     process = replace(pm, state=replace(pm.state, fields=tuple(state)),
                       local=replace(pm.local, fields=tuple(local)), actions=actions, main=main)
     return ScalarProcess(process, tuple(promoted), held)
+
+
+def type_shape(t: ast.TypeRef | None) -> tuple[int, ...] | None:
+    """The shape a declared vector or matrix type of literal sizes fixes (None otherwise)."""
+    def size(e: ex.Expr | None) -> int | None:
+        return int(e.text) if isinstance(e, ex.Num) and e.is_integer else None
+
+    if isinstance(t, ast.VectorType) and size(t.size):
+        return (size(t.size),)  # type: ignore[return-value]
+    if isinstance(t, ast.MatrixType) and size(t.rows) and size(t.cols):
+        return (size(t.rows), size(t.cols))  # type: ignore[return-value]
+    return None

@@ -25,6 +25,10 @@ from cyphy.semantics.dynamics.errors import AssemblyError
 ASSEMBLY = codes.code("E-SOLVE", codes.E, "the equations to solve cannot be assembled")
 OBSTACLE = codes.code("E-REDUCE", codes.E,
                       "the equations cannot be reduced to explicit first-order ODEs")
+OVERDETERMINED = codes.code("E-OVERDETERMINED", codes.E,
+                            "more equations than unknowns: equations compete for a variable")
+UNDERDETERMINED = codes.code("E-UNDERDETERMINED", codes.E,
+                             "no equation determines a variable the evolution needs")
 
 
 @dataclass(frozen=True)
@@ -44,6 +48,15 @@ class System:
     # named intermediate quantities of the equations of motion, in order (each uses the
     # variables and the definitions before it): ``cyphy.semantics.dynamics.articulated.Definition``
     definitions: list[Any] = field(default_factory=list)
+    # device prefix → the span of the element that declares it in the user's files: where a
+    # diagnostic about a library device's equation points (the library is not the user's)
+    places: dict[str, Span] = field(default_factory=dict)
+    # the joints' efforts (``<Joint>_tau``): the equations of motion give a joint's
+    # acceleration from its effort, never an effort from a prescribed motion
+    efforts: set[str] = field(default_factory=set)
+    # the sensors' outputs (their measurements): solved as outputs even where no state's
+    # derivative needs them, so that `solve` and `simulate` show what each sensor reads
+    measured: set[str] = field(default_factory=set)
 
 
 def assemble(model: ElaboratedModel, elements: list[str] | None = None,
@@ -66,15 +79,18 @@ def assemble(model: ElaboratedModel, elements: list[str] | None = None,
     devices = _devices(model, elements)
     for device in devices:
         _add_device(system, device)
+    _add_places(system, model, devices)
     known = {p.mangled for d in devices for p in d.ports}
     if definitions:
         _add_explicit_motion(system, model, gravity, None if not elements else known,
                              floating_base)
     else:
         _add_motion(system, model, gravity, None if not elements else known, floating_base)
-    for relation in model.relations:
-        names = {n.text for n in relation.walk() if isinstance(n, ex.Name)}
-        if names <= known | set(system.parameters):
+    for relation in model.relations:  # all of them for the whole model: never one dropped
+        functions = {id(n.func) for n in relation.walk() if isinstance(n, ex.Call)}
+        names = {n.text for n in relation.walk()
+                 if isinstance(n, ex.Name) and id(n) not in functions}  # sin is no variable
+        if not elements or names <= known | set(system.parameters):
             system.equations.append(Equation(relation, "relation", relation.span))
     if mapping is not None and call is not None:
         _add_mapping_call(system, model, mapping, call, call_params)
@@ -108,6 +124,19 @@ def _add_device(system: System, device: Device) -> None:
             system.kinds[p.mangled] = p.kind.value.lower()
     for e in device.equations:
         system.equations.append(Equation(e, device.prefix, e.span))
+
+
+def _add_places(system: System, model: ElaboratedModel, devices: list[Device]) -> None:
+    for e in [*model.joints, *model.unconnected, *model.sensors, *model.actuators]:
+        if e.device is not None and e.device in devices:
+            system.places.setdefault(e.device.prefix, e.span)
+    for joint in model.joints:
+        port = joint.device.port("tau") if joint.device in devices else None
+        if port is not None:
+            system.efforts.add(port.mangled)
+    for sensor in model.sensors:
+        if sensor.device is not None and sensor.device in devices:
+            system.measured.update(p.mangled for p in sensor.device.of_kind(ast.DeclKind.OUTPUT))
 
 
 def _add_motion(system: System, model: ElaboratedModel,
@@ -180,7 +209,11 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
         for atom in d.value.atoms():
             names |= uses.get(atom, {atom})
         uses[d.name] = names
-    clash = sorted((set(uses) | free) & (set(system.variables) | set(system.parameters)))
+    from cyphy.semantics.scalarise import components, type_shape
+
+    taken = set(system.variables) | set(system.parameters) | {  # and their components
+        c for n, t in system.variables.items() for c in components(n, type_shape(t) or ())}
+    clash = sorted((set(uses) | free) & taken)
     if clash:
         joint = next((d.joint for d in motion.definitions if d.name == clash[0]),
                      motion.accelerations[0][0])

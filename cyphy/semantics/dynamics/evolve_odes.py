@@ -30,13 +30,13 @@ import sympy
 
 from cyphy import codes
 from cyphy import expr as ex
-from cyphy.semantics.dynamics.reduce import Reduced, reduce_system, type_shape
+from cyphy.semantics.dynamics.reduce import Reduced, obstacle_code, obstacle_hint, reduce_system
 from cyphy.translate.to_sympy import T, NotAnExpression, to_expr
 from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.dynamics.equations import ASSEMBLY, AssemblyError, System, assemble
-from cyphy.semantics.scalarise import components
+from cyphy.semantics.scalarise import components, type_shape
 
 NOT_EXPLICIT = codes.code("E-ISABELLE-ODE", codes.E,
                           "Evolve cannot be written as the explicit ODE of the axiomatic "
@@ -78,10 +78,13 @@ def explicit_odes(model: ElaboratedModel, evolution: c.Evolution, state_fields: 
     reduced = reduce_system(system, frozenset(fields))
     if reduced.obstacles:
         for o in reduced.obstacles:
-            span = o.equations[0].span if o.equations else where
-            notes = [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
-            report.report(NOT_EXPLICIT, f"Evolve cannot be reduced to explicit ODEs: "
-                          f"{o.message}", span, HINT, notes)
+            span = o.span or (o.equations[0].span if o.equations else where)
+            notes = list(o.notes) or [f"{eq.origin}: equation at {eq.span}"
+                                      for eq in o.equations]
+            structural = o.kind.endswith("determined")  # the model's fault, not the target's
+            report.report(obstacle_code(o) if structural else NOT_EXPLICIT,
+                          f"Evolve cannot be reduced to explicit ODEs: {o.message}", span,
+                          obstacle_hint(o) if structural else HINT, notes)
         return None
     ports = {p.mangled for d in model.devices for p in d.ports}
     return _build(system, reduced, evolution, fields, ports, report, where)

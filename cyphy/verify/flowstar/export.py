@@ -189,7 +189,7 @@ class _Builder:
         if reduced.obstacles:
             report_obstacles(reduced, self.report)
             raise self.fail(f"the equations of {self.model.name} cannot be reduced to explicit "
-                            "ODEs (see the E-REDUCE diagnostics)", s.span("elements"),
+                            "ODEs (see the diagnostics above)", s.span("elements"),
                             "restrict the model to the elements that matter with 'elements', "
                             "as for `cyphy solve --element`")
         zero = {sympy.Symbol(f"der_{u}", real=True): 0 for u in frame}
