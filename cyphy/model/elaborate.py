@@ -315,12 +315,13 @@ class _Context:
 
 
 def _declared_constants(ws: Workspace) -> set[str]:
-    """The names of every constant the user's files declare, wherever (a d-model's, an
-    operation's): ``--const`` may give them values for the commands that read them."""
+    """The names of every constant the files declare, wherever (a d-model's, an operation's,
+    a library device's): ``--const`` may give them values for the commands that read them,
+    and one set of values may serve several models."""
     import dataclasses
 
     out: set[str] = set()
-    todo: list[object] = [item for f in ws.user_files() for item in f.items]
+    todo: list[object] = [item for f in ws.files.values() for item in f.items]
     while todo:
         node = todo.pop()
         if isinstance(node, ast.VarDecl):
