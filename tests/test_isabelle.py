@@ -20,7 +20,7 @@ from cyphy.cli import main
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.build import build_semantics
 from isabelle_reader import parser, read_action, read_definitions
-from isabelle_types import check_theory
+from cyphy.verify.theory.utp_types import check_theory
 from robot_model import ROBOT
 
 MARXBOT = EXAMPLES / "marxbot" / "Mapping.rsm"
@@ -133,7 +133,7 @@ def check_session(session, program: c.Program) -> None:  # type: ignore[no-untyp
     for ident in idents:
         assert ident not in BUILTIN_COMMANDS, ident
 
-    # The type checker of tests/isabelle_types.py: every definition, constant and axiom
+    # The type checker of cyphy/verify/theory/utp_types.py: every definition, constant and axiom
     # type-checks against the library's signatures; no transpose, vector constants only
     # read by component.
     assert check_theory(text) == []

@@ -21,7 +21,7 @@ from cyphy import api
 from cyphy.semantics.dynamics.reduce import inline_definitions
 from cyphy.backends.isabelle.names import RESERVED, is_identifier
 from cyphy.cli import main
-from isabelle_ax_types import check_ax_theory
+from cyphy.verify.theory.ax_types import check_ax_theory
 from test_isabelle import MARXBOT, MARXBOT_ACTIONS, lex_errors, mappings, theory_header, \
     write_model
 

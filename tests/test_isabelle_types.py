@@ -1,4 +1,4 @@
-"""The Hindley–Milner checker of tests/isabelle_types.py: it accepts the theories cyphy
+"""The Hindley–Milner checker of cyphy/verify/theory/utp_types.py: it accepts the theories cyphy
 generates (examples and the corpus marXbot), and rejects seeded faults: the ``real list *
 real`` of the old Evolve, list arithmetic, a keyword as a parameter name, an undefined
 constant, a state variable of the wrong kind in EvolveC's relation."""
@@ -12,7 +12,7 @@ import pytest
 
 from conftest import CORPUS, EXAMPLES, needs_corpus
 from cyphy import api
-from isabelle_types import SIGNATURES, TypeError_, check_theory, instance, parse_type, unify
+from cyphy.verify.theory.utp_types import SIGNATURES, TypeError_, check_theory, instance, parse_type, unify
 
 
 def theory(paths: list[Path], default_inertial: str | None = None) -> str:

@@ -1,8 +1,8 @@
-"""A Hindley–Milner type checker for the HOL/UTP terms cyphy's Isabelle printer emits (tests).
+"""A Hindley–Milner type checker for the HOL/UTP terms cyphy's Isabelle printer emits.
 
 Isabelle cannot run here, so this is the second route to "the theory type-checks": every
 definition body of a generated theory (utp-main c9122f14 dialect) is parsed with the round-trip
-grammar (``isabelle_terms.lark``) and its type inferred by unification, over
+grammar (``utp_terms.lark``) and its type inferred by unification, over
 
 - :data:`SIGNATURES`: the type of every constant, operator and syntax translation the printer
   uses, each read from the library source it cites (utp-main at commit c9122f14; HOL's own
@@ -25,11 +25,23 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from lark import Token, Tree
+from functools import lru_cache
+from pathlib import Path
+
+from lark import Lark, Token, Tree
 
 from cyphy.backends.isabelle.library_words import SYNTAX_WORDS
 from cyphy.backends.isabelle.names import OUTER_KEYWORDS
-from isabelle_reader import parser
+
+
+
+@lru_cache(maxsize=1)
+def parser() -> Lark:
+    """The grammar of the terms the utp printer writes (``utp_terms.lark``): the subset of
+    Isabelle/UTP's inner syntax a generated theory uses."""
+    return Lark.open(str(Path(__file__).with_name("utp_terms.lark")),
+                     start=["action", "hol"], parser="lalr", strict=True)
+
 
 U = "utp-main c9122f14 "
 #: name → (type, where it was read). Type variables may carry classes: ``'a::plus``.
@@ -169,7 +181,7 @@ INSTANCES: dict[str, set[str]] = {
     "abs": {"real", "int", "uexpr"}, "ord": {"real", "nat", "int"},
     "numeral": {"real", "nat", "int", "uexpr"}, "field": {"real"},
     "uconj": {"bool", "uexpr"},  # conj at bool, conj_upred at (bool, 's) uexpr
-    # the axiomatic dialect's (tests/isabelle_ax_types.py): real and, component-wise, products
+    # the axiomatic dialect's (ax_types.py): real and, component-wise, products
     # are real_normed_vectors (HOL/Real_Vector_Spaces.thy, HOL-Analysis Product_Vector.thy);
     # cyphyaction is a complete_lattice (Ax_CyPhyCircus.thy:18-21)
     "real_normed_vector": {"real", "prod"}, "complete_lattice": {"cyphyaction"},
@@ -470,7 +482,7 @@ def read_theory(text: str) -> TheoryTypes:
 
 
 class Checker:
-    """Infers the type of a parsed term (a tree of ``isabelle_terms.lark``)."""
+    """Infers the type of a parsed term (a tree of ``utp_terms.lark``)."""
 
     def __init__(self, theory: TheoryTypes) -> None:
         self.theory = theory
