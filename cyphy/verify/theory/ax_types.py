@@ -564,7 +564,8 @@ class AxChecker:
         return self.name(str(ch[0]), env, lifted)
 
     def e_number(self, ch, env, lifted):  # type: ignore[no-untyped-def]
-        return TVar({"field"} if "." in str(ch[0]) else {"numeral"})
+        # a decimal is numeral / 10^n (HOL/Rat.thy:1158-1173): numeral and inverse
+        return TVar({"numeral", "inverse"} if "." in str(ch[0]) else {"numeral"})
 
     def e_true(self, ch, env, lifted):  # type: ignore[no-untyped-def]
         return TCon("bool")
