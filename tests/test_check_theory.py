@@ -76,3 +76,139 @@ def test_prelude_without_recall_is_a_merge_and_its_terms_are_ambiguous(sessions)
     assert {f.path.name for f in ambiguous} == {next(
         p.name for p in mutant.glob("*_CyPhyCircus.thy"))}
     assert all(f.code == "T-AMBIGUOUS" and f.line > 0 for f in ambiguous)
+
+
+# ---------------------------------------------------------------- the command on sessions
+
+def run_cli(folder: Path, capsys) -> tuple[int, str]:  # type: ignore[no-untyped-def]
+    from cyphy.cli import main
+
+    code = main(["check-theory", str(folder)])
+    out = capsys.readouterr()
+    return code, out.out + out.err
+
+
+def test_every_generated_session_passes(sessions: list[Path], capsys) -> None:
+    for folder in sessions:
+        code, out = run_cli(folder, capsys)
+        assert code == 0, out
+        assert out.count("\n") == 1 and "no problem found (static check, not Isabelle)" in out
+
+
+def mutant(folder: Path, name: str, old: str, new: str, count: int = 1) -> tuple[Path, str]:
+    """A copy of the session whose main theory has ``old`` replaced by ``new``."""
+    target = folder.parent / f"{folder.name}-{name}"
+    target.mkdir()
+    theory = ""
+    for p in folder.iterdir():
+        text = p.read_text()
+        if p.suffix == ".thy" and "Prelude" not in p.name:
+            assert old in text, (old, p)
+            text = text.replace(old, new, count)
+            theory = text
+        (target / p.name).write_text(text)
+    return target, theory
+
+
+def line_of(text: str, fragment: str, nth: int = 1) -> int:
+    """The line of the ``nth`` occurrence of ``fragment``."""
+    at = -1
+    for _ in range(nth):
+        at = text.index(fragment, at + 1)
+    return text.count("\n", 0, at) + 1
+
+
+def assert_rejected(folder: Path, capsys, code_id: str, line: int, words: str) -> None:  # type: ignore[no-untyped-def]
+    code, out = run_cli(folder, capsys)
+    assert code == 1, out
+    hits = [ln for ln in out.splitlines() if f".thy:{line}: {code_id}:" in ln and words in ln]
+    assert hits, out
+
+
+def test_duplicate_definition_is_rejected(sessions, capsys) -> None:
+    old = 'definition Motor_Kd :: real where "Motor_Kd = 0.0"\n'
+    folder, text = mutant(sessions[0], "dup", old, old + old.replace("0.0", "1.0"))
+    assert_rejected(folder, capsys, "T-DUPLICATE", line_of(text, "definition Motor_Kd", 2),
+                    "Motor_Kd is declared twice")
+
+
+def test_use_before_definition_is_rejected(sessions, capsys) -> None:
+    old = 'definition Motor_R :: real where "Motor_R = 1.0"\n'
+    folder, text = mutant(sessions[0], "order", old, "")
+    text = text.replace("\nend\n", "\n" + old + "\nend\n")
+    (next(folder.glob("*_CyPhyCircus.thy"))).write_text(text)
+    assert_rejected(folder, capsys, "T-ORDER", line_of(text, '"Evolve = '),
+                    "Motor_R is used before its definition")
+
+
+def test_reserved_word_as_parameter_is_rejected(sessions, capsys) -> None:
+    folder, text = mutant(sessions[0], "reserved", "DriveCall w", "DriveCall on", count=3)
+    text = text.replace("\\<guillemotleft>w\\<guillemotright>", "\\<guillemotleft>on"
+                        "\\<guillemotright>").replace("?(w)", "?(on)")
+    (next(folder.glob("*_CyPhyCircus.thy"))).write_text(text)
+    assert_rejected(folder, capsys, "T-RESERVED", line_of(text, '"DriveCall on = '), "'on'")
+
+
+def test_division_on_nat_is_rejected(sessions, capsys) -> None:
+    """``/`` is Fields.thy's inverse_divide: nat is no instance of class inverse."""
+    folder, text = mutant(sessions[0], "div", 'globals_3: "(cycle = 1)"',
+                          'globals_3: "(cycle = (1 / 2))"')
+    assert_rejected(folder, capsys, "T-TYPE", line_of(text, "globals_3"), "inverse")
+
+
+def test_proof_citing_a_missing_definition_is_rejected(sessions, capsys) -> None:
+    folder, text = mutant(sessions[0], "fact", "by (simp add: Init_def closure)",
+                          "by (simp add: Inti_def closure)")
+    line = line_of(text, "Inti_def")
+    assert_rejected(folder, capsys, "T-FACT", line, "no definition of Inti")
+    assert_rejected(folder, capsys, "T-CLOSURE", line - 1, "does not cite Init_def")
+
+
+def test_proof_citing_an_unknown_lemma_is_rejected(sessions, capsys) -> None:
+    folder, text = mutant(sessions[0], "lemma", "by (simp add: Init_def closure)",
+                          "by (simp add: Init_def closure NCSP_Init)")
+    assert_rejected(folder, capsys, "T-FACT", line_of(text, "NCSP_Init"), "cites NCSP_Init")
+
+
+def test_missing_recall_syntax_is_rejected(sessions, capsys) -> None:
+    folder = sessions[0].parent / "recall"
+    folder.mkdir()
+    for p in sessions[0].iterdir():
+        (folder / p.name).write_text(p.read_text().replace("begin recall_syntax", "begin"))
+    prelude = (folder / "CyPhyCircus_Prelude.thy").read_text()
+    code, out = run_cli(folder, capsys)
+    assert code == 1
+    assert f"CyPhyCircus_Prelude.thy:{line_of(prelude, 'begin')}: T-RECALL:" in out
+    assert "T-AMBIGUOUS: this term parses two ways" in out
+
+
+def test_axiomatic_mutants_are_rejected(sessions, capsys) -> None:
+    ax = sessions[1]
+    text = next(ax.glob("*.thy")).read_text()
+    first = next(ln for ln in text.splitlines() if ln.startswith("definition Motor_Kd"))
+    folder, text = mutant(ax, "dup", first + "\n", first + "\n" + first + "\n")
+    assert_rejected(folder, capsys, "T-DUPLICATE", line_of(text, first, 2), "declared twice")
+
+
+# ---------------------------------------------------------------- bad input
+
+def test_bad_input_is_a_clear_error(tmp_path: Path, capsys) -> None:
+    code, out = run_cli(tmp_path / "missing", capsys)
+    assert code == 2 and "no such folder" in out and "Traceback" not in out
+    code, out = run_cli(tmp_path, capsys)
+    assert code == 2 and "no ROOT" in out
+    (tmp_path / "ROOT").write_text('session "S" = "UTP-Circus" +\n  theories\n    A\n')
+    cases = {
+        b"hello, not a theory\n": ("T-NOT-THEORY", 1),
+        b"theory A imports Main begin\n\xff\xfe\nend\n": ("T-ENCODING", 2),
+        b"theory A imports Main begin\n(* open\ncomment\nend\n": ("T-LEX", 2),
+        b"theory A imports Main begin\ntext \\<open>unterminated\nend\n": ("T-LEX", 2),
+        b'theory A imports Main begin\ndefinition x :: nat where "x = 1\nend\n': ("T-LEX", 2),
+    }
+    for data, (code_id, line) in cases.items():
+        (tmp_path / "A.thy").write_bytes(data)
+        code, out = run_cli(tmp_path, capsys)
+        assert code == 1 and f"A.thy:{line}: {code_id}:" in out and "Traceback" not in out, out
+    (tmp_path / "A.thy").unlink()
+    code, out = run_cli(tmp_path, capsys)
+    assert code == 1 and "T-MISSING" in out

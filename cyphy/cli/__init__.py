@@ -13,6 +13,8 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, NoReturn, Sequence
 
+from cyphy.cli import check_theory
+
 if TYPE_CHECKING:
     from cyphy.api import Generated, SemanticsGenOptions, TreeGenOptions
 
@@ -141,6 +143,7 @@ def _parser() -> argparse.ArgumentParser:
     for _, _, add_options in GENERATORS.values():
         add_options(gen)
     _add_reach(sub)
+    check_theory.add_parser(sub)
     _add_view(sub)
     parser.add_argument("--version", action=_Version, nargs=0,
                         help="print cyphy's version and exit")
@@ -951,6 +954,8 @@ def _command(args: argparse.Namespace) -> int:
             return _reach(args)
         if args.command == "view":
             return _view(args)
+        if args.command == "check-theory":
+            return check_theory.run(args)
     except KeyboardInterrupt:
         return 130
     except RecursionError:
