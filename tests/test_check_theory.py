@@ -3,6 +3,7 @@ rejects are reported with exit 1 and the line (the issue's list of what Isabelle
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -212,3 +213,66 @@ def test_bad_input_is_a_clear_error(tmp_path: Path, capsys) -> None:
     (tmp_path / "A.thy").unlink()
     code, out = run_cli(tmp_path, capsys)
     assert code == 1 and "T-MISSING" in out
+
+
+# ---------------------------------------------------------------- reserved words by family
+
+#: One family of words per library whose syntax reserves them (reserved_words.tsv, derived
+#: from the sources by tools/derive_isabelle_words.py); each is a d-model parameter below.
+WORD_FAMILIES = {
+    "HOL binders": ["LEAST", "GREATEST", "INF", "SUP", "UN", "INT", "SIGMA", "MOST", "INFM",
+                    "SOME", "THE", "ALL", "EX"],
+    "HOL infix words": ["choose", "sums", "differentiable", "Int", "Un", "mod", "div", "dvd",
+                        "o", "O", "powr", "at", "within"],
+    # (if, then, else are RoboSim keywords too: no d-model can use them)
+    "HOL control words": ["let", "case", "of", "SOME", "THE"],
+    "Pure words": ["CONST", "TYPE", "PROP", "XCONST"],
+    "utp-main words": ["on", "sp", "wp", "frz", "mods", "var", "state", "while", "od", "fi"],
+}
+
+
+def test_the_word_families_come_from_the_derived_table() -> None:
+    from cyphy.backends.isabelle.library_words import HOL_SYNTAX_WORDS, SYNTAX_WORDS
+    from cyphy.backends.isabelle.names import RESERVED
+
+    for family, words in WORD_FAMILIES.items():
+        table = SYNTAX_WORDS if family.startswith("utp") else HOL_SYNTAX_WORDS
+        for word in words:
+            assert re.fullmatch(r"[\w/.-]+\.(thy|ML):\d+", table[word]), (word, table[word])
+            assert word in RESERVED
+
+
+@pytest.mark.parametrize("dialect", ["utp", "axiomatic"])
+@pytest.mark.parametrize("family", sorted(WORD_FAMILIES))
+def test_parameters_named_after_reserved_words_are_renamed(tmp_path: Path, family: str,
+                                                           dialect: str) -> None:
+    """``move(choose: real, sums: real, …)``: every parameter is renamed in the theory, and
+    check-theory accepts the session."""
+    from test_isabelle import SOFTWARE, write_model
+
+    words = WORD_FAMILIES[family]
+    params = ", ".join(f"{w}: real" for w in words)
+    software = SOFTWARE.format(ops=f"move({params})", events="", outputs="")
+    mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
+               f"  operation move {{ equation Base::J::M.das == {' + '.join(words)} }}\n}}\n")
+    (tmp_path / "model").mkdir()
+    paths = write_model(tmp_path / "model", software, mapping)
+    options: dict[str, object] = {"dialect": dialect}
+    if dialect == "axiomatic":
+        options["elements"] = ("Robot::Base::J::M", "Robot::Arm::S")
+    folder = generate(paths, tmp_path / "session", **options)
+    [theory] = [p for p in folder.glob("*.thy") if "Prelude" not in p.name]
+    actions = theory.read_text().split("definition MoveCall")[1].split("\ndefinition")[0]
+    for word in words:
+        assert not re.search(rf"(?<![\w\\<]){word}(?![\w>])", actions), (word, actions)
+    code, out = run_cli_plain(folder)
+    assert code == 0, out
+
+
+def run_cli_plain(folder: Path) -> tuple[int, str]:
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-m", "cyphy", "check-theory", str(folder)],
+                          capture_output=True, text=True, timeout=300)
+    return proc.returncode, proc.stdout + proc.stderr

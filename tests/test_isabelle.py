@@ -22,6 +22,7 @@ from cyphy.semantics.circus.build import build_semantics
 from isabelle_reader import parser, read_action, read_definitions
 from cyphy.verify.theory.utp_types import check_theory
 from robot_model import ROBOT
+from theory_check import session_findings
 
 MARXBOT = EXAMPLES / "marxbot" / "Mapping.rsm"
 MARXBOT_ACTIONS = ["Init", "ObstacleToDModel", "SendToDModel", "MoveCall", "MoveFromDModel",
@@ -137,6 +138,7 @@ def check_session(session, program: c.Program) -> None:  # type: ignore[no-untyp
     # type-checks against the library's signatures; no transpose, vector constants only
     # read by component.
     assert check_theory(text) == []
+    assert session_findings(session.files) == []  # cyphy check-theory accepts the session
     assert "transpose" not in text
     for k in program.pmodel.constants:
         if isinstance(k.type, c.TSeq):

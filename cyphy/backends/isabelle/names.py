@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import re
 
-from cyphy.backends.isabelle.library_words import LIBRARY_CONSTANTS, SYNTAX_WORDS
+from cyphy.backends.isabelle.library_words import (HOL_SYNTAX_WORDS, LIBRARY_CONSTANTS,
+                                                   SYNTAX_WORDS)
 from cyphy.semantics.circus.names import identifier
 
 _IDENT = re.compile(r"[A-Za-z](?:[A-Za-z0-9]|_(?=[A-Za-z0-9]))*")
@@ -55,9 +56,11 @@ parents
 """.split())
 
 #: Every word a generated identifier avoids: the lists above (HOL, Isar, Z), and the mixfix
-#: delimiters and constants read from utp-main's sources (:mod:`isabelle_library_words`).
+#: delimiters of HOL and utp-main and utp-main's constants, read from the library sources
+#: (:mod:`cyphy.backends.isabelle.library_words`).
 RESERVED = (OUTER_KEYWORDS | COMMANDS | INNER_WORDS | SHADOWED | Z_KEYWORDS
-            | frozenset(SYNTAX_WORDS) | frozenset(LIBRARY_CONSTANTS))
+            | frozenset(SYNTAX_WORDS) | frozenset(HOL_SYNTAX_WORDS)
+            | frozenset(LIBRARY_CONSTANTS))
 
 
 def is_identifier(text: str) -> bool:

@@ -39,6 +39,7 @@ from pathlib import Path
 from lark import Lark, Token, Tree
 
 from cyphy.backends.isabelle.ax_terms import AX_RESERVED
+from cyphy.backends.isabelle.library_words import HOL_SYNTAX_WORDS
 from cyphy.backends.isabelle.names import OUTER_KEYWORDS
 from cyphy.verify.theory.utp_types import (SIGNATURES, TCon, TVar, Type, TypeError_, constrain, fun, parse_type,
                             prod_type, prune, unify)
@@ -151,8 +152,8 @@ UNCHECKED = (
 #: parents. (A delimiter glued to a bracket, ``swap(`` of Abstract_Prog_Syntax.thy:42 or
 #: ``H{`` of line 82, leaves the bare word an identifier.)
 AX_INNER_KEYWORDS = frozenset(
-    # HOL (Isabelle2020 HOL.thy, Orderings.thy, Divides.thy)
-    "if then else let case of o O mod div dvd SOME THE ALL EX CONST TYPE".split()
+    # HOL's and Pure's mixfix words, derived from the sources (reserved_words.tsv)
+    list(HOL_SYNTAX_WORDS)
     # Abstract_Prog_Syntax.thy:18 (II), 37-39 (if/then/fi, elseif, else), 44 (while/do/od),
     # 45 (repeat/until); IsaCircus_Syntax.thy:41-43 (Skip, Stop, Chaos)
     + "II fi elseif while do od repeat until Skip Stop Chaos".split()

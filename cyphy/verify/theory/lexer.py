@@ -40,6 +40,7 @@ class Token:
     kind: str  # ident, string, cartouche, comment, verbatim, symbol, other
     text: str
     line: int
+    column: int = 1  # of the first character
 
     @property
     def content(self) -> str:
@@ -98,7 +99,7 @@ def _quoted(text: str, pos: int, line: int, quote: str) -> int:
 def tokenize(text: str) -> list[Token]:
     """Every token of ``text`` except white space, with its first line."""
     out: list[Token] = []
-    pos, line = 0, 1
+    pos, line, line_start = 0, 1, 0
     while pos < len(text):
         ch = text[pos]
         if ch.isspace():
@@ -121,8 +122,11 @@ def tokenize(text: str) -> list[Token]:
         else:
             kind, end = "other", pos + 1
         if kind:
-            out.append(Token(kind, text[pos:end], line))
-        line += text.count("\n", pos, end)
+            out.append(Token(kind, text[pos:end], line, pos - line_start + 1))
+        newlines = text.count("\n", pos, end)
+        if newlines:
+            line += newlines
+            line_start = text.rindex("\n", pos, end) + 1
         pos = end
     return out
 

@@ -10,6 +10,9 @@ from cyphy.verify.theory.findings import Finding
 from cyphy.verify.theory.lexer import Command, LexError, Token, commands, tokenize
 
 
+_MARKUP = {"section", "chapter", "subsection", "subsubsection", "paragraph", "text", "txt"}
+
+
 class SessionError(Exception):
     """The folder cannot be read as a session at all (exit 2): no folder, no ROOT."""
 
@@ -95,6 +98,8 @@ def _theory(path: Path, text: str, findings: list[Finding]) -> Theory | None:
         findings.append(Finding(path, err.line, "T-LEX", str(err)))
         return None
     cmds = commands(tokens)
+    while cmds and cmds[0].keyword in _MARKUP:  # Isabelle allows markup before the header
+        cmds = cmds[1:]
     if not cmds or cmds[0].keyword != "theory":
         line = cmds[0].line if cmds else 1
         findings.append(Finding(path, line, "T-NOT-THEORY",

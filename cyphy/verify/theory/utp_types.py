@@ -30,7 +30,7 @@ from pathlib import Path
 
 from lark import Lark, Token, Tree
 
-from cyphy.backends.isabelle.library_words import SYNTAX_WORDS
+from cyphy.backends.isabelle.library_words import HOL_SYNTAX_WORDS, SYNTAX_WORDS
 from cyphy.backends.isabelle.names import OUTER_KEYWORDS
 
 
@@ -203,8 +203,7 @@ _COMPONENTWISE = {"real_normed_vector"}
 _LIFTED = {"plus", "minus", "times", "inverse", "uminus", "power", "abs", "numeral"}
 
 #: Words an identifier of a theory must not be: the imported syntax's keywords.
-KEYWORDS = frozenset(SYNTAX_WORDS) | OUTER_KEYWORDS | {"if", "then", "else", "let", "case",
-                                                      "of", "o", "O", "mod", "div", "dvd"}
+KEYWORDS = frozenset(SYNTAX_WORDS) | frozenset(HOL_SYNTAX_WORDS) | OUTER_KEYWORDS
 
 
 class TypeError_(Exception):
