@@ -3,12 +3,13 @@
 The grammar (``utp_terms.lark``) covers exactly the printed subset; the transformer
 undoes the printer's choices: identifiers back to CyPhyCircus names (``_v`` / ``_b``
 suffixes), lifted HOL subterms back to expressions, ``real`` coercions dropped, right-nested
-binary chains flattened, the prelude's ``DerC``/``IntegralC`` back to derivative and integral.
+binary chains flattened.
 """
 
 from __future__ import annotations
 
 import re
+
 from lark import Transformer, v_args
 
 from cyphy import expr as ex
@@ -231,10 +232,6 @@ class ToCircus(Transformer):
         func = str(ident)
         if func == "real" and len(args) == 1:
             return args[0]
-        if func == "DerC":
-            return ex.Derivative(args[0])
-        if func == "IntegralC":
-            return ex.Integral(args[0])
         return ex.Call(ex.Name((self.functions.get(func, func),)), tuple(args))
 
 

@@ -46,7 +46,7 @@ id set map fst snd real int nat sin cos tan sqrt exp ln log abs sgn min max norm
 length hd tl last dom ran card Inf Sup top bot tr tt st ok wait ref transpose rev nth take
 drop zip filter concat sum prod list bool unit option Some None Nil Cons True False
 uop bop trop qtop action hrel upred uexpr NCSP CSP Healthy
-EvolveC InterruptC InterruptCondC MuC WaitC DerC IntegralC fmod
+EvolveC InterruptC InterruptCondC MuC WaitC fmod
 """.split())
 
 #: CZT/Z keywords (one mangled name serves every printer).

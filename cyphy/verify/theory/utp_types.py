@@ -176,8 +176,6 @@ SIGNATURES: dict[str, tuple[str, str]] = {
             "prelude: definition MuC"),
     "WaitC": ("'e \\<Rightarrow> nat \\<Rightarrow> ('s, 'e) action", "prelude: primrec WaitC"),
     "fmod": ("real \\<Rightarrow> real \\<Rightarrow> real", "prelude: definition fmod"),
-    "DerC": ("'a \\<Rightarrow> 'a", "prelude: consts DerC"),
-    "IntegralC": ("'a \\<Rightarrow> 'a", "prelude: consts IntegralC"),
 }
 
 #: class → type constructors in it; ``uexpr`` is in a class when its value type is

@@ -9,8 +9,7 @@
 
    The first three are axiomatised: only their healthiness is stated, nothing about their
    behaviour. The axioms are consistent (take EvolveC F = Skip, P \<triangle>\<^sub>C Q = P ;; Q and
-   InterruptCondC P b = P). DerC and IntegralC are uninterpreted: they mark the derivative
-   of a local and a running integral, which the paper also leaves symbolic. *)
+   InterruptCondC P b = P). *)
 
 theory CyPhyCircus_Prelude
   imports "UTP-Circus.utp_circus" "HOL.Transcendental"
@@ -47,10 +46,6 @@ where
   EvolveC_NCSP [closure]: "EvolveC F is NCSP" and
   InterruptC_NCSP [closure]: "\<lbrakk> P is NCSP; Q is NCSP \<rbrakk> \<Longrightarrow> P \<triangle>\<^sub>C Q is NCSP" and
   InterruptCondC_NCSP [closure]: "P is NCSP \<Longrightarrow> InterruptCondC P b is NCSP"
-
-consts
-  DerC :: "'a \<Rightarrow> 'a"
-  IntegralC :: "'a \<Rightarrow> 'a"
 
 section \<open>Recursion\<close>
 
