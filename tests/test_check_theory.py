@@ -276,3 +276,10 @@ def run_cli_plain(folder: Path) -> tuple[int, str]:
     proc = subprocess.run([sys.executable, "-m", "cyphy", "check-theory", str(folder)],
                           capture_output=True, text=True, timeout=300)
     return proc.returncode, proc.stdout + proc.stderr
+
+
+def test_the_api_gives_the_same_findings(sessions) -> None:
+    from cyphy.api import check_theory
+
+    result = check_theory(sessions[0])
+    assert result.exit_code == 0 and result.findings == [] and result.theories == 2

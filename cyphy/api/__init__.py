@@ -15,6 +15,7 @@ from cyphy.diagnostics import Report, Span
 from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
 from cyphy.lang.workspace import Workspace, load_workspace
+from cyphy.api.theory import check_theory  # noqa: F401  (cyphy check-theory, for scripts)
 
 if TYPE_CHECKING:  # the model needs NumPy and SciPy: `cyphy check` must not import them
     from cyphy.model.elements import ElaboratedModel
