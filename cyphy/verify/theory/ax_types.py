@@ -41,8 +41,8 @@ from lark import Lark, Token, Tree
 from cyphy.backends.isabelle.ax_terms import AX_RESERVED
 from cyphy.backends.isabelle.library_words import HOL_SYNTAX_WORDS
 from cyphy.backends.isabelle.names import OUTER_KEYWORDS
-from cyphy.verify.theory.utp_types import (SIGNATURES, TCon, TVar, Type, TypeError_, constrain, fun, parse_type,
-                            prod_type, prune, unify)
+from cyphy.verify.theory.utp_types import (SIGNATURES, TCon, TVar, Type, TypeError_, constrain,
+                                           fun, parse_type, prod_type, prune, unify)
 
 AX = "Ax_CyPhyCircus 8bfbe4a "
 CT = "Circus_Toolkit 97811b8 "
@@ -190,7 +190,8 @@ def instance(name: str) -> Type:
 
 
 def _constrain(t: Type, cls: str) -> None:
-    """``t`` in class ``cls`` (the classes of :data:`cyphy.verify.theory.utp_types.INSTANCES`), and known."""
+    """``t`` in class ``cls`` (the classes of
+    :data:`cyphy.verify.theory.utp_types.INSTANCES`), and known."""
     if isinstance(prune(t), TVar):
         raise TypeError_(f"the type is not determined where {cls} is needed")
     constrain(t, {cls})

@@ -64,7 +64,8 @@ class Command:
         return self.tokens[0].line
 
 
-_IDENT = re.compile(r"(?:[A-Za-z]|\\<[A-Za-z]{1,2}>)(?:[A-Za-z0-9_'.]|\\<\^sub>|\\<[A-Za-z]{1,2}>)*")
+_IDENT = re.compile(r"(?:[A-Za-z]|\\<[A-Za-z]{1,2}>)"
+                    r"(?:[A-Za-z0-9_'.]|\\<\^sub>|\\<[A-Za-z]{1,2}>)*")
 _SYMBOL = re.compile(r"\\<\^?[A-Za-z0-9_]*>")
 _NESTED = {"(*": ("comment", "(*", "*)"), "\\<open>": ("cartouche", "\\<open>", "\\<close>")}
 

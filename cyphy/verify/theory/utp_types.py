@@ -50,25 +50,33 @@ SIGNATURES: dict[str, tuple[str, str]] = {
     # HOL: Isabelle's src/HOL at github:digama0/isabelle 2d6638d (a 2024 snapshot; these
     # declarations and their notation are as in Isabelle2020). Overloaded constants are
     # class operations: the class is the sort their type variable carries.
-    "+": ("'a::plus \\<Rightarrow> 'a \\<Rightarrow> 'a", H + "Groups.thy:195 (class plus, line 194)"),
-    "-": ("'a::minus \\<Rightarrow> 'a \\<Rightarrow> 'a", H + "Groups.thy:198 (class minus, line 197)"),
-    "*": ("'a::times \\<Rightarrow> 'a \\<Rightarrow> 'a", H + "Groups.thy:204 (class times, line 203)"),
+    "+": ("'a::plus \\<Rightarrow> 'a \\<Rightarrow> 'a",
+          H + "Groups.thy:195 (class plus, line 194)"),
+    "-": ("'a::minus \\<Rightarrow> 'a \\<Rightarrow> 'a",
+          H + "Groups.thy:198 (class minus, line 197)"),
+    "*": ("'a::times \\<Rightarrow> 'a \\<Rightarrow> 'a",
+          H + "Groups.thy:204 (class times, line 203)"),
     "/": ("'a::inverse \\<Rightarrow> 'a \\<Rightarrow> 'a",
           H + "Fields.thy:26 (abbreviation inverse_divide (infixl \"'/\" 70) of class inverse, "
           "line 22; Rings.thy:683's divide is written div)"),
-    "^": ("'a::power \\<Rightarrow> nat \\<Rightarrow> 'a", H + "Power.thy:17 (class power, line 14)"),
+    "^": ("'a::power \\<Rightarrow> nat \\<Rightarrow> 'a",
+          H + "Power.thy:17 (class power, line 14)"),
     "powr": ("real \\<Rightarrow> real \\<Rightarrow> real",
              H + "Transcendental.thy:1567 (class ln; real's instance, line 1575)"),
     "uminus": ("'a::uminus \\<Rightarrow> 'a", H + "Groups.thy:201 (class uminus, line 200)"),
     "=": ("'a \\<Rightarrow> 'a \\<Rightarrow> bool", H + "HOL.thy:87 (eq; notation line 91)"),
     "\\<noteq>": ("'a \\<Rightarrow> 'a \\<Rightarrow> bool", H + "HOL.thy:168 (not_equal)"),
-    "<": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool", H + "Orderings.thy:177 (less of class ord)"),
+    "<": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool",
+          H + "Orderings.thy:177 (less of class ord)"),
     ">": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool", H + "Orderings.thy:191 (greater)"),
     "\\<le>": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool",
                H + "Orderings.thy:176 (less_eq of class ord)"),
-    "\\<ge>": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool", H + "Orderings.thy:187 (greater_eq)"),
-    "\\<longrightarrow>": ("bool \\<Rightarrow> bool \\<Rightarrow> bool", H + "HOL.thy:86 (implies)"),
-    "\\<longleftrightarrow>": ("bool \\<Rightarrow> bool \\<Rightarrow> bool", H + "HOL.thy:179 (iff)"),
+    "\\<ge>": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool",
+               H + "Orderings.thy:187 (greater_eq)"),
+    "\\<longrightarrow>": ("bool \\<Rightarrow> bool \\<Rightarrow> bool",
+                           H + "HOL.thy:86 (implies)"),
+    "\\<longleftrightarrow>": ("bool \\<Rightarrow> bool \\<Rightarrow> bool",
+                               H + "HOL.thy:179 (iff)"),
     "@": ("'a list \\<Rightarrow> 'a list \\<Rightarrow> 'a list", H + "List.thy:75 (append)"),
     "!": ("'a list \\<Rightarrow> nat \\<Rightarrow> 'a", H + "List.thy:125 (nth)"),
     "Cons": ("'a \\<Rightarrow> 'a list \\<Rightarrow> 'a list", H + "List.thy:13"),
@@ -81,7 +89,8 @@ SIGNATURES: dict[str, tuple[str, str]] = {
     "tan": ("real \\<Rightarrow> real", H + "Transcendental.thy:4645 (at real)"),
     "arctan": ("real \\<Rightarrow> real", H + "Transcendental.thy:5087"),
     "exp": ("real \\<Rightarrow> real", H + "Transcendental.thy:1152 (at real)"),
-    "ln": ("real \\<Rightarrow> real", H + "Transcendental.thy:1564 (class ln; at real, line 1575)"),
+    "ln": ("real \\<Rightarrow> real",
+           H + "Transcendental.thy:1564 (class ln; at real, line 1575)"),
     "sqrt": ("real \\<Rightarrow> real", H + "NthRoot.thy:397"),
     "abs": ("'a::abs \\<Rightarrow> 'a", H + "Groups.thy:1167 (class abs, line 1166)"),
     # utp-main c9122f14
@@ -162,7 +171,8 @@ SIGNATURES: dict[str, tuple[str, str]] = {
                  U + "theories/sf_rdes/utp_sfrd_prog.thy:864 (?(x): "
                  "theories/circus/utp_circus_prefix.thy:21)"),
     "assigns_csp": ("('a \\<Longrightarrow> 's) \\<Rightarrow> ('a, 's) uexpr \\<Rightarrow> "
-                    "('s, 'e) action", U + "theories/sf_rdes/utp_sfrd_prog.thy:290-291 (syntax; AssignsCSP, line 284, "
+                    "('s, 'e) action",
+                    U + "theories/sf_rdes/utp_sfrd_prog.thy:290-291 (syntax; AssignsCSP, line 284, "
                     "by the translation of line 294)"),
     "SpecC": ("('a \\<Longrightarrow> 's) \\<Rightarrow> 's upred \\<Rightarrow> 's upred "
               "\\<Rightarrow> ('s, 'e) action", U + "theories/sf_rdes/utp_sfrd_prog.thy:49"),
