@@ -37,6 +37,9 @@ def sessions(tmp_path_factory) -> list[Path]:  # type: ignore[no-untyped-def]
             out.append(generate([path], root / f"{path.stem}-{dialect}", dialect=dialect))
     if CORPUS.is_dir():
         out.append(generate([CORPUS / "marXbot"], root / "corpus-marxbot"))
+        # with SDF's default inertial Evolve also holds the wheels' equations of motion
+        out.append(generate([CORPUS / "marXbot"], root / "corpus-marxbot-sdf",
+                            default_inertial="sdf"))
     return out
 
 
