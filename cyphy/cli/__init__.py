@@ -24,11 +24,11 @@ from cyphy.deep import run_deep
 from cyphy.diagnostics import RENDERING
 
 #: The commands, in the order ``--help`` lists them: each the module ``cyphy.cli.<name>``.
-COMMANDS = ("check", "show", "solve", "simulate", "gen", "reach", "view", "lsp")
+COMMANDS = ("check", "show", "solve", "simulate", "gen", "reach", "view", "lsp", "check_theory")
 
 
 def _command_module(name: str) -> ModuleType:
-    return importlib.import_module(f"cyphy.cli.{name}")
+    return importlib.import_module(f"cyphy.cli.{name.replace('-', '_')}")  # check-theory
 
 
 def _parser() -> argparse.ArgumentParser:
