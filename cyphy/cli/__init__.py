@@ -452,7 +452,8 @@ def _add_reach(sub: argparse._SubParsersAction) -> None:
     reach.add_argument("--scenario", metavar="FILE", required=True,
                        help="the controller scenario (TOML)")
     reach.add_argument("--flowstar-bin", metavar="PATH",
-                       help="the Flow* executable (default: flowstar on PATH)")
+                       help="the Flow* executable (default: $CYPHY_FLOWSTAR, the one .ci/install "
+                       "built, or flowstar on PATH)")
     reach.add_argument("--timeout", type=float, metavar="SECONDS",
                        help="give up (UNKNOWN) when a Flow* run takes longer")
     reach.add_argument("--split", type=int, default=1, metavar="N",
@@ -480,7 +481,8 @@ def _reach(args: argparse.Namespace) -> int:
     from cyphy.diagnostics import render_text
     from cyphy.verify.flowstar.commands import generate
     from cyphy.verify.flowstar.check import check
-    from cyphy.verify.flowstar.verdict import FlowstarMissing, find_flowstar
+    from cyphy.verify.flowstar.locate import find_flowstar
+    from cyphy.verify.flowstar.verdict import FlowstarMissing
     from cyphy.outputs import OutputError, default_output_dir, write_all
 
     try:

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import os
 import re
-import shutil
 import signal
 import subprocess
 import tempfile
@@ -116,18 +115,6 @@ def model_problems(text: str, required_jumps: int | None = None) -> list[str]:
 
 class FlowstarMissing(Exception):
     """The Flow* executable cannot be found or started."""
-
-
-def find_flowstar(name: str | None) -> str:
-    """The Flow* executable as an absolute path: Flow* runs in a scratch directory of its
-    own, where a relative path would name nothing."""
-    path = shutil.which(name or "flowstar")
-    if path is None:
-        raise FlowstarMissing(
-            f"Flow* not found ({name or 'flowstar'} is not an executable on PATH): install "
-            "Flow* 2.1.0 (https://flowstar.org) and put it on PATH as flowstar, or give "
-            "--flowstar-bin PATH")
-    return str(Path(path).resolve())
 
 
 def run_text(text: str, binary: str, timeout: float | None = None,
