@@ -357,8 +357,11 @@ def to_json(trajectory: Trajectory) -> str:
                       indent=1) + "\n"
 
 
-def plot(trajectory: Trajectory, path: str, names: Sequence[str] = ()) -> None:
-    """A PNG of the chosen columns over time (all states when none is chosen; at most 8)."""
+def plot(trajectory: Trajectory, names: Sequence[str] = ()) -> bytes:
+    """A PNG of the chosen columns over time (all states when none is chosen; at most 8), as
+    bytes: the caller writes it atomically, where it checked it could before the run."""
+    import io
+
     import matplotlib
 
     matplotlib.use("Agg")
@@ -376,8 +379,10 @@ def plot(trajectory: Trajectory, path: str, names: Sequence[str] = ()) -> None:
     axes.grid(True, alpha=0.3)
     axes.legend(fontsize="small")
     figure.tight_layout()
-    figure.savefig(path, metadata={"Software": None})
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", metadata={"Software": None})
     plt.close(figure)
+    return buffer.getvalue()
 
 
 def progress_to_stderr(fraction: float) -> None:

@@ -181,7 +181,7 @@ def _view(args: argparse.Namespace) -> int:
 
     from cyphy.api import ViewRequest, view
     from cyphy.diagnostics import render_text
-    from cyphy.outputs import OutputError, write_all
+    from cyphy.outputs import OutputError, write_file
 
     positions: dict[str, float] = {}
     for text in args.positions:
@@ -205,7 +205,7 @@ def _view(args: argparse.Namespace) -> int:
     ((name, png),) = generated.files.items()
     target = Path(args.output) if args.output else Path(name)
     try:
-        (written,) = write_all({target.name: png}, target.parent)
+        written = write_file(target, png)
     except OutputError as err:
         sys.stderr.write(f"cyphy view: error: {err}\n")
         return 1
@@ -681,21 +681,41 @@ def _simulate(args: argparse.Namespace) -> int:
         sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))
     if result.trajectory is None or result.report.has_errors:
         return 1
-    if args.plot:
-        try:
-            sim.plot(result.trajectory, args.plot, args.plot_var)
-        except sim.SimulationError as err:
-            sys.stderr.write(f"cyphy simulate: error: {err.message} ({err.hint})\n")
-            return 1
     if result.numeric:
         sys.stderr.write("cyphy simulate: the kinematic tree alone (articulated-body "
                          "algorithm): the other devices' equations are not simulated\n")
     text = (sim.to_json if args.format == "json" else sim.to_csv)(result.trajectory)
+    code = 0
     if args.output:
-        Path(args.output).write_text(text)
+        code = _keep(Path(args.output), text)
     else:
         sys.stdout.write(text)
-    return 0
+    if args.plot:
+        try:
+            png = sim.plot(result.trajectory, args.plot_var)
+        except sim.SimulationError as err:
+            sys.stderr.write(f"cyphy simulate: error: {err.message} ({err.hint})\n")
+            return 1
+        code = _keep(Path(args.plot), png) or code
+    return code
+
+
+def _keep(target: Path, content: str | bytes) -> int:
+    """Write a result atomically; when that fails after all (the disk filled during the
+    run), save it in a temporary file rather than lose it, and say where (exit 1)."""
+    import tempfile
+
+    from cyphy.outputs import OutputError, write_file
+
+    try:
+        write_file(target, content)
+        return 0
+    except OutputError as err:
+        fd, rescue = tempfile.mkstemp(prefix="cyphy-", suffix=target.suffix)
+        with os.fdopen(fd, "wb") as stream:
+            stream.write(content.encode("utf-8") if isinstance(content, str) else content)
+        sys.stderr.write(f"cyphy simulate: error: {err}; the result is saved in {rescue}\n")
+        return 1
 
 
 def _scenario_horizon(path: str) -> float:
@@ -927,6 +947,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     if getattr(args, "max_copies", None):
         os.environ["CYPHY_MAX_COPIES"] = str(args.max_copies)  # read by cyphy.limits
     RENDERING.quiet, RENDERING.warnings_seen = args.quiet, 0
+    from cyphy.cli.targets import output_problem
+
+    if (problem := output_problem(args)) is not None:  # before any long work
+        sys.stderr.write(f"cyphy {args.command}: error: {problem}\n")
+        return 2
     code = _command(args)
     if code == 0 and args.warnings_as_errors and RENDERING.warnings_seen:
         sys.stderr.write(f"cyphy: error: {RENDERING.warnings_seen} warning"
