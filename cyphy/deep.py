@@ -25,6 +25,8 @@ DEPTH = 40_000
 #: (pickling, hashing of frozen dataclasses). It is address space, used only as it is reached.
 STACK_BYTES = 512 * 1024 * 1024
 _THREAD = "cyphy"
+#: Seconds an interrupt waits for the command to unwind once its external runs are killed.
+INTERRUPT_GRACE = 10.0
 
 
 def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
@@ -33,12 +35,15 @@ def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
     waits; the thread is a daemon, so it does not keep the process alive. ``tick`` is called
     about five times a second while ``fn`` runs (progress)."""
     outcome: list[tuple[bool, object]] = []
+    done = threading.Event()
 
     def body() -> None:
         try:
             outcome.append((True, fn()))
         except BaseException as err:  # noqa: BLE001 - handed to the caller as it is
             outcome.append((False, err))
+        finally:
+            done.set()
 
     old_limit, old_stack = sys.getrecursionlimit(), threading.stack_size()
     try:
@@ -53,6 +58,15 @@ def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
             thread.join(0.2)  # a timed wait, so that Ctrl-C is seen at once
             if tick is not None and thread.is_alive():
                 tick()
+    except KeyboardInterrupt:
+        # Kill the external runs (Flow*) the thread waits on; it then unwinds, removing
+        # its scratch folders, which is worth a short wait.
+        from cyphy import interrupts
+
+        if interrupts.stop_all():  # (not thread.join: an interrupted join marks the
+            done.wait(INTERRUPT_GRACE)  # thread stopped while it runs, bpo-45274)
+        interrupts.resume_all()
+        raise
     finally:
         sys.setrecursionlimit(old_limit)
     ok, value = outcome[0]

@@ -465,7 +465,11 @@ def _add_reach(sub: argparse._SubParsersAction) -> None:
     reach.add_argument("--jobs", type=int, metavar="N",
                        help="Flow* runs at a time (default: the number of cores)")
     reach.add_argument("-o", "--output", metavar="DIR",
-                       help="where the model is written (default: flowstar-gen/ beside it)")
+                       help="keep the Flow* model in DIR (default: a temporary folder, "
+                       "removed at the end)")
+    reach.add_argument("--keep", action="store_true",
+                       help="keep the temporary folder with the Flow* model, and print its "
+                       "path")
     reach.add_argument("--model", metavar="NAME", help="the p-model")
     reach.add_argument("--machine", metavar="NAME",
                        help="the d-model's state machine that is the controller when the "
@@ -482,8 +486,11 @@ def _reach(args: argparse.Namespace) -> int:
     from cyphy.verify.flowstar.commands import generate
     from cyphy.verify.flowstar.check import check
     from cyphy.verify.flowstar.locate import find_flowstar
+    import shutil
+    import tempfile
+
     from cyphy.verify.flowstar.verdict import FlowstarMissing
-    from cyphy.outputs import OutputError, default_output_dir, write_all
+    from cyphy.outputs import OutputError, write_all
 
     try:
         binary = find_flowstar(args.flowstar_bin)
@@ -500,19 +507,21 @@ def _reach(args: argparse.Namespace) -> int:
     if generated.report.has_errors or not generated.files or problem is None:
         sys.stderr.write("cyphy reach: nothing checked: the model or scenario has errors\n")
         return 2
-    out_dir = Path(args.output) if args.output else default_output_dir(args.paths, "flowstar")
+    # Never beside the inputs, which may be read-only (the corpus): -o, else a scratch folder
+    out_dir = Path(args.output) if args.output else Path(tempfile.mkdtemp(prefix="cyphy-reach-"))
+    kept = args.output is not None or args.keep
     try:
         model = write_all(generated.files, out_dir)[0]
-    except OutputError as err:
-        sys.stderr.write(f"cyphy reach: error: {err}\n")
-        return 2
-    try:
         result = check(problem, model.stem, binary, args.timeout, args.split,
                        not args.no_auto_split, args.jobs)
-    except FlowstarMissing as err:
+    except (OutputError, FlowstarMissing) as err:
         sys.stderr.write(f"cyphy reach: error: {err}\n")
         return 2
-    line = f"{result.verdict}: {result.reason} (Flow* runs {result.seconds:.1f} s; model {model})\n"
+    finally:
+        if not kept:
+            shutil.rmtree(out_dir, ignore_errors=True)
+    where = f"; model {model}" if kept else ""
+    line = f"{result.verdict}: {result.reason} (Flow* runs {result.seconds:.1f} s{where})\n"
     stream = sys.stderr if result.verdict == "ERROR" else sys.stdout
     stream.write(line)
     if result.witness is not None:
@@ -922,10 +931,11 @@ def run() -> NoReturn:
     Freeing a large model object by object, and the final collection before it, take seconds
     on a 10,000-link model; everything has been written and closed by then, and the standard
     streams are flushed here (mypy ends the same way)."""
-    from cyphy import progress
+    from cyphy import interrupts, progress
     from cyphy.deep import run_deep
 
     try:
+        interrupts.raise_on_sigterm()
         progress.start()
         try:  # deeply nested models need a deep stack (cyphy/deep.py)
             code = run_deep(main, progress.tick)
@@ -935,8 +945,8 @@ def run() -> NoReturn:
         sys.stderr.flush()
     except BrokenPipeError:  # `cyphy show … | head`: the reader has gone
         pass
-    except KeyboardInterrupt:  # Ctrl-C while waiting, or while the output is flushed
-        code = 130
+    except KeyboardInterrupt as err:  # Ctrl-C or SIGTERM while waiting, or while flushing
+        code = interrupts.exit_status(err)
     os._exit(code)
 
 
