@@ -92,7 +92,7 @@ def _parser() -> argparse.ArgumentParser:
     simulate.add_argument("--machine", metavar="NAME",
                           help="the d-model's state machine that is the controller when the "
                           "scenario has no [controller]")
-    simulate.add_argument("--t-end", type=float, metavar="T",
+    simulate.add_argument("--t-end", type=_finite_float, metavar="T",
                           help="simulated time in seconds (default 1, or the scenario's "
                           "horizon)")
     simulate.add_argument("--init", action="append", default=[], metavar="NAME=VALUE",
@@ -103,8 +103,8 @@ def _parser() -> argparse.ArgumentParser:
     simulate.add_argument("--method", default="LSODA",
                           choices=("LSODA", "BDF", "Radau", "RK45", "DOP853"),
                           help="solve_ivp's method (default LSODA, stiff-capable)")
-    simulate.add_argument("--rtol", type=float, default=1e-6, help="relative tolerance")
-    simulate.add_argument("--atol", type=float, default=1e-9, help="absolute tolerance")
+    simulate.add_argument("--rtol", type=_finite_float, default=1e-6, help="relative tolerance")
+    simulate.add_argument("--atol", type=_finite_float, default=1e-9, help="absolute tolerance")
     simulate.add_argument("--samples", type=int, default=201,
                           help="output instants over [0, T] (default 201)")
     simulate.add_argument("--numeric", action="store_true",
@@ -168,9 +168,9 @@ def _add_view(sub: argparse._SubParsersAction) -> None:
     view.add_argument("--view", choices=("iso", "front", "side", "top"), default="iso",
                       help="the camera: iso (default), front (along +y), side (along -x), "
                       "top (down)")
-    view.add_argument("--elevation", type=float, metavar="DEG",
+    view.add_argument("--elevation", type=_finite_float, metavar="DEG",
                       help="the camera's elevation, overriding --view's")
-    view.add_argument("--azimuth", type=float, metavar="DEG",
+    view.add_argument("--azimuth", type=_finite_float, metavar="DEG",
                       help="the camera's azimuth, overriding --view's")
     _const_options(view)
     _path_option(view)
@@ -183,6 +183,8 @@ def _view(args: argparse.Namespace) -> int:
     from cyphy.diagnostics import render_text
     from cyphy.outputs import OutputError, write_file
 
+    import math
+
     positions: dict[str, float] = {}
     for text in args.positions:
         name, _, value = text.partition("=")
@@ -190,6 +192,12 @@ def _view(args: argparse.Namespace) -> int:
             positions[name.strip()] = float(value)
         except ValueError:
             sys.stderr.write(f"cyphy view: error: --set {text}: expected JOINT=NUMBER\n")
+            return 2
+        if not math.isfinite(positions[name.strip()]) or \
+                abs(positions[name.strip()]) > MAX_POSITION:
+            sys.stderr.write(f"cyphy view: error: --set {text}: a joint position is a finite "
+                             f"number of radians or metres, at most {MAX_POSITION:g} in size "
+                             "(further cannot be drawn)\n")
             return 2
     if args.output is not None and not args.output.endswith(".png"):
         sys.stderr.write("cyphy view: error: -o names a .png file\n")
@@ -211,6 +219,11 @@ def _view(args: argparse.Namespace) -> int:
         return 1
     sys.stdout.write(f"wrote {written}\n")
     return generated.report.exit_code
+
+
+#: The largest joint position ``view --set`` takes: beyond it a pose's coordinates lose
+#: every digit that a picture shows (1e300 overflowed the projection).
+MAX_POSITION = 1e6
 
 
 class _Version(argparse.Action):
@@ -454,7 +467,7 @@ def _add_reach(sub: argparse._SubParsersAction) -> None:
     reach.add_argument("--flowstar-bin", metavar="PATH",
                        help="the Flow* executable (default: $CYPHY_FLOWSTAR, the one .ci/install "
                        "built, or flowstar on PATH)")
-    reach.add_argument("--timeout", type=float, metavar="SECONDS",
+    reach.add_argument("--timeout", type=_finite_float, metavar="SECONDS",
                        help="give up (UNKNOWN) when a Flow* run takes longer")
     reach.add_argument("--split", type=int, default=1, metavar="N",
                        help="split the initial set into N boxes along its widest state, one "
@@ -667,6 +680,12 @@ def _simulate(args: argparse.Namespace) -> int:
     except ValueError:
         sys.stderr.write("cyphy simulate: error: --init takes a number: NAME=0.5\n")
         return 2
+    import math
+
+    bad = [f"{k}={v}" for k, v in values.items() if not math.isfinite(v)]
+    if bad:
+        sys.stderr.write(f"cyphy simulate: error: --init {bad[0]}: not a finite number\n")
+        return 2
     if args.machine is not None and args.scenario is None:
         sys.stderr.write("cyphy simulate: error: --machine needs --scenario (a scenario "
                          "without [controller])\n")
@@ -676,6 +695,11 @@ def _simulate(args: argparse.Namespace) -> int:
     if not args.t_end > 0 or args.samples < 2:
         sys.stderr.write("cyphy simulate: error: --t-end must be positive and --samples at "
                          "least 2\n")
+        return 2
+    try:  # the budget for the smallest trajectory: time and one column (refined later)
+        sim.check_memory(args.samples, 1)
+    except sim.OptionError as err:
+        sys.stderr.write(f"cyphy simulate: error: {err.message} ({err.hint})\n")
         return 2
     settings = sim.SimulationOptions(args.t_end, values, inputs, args.method, args.rtol,
                                      args.atol, args.samples,
@@ -732,17 +756,21 @@ def _scenario_horizon(path: str) -> float:
     from cyphy.diagnostics import Report
     from cyphy.verify.flowstar.scenario import load_scenario
 
-    scenario = load_scenario(path, Report())
+    scenario = load_scenario(path, Report(), needs_unsafe=False)
     return scenario.horizon if scenario is not None else 1.0
 
 
 def _gravity(text: str) -> tuple[float, float, float]:
     """``--gravity 0,0,-1.62`` as three floats (argparse reports a bad value, exit 2)."""
+    import math
+
     parts = text.split(",")
     try:
         x, y, z = (float(p) for p in parts)
     except ValueError:
         raise argparse.ArgumentTypeError(f"'{text}' is not three numbers x,y,z") from None
+    if not all(math.isfinite(v) for v in (x, y, z)):
+        raise argparse.ArgumentTypeError(f"'{text}' is not three finite numbers x,y,z")
     return (x, y, z)
 
 
@@ -870,6 +898,20 @@ def _consistency_options(parser: argparse.ArgumentParser) -> None:
                         "a query that runs out is reported as C-UNKNOWN")
 
 
+def _finite_float(text: str) -> float:
+    """A number option: ``nan`` and ``inf`` are refused here rather than reaching the
+    integrator, Flow*'s timeout or the camera."""
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: '{text}'") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"not a finite number: '{text}'")
+    return value
+
+
 def _positive_int(text: str) -> int:
     try:
         value = int(text)
@@ -956,13 +998,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(_joined_values(sys.argv[1:] if argv is None else argv))
     if getattr(args, "max_copies", None):
         os.environ["CYPHY_MAX_COPIES"] = str(args.max_copies)  # read by cyphy.limits
-    RENDERING.quiet, RENDERING.warnings_seen = args.quiet, 0
+    RENDERING.quiet, RENDERING.warnings_seen, RENDERING.usage_errors = args.quiet, 0, 0
     from cyphy.cli.targets import output_problem
 
     if (problem := output_problem(args)) is not None:  # before any long work
         sys.stderr.write(f"cyphy {args.command}: error: {problem}\n")
         return 2
     code = _command(args)
+    if code == 1 and RENDERING.usage_errors:  # a value given on the command line is wrong
+        return 2
     if code == 0 and args.warnings_as_errors and RENDERING.warnings_seen:
         sys.stderr.write(f"cyphy: error: {RENDERING.warnings_seen} warning"
                          f"{'s' if RENDERING.warnings_seen != 1 else ''} "
