@@ -159,7 +159,7 @@ def load_scenario(path: str | Path, report: Report, needs_unsafe: bool = True
         line, col = (int(m.group(1)), int(m.group(2))) if m else (1, 1)
         report.report(SCENARIO, f"not valid TOML: {err}", Span(str(p), line, col, line,
                                                                 col + 1),
-                      "see the README's scenario format")
+                      "the scenario format: docs/commands/reach.md")
         return None
     s = Scenario(str(p), text, horizon=0.0, tscale=0.0)
     r = _Reader(s, report)
