@@ -5,7 +5,7 @@ by something other than cyphy; the site builds with ``mkdocs build --strict``.
 
 A page's runnable examples are fenced ``console`` blocks: ``$ COMMAND`` lines (``cyphy`` is
 this checkout's, and ``# exit N`` at the end gives a status other than 0), each followed by
-its output (stdout and stderr together), where ``[...]`` stands for text that varies (times).
+its output (stdout and stderr as one stream), where ``[...]`` stands for text that varies (times).
 A fenced block just after ``<!-- file: PATH -->`` is a file the page asks the reader to
 write: it is written before the page's commands run, in a scratch folder holding a copy of
 ``examples/``.
@@ -88,9 +88,10 @@ def run_page(page: Page, cwd: Path, checkout: Path) -> list[str]:
         if re.search(r"\bcyphy reach\b", ex.command) and found is None:
             continue  # (the Flow* tests skip likewise)
         script = f'cyphy() {{ "{sys.executable}" -m cyphy "$@"; }}\n{ex.command}\n'
-        done = subprocess.run(["bash", "-c", script], capture_output=True, text=True, cwd=cwd,
-                              env=env, timeout=900, stdin=subprocess.DEVNULL)
-        actual = (done.stdout + done.stderr).splitlines()
+        done = subprocess.run(["bash", "-c", script], stdout=subprocess.PIPE,
+                              stderr=subprocess.STDOUT, text=True, cwd=cwd, env=env,
+                              timeout=900, stdin=subprocess.DEVNULL)
+        actual = done.stdout.splitlines()  # one stream, in the order a terminal shows
         if done.returncode != ex.status or not matches(ex.shown, actual):
             problems.append(f"{page.path.relative_to(ROOT)}: $ {ex.command}\n"
                             f"  exit {done.returncode} (shown: {ex.status})\n  shown:\n    "
@@ -157,7 +158,8 @@ def test_the_quick_start_from_a_fresh_clone(tmp_path: Path) -> None:
     # SDF: XML whose root is <sdf version="1.6"> with the model's links; libsdformat accepts it
     root = ET.parse(out / "sdf" / "Manipulator.sdf").getroot()
     assert root.tag == "sdf" and root.get("version") == "1.6"
-    assert len(root.findall("./model/link")) == 5
+    assert sorted(link.get("name") for link in root.findall("./model/link")) == \
+        ["Arm", "Forearm", "Gripper", "Stand"]  # the four links of Manipulator.rsm
     sys.path.insert(0, str(ROOT / "tests"))
     from sdf_tools.validate import SdfToolsMissing, check_sdf
 
