@@ -5,7 +5,8 @@ by something other than cyphy; the site builds with ``mkdocs build --strict``.
 
 A page's runnable examples are fenced ``console`` blocks: ``$ COMMAND`` lines (``cyphy`` is
 this checkout's, and ``# exit N`` at the end gives a status other than 0), each followed by
-its output (stdout and stderr as one stream), where ``[...]`` stands for text that varies (times).
+its output (stdout and stderr as one stream), where ``[...]`` stands for text that varies (times), or alone on a line for lines left
+out.
 A fenced block just after ``<!-- file: PATH -->`` is a file the page asks the reader to
 write: it is written before the page's commands run, in a scratch folder holding a copy of
 ``examples/``.
@@ -68,10 +69,11 @@ def pages() -> list[Path]:
 
 
 def matches(shown: list[str], actual: list[str]) -> bool:
-    if len(shown) != len(actual):
-        return False
-    return all(re.fullmatch(".*".join(map(re.escape, s.split("[...]"))), a)
-               for s, a in zip(shown, actual))
+    """``[...]`` alone on a line stands for any lines (none too), within a line for any
+    text."""
+    pattern = "\n".join(r"(?:[^\n]*\n)*?[^\n]*" if s == "[...]" else
+                        "[^\n]*".join(map(re.escape, s.split("[...]"))) for s in shown)
+    return re.fullmatch(pattern, "\n".join(actual)) is not None
 
 
 def run_page(page: Page, cwd: Path, checkout: Path) -> list[str]:
