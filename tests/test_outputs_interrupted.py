@@ -67,9 +67,9 @@ def test_staging_of_a_running_writer_is_kept(tmp_path: Path) -> None:
 
 def test_ctrl_c_ends_with_130_and_no_traceback(tmp_path: Path) -> None:
     """SIGINT while a command runs (here: while it waits in its worker thread)."""
-    code = ("import sys, time\nfrom cyphy import cli\n"
+    code = ("import sys, time\nfrom cyphy import cli\nfrom cyphy.cli import check\n"
             "def slow(args):\n    print('RUNNING', flush=True)\n    time.sleep(60)\n"
-            "    return 0\ncli._check = slow\nsys.argv = ['cyphy', 'check', 'x.rsm']\ncli.run()\n")
+            "    return 0\ncheck.run = slow\nsys.argv = ['cyphy', 'check', 'x.rsm']\ncli.run()\n")
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env=ENV, cwd=tmp_path)
     assert proc.stdout is not None and proc.stdout.readline().strip() == "RUNNING"

@@ -3,7 +3,7 @@ definitions: the articulated-body algorithm (Featherstone, *Rigid Body Dynamics 
 2008, ch. 7, Table 7.1) run on symbols, in the conventions of :mod:`cyphy.semantics.dynamics.rigid_body`
 (Lynch and Park, *Modern Robotics* ch. 8: twists and wrenches angular part first, ``X`` the
 Adjoint that carries the parent's twists into the child frame), with the same transforms
-(``dynamics._parent_to_child``).
+(``dynamics.parent_to_child``).
 
 Why named definitions: written as one expression, ``q̈ = M(q)⁻¹(τ − h(q, q̇))`` grows
 exponentially with the depth of the tree, and SymPy's reduction with it (2.1-2.4 s for a
@@ -47,8 +47,8 @@ import numpy as np
 
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics.dynamics.rigid_body import (STANDARD_GRAVITY, DynamicsError, KinematicTree,
-                                      TreeJoint, _parent_to_child, _port_size, _subspace,
-                                      _subspace_rate, coordinate_names, forward_dynamics,
+                                      TreeJoint, parent_to_child, port_size, motion_subspace,
+                                      motion_subspace_rate, coordinate_names, forward_dynamics,
                                       joint_kind, kinematic_tree)
 from cyphy.semantics.scalarise import component_name
 
@@ -386,7 +386,7 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
         p = joint.prefix
         q = coordinates(joint, "theta")
         qd = coordinates(joint, "v")
-        raw = _parent_to_child(joint, q[0] if len(q) == 1 else q, _cos, _sin)
+        raw = parent_to_child(joint, q[0] if len(q) == 1 else q, _cos, _sin)
         xs.append([[_clean(raw[r, k]) for k in range(6)] for r in range(6)])
         s, rate = joint_subspace(joint, q, qd, name)
         subspaces.append(s)
@@ -503,15 +503,15 @@ def joint_subspace(joint: TreeJoint, q: Sequence[Polynomial], qd: Sequence[Polyn
                    name: Callable[..., Any]) -> tuple[list[list[Any]], list[Any]]:
     """``(S, Ṡ·q̇)`` of the joint at coordinates ``q`` and rates ``qd`` (6 rows of ``dof``
     columns, and a 6-vector): numbers for one coordinate (:func:`subspace`, no rate); for
-    several, ``dynamics._subspace`` and ``_subspace_rate`` on symbols, each entry that is
+    several, ``dynamics.motion_subspace`` and ``motion_subspace_rate`` on symbols, each entry that is
     not a number named (``p_S_k_c``, ``p_dS_k``) through ``name``."""
     if joint.dof == 1:
         return [[float(x) for x in row] for row in subspace(joint)], [0.0] * 6
     p = joint.prefix
-    raw = _subspace(joint, list(q), _cos, _sin)
+    raw = motion_subspace(joint, list(q), _cos, _sin)
     s = [[name(f"{p}_S_{k + 1}_{c + 1}", _clean(raw[k, c]), joint)
           for c in range(joint.dof)] for k in range(6)]
-    rate = _subspace_rate(joint, list(q), list(qd), _cos, _sin)
+    rate = motion_subspace_rate(joint, list(q), list(qd), _cos, _sin)
     return s, [name(f"{p}_dS_{k + 1}", _clean(rate[k]), joint) for k in range(6)]
 
 
@@ -573,7 +573,7 @@ def model_motion(model: ElaboratedModel, gravity: Sequence[float] = STANDARD_GRA
         if joint.kind == "floating":
             return coordinate_names(joint, name)
         found = joint.element.device.port(name)  # type: ignore[union-attr]
-        size = _port_size(found.type)
+        size = port_size(found.type)
         if (joint.dof == 1) != (size is None) or (size is not None and size != joint.dof):
             raise DynamicsError(
                 f"joint {joint.name} has {joint.dof} coordinate"

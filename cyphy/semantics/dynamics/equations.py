@@ -19,6 +19,7 @@ from cyphy.lang import ast
 from cyphy.lang.notation import to_notation
 from cyphy.model.elements import Device, ElaboratedModel
 from cyphy.model.evaluate import Value
+from cyphy.semantics.dynamics.errors import AssemblyError
 
 
 ASSEMBLY = codes.code("E-SOLVE", codes.E, "the equations to solve cannot be assembled")
@@ -43,12 +44,6 @@ class System:
     # named intermediate quantities of the equations of motion, in order (each uses the
     # variables and the definitions before it): ``cyphy.semantics.dynamics.articulated.Definition``
     definitions: list[Any] = field(default_factory=list)
-
-
-class AssemblyError(Exception):
-    def __init__(self, message: str, span: Span, hint: str) -> None:
-        super().__init__(message)
-        self.message, self.span, self.hint = message, span, hint
 
 
 def assemble(model: ElaboratedModel, elements: list[str] | None = None,

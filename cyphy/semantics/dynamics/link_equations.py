@@ -27,7 +27,7 @@ import numpy as np
 
 from cyphy import expr as ex
 from cyphy.semantics.dynamics.articulated import Polynomial, _cos, _sin, subspace
-from cyphy.semantics.dynamics.rigid_body import KinematicTree, TreeJoint, _parent_to_child
+from cyphy.semantics.dynamics.rigid_body import KinematicTree, TreeJoint, parent_to_child
 
 
 @dataclass(frozen=True)
@@ -90,7 +90,7 @@ def link_equations(tree: KinematicTree, theta: str = "theta", v: str = "v", a: s
         p = joint.prefix
         span = joint.element.span
         parent = tree.joints[joint.parent].prefix if joint.parent >= 0 else None
-        raw = _parent_to_child(joint, Polynomial.atom(f"{p}_{theta}"), _cos, _sin)
+        raw = parent_to_child(joint, Polynomial.atom(f"{p}_{theta}"), _cos, _sin)
         x = ex.Matrix(tuple(tuple(Polynomial.lift(raw[r, k]).trig_reduced().chopped()
                                   .to_expr() for k in range(6)) for r in range(6)))
         axis, motion = _name(p, "A"), _product(_name(p, "A"), _name(p, v))

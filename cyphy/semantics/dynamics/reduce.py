@@ -556,7 +556,7 @@ _OBSTACLE_HINTS = {
 
 def report_obstacles(reduced: Reduced, report: Report) -> None:
     """Each obstacle as an ``E-REDUCE`` diagnostic at its first equation."""
-    from cyphy.semantics.dynamics.rigid_body import TREE
+    from cyphy.semantics.dynamics.errors import TREE
 
     for o in reduced.obstacles:
         span = o.equations[0].span if o.equations else Span.unknown()

@@ -36,26 +36,13 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from cyphy import codes
 from cyphy.diagnostics import Span
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
 from cyphy.model.inertia import Inertial, combine, tensor
 from cyphy.model.poses import Pose
-from cyphy.semantics.dynamics.equations import AssemblyError
+from cyphy.semantics.dynamics.errors import DynamicsError
 
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
-
-TREE = codes.code("E-DYNAMICS", codes.E,
-                  "the kinematic tree has no well-defined equations of motion")
-
-
-class DynamicsError(AssemblyError):
-    """Why the model's tree has no equations of motion, at the element to blame (an
-    ``AssemblyError``, so every command that assembles equations reports it; ``code`` says
-    which diagnostic)."""
-
-    code = TREE
-
 
 @dataclass(frozen=True)
 class TreeJoint:
@@ -437,7 +424,7 @@ def _rotation(axis: np.ndarray, angle: Any, cos: Any, sin: Any) -> np.ndarray:
     return np.eye(3) + k * sin(angle) + (k @ k) * (1 - cos(angle))
 
 
-def _parent_to_child(joint: TreeJoint, q: Any, cos: Any, sin: Any) -> np.ndarray:
+def parent_to_child(joint: TreeJoint, q: Any, cos: Any, sin: Any) -> np.ndarray:
     """``[Ad_T]`` of the parent frame's pose in the child frame at joint value ``q``: it
     carries twists from the parent body's frame to the child's (MR eq. 8.47)."""
     base_r, base_p = joint.placement[:3, :3], joint.placement[:3, 3]
@@ -492,7 +479,7 @@ def _joint_motion(joint: TreeJoint, q: Sequence[Any], cos: Any, sin: Any
     return r, joint.frame @ np.array(list(q[:3]))  # floating: along the world axes
 
 
-def _subspace(joint: TreeJoint, q: Any, cos: Any, sin: Any) -> np.ndarray:
+def motion_subspace(joint: TreeJoint, q: Any, cos: Any, sin: Any) -> np.ndarray:
     """``S(q)`` (6 × dof): the child body's twist relative to its parent, in the child frame,
     per unit rate of each coordinate (Featherstone's motion subspace)."""
     if joint.dof == 1:
@@ -510,7 +497,7 @@ def _subspace(joint: TreeJoint, q: Any, cos: Any, sin: Any) -> np.ndarray:
     return np.vstack([np.hstack([zero, turns]), np.hstack([joint.frame @ rotation.T, zero])])
 
 
-def _subspace_rate(joint: TreeJoint, q: Any, qd: Any, cos: Any, sin: Any) -> np.ndarray:
+def motion_subspace_rate(joint: TreeJoint, q: Any, qd: Any, cos: Any, sin: Any) -> np.ndarray:
     """``Ṡ(q)·q̇``: the change of the motion subspace's entries in the child frame times the
     rates (zero for one coordinate; Featherstone's ``c_J``)."""
     if joint.kind == "universal":
@@ -547,7 +534,7 @@ _EYE3 = np.eye(3)
 
 
 def _numeric_parent_to_child(joint: TreeJoint, q: float) -> np.ndarray:
-    """``_parent_to_child`` for a float ``q``, built entry by entry: the recursive algorithms
+    """``parent_to_child`` for a float ``q``, built entry by entry: the recursive algorithms
     call it once per joint and step, where NumPy's per-call overhead dominates."""
     base_r, base_p = joint.placement[:3, :3], joint.placement[:3, 3]
     if joint.kind == "revolute":
@@ -600,18 +587,18 @@ def inverse_dynamics(tree: KinematicTree, q: Sequence[Any], qd: Sequence[Any],
     accelerations = []
     for joint, k in zip(tree.joints, tree.offsets):
         qi = _coordinates(joint, k, q)
-        x = _parent_to_child(joint, qi, cos, sin)
+        x = parent_to_child(joint, qi, cos, sin)
         v_parent = twists[joint.parent] if joint.parent >= 0 else np.zeros(6)
         a_parent = accelerations[joint.parent] if joint.parent >= 0 else base
         if joint.dof == 1:
             s = joint.screw
             v_joint, a_joint = joint.screw * qd[k], joint.screw * qdd[k]
         else:
-            s = _subspace(joint, qi, cos, sin)
+            s = motion_subspace(joint, qi, cos, sin)
             rates = _coordinates(joint, k, qd)
             v_joint = s @ np.array(rates)
             a_joint = s @ np.array(_coordinates(joint, k, qdd)) + \
-                _subspace_rate(joint, qi, rates, cos, sin)
+                motion_subspace_rate(joint, qi, rates, cos, sin)
         v = x @ v_parent + v_joint
         a = x @ a_parent + a_joint + ad(v) @ v_joint
         transforms.append(x)
@@ -639,8 +626,8 @@ def mass_matrix(tree: KinematicTree, q: Sequence[Any]) -> np.ndarray:
     n = len(tree)
     offsets = tree.offsets
     parts = [_coordinates(j, k, q) for j, k in zip(tree.joints, offsets)]
-    transforms = [_parent_to_child(j, p, cos, sin) for j, p in zip(tree.joints, parts)]
-    subspaces = [_subspace(j, p, cos, sin) for j, p in zip(tree.joints, parts)]
+    transforms = [parent_to_child(j, p, cos, sin) for j, p in zip(tree.joints, parts)]
+    subspaces = [motion_subspace(j, p, cos, sin) for j, p in zip(tree.joints, parts)]
     composite = [j.inertia for j in tree.joints]
     for i in range(n - 1, -1, -1):
         parent = tree.joints[i].parent
@@ -687,10 +674,10 @@ def forward_dynamics(tree: KinematicTree, q: Sequence[float], qd: Sequence[float
         else:
             qi = [float(v) for v in q[k:k + joint.dof]]
             rates = [float(v) for v in qd[k:k + joint.dof]]
-            x = _parent_to_child(joint, qi, math.cos, math.sin).astype(float)
-            s = _subspace(joint, qi, math.cos, math.sin).astype(float)
+            x = parent_to_child(joint, qi, math.cos, math.sin).astype(float)
+            s = motion_subspace(joint, qi, math.cos, math.sin).astype(float)
             v_joint = s @ np.array(rates)
-            c_joint = _subspace_rate(joint, qi, rates, math.cos, math.sin).astype(float)
+            c_joint = motion_subspace_rate(joint, qi, rates, math.cos, math.sin).astype(float)
         v = x @ vs[joint.parent] + v_joint if joint.parent >= 0 else v_joint
         cross = _ad_numeric(v)
         xs.append(x)
@@ -856,7 +843,7 @@ def motion_equations(model: ElaboratedModel,
                 variables[n] = ex.Name((n,), span=span)
         else:
             port = joint.element.device.port(name)  # type: ignore[union-attr]
-            size = _port_size(port.type)  # type: ignore[union-attr]
+            size = port_size(port.type)  # type: ignore[union-attr]
             if (joint.dof == 1) != (size is None) or (size is not None and size != joint.dof):
                 raise DynamicsError(
                     f"joint {joint.name} has {joint.dof} coordinate"
@@ -901,7 +888,7 @@ def motion_equations(model: ElaboratedModel,
     return out
 
 
-def _port_size(t: Any) -> int | None:
+def port_size(t: Any) -> int | None:
     """The literal size of a vector type, None for a scalar (or anything else)."""
     from cyphy.lang import ast
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Sequence
 
-from cyphy.api import Generated
+from cyphy.pipeline.generated import Generated
 from cyphy.diagnostics import Report, Span
 from cyphy.verify.flowstar.scenario import SCENARIO, load_scenario
 

@@ -32,15 +32,13 @@ from typing import Any, Sequence
 
 import sympy
 
-from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.verify.flowstar.constraints import Conjunction, dnf, negated_dnf
 from cyphy.verify.flowstar.printer import FUNCTIONS, NotExpressible, flowstar_text, number, valid_name
-from cyphy.verify.flowstar.scenario import Scenario
+from cyphy.pipeline.elaborate import ElaborateOptions, elaborate
+from cyphy.verify.flowstar.scenario import EXPORT, Scenario
 
-EXPORT = codes.code("E-FLOWSTAR", codes.E,
-                    "the model and scenario cannot be exported to Flow*")
 
 TIMER, CLOCK = "timer", "t"
 
@@ -123,8 +121,6 @@ def build_problem(paths: Sequence[str | Path], scenario: Scenario, report: Repor
     """The model elaborated with the scenario's constants, reduced, and the scenario's
     controller, environment and property translated; None (with diagnostics) when any of
     it cannot be done. Also returns the source texts for rendering diagnostics."""
-    from cyphy.api import ElaborateOptions, elaborate
-
     result = elaborate(paths, ElaborateOptions(scenario.model, dict(scenario.consts),
                                                search_paths,
                                                default_inertial=scenario.default_inertial))

@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from cyphy.diagnostics import Report, Span
-from cyphy.verify.flowstar.scenario import Scenario, Transition
+from cyphy.verify.flowstar.scenario import EXPORT, Scenario, Transition
 
 if TYPE_CHECKING:
     from cyphy.semantics.machines.cycle import MachineInterpreter
@@ -24,7 +24,6 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
     """Fill the scenario's controller from the d-model's machine and return the machine's
     interpreter (reset to its start); None (with diagnostics) when there is none to choose,
     or it cannot be compiled."""
-    from cyphy.verify.flowstar.export import EXPORT
     from cyphy.lang.scopes import Scopes
     from cyphy.model.machines import select_machine
     from cyphy.semantics.machines.cycle import MachineError, interpreter_for
@@ -67,8 +66,6 @@ def _same_cycle(interpreter: "MachineInterpreter", scenario: Scenario, report: R
     (``cycleDef cycle == k``): a scenario without ``cycle`` takes it; one that gives another
     is reported, as is a cycle that is not a whole number of time units."""
     import tomllib
-
-    from cyphy.verify.flowstar.export import EXPORT
 
     period = interpreter.period
     name = interpreter.machine.name

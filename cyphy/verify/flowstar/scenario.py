@@ -22,6 +22,8 @@ from cyphy import codes
 from cyphy.diagnostics import Report, Span, did_you_mean
 
 SCENARIO = codes.code("E-SCENARIO", codes.E, "the scenario file cannot be used")
+EXPORT = codes.code("E-FLOWSTAR", codes.E,
+                    "the model and scenario cannot be exported to Flow*")
 
 _TOP = {"model", "elements", "horizon", "tscale", "cycle", "consts", "init", "environment",
         "controller", "machine", "unsafe", "flowstar", "default_inertial"}

@@ -1,0 +1,172 @@
+"""``simulate``: a p-model's equations integrated with SciPy, alone or under a scenario."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+from cyphy.deep import deep
+from cyphy.diagnostics import Report, Span
+from cyphy.pipeline.check import CheckResult
+from cyphy.pipeline.elaborate import ElaborateOptions, ElaborateResult, elaborate
+from cyphy.verify.flowstar.controller import CallEffects, ScenarioController
+from cyphy.verify.flowstar.scenario import SCENARIO, load_scenario
+
+
+@dataclass(frozen=True)
+class SimulateOptions:
+    model: str | None = None
+    consts: dict[str, object] = field(default_factory=dict)
+    search_paths: tuple[str, ...] = ()
+    simulation: Any = None  # cyphy.backends.simulate.SimulationOptions (defaults when None)
+    numeric: bool = False  # the kinematic tree alone, articulated-body algorithm
+    scenario: str | None = None  # a Flow* scenario whose controller and environment run
+    gravity: tuple[float, float, float] | None = None  # default −9.81 m/s² along z
+    controller: Any = None  # with a scenario: a Controller run instead of its [controller]
+    machine: str | None = None  # with a scenario without [controller]: the d-model machine
+    default_inertial: str | None = None  # see ElaborateOptions (wins over the scenario's)
+    floating_base: bool = False  # the root bodies free (six coordinates each), not fixed
+
+
+@dataclass
+class SimulateResult:
+    elaboration: ElaborateResult
+    trajectory: Any = None  # cyphy.backends.simulate.Trajectory
+    numeric: bool = False  # whether the numeric (tree-only) path ran
+
+    @property
+    def report(self) -> Report:
+        return self.elaboration.report
+
+
+@deep
+def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOptions()
+             ) -> SimulateResult:
+    """Integrate the model's explicit ODEs (``cyphy solve``'s, the equations of motion as
+    named definitions, for trees of any size) with SciPy, or, with ``numeric``, the
+    kinematic tree alone with the numeric articulated-body algorithm. With a ``scenario``
+    (TOML, as for ``gen --flowstar``), its ``[controller]`` runs at the d-model cycle, its
+    environment drives the sensor inputs and its ``[init]`` intervals start at their
+    midpoints. A
+    ``controller`` (:class:`cyphy.backends.simulate.Controller`, e.g. a state-machine
+    interpreter) replaces the ``[controller]`` table; its calls must be among those the
+    table's states issue, whose effects the scenario's problem solves. A scenario without
+    ``[controller]`` runs the d-model's state machine (``machine`` names it when there are
+    several), as ``reach`` does: its interpreter is the controller, one cycle per
+    ``cycle × tscale`` seconds, and the mapping's operations give its calls' effects."""
+    # lazy: NumPy, SciPy: `cyphy check` must not pay for it
+    from cyphy.backends import simulate as sim
+    from cyphy.semantics.dynamics import rigid_body as dynamics
+    from cyphy.semantics.dynamics.equations import ASSEMBLY, AssemblyError
+
+    if options.scenario is not None:
+        return _simulate_scenario(paths, options)
+    elaborated = elaborate(paths, ElaborateOptions(
+        options.model, options.consts, options.search_paths,
+        default_inertial=options.default_inertial))
+    result = SimulateResult(elaborated)
+    model = elaborated.model
+    if model is None:
+        return result
+    report = elaborated.report
+    settings = options.simulation or sim.SimulationOptions()
+    try:
+        numeric = options.numeric
+        gravity = options.gravity or dynamics.STANDARD_GRAVITY
+        several = options.floating_base or any(
+            dynamics.DOF.get(dynamics.joint_kind(j), 1) > 1 for j in model.joints)
+        if numeric or several:  # ZYX Euler angles must not start at their singularity
+            tree = dynamics.kinematic_tree(model, gravity, options.floating_base)
+            dynamics.euler_singularity(tree, [float(settings.init.get(name, 0.0))
+                                              for name in tree.coordinates("theta")])
+            if numeric:
+                result.numeric = True
+                result.trajectory = sim.simulate_tree(tree, settings)
+                return result
+        # lazy: NumPy, SymPy: `cyphy check` must not pay for it
+        from cyphy.semantics.dynamics.reduce import reduce_system, report_obstacles
+        from cyphy.semantics.dynamics.equations import assemble
+
+        reduced = reduce_system(assemble(model, gravity=options.gravity, definitions=True,
+                                         floating_base=options.floating_base))
+        if reduced.obstacles:
+            report_obstacles(reduced, report)
+            return result
+        result.trajectory = sim.simulate_reduced(reduced, settings)
+    except AssemblyError as err:
+        report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
+    except sim.SimulationError as err:
+        hint = err.hint
+        if err.message.startswith("constants without a value"):
+            qualified = sorted({f"{e.definition.split('::')[-1]}::{p.name}"
+                                for e in [*model.joints, *model.sensors, *model.actuators]
+                                if e.device is not None and e.definition
+                                for p in e.device.ports if p.mangled in err.message}
+                               & set(model.missing))
+            if qualified:
+                hint = "give them values: " + " ".join(f"--const {n}=VALUE" for n in qualified)
+        span = getattr(model.pmodel, "span", None) or Span.unknown(str(paths[0]))
+        report.report(sim.SIMULATE, err.message, span, hint)
+    return result
+
+
+def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
+                       ) -> SimulateResult:
+    """The scenario's problem as ``gen --flowstar`` builds it (reduced ODEs with the
+    environment, the effects of each state's calls, the events' predicates), integrated
+    cycle by cycle under the ``[controller]`` table, or the d-model's state machine run by
+    its interpreter (:mod:`cyphy.semantics.machines.cycle`) when the scenario has none."""
+    # lazy: NumPy, SciPy, SymPy: `cyphy check` must not pay for it
+    from cyphy.backends import simulate as sim
+    from cyphy.verify.flowstar.export import build_problem
+
+    report = Report()
+    empty = ElaborateResult(CheckResult(None, report), None)  # type: ignore[arg-type]
+    scenario = load_scenario(options.scenario, report)  # type: ignore[arg-type]
+    if scenario is None:
+        return SimulateResult(empty)
+    if options.model is not None:
+        scenario.model = options.model
+    if options.machine is not None:
+        if scenario.states:
+            report.report(SCENARIO, f"--machine {options.machine}: the scenario has a "
+                          "[controller], which is the controller", scenario.span("controller"),
+                          "remove the [controller] table to use the machine")
+            empty.check.sources[scenario.path] = scenario.text
+            return SimulateResult(empty)
+        scenario.machine = options.machine
+    scenario.consts.update(options.consts)
+    if options.default_inertial is not None:
+        scenario.default_inertial = options.default_inertial
+    problem, sources = build_problem(paths, scenario, report, options.search_paths)
+    empty.check.sources.update(sources)
+    if problem is None:
+        return SimulateResult(empty)
+    settings = options.simulation or sim.SimulationOptions(t_end=scenario.horizon)
+    init = {n: (lo + hi) / 2 for n, (lo, hi) in scenario.init.items()}
+    init = {n: v for n, v in init.items() if n in problem.states}
+    init.update(settings.init)
+    settings = dataclasses.replace(settings, init=init)
+    result = SimulateResult(empty)
+    try:
+        controller = options.controller or problem.machine or ScenarioController(scenario)
+        effects = CallEffects(problem.call_effects, scenario.consts, problem.operation_effects)
+
+        def events(_t: float, values: dict[str, float]) -> dict[str, object]:
+            import sympy
+
+            subs = {sympy.Symbol(n, real=True): v for n, v in values.items()}
+            return {name: (True if bool(pred.xreplace(subs)) else None)
+                    for name, pred in problem.events.items()}
+
+        reduced = dataclasses.make_dataclass("Problem", ["states", "rhs", "inputs", "outputs"])(
+            problem.states, problem.rhs, problem.inputs, problem.outputs)
+        result.trajectory = sim.simulate_reduced(
+            reduced, settings, controller, effects, scenario.period, events,
+            getattr(controller, "observable", frozenset()))
+    except (sim.SimulationError, ValueError) as err:
+        report.report(sim.SIMULATE, getattr(err, "message", str(err)),
+                      scenario.span("controller"), getattr(err, "hint", ""))
+    return result

@@ -1,0 +1,88 @@
+"""The Isabelle session of a platform mapping's semantics, and what it reports: inconsistent
+axioms, what Isabelle's scalar state cannot hold, constructs not yet translatable, and
+interleavings whose updates are lost. The policy of ``cyphy gen --isabelle``, kept with the
+printer that knows it so the API only composes."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from cyphy import codes
+from cyphy.backends.isabelle.axioms import INCONSISTENT_AXIOMS, unsatisfiable_axioms
+from cyphy.backends.isabelle.theory import (LOSSY_INTERLEAVING, UNTRANSLATABLE, IsabelleError,
+                                            IsabelleOptions, generate_session)
+from cyphy.diagnostics import Report
+from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.namesets import action_nodes
+
+
+def session_files(built: Any, options: Any, report: Report) -> dict[str, str] | None:
+    """The session's files (``ROOT``, the prelude, the theory, a README, the names table)
+    for ``built`` (a :class:`cyphy.semantics.circus.build.Semantics`) under ``options``
+    (its ``dialect``, ``namesets``, ``system_name``, ``elements``); None when an error was
+    reported. Interleavings that discard state updates are warnings (W-INTERLEAVE)."""
+    span = built.mapping.span
+    why = unsatisfiable_axioms(built.program.globals)
+    if why is not None:
+        report.report(INCONSISTENT_AXIOMS, why, span,
+                      "check the d-model's cycle restriction and --tscale: a theory with "
+                      "inconsistent axioms proves anything")
+        return None
+    try:
+        if options.dialect == "axiomatic":
+            session = _axiomatic_session(built, options, report)
+            if session is None:
+                return None
+        else:
+            session = generate_session(built.program, built.names,
+                                       IsabelleOptions(options.namesets),
+                                       options.system_name)
+    except IsabelleError as err:
+        where = err.span if err.span is not None and err.span.line > 0 else span
+        if err.shapes:
+            report.report(codes.S3, f"{err} (Isabelle's state is scalar: each equation "
+                          "between vectors or matrices is written per component)", where,
+                          "give both sides the same size (a m x n matrix equals only a m x n "
+                          "one; a product needs the left's columns to equal the right's rows)")
+        else:
+            report.report(UNTRANSLATABLE, str(err), where,
+                          "this construct cannot be written in Isabelle/UTP yet; the text and "
+                          "LaTeX printers (--cyphycircus, --latex) show it")
+        return None
+    for found in session.lossy:
+        if session.namesets_applied and found.partition:
+            continue
+        branches = " ||| ".join(found.branches)
+        updated = ", ".join(sorted(found.updated))
+        if not options.namesets:
+            hint = ("this follows the paper; --isabelle-namesets writes the interleaving with "
+                    "a name-set partition where the branches update disjoint variables")
+        else:
+            hint = ("--isabelle-namesets cannot help here: no name-set partition exists, "
+                    f"the branches all may update {', '.join(sorted(found.overlap))}")
+        report.report(LOSSY_INTERLEAVING,
+                      f"{found.action} ≙ {branches} interleaves with empty name sets: the "
+                      f"updates of {updated} are discarded when it ends", span, hint)
+    files: dict[str, str] = session.files
+    return files
+
+
+def _axiomatic_session(built: Any, options: Any, report: Report) -> Any:
+    """The Ax_CyPhyCircus session, with Evolve reduced to explicit ODEs (SymPy); None when
+    the equations cannot be reduced (E-ISABELLE-ODE reported)."""
+    from cyphy.backends.isabelle.ax_theory import generate_ax_session  # lazy: SymPy
+
+    pm = built.program.pmodel
+    evolutions = [n for d in pm.actions for n in action_nodes(d.body)
+                  if isinstance(n, c.Evolution)]
+    odes = None
+    if evolutions:
+        from cyphy.semantics.dynamics.evolve_odes import explicit_odes  # lazy: SymPy
+
+        odes = explicit_odes(built.model, evolutions[0], {f.name for f in pm.state.fields},
+                             options.elements, report, built.mapping.span)
+        if odes is None:
+            return None
+    return generate_ax_session(built.program, built.names, odes,
+                               IsabelleOptions(options.namesets), options.system_name,
+                               options.elements)

@@ -1,0 +1,17 @@
+"""What a generator returns: files by name, or none and the diagnostics that say why."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from cyphy.diagnostics import Report
+
+
+@dataclass
+class Generated:
+    """What a generator produced: files by relative path, in writing order. ``files`` is
+    empty when the model has errors (the report says which), so nothing gets written."""
+
+    report: Report
+    sources: dict[str, str] = field(default_factory=dict)
+    files: dict[str, str | bytes] = field(default_factory=dict)

@@ -1,0 +1,49 @@
+"""``cyphy check`` and ``cyphy gen --sdf`` start without the heavy libraries: SymPy, SciPy and
+matplotlib each cost a large part of a second before the first line is read (issue 24's
+start-up budget; ``benchmarks/bench_startup.py`` measures the whole processes)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+HEAVY = ("sympy", "scipy", "matplotlib")
+
+#: Runs the command in this process, then prints the top-level packages it imported.
+_WRAPPER = """
+import json, sys
+from cyphy.cli import main
+code = main(sys.argv[1:])
+print(json.dumps([code, sorted({m.split('.')[0] for m in sys.modules})]))
+"""
+
+
+def _imported(args: list[str]) -> tuple[int, set[str]]:
+    done = subprocess.run([sys.executable, "-c", _WRAPPER, *args], cwd=ROOT, text=True,
+                          capture_output=True, timeout=300,
+                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    code, modules = json.loads(done.stdout.strip().splitlines()[-1])
+    return code, set(modules)
+
+
+@pytest.mark.parametrize("args", [
+    ["check", "examples/marxbot"],
+    ["gen", "examples/marxbot", "--sdf", "-o", "{tmp}"],
+])
+def test_command_imports_no_heavy_library(args: list[str], tmp_path: Path) -> None:
+    code, modules = _imported([a.format(tmp=tmp_path) for a in args])
+    assert code == 0
+    assert "cyphy.api" not in modules  # the names are top-level packages only
+    assert "cyphy" in modules
+    assert modules.isdisjoint(HEAVY), sorted(modules & set(HEAVY))
+
+
+def test_the_probe_sees_a_heavy_import(tmp_path: Path) -> None:
+    """The probe is not blind: ``solve`` reduces with SymPy, and the wrapper reports it."""
+    code, modules = _imported(["solve", "examples/dcmotor"])
+    assert code == 0 and "sympy" in modules
