@@ -85,3 +85,26 @@ def deep(fn: Callable[P, T]) -> Callable[P, T]:
             return fn(*args, **kwargs)
         return run_deep(lambda: fn(*args, **kwargs))
     return entry
+
+
+def where_too_deep(err: RecursionError) -> str:
+    """Where a :class:`RecursionError` happened in the model: ``FILE:LINE:COLUMN: `` of the
+    outermost expression (else syntax node) that the frames of the failed walk were visiting (the top of the
+    runaway nesting), or ``""`` when no frame holds one. Found after the fact from the
+    traceback, so that no walk pays for tracking it."""
+    from cyphy.diagnostics import Span
+    from cyphy.expr import Expr
+
+    fallback = ""
+    frame_tb = err.__traceback__
+    while frame_tb is not None:
+        for value in frame_tb.tb_frame.f_locals.values():
+            span = getattr(value, "span", None)
+            if isinstance(span, Span) and span.line > 0:
+                where = f"{span.file}:{span.line}:{span.column}: "
+                if isinstance(value, Expr):  # the expression, rather than its file or block
+                    return where
+                fallback = fallback or where
+        frame_tb = frame_tb.tb_next
+    return fallback
+

@@ -21,7 +21,7 @@ import cyphy
 from cyphy import interrupts, progress
 from cyphy.cli.options import common_options, joined_values
 from cyphy.cli.targets import output_problem
-from cyphy.deep import run_deep
+from cyphy.deep import run_deep, where_too_deep
 from cyphy.diagnostics import RENDERING
 
 #: The commands, in the order ``--help`` lists them: each the module ``cyphy.cli.<name>``.
@@ -105,8 +105,8 @@ def _command(args: argparse.Namespace) -> int:
         return code
     except KeyboardInterrupt:
         return 130
-    except RecursionError:
-        sys.stderr.write(TOO_DEEP)
+    except RecursionError as err:
+        sys.stderr.write(TOO_DEEP.replace("error: ", "error: " + where_too_deep(err), 1))
         return 1
     except Exception as err:  # a bug of ours: say so plainly, without a traceback
         sys.stderr.write(f"cyphy: internal error ({type(err).__name__}: {err}); please report "

@@ -1,5 +1,5 @@
-"""The newcomer's path (issue 29): a folder that cannot be read is a diagnostic, not a
-silent gap in the model."""
+"""The newcomer's path (issue 29), at scale and at the edges: a folder that cannot be read is a
+diagnostic, not a silent gap in the model; a model nested too deeply says where."""
 
 from __future__ import annotations
 
@@ -35,3 +35,21 @@ def test_an_unreadable_sub_folder_is_reported(tmp_path: Path, monkeypatch: pytes
     assert f"ERROR E-IO: cannot read the folder {hidden}: Permission denied" in err
     monkeypatch.undo()
     assert main(["check", str(project)]) == 0
+
+
+def test_nests_too_deeply_says_where(tmp_path: Path) -> None:
+    """A flat sum of 30,000 terms: too deep for the walks over it, and the message points at
+    the sum (line 3, column 18), not at nothing."""
+    import subprocess
+    import sys
+
+    from conftest import ROOT
+
+    model = tmp_path / "deep.rsm"
+    model.write_text("package d\npmodel D {\n\tconst c: real = " + " + ".join(["1"] * 30000)
+                     + "\n\tlocal link L { def { } }\n}\n")
+    done = subprocess.run([sys.executable, "-m", "cyphy", "check", str(model)],
+                          capture_output=True, text=True, timeout=600,
+                          env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert done.returncode == 1
+    assert f"cyphy: error: {model}:3:18: the model nests too deeply" in done.stderr
