@@ -164,6 +164,26 @@ def mujoco_bias(mjcf: Path, q: dict[str, float], qd: dict[str, float]) -> Bias:
     return names, data.qfrc_bias[dofs].copy()
 
 
+def random_states(rng: np.random.Generator, joints: int, count: int
+                  ) -> list[tuple[list[float], list[float]]]:
+    """``count`` states (positions in [-2, 2], velocities in [-3, 3]) of ``joints`` joints."""
+    return [(rng.uniform(-2, 2, joints).tolist(), rng.uniform(-3, 3, joints).tolist())
+            for _ in range(count)]
+
+
+def random_trees() -> Any:
+    """Hypothesis: ``(link specs, parents)`` of chains and trees of 2-8 links, for
+    ``test_mjcf._tree_model`` (a root at a random pose, revolute and prismatic joints with
+    random axes and poses, random masses, centres of mass and rotated inertias)."""
+    from hypothesis import strategies as st
+
+    from test_mjcf import links
+
+    return st.lists(links, min_size=2, max_size=8).flatmap(
+        lambda specs: st.tuples(st.just(specs), st.tuples(
+            *[st.integers(0, i) for i in range(len(specs) - 1)])))
+
+
 def names_table(path: Path) -> dict[str, str]:
     """The export's name table: exported (URDF, MJCF) name → qualified RoboSim name."""
     return json.loads(path.read_text())
@@ -208,3 +228,52 @@ def compare(values: dict[str, MassMatrix], floor: float = 0.0) -> float:
         lined_up = value[np.ix_(order, order)] if value.ndim == 2 else value[order]
         worst = max(worst, float(np.abs(lined_up - reference).max()) / scale)
     return worst
+
+
+def _drake(path: Path, q: dict[str, float], qd: dict[str, float]
+           ) -> tuple[Any, Any, list[str], list[int]]:
+    """Drake's plant of an SDF or URDF file (its own parser: the file's inertias, joint poses
+    and axes), the model frame welded to the world (cyphy's root is fixed in the model frame),
+    at the positions ``q`` and velocities ``qd``: ``(plant, context, one-degree-of-freedom
+    joint names, their velocity indices)``. Drake's default gravity is −9.81 m/s² along z."""
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import MultibodyPlant
+
+    plant = MultibodyPlant(0.0)
+    (instance,) = Parser(plant).AddModels(str(path))
+    if plant.HasFrameNamed("__model__", instance):  # SDF: the links' poses are in it
+        root = plant.GetFrameByName("__model__", instance)
+    else:  # URDF: the root link's frame is the model frame
+        children = {plant.get_joint(j).child_body().index()
+                    for j in plant.GetJointIndices(instance)}
+        (first,) = [b for b in plant.GetBodyIndices(instance) if b not in children]
+        root = plant.get_body(first).body_frame()
+    plant.WeldFrames(plant.world_frame(), root)
+    plant.Finalize()
+    context = plant.CreateDefaultContext()
+    names, dofs = [], []
+    positions, velocities = plant.GetPositions(context), plant.GetVelocities(context)
+    for index in plant.GetJointIndices(instance):
+        joint = plant.get_joint(index)
+        if joint.num_velocities() == 1:
+            names.append(joint.name())
+            dofs.append(joint.velocity_start())
+            positions[joint.position_start()] = q.get(joint.name(), 0.0)
+            velocities[joint.velocity_start()] = qd.get(joint.name(), 0.0)
+    plant.SetPositions(context, positions)
+    plant.SetVelocities(context, velocities)
+    return plant, context, names, dofs
+
+
+def drake_mass(path: Path, q: dict[str, float]) -> MassMatrix:
+    """Drake's ``CalcMassMatrix`` of the SDF or URDF ``path``."""
+    plant, context, names, dofs = _drake(path, q, {})
+    return names, plant.CalcMassMatrix(context)[np.ix_(dofs, dofs)]
+
+
+def drake_bias(path: Path, q: dict[str, float], qd: dict[str, float]) -> Bias:
+    """``h(q, q̇)`` = Drake's ``CalcBiasTerm`` (Coriolis, centrifugal: ``C(q, v) v``) minus
+    ``CalcGravityGeneralizedForces`` (Drake's inverse dynamics leaves gravity out)."""
+    plant, context, names, dofs = _drake(path, q, qd)
+    h = plant.CalcBiasTerm(context) - plant.CalcGravityGeneralizedForces(context)
+    return names, np.asarray(h)[dofs]

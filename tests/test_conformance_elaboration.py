@@ -123,7 +123,14 @@ STRUCT_NAME = Reason(
     "nested template as Sonar {…} instead”",
     frozenset({CHECK}), frozenset({"AN3"}),
 )
-REASONS = (TRIG, G1, INVALID, STRUCT_NAME)
+CROSS = Reason(
+    "a joint joined to every copy of an indexed target",
+    "§1.8: “A joint whose target is an indexed link or part is replicated once per target "
+    "instance without any index in its qualified name (duplicates …); an indexed joint to an "
+    "indexed target gives the product (IJTIL: 4×2)”; IX3 refuses it (element i to element i)",
+    frozenset({CHECK}), frozenset({"IX3"}),
+)
+REASONS = (TRIG, G1, INVALID, STRUCT_NAME, CROSS)
 
 _TWO_BODIES = ("TwoBodiesPlusInertia", "TwoBodiesPlusJoint", "TwoBodiesPlusJointRef",
                "TwoBodiesPlusPrismaticJoint", "TwoBodiesPlusPrismaticJoint_ReverseParentChild",
@@ -155,6 +162,10 @@ WAIVED: dict[str | tuple[str, str], Reason] = {
     # which RoboTool ignores anyway (§1.3 "Body-level inertial information is ignored").
     **{example: INVALID for example in _TWO_BODIES},
     "BodyPlusSonarSensorRef": STRUCT_NAME,  # `sonar = Sonar { … }`
+    # joints to every copy of an indexed link or part: IX3 (issue 27)
+    **{(example, "IX3"): CROSS for example in (
+        "75_jointtest", "77_jointtest", "Index/IndexedJointToIndexedLink",
+        "Index/IndexedJointToIndexedPart")},
 }
 
 # --------------------------------------------------------------------------- RoboTool's side

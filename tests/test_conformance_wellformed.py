@@ -24,6 +24,13 @@ SAME_PLACE = ("V5", "links Tip and Rod are identical spheres at z = 0.9: copies 
 ERRORS: dict[str, list[tuple[str, int, str]]] = {
     "14_LinkRef": [("V1", 1, "ixx = izz = 0 with off-diagonal terms (sdf-robotool.md 6)")],
     "29_testvar": [("V1", 1, "mass (f-d)/2 ... = -18 (sdf-robotool.md 6: mass -18)")],
+    "75_jointtest": [("IX3", 1, "joint R (one joint) to the 2 copies of L2: RoboTool makes two "
+                      "joints named L1::R (sdf-robotool.md 1.8)")],
+    "77_jointtest": [("IX3", 1, "joint R (one joint) to L2 in the 2 copies of part p")],
+    "Index/IndexedJointToIndexedLink": [("IX3", 1, "PJ (4 copies) to Top (2 copies): "
+                                         "RoboTool's 4x2 product (IJTIL)")],
+    "Index/IndexedJointToIndexedPart": [("IX3", 1, "joint PJ (one joint) to L2 in the 2 "
+                                         "copies of part p (sdf-robotool.md 1.8)")],
     "BodyPlusSonarSensorRef": [("AN3", 1, "sonar = Sonar {…} where SonarDetails is meant "
                                 "(notation.md C.1)")],
     "SimpleArm": [("V1", 2, "the fingers' inertia 0.000283 / 7.52e-05 / 0.00209 breaks "

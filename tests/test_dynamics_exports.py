@@ -19,8 +19,8 @@ from conftest import EXAMPLES
 from cyphy import api
 from robot_exports import (compare, cyphy_joint_space, cyphy_source, mujoco_bias, mujoco_mass,
                            names_table, pinocchio_bias, pinocchio_mass, pybullet_bias,
-                           pybullet_mass)
-from test_mjcf import _tree_model, links
+                           pybullet_mass, random_states, random_trees)
+from test_mjcf import _tree_model
 
 pytest.importorskip("pinocchio")
 pytest.importorskip("pybullet")
@@ -74,10 +74,8 @@ def worst_disagreement(paths: list[Path], out: Path, states: list[tuple[list[flo
 
 @pytest.mark.parametrize("example", sorted(MODELS))
 def test_examples_agree_with_the_tools(tmp_path: Path, example: str) -> None:
-    rng = np.random.default_rng(1916)
     n = {"manipulator": 3, "marxbot": 2, "dcmotor": 1}[example]
-    states = [(rng.uniform(-2, 2, n).tolist(), rng.uniform(-3, 3, n).tolist())
-              for _ in range(5)]
+    states = random_states(np.random.default_rng(1916), n, 5)
     worst_m, worst_h = worst_disagreement([EXAMPLES / example], tmp_path, states,
                                           MODELS[example])
     assert worst_m < TOLERANCE and worst_h < TOLERANCE, (worst_m, worst_h)
@@ -99,10 +97,7 @@ def test_a_wrong_inertia_is_caught(tmp_path: Path) -> None:
 
 @settings(max_examples=12, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
-@given(st.lists(links, min_size=2, max_size=8).flatmap(
-    lambda specs: st.tuples(st.just(specs), st.tuples(
-        *[st.integers(0, i) for i in range(len(specs) - 1)]))),
-    st.integers(0, 2**32 - 1))
+@given(random_trees(), st.integers(0, 2**32 - 1))
 def test_random_trees_agree_with_the_tools(tmp_path_factory, tree, seed: int) -> None:
     """Chains and trees of 2-8 links (a root at a random pose fixed to the world), revolute
     and prismatic joints with random axes and poses, random masses, centres of mass and
@@ -111,9 +106,6 @@ def test_random_trees_agree_with_the_tools(tmp_path_factory, tree, seed: int) ->
     specs, parents = tree
     folder = tmp_path_factory.mktemp("random")
     (folder / "Random.rsm").write_text(_tree_model(list(parents), specs))
-    rng = np.random.default_rng(seed)
-    n = len(specs) - 1
-    states = [(rng.uniform(-2, 2, n).tolist(), rng.uniform(-3, 3, n).tolist())
-              for _ in range(2)]
+    states = random_states(np.random.default_rng(seed), len(specs) - 1, 2)
     worst_m, worst_h = worst_disagreement([folder / "Random.rsm"], folder / "out", states)
     assert worst_m < TOLERANCE and worst_h < TOLERANCE, (worst_m, worst_h)

@@ -64,7 +64,7 @@ def test_clean_model(tmp_path: Path) -> None:
     ({"body2": "sphere(radius = 0.5) friction { translational { coefficient1 -0.2 } }"}, "V3",
      7, "coefficient1 of body V::A::B2 is -0.2"),
     ({"axis": "(|1, 0, 0|)"}, "V4", 8, "AXIS (1, 0, 0) and the annotation's xyz (0, 0, 2)"),
-    ({"xyz": "(|0, 0, 0|)"}, "V4", 8, "the annotation's xyz of joint V::A::J is the zero"),
+    ({"xyz": "(|0, 0, 0|)"}, "V6", 8, "the annotation's xyz of joint V::A::J is the zero"),
     ({"b2x": "0", "body2": "box(length = 1, width = 1, height = 1)"}, "V5", 7,
      "bodies V::A::B1 and V::A::B2 have the same shape at the same place"),
     ({"cx": "0"}, "V5", 19, "links V::C and V::D have the same shape at the same place"),

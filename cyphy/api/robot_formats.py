@@ -23,7 +23,7 @@ class SdfGenOptions:
     search_paths: tuple[str, ...] = ()
     pose: tuple[float, float, float, float, float, float] = (0.0,) * 6
     short_names: bool = False
-    target: str = "gazebo"  # or "coppeliasim"
+    target: str = "gazebo"  # or "coppeliasim", "pybullet", "drake"
     gazebo_model: bool = False  # files model.sdf and model.config instead of <Model>.sdf
     split_trees: bool = False  # a <world> with one <model> per tree of links
 

@@ -44,7 +44,8 @@ def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = Semant
     # The value checks concern geometry and inertia, which the semantics does not use.
     checked = check(paths, CheckOptions(search_paths=options.search_paths,
                                         consts=dict(options.consts),
-                                        neighbours_as_targets=True, value_checks=False))
+                                        neighbours_as_targets=True, value_checks=False,
+                                        find_in_folder="mapping"))
     if checked.report.has_errors or checked.resolution is None:
         return checked, None
     built = build_semantics(checked.workspace, checked.resolution, checked.report,

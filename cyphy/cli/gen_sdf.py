@@ -34,11 +34,12 @@ def _sdf_options(gen: argparse.ArgumentParser) -> None:
     group.add_argument("--short-names", action="store_true",
                        help="RoboTool's coded names (1-Wheel, 1--wheel) instead of readable ones")
     group.add_argument("--target", dest="sdf_target",
-                       choices=("gazebo", "coppeliasim", "pybullet"), default="gazebo",
+                       choices=("gazebo", "coppeliasim", "pybullet", "drake"), default="gazebo",
                        help="coppeliasim: RoboTool's CoppeliaSim conventions (coded names, "
                        "sensor poses turned by Ry(pi/2)); pybullet: trees only (split "
                        "trees, joints that close loops left out, gearboxes as revolute "
-                       "joints, each reported)")
+                       "joints, each reported); drake: what Drake's parser loads (no "
+                       "<axis><initial_position>, a warning when it was not 0)")
     group.add_argument("--gazebo-model", metavar="DIR",
                        help="write a Gazebo model folder DIR (model.config, model.sdf)")
     group.add_argument("--split-trees", action="store_true",

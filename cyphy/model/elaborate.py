@@ -31,7 +31,7 @@ from cyphy.model.elements import (
     Sensor, glued,
 )
 from cyphy.model.evaluate import (
-    EvalError, UnboundName, Value, coerce, evaluate_fast, literal_value,
+    EvalError, UnboundName, Value, coerce, evaluate_fast, free_names, literal_value,
 )
 from cyphy.model.poses import Pose
 
@@ -130,6 +130,7 @@ class _Instance:
     parts: dict[str, list[_Instance]] = field(default_factory=dict)
     joint_clauses: dict[str, ast.PartFlexible] = field(default_factory=dict)
     container: _Instance | None = None
+    index: dict[str, int] = field(default_factory=dict)  # a part copy's index values
 
 
 @dataclass
@@ -264,11 +265,21 @@ class _Context:
             return evaluate_fast(e, env)
         except UnboundName as err:
             if self._known_missing(err.name, env):
+                self._look_up_all(e, env)
                 return None
             self.report.report(EVAL, err.message, err.span, err.hint)
         except EvalError as err:
             self.report.report(EVAL, err.message, err.span, err.hint)
         return None
+
+    def _look_up_all(self, e: ex.Expr, env: Env) -> None:
+        """Evaluation stops at the first constant without a value; the other constants ``e``
+        names are looked up too, so that they are recorded as missing now and a generator
+        lists every constant it needs at once, not one more per run (issue 27)."""
+        for name in sorted(free_names(e)):
+            found = env._find(name)
+            if isinstance(found, _Binding):
+                self.value_of(found)
 
     def _known_missing(self, name: str, env: Env) -> bool:
         found = env._find(name)
@@ -381,6 +392,7 @@ class _Elaborator:
         self.relation_queue: list[tuple[ex.Expr, ast.Block, Device | None,
                                         dict[str, int]]] = []
         self.copies = 0  # of indexed blocks and parts, against limits.max_copies()
+        self.part_index: dict[int, dict[int, dict[str, int]]] = {}  # see _target_values
         self.too_many = False
 
     def run(self, pm: ast.PModel, file: ast.SourceFile) -> ElaboratedModel:
@@ -451,6 +463,7 @@ class _Elaborator:
             frame = inst.frame.compose(local) if inst.frame and local else None
             sub = self._instance(prefix, target, target_file, frame, inst, overrides,
                                  part.flexible)
+            sub.index = dict(values)
             for clause in part.fixed:
                 for link in sub.links.get(clause.link, []):
                     self.pending_fixed.append((link, clause.target, clause.part, inst,
@@ -576,14 +589,13 @@ class _Elaborator:
 
     def _inertial(self, m: ast.Inertial, env: Env, body: Body | None
                   ) -> inertia_math.Inertial | None:
+        # All evaluated before any is found missing (see _pose).
         mass = self.ctx.evaluate(m.mass, env)
-        if not isinstance(mass, (int, float)) or isinstance(mass, bool):
-            return None
         com = self._pose(m.pose, env) if m.pose is not None else Pose.identity()
-        if com is None:
+        entries = {e.name: self.ctx.evaluate(e.value, env) for e in m.inertia or ()}
+        if not isinstance(mass, (int, float)) or isinstance(mass, bool) or com is None:
             return None
         if m.inertia is not None:
-            entries = {e.name: self.ctx.evaluate(e.value, env) for e in m.inertia}
             values = [entries.get(k) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
             if any(not isinstance(v, (int, float)) for v in values):
                 return None
@@ -757,40 +769,77 @@ class _Elaborator:
     def _pose(self, pose: ast.Pose | None, env: Env) -> Pose | None:
         if pose is None:
             return Pose.identity()
-        values = []
-        for key in POSE_KEYS:
-            e = pose.get(key)
-            v = 0.0 if e is None else self.ctx.evaluate(e, env)
-            if not isinstance(v, (int, float)) or isinstance(v, bool):
-                return None
-            values.append(float(v))
-        return Pose.from_xyz_rpy(*values)
+        # Every field is evaluated, even after one without a value: each records the
+        # constants it misses, and a generator reports them all at once.
+        values = [0.0 if pose.get(key) is None else self.ctx.evaluate(pose.get(key), env)
+                  for key in POSE_KEYS]
+        if any(not isinstance(v, (int, float)) or isinstance(v, bool) for v in values):
+            return None
+        return Pose.from_xyz_rpy(*(float(v) for v in values))
 
     # ----- second pass: connections and names
     def _connect(self, top: _Instance) -> None:
-        for p in self.pending:
-            proto = p.prototype
-            targets = (self._targets(p.instance, p.target, p.part) if p.target is not None
-                       else [])
-            if not targets:  # PMap1/Flex report it; there is nothing to join
-                self.model.unconnected.append(proto)
-                continue
-            for k, child in enumerate(targets):
-                joint = proto if k == 0 else replace(proto, sensors=list(proto.sensors),
-                                                     actuators=list(proto.actuators))
-                joint.child, joint.target_copy = child, k
-                if proto.parent is not None and proto.parent.pose and child.pose \
-                        and proto.local_pose:
-                    joint.pose = child.pose.inverse().compose(
-                        proto.parent.pose.compose(proto.local_pose))
-                self.model.joints.append(joint)
-                if proto.parent is not None:
-                    proto.parent.joints.append(joint)
+        groups: dict[tuple[int, int, str | None, str | None], list[_PendingJoint]] = {}
+        for p in self.pending:  # the copies of one joint block, in one p-model instance
+            groups.setdefault((id(p.block), id(p.instance), p.target, p.part), []).append(p)
+        for copies in groups.values():
+            first = copies[0]
+            targets = (self._targets(first.instance, first.target, first.part)
+                       if first.target is not None else [])
+            for p, children in zip(copies, self._pair(copies, targets, first.instance)):
+                self._join(p.prototype, children)
         for link, target, part, inst, span in self.pending_fixed:
             for child in self._targets(inst, target, part):
                 qname = link.qname + ("fixedJoint",) + child.qname
                 self.model.fixed.append(FixedJoint(qname, span, dict(link.index),
                                                    parent=link, child=child))
+
+    def _pair(self, copies: list[_PendingJoint], targets: list[Link], inst: _Instance
+              ) -> list[list[Link]]:
+        """The children of each copy of a joint: the one target; or, for a replicated target,
+        element i to element i (the copy of the joint, or of the link holding it, whose index
+        values are those of the target copy). A joint whose copies do not match the target's
+        one for one is recorded (IX3 reports it) and joined to every target copy, as
+        RoboTool does, so that the model stays whole for the other checks."""
+        if len(targets) <= 1:
+            return [targets] * len(copies)
+        own = [tuple((p.prototype.index or (p.prototype.parent.index
+                                            if p.prototype.parent else {})).values())
+               for p in copies]
+        theirs = self._target_values(targets, inst)
+        if len(set(own)) == len(own) and sorted(own) == sorted(theirs) \
+                and len(set(theirs)) == len(theirs):
+            by_values = dict(zip(theirs, targets))
+            return [[by_values[v]] for v in own]
+        self.model.mismatched.append((copies[0].prototype, len(copies), list(targets)))
+        return [targets] * len(copies)
+
+    def _target_values(self, targets: list[Link], inst: _Instance) -> list[tuple[int, ...]]:
+        """What tells the copies of a replicated target apart: its part copy's index values
+        (a link in an indexed part), then its own."""
+        part_of = self.part_index.get(id(inst))
+        if part_of is None:  # once per instance: a model may connect many joints into it
+            part_of = self.part_index[id(inst)] = {
+                id(l): sub.index for subs in inst.parts.values() for sub in subs
+                for ls in sub.links.values() for l in ls}
+        return [tuple(part_of.get(id(l), {}).values()) + tuple(l.index.values())
+                for l in targets]
+
+    def _join(self, proto: Joint, children: list[Link]) -> None:
+        if not children:  # PMap1/Flex report it; there is nothing to join
+            self.model.unconnected.append(proto)
+            return
+        for k, child in enumerate(children):
+            joint = proto if k == 0 else replace(proto, sensors=list(proto.sensors),
+                                                 actuators=list(proto.actuators))
+            joint.child, joint.target_copy = child, k
+            if proto.parent is not None and proto.parent.pose and child.pose \
+                    and proto.local_pose:
+                joint.pose = child.pose.inverse().compose(
+                    proto.parent.pose.compose(proto.local_pose))
+            self.model.joints.append(joint)
+            if proto.parent is not None:
+                proto.parent.joints.append(joint)
 
     def _targets(self, inst: _Instance, link: str, part: str | None) -> list[Link]:
         if part is None:

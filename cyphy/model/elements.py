@@ -191,6 +191,9 @@ class ElaboratedModel:
     relations: list[ex.Expr] = field(default_factory=list)  # containment relations, renamed
     constants: dict[str, Value] = field(default_factory=dict)  # qualified name → value
     missing: dict[str, list[Span]] = field(default_factory=dict)  # constants with no value
+    # Joints whose copies do not match their replicated target one for one (IX3): the joint,
+    # how many copies it has, and the target's copies (each copy is joined to all of them).
+    mismatched: list[tuple[Joint, int, list[Link]]] = field(default_factory=list)
 
     @property
     def devices(self) -> list[Device]:

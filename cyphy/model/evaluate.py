@@ -45,6 +45,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cyphy.diagnostics import Span, did_you_mean
+from cyphy.model.units import units
 from cyphy.expr import (
     BinOp,
     Bool,
@@ -348,21 +349,9 @@ evaluate its right operand, so ``x != 0 /\\ 1/x > 2`` is false, not an error, at
 # --------------------------------------------------------------------------- units
 
 UNIT_FACTORS: Mapping[str, float] = MappingProxyType(
-    {
-        **dict.fromkeys(("m", "metre", "meter", "metres", "meters"), 1.0),
-        "cm": 0.01,
-        "mm": 0.001,
-        "km": 1000.0,
-        **dict.fromkeys(("kg", "kilogram", "kilograms"), 1.0),
-        "g": 0.001,
-        **dict.fromkeys(("s", "second", "seconds"), 1.0),
-        "ms": 0.001,
-        **dict.fromkeys(("rad", "radian", "radians"), 1.0),
-        **dict.fromkeys(("deg", "degree", "degrees"), math.pi / 180),
-        **dict.fromkeys(("N", "newton", "newtons"), 1.0),
-    }
-)
-"""SI factor of each unit suffix the grammar accepts: a quantity is its value times the factor."""
+    {name: unit.factor for name, unit in units().items()})
+"""SI factor of each unit suffix the grammar accepts (from Pint, ``cyphy/model/units.py``): a
+quantity is its value times the factor."""
 
 
 # --------------------------------------------------------------------------- math functions

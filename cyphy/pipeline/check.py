@@ -12,6 +12,7 @@ from cyphy.deep import deep
 from cyphy.diagnostics import Report
 from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
+from cyphy.lang.targets import folder_files
 from cyphy.lang.workspace import Workspace, load_workspace
 from cyphy.wellformed import RULES, WFContext, check_wellformed
 
@@ -26,6 +27,7 @@ class CheckOptions:
     value_checks: bool = True  # V1-V5 (geometry, inertia, meshes): what simulators need
     consistency: bool = False  # also C1-C5 on the platform mappings (imports Z3)
     z3_timeout_ms: int | None = None  # per Z3 query; None: the checks' default
+    find_in_folder: str = ""  # "pmodel", "mapping": the folder's when the files have none
 
 
 @dataclass
@@ -52,7 +54,9 @@ def _front_end(paths: Sequence[str | Path], options: CheckOptions) -> CheckResul
     result = CheckResult(ws, report, sources=ws.texts)
     if options.syntax_only:
         return result
-    if options.neighbours_as_targets:
+    found = folder_files(ws, options.find_in_folder) if options.find_in_folder else []
+    ws.targets = ws.targets + found  # cyphy/lang/targets.py
+    if options.neighbours_as_targets or found:
         ws.targets = _with_dependencies(ws)
     check_placement(ws.user_files(), report)
     progress.stage("resolving names")

@@ -45,7 +45,8 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
     # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.model.elaborate import elaborate as run
 
-    checked = check(paths, CheckOptions(search_paths=options.search_paths))
+    checked = check(paths, CheckOptions(search_paths=options.search_paths,
+                                        find_in_folder="pmodel"))
     if checked.resolution is None or (checked.report.has_errors and not (
             options.despite_value_errors
             and all(_value_error(d) for d in checked.report.errors))):

@@ -23,7 +23,8 @@ def geometric_model(paths: Sequence[str | Path], name: str | None,
     from cyphy.model.elaborate import choose_pmodel, elaborate_pmodel, require_constants
     from cyphy.semantics.sdf.rules import unvalued
 
-    checked = check(paths, CheckOptions(search_paths=search_paths, consts=dict(consts)))
+    checked = check(paths, CheckOptions(search_paths=search_paths, consts=dict(consts),
+                                        find_in_folder="pmodel"))
     generated = Generated(checked.report, checked.sources)
     if checked.report.has_errors or checked.resolution is None:
         return checked, generated, None

@@ -13,9 +13,11 @@ from cyphy.wellformed import links  # noqa: E402,F401
 from cyphy.wellformed import connections  # noqa: E402,F401
 from cyphy.wellformed import parts  # noqa: E402,F401
 from cyphy.wellformed import indexing  # noqa: E402,F401
+from cyphy.wellformed import replication  # noqa: E402,F401
 from cyphy.wellformed import annotations  # noqa: E402,F401
 from cyphy.wellformed import mappings  # noqa: E402,F401
 from cyphy.wellformed import values  # noqa: E402,F401
+from cyphy.wellformed import units  # noqa: E402,F401
 from cyphy.wellformed import machines  # noqa: E402,F401
 
 __all__ = ["RULES", "WFContext", "check_wellformed", "rule"]

@@ -173,23 +173,18 @@ def check_V3_surface_ranges(ctx: WFContext) -> None:
                               f"{name} must be {where}")
 
 
-@rule("V4", "a joint's axis constant and its annotation's xyz agree; axes are non-zero",
-      Severity.WARNING)
+@rule("V4", "a joint's axis constant and its annotation's xyz agree", Severity.WARNING)
 def check_V4_axis_agreement(ctx: WFContext) -> None:
     """The joint's ``AXIS`` constant (the equations' axis) and the ``xyz`` of its annotation
-    (the simulator's axis) describe the same unit direction; an axis is never the zero vector.
-    Given twice, the two drift apart silently: the simulation then moves about another axis
-    than the one the proofs assume."""
+    (the simulator's axis) describe the same unit direction. Given twice, the two drift apart
+    silently: the simulation then moves about another axis than the one the proofs assume.
+    A zero axis is V6's error, not compared here."""
     for m in _models(ctx):
         for joint in m.joints:
             if joint.target_copy:
                 continue
             axis = _vector(joint.axis)
             xyz = _vector(_annotation_xyz(joint.annotation))
-            for what, v in (("the AXIS constant", axis), ("the annotation's xyz", xyz)):
-                if v is not None and math.hypot(*v) < GEOMETRY_TOL:
-                    ctx.error("V4", joint, f"{what} of joint {joint.name} is the zero vector",
-                              "give a non-zero axis")
             if axis is None or xyz is None:
                 continue
             na, nx = math.hypot(*axis), math.hypot(*xyz)
@@ -199,6 +194,24 @@ def check_V4_axis_agreement(ctx: WFContext) -> None:
                 ctx.error("V4", joint, f"joint {joint.name}: AXIS {_fmt(axis)} and the "
                           f"annotation's xyz {_fmt(xyz)} are different directions",
                           "make instantiation AXIS and annotation axis xyz agree")
+
+
+@rule("V6", "a joint's axis (its AXIS constant, its annotation's xyz) is not the zero vector")
+def check_V6_nonzero_axis(ctx: WFContext) -> None:
+    """A joint turns or slides along a direction: a zero axis has none. It is an error, not a
+    warning: the joint's equations lose their motion subspace, and SDFormat rejects the
+    ``<axis><xyz>0 0 0</xyz>`` that ``gen --sdf`` would write (libsdformat: "The norm of the
+    xyz vector cannot be zero")."""
+    for m in _models(ctx):
+        for joint in m.joints:
+            if joint.target_copy:
+                continue
+            for what, value in (("the AXIS constant", joint.axis),
+                                ("the annotation's xyz", _annotation_xyz(joint.annotation))):
+                v = _vector(value)
+                if v is not None and math.hypot(*v) < GEOMETRY_TOL:
+                    ctx.error("V6", joint, f"{what} of joint {joint.name} is the zero vector",
+                              "give the joint a non-zero axis, e.g. xyz = (|0, 0, 1|)")
 
 
 def _annotation_xyz(annotation: Any) -> Any:

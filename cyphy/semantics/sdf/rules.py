@@ -61,6 +61,9 @@ CUT = codes.code("W-SDF-CUT", codes.W,
                  "--target pybullet: a joint that closes a kinematic loop is left out")
 GEARBOX = codes.code("W-SDF-GEARBOX", codes.W,
                      "--target pybullet: a gearbox joint is written as a revolute joint")
+DRAKE = codes.code("W-SDF-DRAKE", codes.W,
+                   "--target drake: an element Drake's parser refuses is left out, and that "
+                   "changes the model")
 
 JOINT_TYPES = {"Revolute": "revolute", "Prismatic": "prismatic", "Ball": "ball",
                "Universal": "universal", "Revolute2": "revolute2", "Screw": "screw",
@@ -89,7 +92,8 @@ class SdfOptions:
     pose: tuple[float, float, float, float, float, float] = (0.0,) * 6
     short_names: bool = False
     #: "gazebo"; "coppeliasim": RoboTool's conventions (coded names, Ry(π/2)); "pybullet":
-    #: trees only (split trees, loops cut, gearboxes as revolute joints)
+    #: trees only (split trees, loops cut, gearboxes as revolute joints); "drake": without
+    #: the elements SDFormat 1.9 removed, which Drake's parser refuses
     target: str = "gazebo"
     split_trees: bool = False  # a <world> with one <model> per tree of links
 
@@ -111,6 +115,7 @@ class _Translation:
         self.report = report
         self.options = options
         self.coppeliasim = options.target == "coppeliasim"
+        self.drake = options.target == "drake"
         #: Trees only (loops cut, gearboxes as revolute joints): PyBullet, URDF and MJCF.
         self.pybullet = options.target in TREE_TARGETS
         self.simulator = TREE_TARGETS.get(options.target, "PyBullet")
@@ -589,7 +594,17 @@ def _axis(t: _Translation, joint: Joint, name: str) -> Node:
         else:
             value = AnnotationValue(value.template, (("xyz", xyz), *value.args), value.span)
     node = Node(name)
-    fill(node, value, t.templates, t.resolver(joint.qname))
+    # SDFormat 1.9 removed <axis><initial_position> (a joint's position is a state, not a
+    # property); Drake's parser, which converts our 1.6 files up, refuses it as an error.
+    skip = frozenset({"initial_position"}) if t.drake else frozenset()
+    fill(node, value, t.templates, t.resolver(joint.qname), skip)
+    initial = value.get("initial_position")
+    if t.drake and isinstance(initial, (int, float)) and initial != 0:
+        t.report.report(DRAKE, f"joint {joint.name}: its {name}'s initial_position "
+                        f"{initial:g} is left out (SDFormat 1.9 removed it and Drake refuses "
+                        "it): Drake starts the joint at 0", joint.span,
+                        "set the position in Drake (plant.SetPositions), or give the joint "
+                        "pose the initial position")
     return node
 
 
