@@ -8,10 +8,10 @@ import sys
 import tempfile
 from pathlib import Path
 
-from cyphy.cli.options import (const_options, const_values, default_inertial_option,
-                               finite_float, path_option)
+from cyphy.cli.options import const_options, const_values, default_inertial_option, path_option
 from cyphy.diagnostics import render_text
 from cyphy.outputs import OutputError, write_all
+from cyphy.verify.flowstar import limits
 
 
 def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
@@ -28,21 +28,21 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
     reach.add_argument("--flowstar-bin", metavar="PATH",
                        help="the Flow* executable (default: $CYPHY_FLOWSTAR, the one "
                        ".ci/install built, or flowstar on PATH)")
-    reach.add_argument("--timeout", type=finite_float, metavar="SECONDS",
+    reach.add_argument("--timeout", type=limits.seconds, metavar="SECONDS",
                        help="give up (UNKNOWN) when a Flow* run takes longer")
-    reach.add_argument("--split", type=int, default=1, metavar="N",
+    reach.add_argument("--split", type=limits.boxes, default=1, metavar="N",
                        help="split the initial set into N boxes along its widest state, one "
                        "Flow* run each (default 1; a run ending UNKNOWN is retried with "
                        "4 boxes unless --no-auto-split)")
     reach.add_argument("--no-auto-split", action="store_true",
-                       help="do not retry an UNKNOWN run on smaller boxes")
+                       help="do not retry an UNKNOWN run (finer settings, smaller boxes)")
     reach.add_argument("--jobs", type=int, metavar="N",
                        help="Flow* runs at a time (default: the number of cores)")
     reach.add_argument("-o", "--output", metavar="DIR",
-                       help="keep the Flow* model in DIR (default: a temporary folder, "
-                       "removed at the end)")
+                       help="keep the Flow* model in DIR, and in runs/ each model Flow* ran "
+                       "(default: a temporary folder, removed at the end)")
     reach.add_argument("--keep", action="store_true",
-                       help="keep the temporary folder with the Flow* model, and print its "
+                       help="keep the temporary folder with the Flow* models, and print its "
                        "path")
     reach.add_argument("--model", metavar="NAME", help="the p-model")
     reach.add_argument("--machine", metavar="NAME",
@@ -82,7 +82,9 @@ def run(args: argparse.Namespace) -> int:
         model = write_all(generated.files, out_dir)[0]
         result = check(problem, model.stem, binary, args.timeout, args.split,
                        not args.no_auto_split, args.jobs)
-    except (OutputError, FlowstarMissing) as err:
+        if kept:
+            write_all(result.runs, out_dir)  # the models Flow* ran (parts, boxes, rungs)
+    except (FlowstarMissing, OutputError) as err:
         sys.stderr.write(f"cyphy reach: error: {err}\n")
         return 2
     finally:
@@ -95,6 +97,6 @@ def run(args: argparse.Namespace) -> int:
     if result.witness is not None:
         stream.write("the trajectory (time, event, controller state, state):\n")
         stream.write("\n".join(result.witness.lines(result.names)) + "\n")
-    if len(result.details) > 1 or result.verdict != "SAFE":
+    if result.details and (len(result.details) > 1 or result.verdict != "SAFE"):
         stream.write("Flow* runs:\n" + "\n".join(result.details) + "\n")
     return result.exit_code

@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     diagnostics = result.report.diagnostics
     if diagnostics:
         sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))
-    if result.reduced is None:
+    if result.reduced is None or (result.reduced.obstacles and not result.reduced.states):
         return 1
     render = {"text": odes_to_text, "latex": odes_to_latex, "json": odes_to_json}
     sys.stdout.write(render[args.format](result.reduced, result.closed_form))

@@ -18,9 +18,9 @@ canonicalisation of every product cost 20 s for a 10-link arm (measured). Per jo
 - ``p_V_k``      the body's twist ``V = X·V_parent + S·v`` (pass 1),
 - ``p_c_k``      the velocity-product acceleration ``ad(V)·S·v``,
 - ``p_IA_j_k``   the articulated inertia ``IA = G + Σ_children Xᵀ·Ia·X`` (symmetric, j ≤ k),
-- ``p_pA_k``     the articulated bias wrench ``pA = −ad(V)ᵀ·G·V + Σ_children Xᵀ·pa``,
-- ``p_U_k``      ``U = IA·S``, ``p_D`` ``D = Sᵀ·U``, ``p_u`` ``u = τ − Sᵀ·pA``,
-- ``p_Ia_j_k``   ``Ia = IA − U·Uᵀ/D`` and ``p_pa_k`` ``pa = pA + Ia·c + U·u/D`` (pass 2),
+- ``p_pB_k``     the articulated bias wrench ``pB = −ad(V)ᵀ·G·V + Σ_children Xᵀ·pa``,
+- ``p_U_k``      ``U = IA·S``, ``p_D`` ``D = Sᵀ·U``, ``p_u`` ``u = τ − Sᵀ·pB``,
+- ``p_Ia_j_k``   ``Ia = IA − U·Uᵀ/D`` and ``p_pa_k`` ``pa = pB + Ia·c + U·u/D`` (pass 2),
 - ``p_IX_j_k``   ``Ia·X`` (on the way to the parent's ``Xᵀ·Ia·X``),
 - ``p_ap_k``     ``a' = X·a_parent + c`` (the root's parent accelerates at ``−g``),
 - ``p_qdd``      ``q̈ = (u − Uᵀ·a')/D``, and ``p_dV_k`` ``dV = a' + S·q̈`` (pass 3).
@@ -30,7 +30,7 @@ a number written where it is used. The recursion is written over the joint's mot
 subspace ``S`` (6×nᵢ, :func:`joint_subspace`): the screw axis of a revolute or prismatic
 joint as one column of numbers; for a joint of several coordinates (universal, ball, the
 floating base: ``dynamics.DOF``) ``S(q)`` depends on the coordinates, its entries named
-``p_S_k_c``, and the twist gains the rate of the subspace ``Ṡ·q̇`` (``p_dS_k``, in ``c``).
+``p_S_k_c``, and the twist gains the rate of the subspace ``Ṡ·q̇`` (``p_Sdq_k``, in ``c``).
 Such a joint has ``p_U_k_c``, ``p_D_a_b`` (symmetric, a ≤ b), ``D⁻¹`` by its adjugate
 (``p_det``, ``p_Dinv_a_b``), ``p_u_a`` and ``p_qdd_a``, its coordinates named as
 ``cyphy solve`` names a vector's components (``Wrist_theta_1``; a floating base's
@@ -417,7 +417,7 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
             for k in range(r, 6):
                 ia[r][k] = ia[k][r] = name(f"{p}_IA_{r + 1}_{k + 1}",
                                            extra_inertia[i][r][k] + g[r][k], joint)
-        pa = [name(f"{p}_pA_{k + 1}", bias[k] + extra_bias[i][k], joint) for k in range(6)]
+        pa = [name(f"{p}_pB_{k + 1}", bias[k] + extra_bias[i][k], joint) for k in range(6)]
         tag = (lambda c: "") if columns == 1 else (lambda c: f"_{c + 1}")
         u_mat = [[name(f"{p}_U_{k + 1}{tag(c)}", _dot(ia[k], column[c]), joint)
                   for c in range(columns)] for k in range(6)]
@@ -446,7 +446,7 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
         us[i], d_invs[i], efforts[i] = u_mat, d_inv, u
         if joint.parent < 0:
             continue
-        # Ia = IA − U·D⁻¹·Uᵀ,  pa = pA + Ia·c + U·D⁻¹·u
+        # Ia = IA − U·D⁻¹·Uᵀ,  pa = pB + Ia·c + U·D⁻¹·u
         ud = [[_dot(u_mat[k], [d_inv[a][b] for a in range(columns)]) for b in range(columns)]
               for k in range(6)]
         small: list[list[Any]] = [[None] * 6 for _ in range(6)]
@@ -504,7 +504,7 @@ def joint_subspace(joint: TreeJoint, q: Sequence[Polynomial], qd: Sequence[Polyn
     """``(S, Ṡ·q̇)`` of the joint at coordinates ``q`` and rates ``qd`` (6 rows of ``dof``
     columns, and a 6-vector): numbers for one coordinate (:func:`subspace`, no rate); for
     several, ``dynamics.motion_subspace`` and ``motion_subspace_rate`` on symbols, each entry that is
-    not a number named (``p_S_k_c``, ``p_dS_k``) through ``name``."""
+    not a number named (``p_S_k_c``, ``p_Sdq_k``) through ``name``."""
     if joint.dof == 1:
         return [[float(x) for x in row] for row in subspace(joint)], [0.0] * 6
     p = joint.prefix
@@ -512,7 +512,7 @@ def joint_subspace(joint: TreeJoint, q: Sequence[Polynomial], qd: Sequence[Polyn
     s = [[name(f"{p}_S_{k + 1}_{c + 1}", _clean(raw[k, c]), joint)
           for c in range(joint.dof)] for k in range(6)]
     rate = motion_subspace_rate(joint, list(q), list(qd), _cos, _sin)
-    return s, [name(f"{p}_dS_{k + 1}", _clean(rate[k]), joint) for k in range(6)]
+    return s, [name(f"{p}_Sdq_{k + 1}", _clean(rate[k]), joint) for k in range(6)]
 
 
 def _adjugate(m: list[list[Any]]) -> tuple[list[list[Any]], Any]:

@@ -25,6 +25,10 @@ from cyphy.semantics.dynamics.errors import AssemblyError
 ASSEMBLY = codes.code("E-SOLVE", codes.E, "the equations to solve cannot be assembled")
 OBSTACLE = codes.code("E-REDUCE", codes.E,
                       "the equations cannot be reduced to explicit first-order ODEs")
+OVERDETERMINED = codes.code("E-OVERDETERMINED", codes.E,
+                            "more equations than unknowns: equations compete for a variable")
+UNDERDETERMINED = codes.code("E-UNDERDETERMINED", codes.E,
+                             "no equation determines a variable the evolution needs")
 
 
 @dataclass(frozen=True)
@@ -44,6 +48,15 @@ class System:
     # named intermediate quantities of the equations of motion, in order (each uses the
     # variables and the definitions before it): ``cyphy.semantics.dynamics.articulated.Definition``
     definitions: list[Any] = field(default_factory=list)
+    # device prefix → the span of the element that declares it in the user's files: where a
+    # diagnostic about a library device's equation points (the library is not the user's)
+    places: dict[str, Span] = field(default_factory=dict)
+    # the joints' efforts (``<Joint>_tau``): the equations of motion give a joint's
+    # acceleration from its effort, never an effort from a prescribed motion
+    efforts: set[str] = field(default_factory=set)
+    # the sensors' outputs (their measurements): solved as outputs even where no state's
+    # derivative needs them, so that `solve` and `simulate` show what each sensor reads
+    measured: set[str] = field(default_factory=set)
 
 
 def assemble(model: ElaboratedModel, elements: list[str] | None = None,
@@ -66,16 +79,22 @@ def assemble(model: ElaboratedModel, elements: list[str] | None = None,
     devices = _devices(model, elements)
     for device in devices:
         _add_device(system, device)
+    _add_places(system, model, devices)
     known = {p.mangled for d in devices for p in d.ports}
     if definitions:
         _add_explicit_motion(system, model, gravity, None if not elements else known,
                              floating_base)
     else:
         _add_motion(system, model, gravity, None if not elements else known, floating_base)
-    for relation in model.relations:
-        names = {n.text for n in relation.walk() if isinstance(n, ex.Name)}
-        if names <= known | set(system.parameters):
+    for relation in model.relations:  # all of them for the whole model: never one dropped
+        functions = {id(n.func) for n in relation.walk() if isinstance(n, ex.Call)}
+        names = {n.text for n in relation.walk()
+                 if isinstance(n, ex.Name) and id(n) not in functions}  # sin is no variable
+        if not elements or names <= known | set(system.parameters):
             system.equations.append(Equation(relation, "relation", relation.span))
+    for twist in fixed_root_twists(model, floating_base):
+        if {n.text for n in twist.expr.walk() if isinstance(n, ex.Name)} <= known:
+            system.equations.append(twist)
     if mapping is not None and call is not None:
         _add_mapping_call(system, model, mapping, call, call_params)
     _integrals_to_states(system)
@@ -108,6 +127,19 @@ def _add_device(system: System, device: Device) -> None:
             system.kinds[p.mangled] = p.kind.value.lower()
     for e in device.equations:
         system.equations.append(Equation(e, device.prefix, e.span))
+
+
+def _add_places(system: System, model: ElaboratedModel, devices: list[Device]) -> None:
+    for e in [*model.joints, *model.unconnected, *model.sensors, *model.actuators]:
+        if e.device is not None and e.device in devices:
+            system.places.setdefault(e.device.prefix, e.span)
+    for joint in model.joints:
+        port = joint.device.port("tau") if joint.device in devices else None
+        if port is not None:
+            system.efforts.add(port.mangled)
+    for sensor in model.sensors:
+        if sensor.device is not None and sensor.device in devices:
+            system.measured.update(p.mangled for p in sensor.device.of_kind(ast.DeclKind.OUTPUT))
 
 
 def _add_motion(system: System, model: ElaboratedModel,
@@ -180,7 +212,11 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
         for atom in d.value.atoms():
             names |= uses.get(atom, {atom})
         uses[d.name] = names
-    clash = sorted((set(uses) | free) & (set(system.variables) | set(system.parameters)))
+    from cyphy.semantics.scalarise import components, type_shape
+
+    taken = set(system.variables) | set(system.parameters) | {  # and their components
+        c for n, t in system.variables.items() for c in components(n, type_shape(t) or ())}
+    clash = sorted((set(uses) | free) & taken)
     if clash:
         joint = next((d.joint for d in motion.definitions if d.name == clash[0]),
                      motion.accelerations[0][0])
@@ -231,6 +267,43 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
         added = True
     if added:
         system.definitions.extend(motion.definitions)
+
+
+FIXED_ROOT = "fixed root"  # the origin of the equations fixed_root_twists gives
+
+
+def fixed_root_twists(model: ElaboratedModel, floating_base: bool = False) -> list[Equation]:
+    """The parent twist of every joint whose parent is a root link, and its rate, are zero:
+    ``J_pV == (|0, …, 0|)`` and ``J_pA == (|0, …, 0|)``. A root link is fixed to the world
+    (the equations of motion assume it, :func:`motion`), so the parent's twist is the
+    world's; nothing else in the model gives these inputs, which left them free in
+    ``Evolve`` and stopped ``simulate`` on a whole model. With ``floating_base`` the root
+    moves and its twist is its own state: no equation."""
+    if floating_base:
+        return []
+    children = {j.child.name for j in model.joints if j.child is not None}
+    out: list[Equation] = []
+    for joint in model.joints:
+        if joint.parent is None or joint.child is None or joint.device is None \
+                or joint.parent.name in children:
+            continue
+        span = joint.span
+        for name in ("pV", "pA"):
+            port = joint.device.port(name)
+            size = _vector_size(port.type) if port is not None else None
+            if port is None or size is None:
+                continue
+            zero = ex.Vector((tuple(ex.Num("0", span=span) for _ in range(size)),), span=span)
+            out.append(Equation(ex.BinOp("==", ex.Name((port.mangled,), span=span), zero,
+                                         span=span), f"{joint.device.prefix} {FIXED_ROOT}", span))
+    return out
+
+
+def _vector_size(t: ast.TypeRef) -> int | None:
+    """The length of ``vector(T, n)`` with a literal ``n``, else None."""
+    if isinstance(t, ast.VectorType) and isinstance(t.size, ex.Num) and t.size.is_integer:
+        return int(t.size.text)
+    return None
 
 
 def motion(model: ElaboratedModel,
@@ -410,10 +483,11 @@ def _integrals_to_states(system: System) -> None:
 
 
 def _defined_by_others(system: System) -> set[str]:
-    """Inputs that a relation or a mapping sets are not free inputs."""
+    """Inputs that a relation, a mapping or the fixed root sets are not free inputs."""
     out: set[str] = set()
     for eq in system.equations:
-        if eq.origin == "relation" or eq.origin.startswith("mapping"):
+        if eq.origin == "relation" or eq.origin.startswith("mapping") \
+                or eq.origin.endswith(FIXED_ROOT):
             out.update(n.text for n in eq.expr.walk() if isinstance(n, ex.Name))
     return out
 

@@ -30,13 +30,13 @@ import sympy
 
 from cyphy import codes
 from cyphy import expr as ex
-from cyphy.semantics.dynamics.reduce import Reduced, reduce_system, type_shape
+from cyphy.semantics.dynamics.reduce import Reduced, obstacle_code, obstacle_hint, reduce_system
 from cyphy.translate.to_sympy import T, NotAnExpression, to_expr
 from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.dynamics.equations import ASSEMBLY, AssemblyError, System, assemble
-from cyphy.semantics.scalarise import components
+from cyphy.semantics.scalarise import components, type_shape
 
 NOT_EXPLICIT = codes.code("E-ISABELLE-ODE", codes.E,
                           "Evolve cannot be written as the explicit ODE of the axiomatic "
@@ -55,6 +55,7 @@ class ExplicitOde:
     variable: str
     rhs: ex.Expr
     kind: str
+    value: ex.Expr | None = None  # an output's: its value as a function of the states
 
 
 @dataclass
@@ -78,10 +79,13 @@ def explicit_odes(model: ElaboratedModel, evolution: c.Evolution, state_fields: 
     reduced = reduce_system(system, frozenset(fields))
     if reduced.obstacles:
         for o in reduced.obstacles:
-            span = o.equations[0].span if o.equations else where
-            notes = [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
-            report.report(NOT_EXPLICIT, f"Evolve cannot be reduced to explicit ODEs: "
-                          f"{o.message}", span, HINT, notes)
+            span = o.span or (o.equations[0].span if o.equations else where)
+            notes = list(o.notes) or [f"{eq.origin}: equation at {eq.span}"
+                                      for eq in o.equations]
+            structural = o.kind.endswith("determined")  # the model's fault, not the target's
+            report.report(obstacle_code(o) if structural else NOT_EXPLICIT,
+                          f"Evolve cannot be reduced to explicit ODEs: {o.message}", span,
+                          obstacle_hint(o) if structural else HINT, notes)
         return None
     ports = {p.mangled for d in model.devices for p in d.ports}
     return _build(system, reduced, evolution, fields, ports, report, where)
@@ -108,6 +112,7 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
               for name in [*reduced.states, *reduced.outputs]}
     out = EvolveOdes()
     rhs: dict[str, Any] = {}
+    values: dict[str, Any] = {}  # the outputs' solutions over the states
     failed = False
 
     def fail(message: str, name: str) -> None:
@@ -135,10 +140,14 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
             continue
         rhs_y = sum((sympy.diff(g, symbol[s]) * rhs[s] for s in rhs), sympy.Integer(0))
         rhs[name] = sympy.expand(rhs_y)
+        values[name] = g
     printed: dict[str, ex.Expr] = {}
+    solutions: dict[str, ex.Expr] = {}
     for name, value in rhs.items():
         try:
             printed[name] = to_expr(value)
+            if name in values:
+                solutions[name] = to_expr(sympy.expand(values[name]))
         except NotAnExpression as err:
             fail(f"the ODE of {name} has a term the printers cannot write: {err}", name)
     if failed:
@@ -148,7 +157,7 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
         if s not in state_fields:
             out.added.append(s)
     for name in sorted(set(rhs) - set(reduced.states)):
-        out.odes.append(ExplicitOde(name, printed[name], "output"))
+        out.odes.append(ExplicitOde(name, printed[name], "output", solutions[name]))
     for eq in evolution.equations:  # the semantics' own equations (timer' = 1): no port's
         if isinstance(eq, ex.BinOp) and eq.op == "==" and isinstance(eq.left, ex.Derivative) \
                 and isinstance(eq.left.operand, ex.Name) \

@@ -19,7 +19,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import networkx as nx
@@ -30,17 +30,27 @@ from sympy.core.function import AppliedUndef
 from cyphy import expr as ex
 from cyphy.translate.to_sympy import T, SympyPrinter, UnsupportedNode
 from cyphy.lang import ast
+from cyphy.lang.notation import to_notation
+from cyphy.lang.workspace import LIBRARY_ROOT
 from cyphy.diagnostics import Report, Span
-from cyphy.semantics.dynamics.equations import OBSTACLE, Equation, System
-from cyphy.semantics.scalarise import ScalariseError, Scalariser, components
+from cyphy.semantics.dynamics.equations import (OBSTACLE, OVERDETERMINED, UNDERDETERMINED,
+                                                Equation, System)
+from cyphy.semantics.dynamics.structure import (Competition, Row, overdetermined,
+                                               underdetermined)
+from cyphy.semantics.scalarise import ScalariseError, Scalariser, components, type_shape
 
 
 @dataclass(frozen=True)
 class Obstacle:
-    kind: str  # underdetermined, algebraic-loop, unknown-function, unsupported, too-large
+    kind: str  # overdetermined, underdetermined, algebraic-loop, unknown-function,
+    #            unsupported, too-large
     message: str
     variables: tuple[str, ...]
     equations: tuple[Equation, ...]
+    # where to report it (in the user's files) and what to say about each equation; set by
+    # the reducer from the system's places (see ``Reducer.placed``)
+    span: Span | None = None
+    notes: tuple[str, ...] = ()
 
 
 @dataclass
@@ -57,18 +67,6 @@ class Reduced:
     # value a SymPy expression (an output the equations of motion use) or a
     # ``cyphy.semantics.dynamics.articulated.Polynomial``; empty once inlined (see ``reduce_system``)
     definitions: list[tuple[str, Any]] = field(default_factory=list)
-
-
-def type_shape(t: ast.TypeRef | None) -> tuple[int, ...] | None:
-    """The shape a declared vector or matrix type of literal sizes fixes (None otherwise)."""
-    def size(e: ex.Expr | None) -> int | None:
-        return int(e.text) if isinstance(e, ex.Num) and e.is_integer else None
-
-    if isinstance(t, ast.VectorType) and size(t.size):
-        return (size(t.size),)  # type: ignore[return-value]
-    if isinstance(t, ast.MatrixType) and size(t.rows) and size(t.cols):
-        return (size(t.rows), size(t.cols))  # type: ignore[return-value]
-    return None
 
 
 def _exact(v: Any) -> Any:
@@ -110,6 +108,8 @@ class Reducer:
         # variables and valued constants become their components; a constant without a
         # value stays one symbol
         self.scalariser = Scalariser(shapes, frozenset(shapes))
+        self.wanted = wanted | {c for n in system.measured  # what the sensors read
+                                for c in components(n, shapes.get(n, ()))}
         for name in system.variables:
             for k in components(name, shapes.get(name, ())):
                 symbols[k] = self._func(k)
@@ -164,6 +164,11 @@ class Reducer:
         result = Reduced()
         residuals = self.residuals(result.obstacles)
         residuals = self._higher_derivatives(residuals)
+        if not result.obstacles:
+            result.obstacles.extend(self._structure(residuals))
+        if result.obstacles:
+            result.obstacles = [self.placed(o) for o in result.obstacles]
+            return result  # never a reduction that leaves an equation out
         states: set[str] = set()
         for r, _ in residuals:
             for d in sorted(r.atoms(sympy.Derivative), key=str):
@@ -174,14 +179,16 @@ class Reducer:
         while True:
             residuals, presolved = self._presolve_static(residuals, states)
             residuals, states, reduced = self._index_reduction(residuals, states, result)
-            if not presolved and not reduced:
+            if not presolved and not reduced and not self._uncover(residuals, states):
                 break
         residuals = [(self._input_derivatives(r), eq) for r, eq in residuals]
         dsyms = {self._derivative_symbol(self.funcs[s]): s for s in sorted(states)}
         to_symbol = {sympy.Derivative(self.funcs[s], T): self._derivative_symbol(self.funcs[s])
                      for s in states}
         rs = [(r.xreplace(to_symbol), eq) for r, eq in residuals]
-        algebraic = sorted(n for n in self.funcs if n not in states and n not in self.inputs)
+        static = {f.func.__name__ for f in self.static}  # solved already: known
+        algebraic = sorted(n for n in self.funcs
+                           if n not in states and n not in self.inputs and n not in static)
         unknown_of = {self.funcs[n]: n for n in algebraic}
         unknown_of.update({d: f"d_{s}" for d, s in dsyms.items()})
         self._solve(rs, unknown_of, dsyms, result)
@@ -198,7 +205,55 @@ class Reducer:
                                if n in used_names)
         result.parameters = sorted(str(s) for s in used if isinstance(s, sympy.Symbol)
                                    and str(s) in self.system.parameters)
+        result.obstacles = [self.placed(o) for o in result.obstacles]
         return result
+
+    # ----- structural analysis (before any reduction)
+    def _structure(self, residuals: list[tuple[Any, Equation]]) -> list[Obstacle]:
+        """The structural analysis (:mod:`cyphy.semantics.dynamics.structure`) as obstacles:
+        equations left over (the device equations and equations of motion are matched first,
+        then mappings' equations, then relations, so what is left over is the user's), else
+        the free variables the evolution needs."""
+        efforts = {c for n in self.system.efforts for c in self._components(n)}
+        rows: list[Row[Equation]] = []
+        for r, eq in residuals:
+            direct = {f.func.__name__ for f in r.atoms(AppliedUndef)
+                      if f.func.__name__ in self.funcs} - self.inputs
+            hidden = self._hidden_in(r) - self.inputs
+            derived = {d.expr.func.__name__ for d in r.atoms(sympy.Derivative)} & direct
+            motion = eq.origin.endswith(" motion")
+            rows.append(Row(eq, frozenset(direct | hidden),
+                            frozenset(direct - efforts if motion else direct),
+                            frozenset(derived)))
+        rank = {"relation": 2, "mapping": 1}
+        rows.sort(key=lambda row: rank.get(row.equation.origin.split()[0], 0))
+        competitions = overdetermined(rows)
+        if competitions:
+            return [_competition(c) for c in competitions]
+        states = set().union(*(r.differentiated for r in rows))
+        freedom = underdetermined(rows, states)
+        if freedom is None:
+            return []
+        names = ", ".join(freedom.variables)
+        evolving = [v for v in freedom.variables if v in states]
+        what = (f"how {', '.join(evolving)} evolve" if evolving else
+                f"{names}, which the evolution needs")
+        more = "one unknown" if freedom.free == 1 else f"{freedom.free} unknowns"
+        return [Obstacle("underdetermined", f"the equations do not determine {what}: among "
+                         f"{names} there is {more} more than equations", freedom.variables,
+                         freedom.equations)]
+
+    def placed(self, o: Obstacle) -> Obstacle:
+        """``o`` reported in the user's files: at its first equation written there, or else at
+        the element whose library device the equation comes from; one note per equation."""
+        def place(eq: Equation) -> Span | None:
+            if not _in_library(eq.span):
+                return eq.span
+            return self.system.places.get(eq.origin)
+
+        spans = [s for s in (place(eq) for eq in o.equations) if s is not None]
+        notes = list(o.notes) or [_note(eq, self.system.places) for eq in o.equations]
+        return replace(o, span=o.span or (spans[0] if spans else None), notes=tuple(notes))
 
     def _definitions(self, result: Reduced) -> set[Any]:
         """Fill ``result.definitions``: the outputs the definitions use (a joint's effort
@@ -303,6 +358,36 @@ class Reducer:
                 changed = any_change = True
                 break
         return residuals, states, any_change
+
+    def _uncover(self, residuals: list[tuple[Any, Equation]], states: set[str]) -> bool:
+        """Bring a hidden constraint among states to light: a residual that no matching of
+        unknowns can use (``lv == v`` when ``e == dls - lv`` already determines lv and e is a
+        state) has its algebraic unknowns replaced by what their own equations give, when
+        those are explicit (no derivative, linear in the unknown), so that it becomes a
+        constraint the index reduction differentiates. Returns whether anything changed."""
+        unknowns = [self._unknowns_in(r, states) for r, _ in residuals]
+        defined_by = _match(list(enumerate(unknowns)))
+        used = set(defined_by.values())
+        for i, (r, _) in enumerate(residuals):
+            if i in used or not unknowns[i]:
+                continue
+            for y in sorted(v for v in unknowns[i] if not v.startswith("d_")):
+                j = defined_by.get(y)
+                if j is None or residuals[j][0].atoms(sympy.Derivative) or \
+                        self._hidden_in(residuals[j][0]):
+                    continue
+                f = self.funcs[y]
+                solution = _linear_one([residuals[j][0]], [f])
+                if solution is None:
+                    continue
+                value = solution[0][f]
+                for k, (x, eq) in enumerate(residuals):
+                    if k != j and x.has(f):
+                        residuals[k] = (sympy.expand(x.xreplace({sympy.Derivative(f, T):
+                                                                 sympy.diff(value, T)})
+                                                     .xreplace({f: value})), eq)
+                return True
+        return False
 
     def _presolve_static(self, residuals: list[tuple[Any, Equation]], states: set[str]
                          ) -> tuple[list[tuple[Any, Equation]], bool]:
@@ -462,6 +547,34 @@ class Reducer:
         return out
 
 
+def _in_library(span: Span) -> bool:
+    return span.file.startswith(str(LIBRARY_ROOT))
+
+
+def _equation_text(eq: Equation) -> str:
+    where = "relation" if eq.origin == "relation" else f"equation of {eq.origin}"
+    return f"{where} `{to_notation(eq.expr)}`"
+
+
+def _note(eq: Equation, places: dict[str, Span]) -> str:
+    note = f"{_equation_text(eq)} at {eq.span}"
+    if _in_library(eq.span) and eq.origin in places:
+        note += f" (the library's, for {eq.origin} declared at {places[eq.origin]})"
+    return note
+
+
+def _competition(c: Competition[Equation]) -> Obstacle:
+    """An over-determined equation and the equations that already determine its variables."""
+    rivals = "; ".join(f"{v} by the {_equation_text(eq)}" for v, eq in c.rivals)
+    variables = tuple(v for v, _ in c.rivals)
+    message = (f"the {_equation_text(c.equation)} over-determines the equations: it adds an "
+               f"equation but no unknown")
+    if rivals:
+        message += f", and each variable it names is already determined ({rivals})"
+    equations = (c.equation, *dict.fromkeys(eq for _, eq in c.rivals))
+    return Obstacle("overdetermined", message, variables, equations)
+
+
 def _match(equations: list[tuple[int, set[str]]]) -> dict[str, int]:
     """A maximum matching of variables to the equations that mention them, preferring state
     derivatives (``derivative(x) == y`` defines x', and then y is what is missing).
@@ -541,6 +654,12 @@ def _blocks_in_order(graph: nx.DiGraph) -> list[list[str]]:
 
 
 _OBSTACLE_HINTS = {
+    "overdetermined": "remove it or one of the equations it competes with: a relation may "
+                      "only set what nothing else determines, such as a joint's effort tau "
+                      "or a motor's demand das; cyphy solves a joint's acceleration from its "
+                      "effort, never an effort from a prescribed motion. A motor drives a "
+                      "joint through its torque alone (relation M.T == J.tau): see "
+                      "docs/equations.md",
     "underdetermined": "add an equation or relation that determines it, or restrict the "
                        "system with --element",
     "algebraic-loop": "rewrite the equations so the loop can be solved, or give the "
@@ -554,15 +673,28 @@ _OBSTACLE_HINTS = {
 }
 
 
-def report_obstacles(reduced: Reduced, report: Report) -> None:
-    """Each obstacle as an ``E-REDUCE`` diagnostic at its first equation."""
+def obstacle_code(o: Obstacle) -> Any:
+    """``E-OVERDETERMINED``, ``E-UNDERDETERMINED``, ``E-DYNAMICS`` (too large) or
+    ``E-REDUCE``."""
     from cyphy.semantics.dynamics.errors import TREE
 
+    return {"overdetermined": OVERDETERMINED, "underdetermined": UNDERDETERMINED,
+            "too-large": TREE}.get(o.kind, OBSTACLE)
+
+
+def obstacle_hint(o: Obstacle) -> str:
+    return _OBSTACLE_HINTS[o.kind]
+
+
+def obstacle_span(o: Obstacle) -> Span:
+    return o.span or (o.equations[0].span if o.equations else Span.unknown())
+
+
+def report_obstacles(reduced: Reduced, report: Report) -> None:
+    """Each obstacle as a diagnostic (:func:`obstacle_code`) in the user's files."""
     for o in reduced.obstacles:
-        span = o.equations[0].span if o.equations else Span.unknown()
-        notes = [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
-        report.report(TREE if o.kind == "too-large" else OBSTACLE, o.message, span,
-                      _OBSTACLE_HINTS[o.kind], notes)
+        notes = list(o.notes) or [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
+        report.report(obstacle_code(o), o.message, obstacle_span(o), obstacle_hint(o), notes)
 
 
 #: The largest expression (in nodes, every definition written out) that
