@@ -54,21 +54,6 @@ def test_and_as_conjunction(written: str, word: str, symbol: str, tmp_path: Path
     assert f"RoboSim writes '{word}' as '{symbol}'" in err
 
 
-def test_interleave_hint_offers_no_option_that_cannot_help(
-        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """The dcmotor's interleaving: both branches may set Motor_das, so no partition keeps
-    the updates and --isabelle-namesets cannot help; the hint must not offer it."""
-    assert main(["gen", "--isabelle", str(EXAMPLES / "dcmotor"), "-o",
-                 str(tmp_path / "o")]) == 0
-    err = capsys.readouterr().err
-    assert "W-INTERLEAVE" in err and "--isabelle-namesets" not in err
-    assert "no name-set partition keeps the updates: the branches all may update " \
-        "Motor_das" in err
-    assert main(["gen", "--isabelle", "--isabelle-namesets", str(EXAMPLES / "dcmotor"),
-                 "-o", str(tmp_path / "n")]) == 0
-    assert "cannot help" not in capsys.readouterr().err
-
-
 @pytest.mark.parametrize("example", sorted(p.name for p in EXAMPLES.iterdir()
                                            if p.is_dir() and p.name != "faulty"))
 def test_the_examples_are_clean_under_warnings_as_errors(example: str) -> None:
