@@ -95,7 +95,7 @@ def run_page(page: Page, cwd: Path, checkout: Path) -> list[str]:
                               timeout=900, stdin=subprocess.DEVNULL)
         actual = done.stdout.splitlines()  # one stream, in the order a terminal shows
         if done.returncode != ex.status or not matches(ex.shown, actual):
-            problems.append(f"{page.path.relative_to(ROOT)}: $ {ex.command}\n"
+            problems.append(f"{page.path.name}: $ {ex.command}\n"
                             f"  exit {done.returncode} (shown: {ex.status})\n  shown:\n    "
                             + "\n    ".join(ex.shown) + "\n  actual:\n    "
                             + "\n    ".join(actual))
