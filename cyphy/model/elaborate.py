@@ -423,6 +423,12 @@ def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: 
     checks need geometry, not behaviour, and devices are most of the work on a large
     model."""
     ctx = _Context(ws, resolution, report, consts or {})
+    if consts:  # a misspelt --const would be ignored, and the constant stay without a value
+        from cyphy.model.constants import declared_constants, unknown_constants
+
+        for key, hint in unknown_constants(consts, declared_constants(ws.files.values())):
+            report.report(codes.OPTION, f"--const {key}: the model has no constant {key!r}",
+                          Span.unknown("<command line>"), hint)
     with collector.paused():  # see cyphy/collector.py
         model = _Elaborator(ctx, devices).run(pm, file)
     if devices and strict_consts:  # the whole model: every constant it declares was seen
