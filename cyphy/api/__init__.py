@@ -14,6 +14,7 @@ from cyphy.api.semantics import (SemanticsGenOptions, generate_cyphycircus, gene
                                  semantics)
 from cyphy.api.simulate import SimulateOptions, SimulateResult, simulate
 from cyphy.api.solve import SolveOptions, SolveResult, UsageError, solve, unknown_elements
+from cyphy.api.theory import check_theory
 from cyphy.api.view import ViewRequest, view
 from cyphy.pipeline.check import CheckOptions, CheckResult, check
 from cyphy.pipeline.elaborate import ElaborateOptions, ElaborateResult, elaborate
@@ -23,7 +24,7 @@ __all__ = [
     "CheckOptions", "CheckResult", "ElaborateOptions", "ElaborateResult", "Generated",
     "SdfGenOptions", "SemanticsGenOptions", "SimulateOptions", "SimulateResult",
     "SolveOptions", "SolveResult", "TreeGenOptions", "UsageError", "ViewRequest", "check",
-    "elaborate", "generate_cyphycircus", "generate_isabelle", "generate_mjcf", "generate_sdf",
-    "generate_urdf", "machine_interpreter", "robot", "semantics", "simulate", "solve",
+    "check_theory", "elaborate", "generate_cyphycircus", "generate_isabelle", "generate_mjcf",
+    "generate_sdf", "generate_urdf", "machine_interpreter", "robot", "semantics", "simulate", "solve",
     "unknown_elements", "view",
 ]
