@@ -18,7 +18,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "cyphy"
 #: after it. ``foundation`` is the package's top-level modules (diagnostics, codes, expr, …);
 #: ``pipeline`` composes the stages (check, elaborate) that both ``verify`` and ``api`` use.
 LAYERS = ("foundation", "lang", "model", "translate", "wellformed", "semantics", "backends",
-          "pipeline", "verify", "api", "cli")
+          "pipeline", "verify", "api", "lsp", "cli")
 
 
 def module_name(path: Path, package: Path = PACKAGE) -> str:

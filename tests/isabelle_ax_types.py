@@ -210,6 +210,11 @@ class AxTheory:
     definitions: list[tuple[str, list[str], Type, str]] = field(default_factory=list)
     identifiers: list[str] = field(default_factory=list)
     errors: list[str] = field(default_factory=list)
+    schemes: dict[str, str] = field(default_factory=dict)  # polymorphic: a fresh type per use
+
+
+def _unquoted(text: str) -> str:
+    return text[1:-1] if text.startswith('"') else text
 
 
 def _t(text: str) -> Type:
@@ -273,25 +278,34 @@ def read_theory(text: str) -> AxTheory:
             declare(name)
     alphabets = list(_ALPHABET.finditer(text))
     if alphabets:
-        # the last alphabet extends the others (Optics Lens_Instances.thy:5, alphabet): its
-        # fields and its parents' are lenses into it (the parents' by their record scheme)
-        th.state = TCon(alphabets[-1].group(1))
+        # an alphabet's fields and its parents' are lenses into it (Optics
+        # Lens_Instances.thy:5, alphabet; the parents' by their record scheme): a field is a
+        # lens into the alphabet that extends its own last. The p-model's state is the first
+        # alphabet's; the d-model process's, when stated, another (its actions' type says)
+        extended_by = {m.group(2): m.group(1) for m in alphabets if m.group(2)}
+
+        def final(name: str) -> str:
+            while name in extended_by:
+                name = extended_by[name]
+            return name
+
+        th.state = TCon(final(alphabets[0].group(1)))
         for m in alphabets:
             declare(m.group(1))
             for name, typ in re.findall(r"  (\w+) :: " + _TYPE, m.group(3)):
-                th.lenses[name] = TCon("lens", (_t(typ), th.state))
+                th.lenses[name] = TCon("lens", (_t(typ), TCon(final(m.group(1)))))
                 declare(name)
     for m in _PRIMREC.finditer(text):
         name, action, lhs0, lhs1, tock, rec = m.groups()
         if not lhs0 == lhs1 == rec == name:
             th.errors.append(f"primrec {name} defines {lhs0}, {lhs1} and recurs on {rec}")
         result = _t(action)
-        th.constants[name] = fun(TCon("nat"), result)
+        th.schemes[name] = f"nat \\<Rightarrow> {_unquoted(action)}"  # 's: fresh per use
         declare(name)
         try:
             unify(th.channels.get(tock) or _undeclared(tock),
                   TCon("prism", (TCon("unit"), TVar())))
-            unify(result, TCon("cyphyaction", (TVar(), th.state or TVar())))
+            unify(result, TCon("cyphyaction", (TVar(), TVar())))
         except TypeError_ as err:
             th.errors.append(f"primrec {name}: {err}")
     for m in _DEF_FUN.finditer(text):
@@ -370,6 +384,8 @@ class AxChecker:
             return self.theory.channels[name]
         if name in self.theory.constants:
             return self.theory.constants[name]
+        if name in self.theory.schemes:
+            return _t(self.theory.schemes[name])
         if name in AX_SIGNATURES and name.isidentifier():
             return instance(name)
         raise TypeError_(f"'{name}' is not declared")
@@ -651,9 +667,11 @@ def check_ax_theory(text: str) -> list[str]:
                     raise TypeError_("more parameters than the type has")
                 env = checker.bind(env, p, result.args[0])
                 result = result.args[1]
-            unify(result, TCon("cyphyaction", (TVar(), theory.state)))
+            state = prune(result).args[1] if isinstance(prune(result), TCon) \
+                and prune(result).name == "cyphyaction" else theory.state
+            unify(result, TCon("cyphyaction", (TVar(), state)))
             tree = parser().parse(body, start="action")
-            unify(checker.action(tree, env), result)
+            unify(AxChecker(theory, state).action(tree, env), result)
         except Exception as err:
             errors.append(f"definition {name}: {err}")
     return errors

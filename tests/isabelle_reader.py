@@ -196,6 +196,9 @@ class ToCircus(Transformer):
         table = _HOL_OPS if text in _HOL_OPS else _UTP_OPS
         return ex.BinOp(table[text], left, right)
 
+    def conj_u(self, left, right) -> ex.Expr:
+        return ex.BinOp("/\\", left, right)
+
     def holop(self, token):
         return str(token)
 

@@ -397,6 +397,8 @@ class TheoryTypes:
     values: list[tuple[str, str, str]] = field(default_factory=list)  # (name, type, value)
     axioms: list[str] = field(default_factory=list)
     identifiers: list[str] = field(default_factory=list)
+    channel_sets: list[tuple[str, ...]] = field(default_factory=list)  # (name, chan, value)
+    compositions: list[tuple[str, ...]] = field(default_factory=list)  # see _COMPOSITION
 
 
 _DEF_ACTION = re.compile(r'^definition (\w+) :: "([^"]*)" where\n  "(\w+)((?: \w+)*) = (.*?)"\n'
@@ -409,6 +411,16 @@ _AXIOMATIZATION = re.compile(r'^axiomatization\n((?:  \w+ :: \S+(?: and)?\n)+)wh
 _DATATYPE = re.compile(r'^datatype (\w+) =\n((?:  (?:  |\| )\w+(?: "[^"]*")?\n)+)', re.M)
 _ALPHABET = re.compile(r'^alphabet (\w+) =(?: (\w+) \+)?\n((?:  \w+ :: ("[^"]*"|\S+)\n)+)',
                        re.M)
+#: The composition's channel set: nullary constructors in braces, ``range c`` for those
+#: with a payload (HOL/Set.thy insert/union, HOL/Fun.thy range), joined by union.
+_CHANNEL_SET = re.compile(r'^definition (\w+) :: "(\w+) set" where "\1 = (.*)"$', re.M)
+#: ``N = HideCSP ((state S1 \<bullet> A1) \<lbrakk>cs\<rbrakk>\<^sub>C (state S2 \<bullet> A2)) cs``:
+#: state_srea (utp-main c9122f14 rea_designs/utp_rdes_prog.thy:424, syntax ``state _
+#: \<bullet> _`` :429), ParCSP's ``_ \<lbrakk>_\<rbrakk>\<^sub>C _`` (circus/
+#: utp_circus_parallel.thy:838), HideCSP (circus/utp_circus_hiding.thy:167).
+_COMPOSITION = re.compile(
+    r'^definition (\w+) :: "(\w+) process" where\n  "\1 = HideCSP \(\(state (\w+) \\<bullet> '
+    r'(\w+)\) \\<lbrakk>(\w+)\\<rbrakk>\\<\^sub>C \(state (\w+) \\<bullet> (\w+)\)\) (\w+)"$', re.M)
 _SYNONYM = re.compile(r'^type_synonym (\w+) = "([^"]*)"$', re.M)
 _TYPEDECL = re.compile(r"^typedecl (\w+)$", re.M)
 
@@ -430,6 +442,8 @@ def read_theory(text: str) -> TheoryTypes:
         th.axioms += re.findall(r'  \w+: "(.*)"', m.group(2))
     for m in _DEF_CONST.finditer(text):
         name, typ, lhs, value = m.groups()
+        if typ.endswith(' set"'):
+            continue  # the composition's channel set, checked on its own
         if lhs != name:
             raise TypeError_(f"definition {name} defines {lhs}")
         th.constants[name] = parse_type(_unquote(typ))
@@ -452,15 +466,27 @@ def read_theory(text: str) -> TheoryTypes:
     for m in _SYNONYM.finditer(text):
         th.synonyms[m.group(1)] = (0, m.group(2))
         th.identifiers.append(m.group(1))
-    if alphabets:
-        state = TCon(alphabets[-1].group(1))
-        for m in alphabets:
-            th.identifiers.append(m.group(1))
-            for name, typ in re.findall(r'  (\w+) :: ("[^"]*"|\S+)', m.group(3)):
-                th.lenses[name] = TCon("lens", (parse_type(_unquote(typ)), state))
-                th.identifiers.append(name)
+    # a field is a lens into the alphabet that extends its own last (P's Visible + State);
+    # each process has its own (P's and, when the theory states it, D's)
+    extended_by = {m.group(2): m.group(1) for m in alphabets if m.group(2)}
+    for m in alphabets:
+        state_name = m.group(1)
+        while state_name in extended_by:
+            state_name = extended_by[state_name]
+        th.identifiers.append(m.group(1))
+        for name, typ in re.findall(r'  (\w+) :: ("[^"]*"|\S+)', m.group(3)):
+            th.lenses[name] = TCon("lens", (parse_type(_unquote(typ)), TCon(state_name)))
+            th.identifiers.append(name)
+    for m in _CHANNEL_SET.finditer(text):
+        th.channel_sets.append(m.groups())
+        th.identifiers.append(m.group(1))
+    for m in _COMPOSITION.finditer(text):
+        th.compositions.append(m.groups())
+        th.identifiers.append(m.group(1))
     for m in _DEF_ACTION.finditer(text):
         name, typ, lhs, params, body = m.groups()
+        if typ.endswith(" process"):
+            continue  # the composition, checked on its own
         if lhs != name:
             raise TypeError_(f"definition {name} defines {lhs}")
         th.definitions.append((name, params.split(), typ, body))
@@ -679,6 +705,9 @@ class Checker:
             raise TypeError_(f"operator {text} has no signature")
         return self.sig(text, self.infer(ch[0], env), self.infer(ch[2], env))
 
+    def t_conj_u(self, ch, env):  # type: ignore[no-untyped-def]
+        return self.sig("\\<and>", self.infer(ch[0], env), self.infer(ch[1], env))
+
     def t_neg(self, ch, env):  # type: ignore[no-untyped-def]
         return self.sig("uminus", self.infer(ch[0], env))
 
@@ -779,6 +808,50 @@ def check_theory(text: str) -> list[str]:
                 raise TypeError_("the action's state type is not determined")
         except (TypeError_, Exception) as err:
             errors.append(f"definition {name}: {err}")
+    errors += _composition_errors(theory)
     return errors
+
+
+def _composition_errors(theory: TheoryTypes) -> list[str]:
+    """The channel set holds constructors of the channel type (``{c}`` nullary, ``range c``
+    with a payload); the composition hides each process's state (``state S \\<bullet> A`` with
+    ``A :: (S, chan) action``), synchronises and hides on that set, and is a ``chan process``
+    (utp-main c9122f14 sf_rdes/utp_sfrd_core.thy:41, ``'e process`` over unit state)."""
+    errors: list[str] = []
+    sets = {name: chan for name, chan, _ in theory.channel_sets}
+    for name, chan, value in theory.channel_sets:
+        for token in re.findall(r"range (\w+)|\{([^}]*)\}", value):
+            ranged, braced = token
+            for ctor in ([ranged] if ranged else [b.strip() for b in braced.split(",")]):
+                t = theory.constants.get(ctor)
+                want_payload = bool(ranged)
+                if t is None or (isinstance(prune(t), TCon) and prune(t).name == "fun") \
+                        != want_payload or (_result(t) != TCon(chan)):
+                    errors.append(f"definition {name}: {ctor} is no "
+                                  f"{'constructor with a payload' if ranged else 'nullary constructor'}"
+                                  f" of {chan}")
+        rest = re.sub(r"range \w+|\{[^}]*\}|\\<union>|[()\s]", "", value)
+        if rest:
+            errors.append(f"definition {name}: unexpected {rest!r} in the channel set")
+    for name, chan, s1, a1, cs1, s2, a2, cs2 in theory.compositions:
+        if cs1 != cs2 or sets.get(cs1) != chan:
+            errors.append(f"definition {name}: {cs1} is no channel set of {chan}")
+        for state, action in ((s1, a1), (s2, a2)):
+            t = theory.constants.get(action)
+            if t is None:
+                errors.append(f"definition {name}: '{action}' is not declared")
+                continue
+            try:
+                unify(t, TCon("action", (TCon(state), TCon(chan))))
+            except TypeError_ as err:
+                errors.append(f"definition {name}: {err}")
+    return errors
+
+
+def _result(t: Type) -> Type:
+    t = prune(t)
+    while isinstance(t, TCon) and t.name == "fun":
+        t = prune(t.args[1])
+    return t
 
 

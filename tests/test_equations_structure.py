@@ -214,8 +214,7 @@ def test_reach_refuses_the_speed_relation_on_the_dc_motor_bench(tmp_path: Path) 
                                           "\t\t\t\trelation Motor.av == Shaft.v")
         (tmp_path / source.name).write_text(text)
     scenario = (EXAMPLES / "dcmotor" / "sampled_stop.toml").read_text().replace(
-        '"DCMotorBase::Bench::Shaft::Motor"', '"DCMotorBase::Bench::Shaft"').replace(
-        "[environment]\n", "[environment]\nShaft_pV = { value = 0 }\nShaft_pA = { value = 0 }\n")
+        '"DCMotorBase::Bench::Shaft::Motor"', '"DCMotorBase::Bench::Shaft"')
     (tmp_path / "s.toml").write_text(scenario)
     report = Report()
     loaded = load_scenario(tmp_path / "s.toml", report)

@@ -193,7 +193,7 @@ def test_dcmotor_export_matches_the_spec_example_in_structure(dcmotor):
     model = parse_model(render(dcmotor, "sampled_stop"))
     # The modes are those of the d-model's machine SSpeed, compiled (no [controller]).
     assert list(model.modes) == ["Cruise", "Stopped"]
-    assert all(m.ode == "poly ode 2" for m in model.modes.values())
+    assert all(m.ode == "lti ode" for m in model.modes.values())  # the plant is affine
     # the spec's example also has stopped -> stopped; a final state flows to the horizon
     assert [(j.source, j.target) for j in model.jumps] == [
         ("Cruise", "Stopped"), ("Cruise", "Cruise")]
@@ -518,15 +518,34 @@ def test_unsafe_sets_may_name_actuator_inputs_and_what_derives_from_them(tmp_pat
         assert model.unsafe["cruise"] != model.unsafe["stopped"]
 
 
-def test_environment_functions_make_a_nonpoly_mode(tmp_path):
+def test_environment_functions_of_time_become_linear_auxiliary_states(tmp_path):
+    """sin(5*t) is the state pair s' = 5*c, c' = -5*s (s(0) = 0, c(0) = 1): the modes are
+    affine again (lti ode), and the trajectories are the functions themselves: checked
+    against numpy's sin and the closed form d(t) = d0 - 2 t + (cos 5t - 1)/5 (no jump
+    before the stop at d <= 1)."""
     path = tmp_path / "sin.toml"
     path.write_text(BASE.replace('Range_distance = "-2"', 'Range_distance = "-2 - sin(5*t)"'))
+    text = render(_problem(EXAMPLES / "dcmotor", path), output_name(str(path)))
+    model = parse_model(text)
+    assert all(m.ode == "lti ode" for m in model.modes.values())
+    assert model.init["cyphy_sin1"] == ("0", "0") and model.init["cyphy_cos1"] == ("1", "1")
+    samples = np.linspace(0, 0.9, 10)
+    run = interpret(text, {"Range_distance": 3.0}, samples)
+    assert np.allclose(run["cyphy_sin1"], np.sin(5 * samples), atol=1e-8)
+    assert np.allclose(run["Range_distance"],
+                       3.0 - 2 * samples + (np.cos(5 * samples) - 1) / 5, atol=1e-8)
+
+
+def test_environment_functions_of_states_make_a_nonpoly_mode(tmp_path):
+    path = tmp_path / "sin.toml"
+    path.write_text(BASE.replace('Range_distance = "-2"',
+                                 'Range_distance = "-2 - sin(Range_distance)"'))
     model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), output_name(str(path))))
     assert all(m.ode == "nonpoly ode" for m in model.modes.values())
     from cyphy.translate.to_sympy import to_sympy
-    t = sympy.Symbol("t", real=True)
-    rhs = to_sympy(model.modes["cruise"].flow["Range_distance"], symbols={"t": t})
-    assert sympy.simplify(rhs - (-2 - sympy.sin(5 * t))) == 0
+    d = sympy.Symbol("Range_distance", real=True)
+    rhs = to_sympy(model.modes["cruise"].flow["Range_distance"], symbols={"Range_distance": d})
+    assert sympy.simplify(rhs - (-2 - sympy.sin(d))) == 0
 
 
 def test_a_held_input_needs_a_value_at_time_0(tmp_path):

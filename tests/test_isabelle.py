@@ -95,11 +95,14 @@ def check_session(session, program: c.Program) -> None:  # type: ignore[no-untyp
     assert theory_header(text)[1] == ["CyPhyCircus_Prelude"]
     assert f"theories\n    CyPhyCircus_Prelude\n    {session.theory_name}\n" in session.files["ROOT"]
 
-    definitions = read_definitions(text)
+    # D, when the files have a machine, and the composition N (with its channel set) last
+    composed = isinstance(program.dmodel, c.BasicProcess)
+    system = session.names[program.system.name] if composed else None
+    definitions = [d for d in read_definitions(text) if d[0] != system]
     # Exactly one [closure] lemma right after each action definition, same parameters.
     assert len(definitions) == text.count("\ndefinition") - len(
-        [k for k in program.pmodel.constants if k.value is not None])
-    assert text.count("[closure]") == len(definitions)
+        [k for k in program.pmodel.constants if k.value is not None]) - 2 * composed
+    assert text.count("[closure]") == len(definitions) + composed
     names = [d[0] for d in definitions]
     assert names == [session.names[a] for a in session.actions]
     for name, params, _, lemma, stated in definitions:
@@ -151,6 +154,10 @@ def check_session(session, program: c.Program) -> None:  # type: ignore[no-untyp
         original = session.actions[session.names.inverse()[name]]
         assert read_action(body, params, session.symbols, pm.state.name, local) == \
             original.body, name
+    if composed:  # N composes D's main action and P's, after both
+        assert f'"{system} = HideCSP ((state {session.names[program.dmodel.state.name]} ' \
+            f'\\<bullet> {definitions[-1][0]})' in text
+        assert f"lemma {system}_NCSP [closure]" in text.split(f'"{system} = ')[1]
 
 
 # ---------------------------------------------------------------- marXbot
@@ -170,23 +177,37 @@ def test_marxbot_theory_order(marxbot_session) -> None:
     landmarks += [f"definition {a} ::" for a in MARXBOT_ACTIONS]
     positions = [text.index(m) for m in landmarks]
     assert positions == sorted(positions)
-    assert [d[0] for d in read_definitions(text)] == MARXBOT_ACTIONS
+    # then D (the machine SMovement: init, read, step, write, main) and the composition M
+    d_actions = [f"marXbotSoftware{a}" for a in ("Init", "Read", "Step", "Write", "Main")]
+    assert [d[0] for d in read_definitions(text)] == MARXBOT_ACTIONS + d_actions + ["M"]
+    assert text.index("alphabet marXbotSoftwareState =") < text.index("definition Init ::")
 
 
 def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:
     text = marxbot_session.files["marXbotBase_CyPhyCircus.thy"]
-    assert '"Init = ((timer, LMotor_das, RMotor_das) :=\\<^sub>C (0, 0, 0))"' in text
+    # Init starts every ODE state at 0 (Rule 2): each variable whose rate Evolve gives,
+    # but the PI error e, whose rate is only read (Kd * e'): its equation gives its value
+    init = re.search(r'"Init = \(\(([^)]*)\) :=\\<\^sub>C \(([^)]*)\)\)"', text)
+    assert init is not None
+    targets, values = init.group(1).split(", "), init.group(2).split(", ")
+    assert targets[:3] == ["timer", "LMotor_das", "RMotor_das"] and set(values) == {"0"}
+    evolve = text.split('"Evolve = ')[1].split("lemma")[0]
+    rated = set(re.findall(r"\$(\w+)\\<acute>", evolve))
+    assert set(targets) == rated - {"LMotor_e", "RMotor_e"}
+    assert {"LHinge_theta", "LHinge_v", "LMotor_av", "LMotor_i", "LMotor_e_int"} <= set(targets)
     assert ("registerRead_obstacle!(true) \\<^bold>\\<rightarrow> Skip) \\<triangleleft> "
             "(&Proximity1_voltage \\<ge>\\<^sub>u \\<guillemotleft>3.0\\<guillemotright>)") in text
     assert ('"MoveCall lv av = ({LMotor_das, RMotor_das}\\<^sub>v:[true, (\\<^bold>\\<exists> '
             'move_dsl::real \\<bullet> \\<^bold>\\<exists> move_dsr::real') in text
     assert "(registerWrite_move?(lv)?(av) \\<^bold>\\<rightarrow> (MoveCall lv av))" in text
     assert "by (simp add: MoveFromDModel_def closure prod.case_eq_if)" in text
-    assert '"ReceiveFromDModel = (MoveFromDModel ||| StopFromDModel)"' in text
+    # ours, not the paper's |||: the calls' updates persist until the cycle's first tock
+    assert ('"ReceiveFromDModel = (MuC (\\<lambda> Y. ((MoveFromDModel ;; Y) \\<box> '
+            '((StopFromDModel ;; Y) \\<box> (tock \\<^bold>\\<rightarrow> Skip)))))"') in text
     assert "($timer\\<acute> =\\<^sub>u 1)" in text
     assert ("(InterruptCondC Evolve (&timer \\<ge>\\<^sub>u \\<guillemotleft>((real cycle) * "
             "tscale)\\<guillemotright>))") in text
-    assert "(WaitC tock cycle)" in text
+    assert "(ReceiveFromDModel ;; ((WaitC tock (cycle - 1)) ;;" in text
     assert "| registerWrite_move \"real \\<times> real\"" in text
     assert 'globals_3: "(cycle = 1)"' in text
     # vectors are written per component (no transpose, no list arithmetic), evolving locals
@@ -206,21 +227,18 @@ def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:
     assert "are held: LMotor_das, RMotor_das' = 0 in Evolve" in " ".join(text.split())
 
 
-def test_marxbot_caveat_is_a_warning_and_a_comment(tmp_path: Path) -> None:
+def test_marxbot_calls_persist_without_a_caveat() -> None:
+    """ReceiveFromDModel is a loop of sequential receptions, not the paper's lossy |||: no
+    W-INTERLEAVE, and the theory's header states the deviation (with the utp-main lines
+    that make the interleaving lossy)."""
     generated = api.generate_isabelle([MARXBOT])
-    warnings = [d for d in generated.report.diagnostics if d.code.id == "W-INTERLEAVE"]
-    assert len(warnings) == 1 and not generated.report.has_errors
-    assert "ReceiveFromDModel" in warnings[0].message
-    assert "LMotor_das, RMotor_das are discarded" in warnings[0].message
-    assert "--isabelle-namesets" in warnings[0].hint
+    assert not [d for d in generated.report.diagnostics if d.code.id == "W-INTERLEAVE"]
+    assert not generated.report.has_errors
     text = generated.files["marXbotBase_CyPhyCircus.thy"]
-    assert "(* Caveat: MoveFromDModel ||| StopFromDModel interleaves with empty name" in text
-    # no partition exists: both operations write both motors
-    chosen = api.generate_isabelle([MARXBOT], api.SemanticsGenOptions(namesets=True))
-    [warning] = [d for d in chosen.report.diagnostics if d.code.id == "W-INTERLEAVE"]
-    assert "no name-set partition exists" in warning.hint
-    assert '"ReceiveFromDModel = (MoveFromDModel ||| StopFromDModel)"' in \
-        chosen.files["marXbotBase_CyPhyCircus.thy"]
+    assert "|||" not in text.split("begin", 1)[1] and "Caveat" not in text
+    header = " ".join(text.split("*)")[0].split())
+    assert "Deviation from the paper: ReceiveFromDModel receives the d-model's calls" in header
+    assert "utp_circus_parallel.thy:846-847" in header
 
 
 def test_marxbot_generation_is_deterministic() -> None:
@@ -243,7 +261,7 @@ def test_cli_writes_the_session(tmp_path: Path, capsys) -> None:
         "CyPhyCircus_Prelude.thy", "README", "ROOT", "marXbotBase_CyPhyCircus.thy",
         "names.tsv"]
     assert '"(tscale = 0.01)"' in (out / "marXbotBase_CyPhyCircus.thy").read_text()
-    assert "W-INTERLEAVE" in capsys.readouterr().err
+    assert "W-INTERLEAVE" not in capsys.readouterr().err
     readme = (out / "README").read_text()
     assert "isabelle build -d <utp-main> -D ." in readme
 
@@ -375,7 +393,10 @@ def test_generated_mappings_pass_every_static_check(tmp_path_factory, model, nam
     check_session(session, sem.program)
 
 
-def test_namesets_partition_keeps_disjoint_updates(tmp_path: Path) -> None:
+def test_disjoint_updates_persist_without_namesets(tmp_path: Path) -> None:
+    """An operation and an output event that write different variables: the receiving loop
+    keeps both updates without a name-set partition, so --isabelle-namesets (which the
+    paper's ||| needed) finds no interleaving to repair and changes nothing."""
     software = SOFTWARE.format(ops="move(lv: real)", events="event bump",
                                outputs=" event lamp: boolean")
     mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
@@ -384,15 +405,13 @@ def test_namesets_partition_keeps_disjoint_updates(tmp_path: Path) -> None:
                "  output event lamp ? on { action Base::Lamp.on = on }\n}\n")
     paths = write_model(tmp_path, software, mapping)
     paper = api.generate_isabelle(paths)
-    assert [d.code.id for d in paper.report.diagnostics] == ["W-INTERLEAVE"]
-    assert '"ReceiveFromDModel = (MoveFromDModel ||| LampFromDModel)"' in \
-        paper.files["Robot_CyPhyCircus.thy"]
+    assert paper.report.diagnostics == []
+    text = paper.files["Robot_CyPhyCircus.thy"]
+    assert ('"ReceiveFromDModel = (MuC (\\<lambda> Y. ((MoveFromDModel ;; Y) \\<box> '
+            '((LampFromDModel ;; Y) \\<box> (tock \\<^bold>\\<rightarrow> Skip)))))"') in text
     chosen = api.generate_isabelle(paths, api.SemanticsGenOptions(namesets=True))
     assert chosen.report.diagnostics == []
-    text = chosen.files["Robot_CyPhyCircus.thy"]
-    assert ('"ReceiveFromDModel = (MoveFromDModel \\<lbrakk>M_das\\<parallel>'
-            'Lamp_on\\<rbrakk> LampFromDModel)"') in text
-    assert "name-set partition that keeps their updates" in text
+    assert chosen.files["Robot_CyPhyCircus.thy"] == text
     sem = semantics(paths)
     check_session(generate_session(sem.program, sem.names, IsabelleOptions(namesets=True)),
                   sem.program)

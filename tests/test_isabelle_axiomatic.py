@@ -64,6 +64,17 @@ def hol_to_sympy(term: str) -> sympy.Expr:
                          locals={n: sympy.Symbol(n, real=True) for n in names})
 
 
+def _split_top(text: str) -> list[str]:
+    """The comma-separated items of a printed tuple's inside, split at depth 0."""
+    items, depth, start = [], 0, 0
+    for k, ch in enumerate(text):
+        depth += (ch == "(") - (ch == ")")
+        if ch == "," and depth == 0:
+            items.append(text[start:k].strip())
+            start = k + 1
+    return items + [text[start:].strip()]
+
+
 def check_static(files: dict[str, str], theory: str) -> str:
     """The static properties of an axiomatic session; returns the theory text."""
     assert set(files) == {"ROOT", "README", "names.tsv", theory}
@@ -101,7 +112,10 @@ def test_marxbot_passes_the_static_checks(marxbot) -> None:
     names = dict(line.split("\t")[1:] for line in marxbot.files["names.tsv"].splitlines()[1:]
                  if line.count("\t") == 2)
     expected = [{"Evolve": "Evolve_v"}.get(a, a) for a in MARXBOT_ACTIONS]
+    # then the d-model process D (from the machine SMovement), over its own state
+    expected += [f"marXbotSoftware{a}" for a in ("Init", "Read", "Step", "Write", "Main")]
     assert [n for n, _, _ in definitions(text)] == expected
+    assert '"(marXbotBase_chan, marXbotSoftwareState) cyphyaction"' in text
     assert "chantype marXbotBase_chan =\n  tock :: unit\n  registerRead_obstacle :: bool\n" \
         "  registerWrite_move :: \"real \\<times> real\"\n  registerWrite_stop :: unit\n" in text
     assert names.get("LMotor_das") == "LMotor_das"
@@ -114,7 +128,11 @@ def test_marxbot_theory_type_checks(marxbot) -> None:
 def test_marxbot_terms_use_the_axiomatic_notation(marxbot) -> None:
     text = marxbot.files[THEORY]
     bodies = {n: b for n, _, b in definitions(text)}
-    assert bodies["Init"] == "Init = ((timer, LMotor_das, RMotor_das) := (0, 0, 0))"
+    # Init also starts every state of the reduction (cyphy solve's, below) at 0 (Rule 2)
+    states = ["LMotor_av", "LMotor_i", "LMotor_int1", "LMotor_theta", "RMotor_av", "RMotor_i",
+              "RMotor_int2", "RMotor_theta"]
+    assert bodies["Init"] == (f"Init = ((timer, LMotor_das, RMotor_das, {', '.join(states)}) "
+                              f":= ({', '.join(['0'] * 11)}))")
     assert bodies["ObstacleToDModel"] == (
         "ObstacleToDModel = ((registerRead_obstacle\\<^bold>!(True) \\<rightarrow> Skip) \\<lhd> "
         "(Proximity1_voltage \\<ge> 3.0) \\<rhd> (registerRead_obstacle\\<^bold>!(False) "
@@ -126,12 +144,17 @@ def test_marxbot_terms_use_the_axiomatic_notation(marxbot) -> None:
         "((\\<exists> move_dsl::real. \\<exists> move_dsr::real. (LMotor_das = move_dsl)")
     assert bodies["MoveCall"].endswith(")\\<^sub>e)")
     assert ":[" not in text  # the generic Spec notation is not bound to cSpec (B6)
-    assert bodies["ReceiveFromDModel"] == \
-        "ReceiveFromDModel = (MoveFromDModel \\<interleave> StopFromDModel)"
-    assert bodies["MainAction"] == (
-        "MainAction = (Init ;; (\\<mu> X. (SendToDModel ;; ((ReceiveFromDModel \\<triangle> "
-        "(WaitT cycle)) ;; ((timer := 0) ;; ((Evolve_v \\<triangle>\\<^sub>p (timer \\<ge> "
-        "((real cycle) * tscale))) ;; X))))))")
+    # ours, not the paper's \<interleave>: the calls' updates persist until the first tock
+    assert bodies["ReceiveFromDModel"] == (
+        "ReceiveFromDModel = (\\<mu> Y. ((MoveFromDModel ;; Y) \\<box> ((StopFromDModel ;; Y) "
+        "\\<box> (tock \\<rightarrow> Skip))))")
+    # the timer's reset also puts the outputs on their definitions (values: the test below)
+    main = re.fullmatch(
+        r"MainAction = \(Init ;; \(\\<mu> X\. \(SendToDModel ;; \(ReceiveFromDModel ;; "
+        r"\(\(WaitT \(cycle - 1\)\) ;; \(\(\(timer, LMotor_T, Proximity1_voltage, RMotor_T\) := "
+        r"\(0, .*\)\) ;; \(\(Evolve_v \\<triangle>\\<\^sub>p \(timer \\<ge> \(\(real cycle\) \* "
+        r"tscale\)\)\) ;; X\)\)\)\)\)\)\)", bodies["MainAction"])
+    assert main is not None, bodies["MainAction"]
     assert '"WaitT 0 = Skip" |\n  "WaitT (Suc n) = (tock \\<rightarrow> WaitT n)"' in text
     assert "axiomatization where\n  globals_1: \"(cycle > 0)\" and" in text
 
@@ -156,6 +179,17 @@ def test_marxbot_evolve_is_the_reduction_of_cyphy_solve(marxbot) -> None:
                        for s in reduced.states)
         assert sympy.simplify(hol_to_sympy(printed[output]) - expected) == 0, output
     assert printed["Proximity1_voltage"] == "0"  # its input, the distance, is held
+    # before each evolution the outputs are set to their values over the states and inputs
+    # (the reduction's solutions): the IR law ties the voltage to the distance again
+    main = re.search(r'"MainAction = .*?\(\(timer, ([\w, ]+)\) := \(0, (.*)\)\) ;; '
+                     r'\(\(Evolve_v', marxbot.files[THEORY])
+    assert main is not None
+    tied = main.group(1).split(", ")
+    assert tied == ["LMotor_T", "Proximity1_voltage", "RMotor_T"]
+    values = _split_top(main.group(2))
+    for output, value in zip(tied, values):
+        expected = reduced.outputs[output].xreplace(zero)
+        assert sympy.simplify(hol_to_sympy(value) - expected) == 0, output
     assert printed["timer"] == "1"
     assert set(printed) == set(reduced.states) | {"LMotor_T", "RMotor_T", "Proximity1_voltage",
                                                   "timer"}

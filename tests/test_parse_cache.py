@@ -191,3 +191,23 @@ def test_a_warm_run_does_not_import_lark(cache: Path) -> None:
     runs = [subprocess.run([sys.executable, "-c", script], cwd=ROOT, env=env,
                            capture_output=True, text=True) for _ in range(2)]
     assert [r.stdout.splitlines()[-1] for r in runs] == ["0 True", "0 False"], runs
+
+
+def test_unsaved_text_is_read_from_the_cache_but_not_stored(
+        cache: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """An editor's buffer (``store=False``) writes nothing; a saved file's entry still
+    serves it."""
+    assert parse_cache.parse(GOOD, "m.rsm", store=False) == parse_text(GOOD, "m.rsm")
+    assert entries(cache) == []
+    parse_cache.parse(GOOD, "m.rsm")
+    no_parsing(monkeypatch)
+    assert parse_cache.parse(GOOD, "m.rsm", store=False) == parse_text(GOOD, "m.rsm")
+
+
+def test_a_server_keeps_each_paths_last_parse(cache: Path,
+                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(parse_cache, "_KEEP_RECENT", True)
+    monkeypatch.setattr(parse_cache, "_RECENT", {})
+    first = parse_cache.parse(GOOD, "m.rsm", store=False)
+    no_parsing(monkeypatch)
+    assert parse_cache.parse(GOOD, "m.rsm", store=False) is first  # shared, not re-read

@@ -31,6 +31,7 @@ class SemanticsGenOptions:
     dialect: str = "utp"  # --isabelle: "utp" (utp-main 2020) or "axiomatic" (Ax_CyPhyCircus)
     elements: tuple[str, ...] = ()  # --isabelle axiomatic: the elements Evolve's ODE covers
     default_inertial: str | None = None  # see ElaborateOptions
+    machine: str | None = None  # the d-model's state machine D is written from (default: as simulate)
 
 
 @deep
@@ -51,7 +52,7 @@ def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = Semant
     built = build_semantics(checked.workspace, checked.resolution, checked.report,
                             SemanticsOptions(options.mapping, options.system_name,
                                              options.tscale, dict(options.consts),
-                                             options.default_inertial))
+                                             options.default_inertial, options.machine))
     return checked, built
 
 

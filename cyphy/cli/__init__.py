@@ -24,7 +24,7 @@ from cyphy.deep import run_deep
 from cyphy.diagnostics import RENDERING
 
 #: The commands, in the order ``--help`` lists them: each the module ``cyphy.cli.<name>``.
-COMMANDS = ("check", "show", "solve", "simulate", "gen", "reach", "view")
+COMMANDS = ("check", "show", "solve", "simulate", "gen", "reach", "view", "lsp")
 
 
 def _command_module(name: str) -> ModuleType:

@@ -26,8 +26,10 @@ def _scenario_option(parser: argparse.ArgumentParser) -> None:
                             help="(--flowstar) the controller scenario, a TOML file")
     if not any("--machine" in a.option_strings for a in parser._actions):
         parser.add_argument("--machine", metavar="NAME",
-                            help="(--flowstar) the d-model's state machine that is the "
-                            "controller when the scenario has no [controller]")
+                            help="the d-model's state machine: the process D of the "
+                            "semantics (--cyphycircus, --latex, --isabelle) is written from it, "
+                            "and (--flowstar) it is the controller when the scenario has no "
+                            "[controller]")
     default_inertial_option(parser, GEN_INERTIAL)
 
 

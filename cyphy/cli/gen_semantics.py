@@ -19,6 +19,12 @@ if TYPE_CHECKING:
 def _semantics_options(parser: argparse.ArgumentParser) -> None:
     """Options of the CyPhyCircus semantics that every semantic generator shares (added
     once, whichever generator asks first)."""
+    if not any("--machine" in a.option_strings for a in parser._actions):  # shared: Flow*'s
+        parser.add_argument("--machine", metavar="NAME",
+                            help="the d-model's state machine: the process D of the semantics "
+                            "(--cyphycircus, --latex, --isabelle) is written from it, and "
+                            "(--flowstar) it is the controller when the scenario has no "
+                            "[controller]")
     if "--tscale" in parser._option_string_actions:
         return
     parser.add_argument("--tscale", type=_tscale, metavar="X",
@@ -97,7 +103,8 @@ def _semantics_gen_options(args: argparse.Namespace) -> "SemanticsGenOptions":
     return SemanticsGenOptions(args.model, args.name, args.tscale, const_values(args),
                                tuple(args.path), pdf=getattr(args, "pdf", False),
                                namesets=getattr(args, "isabelle_namesets", False),
-                               default_inertial=args.default_inertial)
+                               default_inertial=args.default_inertial,
+                               machine=getattr(args, "machine", None))
 
 
 def _latex_options(parser: argparse.ArgumentParser) -> None:

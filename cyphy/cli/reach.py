@@ -9,6 +9,7 @@ from pathlib import Path
 from cyphy.cli.options import const_options, const_values, default_inertial_option, path_option
 from cyphy.diagnostics import render_text
 from cyphy.outputs import OutputError, default_output_dir, write_all
+from cyphy.verify.flowstar import limits
 
 
 def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
@@ -24,18 +25,19 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
                        help="the controller scenario (TOML)")
     reach.add_argument("--flowstar-bin", metavar="PATH",
                        help="the Flow* executable (default: flowstar on PATH)")
-    reach.add_argument("--timeout", type=float, metavar="SECONDS",
+    reach.add_argument("--timeout", type=limits.seconds, metavar="SECONDS",
                        help="give up (UNKNOWN) when a Flow* run takes longer")
-    reach.add_argument("--split", type=int, default=1, metavar="N",
+    reach.add_argument("--split", type=limits.boxes, default=1, metavar="N",
                        help="split the initial set into N boxes along its widest state, one "
                        "Flow* run each (default 1; a run ending UNKNOWN is retried with "
                        "4 boxes unless --no-auto-split)")
     reach.add_argument("--no-auto-split", action="store_true",
-                       help="do not retry an UNKNOWN run on smaller boxes")
+                       help="do not retry an UNKNOWN run (finer settings, smaller boxes)")
     reach.add_argument("--jobs", type=int, metavar="N",
                        help="Flow* runs at a time (default: the number of cores)")
     reach.add_argument("-o", "--output", metavar="DIR",
-                       help="where the model is written (default: flowstar-gen/ beside it)")
+                       help="where the model is written, and in runs/ each model Flow* ran "
+                       "(default: flowstar-gen/ beside it)")
     reach.add_argument("--model", metavar="NAME", help="the p-model")
     reach.add_argument("--machine", metavar="NAME",
                        help="the d-model's state machine that is the controller when the "
@@ -75,7 +77,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         result = check(problem, model.stem, binary, args.timeout, args.split,
                        not args.no_auto_split, args.jobs)
-    except FlowstarMissing as err:
+        write_all(result.runs, out_dir)  # the models Flow* ran (parts, boxes, rungs)
+    except (FlowstarMissing, OutputError) as err:
         sys.stderr.write(f"cyphy reach: error: {err}\n")
         return 2
     line = f"{result.verdict}: {result.reason} (Flow* runs {result.seconds:.1f} s; model {model})\n"
@@ -84,6 +87,6 @@ def run(args: argparse.Namespace) -> int:
     if result.witness is not None:
         stream.write("the trajectory (time, event, controller state, state):\n")
         stream.write("\n".join(result.witness.lines(result.names)) + "\n")
-    if len(result.details) > 1 or result.verdict != "SAFE":
+    if result.details and (len(result.details) > 1 or result.verdict != "SAFE"):
         stream.write("Flow* runs:\n" + "\n".join(result.details) + "\n")
     return result.exit_code

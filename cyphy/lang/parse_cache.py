@@ -17,6 +17,8 @@ not even imported). So every successful parse is stored, as mypy and pytest keep
 * the entries of one folder are kept under ``$CYPHY_CACHE_MAX_MB`` (default 512 MB): when a
   write passes it, the least recently written entries are removed;
 * files with syntax errors are not stored (their diagnostics are cheap to recompute);
+* a long-running process (the language server) also keeps the last result of each path in
+  memory (:func:`keep_recent`);
 * the cache is only ever an optimisation: an unreadable, corrupt or unwritable cache is
   ignored, silently, and the file is parsed; so is an entry that does not hold a parse
   result.
@@ -72,12 +74,42 @@ def cache_root() -> Path | None:
     return (Path(xdg) if xdg else Path.home() / ".cache") / "cyphy"
 
 
-def parse(text: str, path: str) -> ParseResult:
+def parse(text: str, path: str, store: bool = True) -> ParseResult:
     """The syntax tree and diagnostics of ``text`` read from ``path``, from the cache when
-    this exact text was parsed at this path before."""
+    this exact text was parsed at this path before. Without ``store`` a new result is not
+    written to disk: an editor's unsaved text changes at every keystroke, and the saved
+    file is what a later command reads."""
     root = cache_root()
     if root is None:
         return _parse(text, path)
+    if not _KEEP_RECENT:
+        return _parse_cached(root, text, path, store)
+    recent = _RECENT.get(path)
+    if recent is not None and recent[0] == text:
+        return recent[1]
+    parsed = _parse_cached(root, text, path, store)
+    if len(_RECENT) >= _RECENT_MAX:
+        _RECENT.clear()
+    _RECENT[path] = (text, parsed)
+    return parsed
+
+
+#: The last result of each path parsed in this process, with its text, once
+#: :func:`keep_recent` is called: a long-running process (the language server) checks the
+#: same unchanged files at every edit, and the tree is immutable, so it is shared rather than
+#: unpickled again. A command, which parses each file once, does not keep them.
+_RECENT: dict[str, tuple[str, ParseResult]] = {}
+_RECENT_MAX = 1024
+_KEEP_RECENT = False
+
+
+def keep_recent() -> None:
+    """From now on, keep the last parse of each path in memory too (see :data:`_RECENT`)."""
+    global _KEEP_RECENT
+    _KEEP_RECENT = True
+
+
+def _parse_cached(root: Path, text: str, path: str, store: bool) -> ParseResult:
     folder = root / f"parse-{fingerprint()}"
     entry = folder / (hashlib.sha256(path.encode()).hexdigest()[:32] + ".pickle")
     digest = hashlib.sha256(text.encode()).digest()
@@ -90,7 +122,7 @@ def parse(text: str, path: str) -> ParseResult:
     except Exception:  # missing, corrupt or from an incompatible run: parse instead
         pass
     parsed = _parse(text, path)
-    if parsed.file is not None:
+    if store and parsed.file is not None:
         _store(folder, entry, digest, parsed)
     return parsed
 

@@ -33,6 +33,10 @@ class Resolution:
 
     targets: dict[int, Declaration] = field(default_factory=dict)
     file_of: dict[int, ast.SourceFile] = field(default_factory=dict)
+    uses: list[tuple[Span, ast.QName, object]] = field(default_factory=list)
+    """Every resolved use of a name, for editors (go to definition, references, hover): the
+    span of the referring node, the name, and what it denotes (a top-level declaration, or a
+    local one: a variable, a block, an index)."""
 
     def get(self, node: object) -> Declaration | None:
         return self.targets.get(id(node))
@@ -149,6 +153,7 @@ class _Checker:
         if found:
             self.resolution.targets[id(node)] = found[0]
             self.resolution.file_of[id(node)] = self.file
+            self.resolution.uses.append((span, name, found[0]))
             return found[0]
         text = "::".join(name)
         if len(name) > 1 and not self.scopes.package_exists(name[:-1]):
@@ -198,6 +203,8 @@ class _Checker:
                            f"'{imp.path[-1]}'", imp.span,
                            did_you_mean(imp.path[-1], pkg.members) or
                            f"import '{'::'.join(imp.path[:-1])}::*' to see what it declares")
+            else:  # every declaration of that name is imported (one per namespace)
+                self.resolution.uses.append((imp.span, imp.path, pkg.members[imp.path[-1]][0]))
 
     # ------------------------------------------------------------------ S2 package level
     @staticmethod
@@ -340,8 +347,11 @@ class _Checker:
                 return
             local = (restricted or scope).find(n)
             if local is not None:
+                self.resolution.uses.append((node.span, name, local))
                 return
-            if self.scopes.lookup(self.file, name, is_value):
+            found = self.scopes.lookup(self.file, name, is_value)
+            if found:
+                self.resolution.uses.append((node.span, name, found[0]))
                 return
             if restricted is not None and scope.find(n) is not None:
                 self.error(codes.S4, f"the equation of {where} mentions '{n}', which is not "
@@ -353,7 +363,9 @@ class _Checker:
             hint = did_you_mean(n, visible) or f"declare '{n}' or import the package defining it"
             self.error(codes.S1, f"unknown name '{n}'", node.span, hint)
             return
-        if self.scopes.lookup(self.file, name, is_value):
+        found = self.scopes.lookup(self.file, name, is_value)
+        if found:
+            self.resolution.uses.append((node.span, name, found[0]))
             return
         if scope.find(name[0]) is not None:
             return  # a path through a block, checked where paths are understood
@@ -444,6 +456,8 @@ class _Checker:
                 self.error(codes.S1, f"p-model {pm.name} has no link '{link}'", span,
                            did_you_mean(link, links) or
                            "name a link of this p-model, or 'L in P' for link L of part P")
+            else:
+                self._link_use(pm, link, span)
             return
         parts = {p.name: p for p in pm.parts}
         part = parts.get(part_name)
@@ -451,6 +465,7 @@ class _Checker:
             self.error(codes.S1, f"p-model {pm.name} has no part '{part_name}'", span,
                        did_you_mean(part_name, parts) or "name a part of this p-model")
             return
+        self.resolution.uses.append((span, (part_name,), part))
         target = self.resolution.get(part)
         if isinstance(target, ast.PModel):
             links = self._links(target)
@@ -458,6 +473,15 @@ class _Checker:
                 self.error(codes.S1, f"part {part_name} (p-model {target.name}) has no link "
                            f"'{link}'", span, did_you_mean(link, links) or
                            f"name a link of p-model {target.name}")
+            else:
+                self._link_use(target, link, span)
+
+    def _link_use(self, pm: ast.PModel, link: str, span: Span) -> None:
+        """Record that ``span`` names link ``link`` of ``pm`` (for editors)."""
+        for b in self.all_blocks(pm).get(link, []):
+            if b.kind is ast.BlockKind.LINK:
+                self.resolution.uses.append((span, (link,), b))
+                return
 
     def _block(self, block: ast.Block, pm: ast.PModel, scope: Scope,
                blocks: dict[str, list[ast.Block]], ancestors: tuple[ast.Block, ...]) -> None:
@@ -826,9 +850,16 @@ class _MappingChecker:
             if steps is None:
                 continue
             first = steps[0][0]
-            if scope.find(first) is not None or first in BUILTIN_NAMES:
+            local = scope.find(first)
+            if local is not None:
+                self.c.resolution.uses.append((steps[0][1], (first,), local))
                 continue
-            if self.c.scopes.lookup(self.c.file, tuple(s[0] for s in steps), is_value):
+            if first in BUILTIN_NAMES:
+                continue
+            found = self.c.scopes.lookup(self.c.file, tuple(s[0] for s in steps), is_value)
+            if found:
+                self.c.resolution.uses.append((steps[-1][1], tuple(s[0] for s in steps),
+                                               found[0]))
                 continue
             if len(steps) == 1:
                 if self.c.scopes.lookup(self.c.file, (first,), is_value) or not known:

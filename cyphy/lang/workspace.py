@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
-from typing import Iterable, Iterator
+from typing import Iterable, Iterator, Mapping
 
 from cyphy import codes, progress
 from cyphy.diagnostics import Report, Span
@@ -98,10 +98,14 @@ def _read(path: Path, report: Report) -> str | None:
 
 
 def load_workspace(
-    paths: Iterable[str | Path], search_paths: Iterable[str | Path] = (), report: Report | None = None
+    paths: Iterable[str | Path], search_paths: Iterable[str | Path] = (),
+    report: Report | None = None, overrides: Mapping[str, str] | None = None,
 ) -> tuple[Workspace, Report]:
-    """Read and parse the given files or folders (and their neighbours) into a workspace."""
+    """Read and parse the given files or folders (and their neighbours) into a workspace.
+    ``overrides`` maps a path (as the file is named) to the text to use instead of what is on
+    disk: an editor's unsaved buffers, which may even name files not yet saved."""
     report = report if report is not None else Report()
+    overrides = overrides or {}
     ws = Workspace()
     targets: list[Path] = []
     neighbours: list[Path] = []
@@ -113,7 +117,7 @@ def load_workspace(
                 report.report(codes.NO_FILES, f"no model files (.pm, .rst, .rsm) in {p}",
                               Span.unknown(str(p)), "name a model file or a folder holding some")
             targets.extend(found)
-        elif p.is_file():
+        elif p.is_file() or str(p) in overrides:
             targets.append(p)
             neighbours.extend(model_files_in(p.parent, recursive=False))
         else:
@@ -135,10 +139,13 @@ def load_workspace(
             continue
         seen.add(key)
         progress.stage(f"reading {p.name} ({i + 1}/{len(every)})")
-        text = _read(p, report)
+        text = overrides.get(str(p))
+        unsaved = text is not None
+        if text is None:
+            text = _read(p, report)
         if text is None:
             continue
-        parsed = parse_cache.parse(text, str(p))
+        parsed = parse_cache.parse(text, str(p), store=not unsaved)
         report.extend(parsed.diagnostics)
         ws.texts[str(p)] = text
         if parsed.file is not None:

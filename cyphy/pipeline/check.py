@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Sequence
+from typing import Mapping, Sequence
 
 from cyphy import collector, progress
 from cyphy.deep import deep
@@ -28,6 +28,7 @@ class CheckOptions:
     consistency: bool = False  # also C1-C5 on the platform mappings (imports Z3)
     z3_timeout_ms: int | None = None  # per Z3 query; None: the checks' default
     find_in_folder: str = ""  # "pmodel", "mapping": the folder's when the files have none
+    overrides: Mapping[str, str] = field(default_factory=dict)  # path → unsaved text (editors)
 
 
 @dataclass
@@ -50,7 +51,7 @@ def check(paths: Sequence[str | Path], options: CheckOptions = CheckOptions()) -
 
 
 def _front_end(paths: Sequence[str | Path], options: CheckOptions) -> CheckResult:
-    ws, report = load_workspace(paths, options.search_paths)
+    ws, report = load_workspace(paths, options.search_paths, overrides=options.overrides)
     result = CheckResult(ws, report, sources=ws.texts)
     if options.syntax_only:
         return result

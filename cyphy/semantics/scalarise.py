@@ -629,6 +629,8 @@ def scalar_process(pm: c.BasicProcess, evolving_as_state: bool = True) -> Scalar
         promoted = [f.name for f in local if f.name in derived] + integrals
         state += [c.SchemaField(n, c.REAL) for n in promoted]
         local = [f for f in local if f.name not in derived]
+        actions = tuple(initialised(d, _continuous_states(evolutions, promoted), pm.initial)
+                        for d in actions)
     written = {t for d in (*actions, c.ActionDef("", (), main)) for n in action_nodes(d.body)
                for t in (n.targets if isinstance(n, c.Assign) else
                          n.frame if isinstance(n, c.Spec) else ())}
@@ -660,3 +662,27 @@ def type_shape(t: ast.TypeRef | None) -> tuple[int, ...] | None:
     if isinstance(t, ast.MatrixType) and size(t.rows) and size(t.cols):
         return (size(t.rows), size(t.cols))  # type: ignore[return-value]
     return None
+
+
+def _continuous_states(evolutions: list[c.Evolution], promoted: list[str]) -> list[str]:
+    """The promoted variables that are states of an ODE: the derivative of each is on the
+    left of an equation (``x' = v``, ``J * av' = T``; a running integral's own equation is
+    one). A local whose derivative is only read (``Kd * e'``) is algebraic: its equation
+    gives its value, which an initial assignment could contradict."""
+    on_left = {n.operand.text for ev in evolutions for e in ev.equations
+               if isinstance(e, ex.BinOp) and e.op == "==" for n in e.left.walk()
+               if isinstance(n, ex.Derivative) and isinstance(n.operand, ex.Name)}
+    return [n for n in promoted if n in on_left]
+
+
+def initialised(d: c.ActionDef, states: list[str],
+                 initial: tuple[tuple[str, ex.Expr], ...]) -> c.ActionDef:
+    """``Init`` with every continuous state assigned too: its declared initial value, else
+    0 (spec Rule 2: private variables start at 0; a running integral is the integral from
+    0). Without it the ODEs' states, once they are state, would start anywhere."""
+    if d.name != "Init" or not isinstance(d.body, c.Assign) or not states:
+        return d
+    values = dict(initial)
+    missing = [n for n in states if n not in d.body.targets]
+    return replace(d, body=c.Assign(d.body.targets + tuple(missing), d.body.values + tuple(
+        values.get(n, ex.Num("0")) for n in missing)))

@@ -14,6 +14,7 @@ from typing import Callable
 from cyphy import expr as ex
 from cyphy.lang.notation import ATOM, BINDING_POWER, NotationPrinter
 from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.rules import DEVIATIONS
 
 AND_BP = BINDING_POWER["/\\"]
 
@@ -144,3 +145,13 @@ class ActionPrinter:
     def _a_Assign(self, a: c.Assign) -> tuple[str, int]:
         targets = ", ".join(self.name(t) for t in a.targets)
         return f"{targets}{self.ASSIGN}{', '.join(self.expr(v) for v in a.values)}", PREFIX
+
+
+def deviation_comments(marker: str, width: int = 92) -> list[str]:
+    """Where the program departs from the paper (:data:`~cyphy.semantics.circus.rules.
+    DEVIATIONS`), as comment lines that start with ``marker``, for the top of a printed
+    program."""
+    import textwrap
+
+    return [marker + line for d in DEVIATIONS
+            for line in textwrap.wrap("Deviation from the paper: " + d, width - len(marker))]

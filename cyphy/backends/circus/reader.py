@@ -52,6 +52,8 @@ class _Build(Transformer[Token, Any]):
         chans = tuple(c.ChannelDecl(n, tuple(v)) for n, v in decls.items())
         tagged = {n for n, v in decls.items() if any(x.tag is not None for x in v)}
         process = _retag(process, tagged)
+        if isinstance(opaque, c.BasicProcess):  # D written from the d-model's machine
+            opaque = _retag(opaque, tagged)
         return c.Program(globals_, chans, opaque, process, system, functions)
 
     def globals(self, bindings: tuple[c.Binding, ...], conj: list[ex.Expr]) -> c.AxDef:

@@ -10,7 +10,8 @@ Z; the two never meet because mapping equations have no derivatives.
 from __future__ import annotations
 
 from cyphy import expr as ex
-from cyphy.backends.circus.actions import ATOMIC, INTERLEAVE, PREFIX, ActionPrinter
+from cyphy.backends.circus.actions import (ATOMIC, INTERLEAVE, PREFIX, ActionPrinter,
+                                          deviation_comments)
 from cyphy.lang.notation import ATOM, NotationPrinter
 from cyphy.semantics.circus import ast as c
 
@@ -110,7 +111,8 @@ class CircusText(ActionPrinter):
     def program(self, p: c.Program) -> str:
         i = self.indent
         g = p.globals
-        lines = [f"{self.bindings(g.constants)} | {self.conjunction(g.where)}", ""]
+        lines = [*deviation_comments("// "), "",
+                 f"{self.bindings(g.constants)} | {self.conjunction(g.where)}", ""]
         for ch in p.channels:
             if not ch.variants:
                 lines.append(f"channel {ch.name}")
@@ -123,10 +125,20 @@ class CircusText(ActionPrinter):
             lines.append(f"function {f.name}/{f.arity}")
         if p.functions:
             lines.append("")
-        lines.append(f"process {p.dmodel.name}")
+        if isinstance(p.dmodel, c.BasicProcess):
+            lines += self.process(p.dmodel)
+        else:
+            lines.append(f"process {p.dmodel.name}")
         lines.append("")
-        proc = p.pmodel
-        lines.append(f"process {proc.name} ≙ begin")
+        lines += self.process(p.pmodel)
+        lines.append("")
+        lines.append(f"process {p.system.name} ≙ {self.process_expr(p.system.body)}")
+        return "\n".join(lines) + "\n"
+
+    def process(self, proc: c.BasicProcess) -> list[str]:
+        """``process P ≙ begin … end``, one declaration or action per line."""
+        i = self.indent
+        lines = [f"process {proc.name} ≙ begin"]
         for k in proc.constants:
             value = f" = {self.expr(k.value)}" if k.value is not None else ""
             lines.append(f"{i}const {k.name} : {type_text(k.type)}{value}")
@@ -137,9 +149,7 @@ class CircusText(ActionPrinter):
             lines.append(f"{i}{d.name} ≙ {params}{self.action(d.body)}")
         lines.append(f"{i}• {self.action(proc.main)}")
         lines.append("end")
-        lines.append("")
-        lines.append(f"process {p.system.name} ≙ {self.process_expr(p.system.body)}")
-        return "\n".join(lines) + "\n"
+        return lines
 
     def schema(self, s: c.Schema) -> str:
         fields = "; ".join(("visible " if f.visible else "") + f"{f.name} : {type_text(f.type)}"

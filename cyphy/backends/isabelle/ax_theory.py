@@ -19,11 +19,14 @@ from cyphy.backends.isabelle.terms import HOL_FUNCTIONS, UnsupportedNode
 from cyphy.backends.isabelle.ax_terms import AX_RESERVED, AxiomaticPrinter
 from cyphy.backends.isabelle.names import is_identifier
 from cyphy.backends.isabelle.theory import (IsabelleError, IsabelleOptions, IsabelleSession,
-                                            _environment, _names_table, _theory_context,
+                                            _dprocess_actions, _environment, _names_table, _theory_context,
                                             scalar_program, symbols_of)
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, identifier
-from cyphy.semantics.circus.namesets import action_nodes, find_lossy_interleavings, with_namesets
+from cyphy.semantics.circus.namesets import (action_nodes, find_lossy_interleavings, map_action,
+                                             with_namesets)
+from cyphy.semantics.circus.rules import TIMER
+from cyphy.semantics.scalarise import initialised
 
 PARENT = "Axiomatic_CyPhyCircus"
 PARENT_IMPORT = '"Axiomatic_CyPhyCircus.Ax_CyPhyCircus"'
@@ -40,6 +43,12 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
     if system_name is not None and not is_identifier(system_name):
         raise IsabelleError(f"the system name '{system_name}' is not an identifier")
     program = scalar_program(program, evolving_as_state=False).program
+    if odes is not None:  # the reduction's states start at 0 or their declared values
+        states = [o.variable for o in odes.odes if o.kind == "state"]
+        pm = program.pmodel
+        program = replace(program, pmodel=replace(pm, actions=tuple(
+            initialised(d, states, pm.initial) for d in pm.actions),
+            main=_outputs_tied(pm.main, odes)))
     lossy = find_lossy_interleavings(program.pmodel)
     pm = program.pmodel
     applied = options.namesets and any(f.partition for f in lossy)
@@ -64,6 +73,7 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
         raise IsabelleError(str(err)) from None
     defs = {d.name: d for d in pm.actions}
     defs["MainAction"] = c.ActionDef("MainAction", (), pm.main)
+    defs.update(_dprocess_actions(program))
     uses_wait = any(isinstance(n, c.Wait) for d in defs.values() for n in action_nodes(d.body))
     evolving = {names[d.name] for d in defs.values()
                 if any(isinstance(n, c.Evolution) for n in action_nodes(d.body))}
@@ -82,14 +92,16 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
         added_note=(f"{', '.join(names[a] for a in added)}: evolving variables that no state "
                     "field holds (device locals, integrals); Evolve's explicit ODE needs them "
                     "in the state. The paper quantifies them afresh in every Evolve; here "
-                    "they keep their values between cycles, and Init leaves them open."))
+                    "they keep their values between cycles, and Init starts them at 0 or "
+                    "their declared initial values."))
     env = _environment()
     evolve = ("Ax_CyPhyCircus's evolution takes an explicit ODE. The p-model's equations were "
               "reduced to one as `cyphy solve` does"
               + (f" (restricted to {', '.join(elements)})" if elements else "")
               + ": one derivative per state of the reduction, the chain rule for the state "
               "fields the equations give as functions of the states (they follow the states "
-              "from where they start), timer` = 1. Inputs and variables no equation determines "
+              "from their values, assigned before each evolution), timer` = 1. Inputs and "
+              "variables no equation determines "
               "stay constant while the state evolves. Evolving variables that are no state "
               f"field (device locals, integrals) are added to {names[pm.state.name]}.")
     files = {
@@ -104,6 +116,26 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
     return IsabelleSession(files, theory, defs, names, symbols, lossy, applied)
 
 
+def _outputs_tied(main: c.Action, odes: EvolveOdes) -> c.Action:
+    """The main action with every output of the reduction set to its value over the states
+    where the timer is reset, before each evolution: Evolve's explicit ODE carries an output
+    by the chain rule from where it starts, so it must start on its definition (the utp
+    dialect states the algebraic equation itself); the discrete actions between evolutions
+    (a call setting a set-point) change the value it must start at."""
+    outputs = [(o.variable, o.value) for o in odes.odes
+               if o.kind == "output" and o.value is not None]
+    if not outputs:
+        return main
+
+    def tie(a: c.Action) -> c.Action | None:
+        if isinstance(a, c.Assign) and a.targets == (TIMER,):
+            return c.Assign(a.targets + tuple(n for n, _ in outputs),
+                            a.values + tuple(v for _, v in outputs))
+        return None
+
+    return map_action(main, tie)
+
+
 def _evolve_note(odes: EvolveOdes, elements: tuple[str, ...]) -> str:
     """What the explicit ODE below is, in the theory itself."""
     kinds = [o.kind for o in odes.odes]
@@ -112,6 +144,7 @@ def _evolve_note(odes: EvolveOdes, elements: tuple[str, ...]) -> str:
             + (f", restricted to {', '.join(elements)}" if elements else "")
             + f"): {kinds.count('state')} states")
     if outputs:
-        text += (f"; {', '.join(outputs)} follow the states by the chain rule (they keep "
-                 "the relation to the states where it holds at the start)")
+        text += (f"; {', '.join(outputs)} follow the states by the chain rule, from their "
+                 "values over the states, which the main action assigns where it resets the "
+                 "timer")
     return text + ". Inputs and variables no equation determines stay constant."

@@ -24,7 +24,7 @@ from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable
 from cyphy.semantics.circus.namesets import (LossyInterleaving, action_nodes, find_lossy_interleavings,
                                       with_namesets)
-from cyphy.semantics.circus.rules import functions
+from cyphy.semantics.circus.rules import DEVIATIONS, REGISTER_CHANNELS, functions
 from cyphy.semantics.scalarise import ScalariseError, scalar_process
 
 UNTRANSLATABLE = codes.code("E-ISABELLE", codes.E,
@@ -205,13 +205,23 @@ def symbols_of(program: c.Program, taken: frozenset[str] = frozenset()) -> Symbo
     for d in pm.actions:
         names.add(d.name)
     names.add("MainAction")
+    dm = program.dmodel if isinstance(program.dmodel, c.BasicProcess) else None
+    d_state: list[str] = []
+    d_actions: list[str] = []
+    if dm is not None:  # D: its state, action type, actions and main; N and its channels
+        d_state = [f.name for f in dm.state.fields]
+        d_actions = [d.name for d in dm.actions]
+        for n in (dm.state.name, f"{identifier(dm.name)}_action", *d_state, *d_actions,
+                  f"{identifier(dm.name)}Main", program.system.name,
+                  f"{program.system.name}_channels"):
+            names.add(n)
     return Symbols(
         names=names,
-        state=frozenset(f.name for f in pm.state.fields),
+        state=frozenset(f.name for f in pm.state.fields) | frozenset(d_state),
         constants=frozenset({b.name for b in program.globals.constants}
                             | {k.name for k in pm.constants}),
         nat=frozenset(nat),
-        actions=frozenset(d.name for d in pm.actions),
+        actions=frozenset(d.name for d in pm.actions) | frozenset(d_actions),
         functions=functions,
         constructors=constructors,
         given_sets=tuple(given),
@@ -319,7 +329,18 @@ def generate_session(program: c.Program, table: NameTable,
     files["names.tsv"] = _names_table(table, names, symbols)
     defs = {d.name: d for d in pm.actions}
     defs["MainAction"] = c.ActionDef("MainAction", (), pm.main)
+    defs.update(_dprocess_actions(program))
     return IsabelleSession(files, theory, defs, names, symbols, lossy, applied)
+
+
+def _dprocess_actions(program: c.Program) -> dict[str, c.ActionDef]:
+    """D's action definitions (its main action ``<D>Main`` last), as the theory prints them
+    after P's; none when D is opaque."""
+    dm = program.dmodel
+    if not isinstance(dm, c.BasicProcess):
+        return {}
+    main = c.ActionDef(f"{identifier(dm.name)}Main", (), dm.main)
+    return {d.name: d for d in [*definition_order(dm.actions), main]}
 
 
 def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePrinter,
@@ -358,20 +379,19 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
                for f in pm.state.fields if not f.visible]
     caveats = {f.action: _caveat(f, applied and f.partition) for f in lossy}
     definitions = []
+    utp = action_type is None
     action_type = action_type or names[f"{identifier(pm.name)}_action"]
     for d in [*definition_order(pm.actions), c.ActionDef("MainAction", (), pm.main)]:
-        with printer.binding([p.name for p in d.params]) as params:
-            body = printer.action(d.body)
-        ptypes = [printer.type(p.type) for p in d.params]
-        multi_input = any(isinstance(n, c.Comm) and sum(isinstance(f, c.In) for f in n.fields)
-                          > 1 for n in action_nodes(d.body))
-        definitions.append(Definition(
-            name=names[d.name], params=params,
-            type=" \\<Rightarrow> ".join([*ptypes, action_type]), body=body,
-            lemma=f"{names[d.name]}_NCSP",
-            simp_extra=" prod.case_eq_if" if multi_input else "",
-            caveat=caveats.get(d.name, "")))
+        definitions.append(replace(_definition(printer, d, action_type),
+                                   caveat=caveats.get(d.name, "")))
+    dprocess = None
+    if isinstance(program.dmodel, c.BasicProcess):
+        dm = program.dmodel
+        d_type = names[f"{identifier(dm.name)}_action"] if utp else \
+            f"({names[f'{identifier(pm.name)}_chan']}, {names[dm.state.name]}) cyphyaction"
+        dprocess = _dprocess_context(program, dm, printer, d_type)
     return {
+        "dprocess": dprocess,
         "cycle_constants": [{"name": names[b.name], "type": printer.type(b.type)}
                             for b in globals_.constants],
         "axioms": axioms, "constants": constants, "functions": functions,
@@ -380,6 +400,54 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
         "private": private,
         "visible_name": names[f"{identifier(pm.name)}Visible"], "state_name": names[pm.state.name],
         "definitions": definitions, "namesets": options.namesets,
+        "deviations": DEVIATIONS,
+    }
+
+
+def _definition(printer: IsabellePrinter, d: c.ActionDef, action_type: str) -> Definition:
+    """One action's definition and closure lemma as the template writes them."""
+    names = printer.symbols.names
+    with printer.binding([p.name for p in d.params]) as params:
+        body = printer.action(d.body)
+    ptypes = [printer.type(p.type) for p in d.params]
+    multi_input = any(isinstance(n, c.Comm) and sum(isinstance(f, c.In) for f in n.fields)
+                      > 1 for n in action_nodes(d.body))
+    return Definition(name=names[d.name], params=params,
+                      type=" \\<Rightarrow> ".join([*ptypes, action_type]), body=body,
+                      lemma=f"{names[d.name]}_NCSP",
+                      simp_extra=" prod.case_eq_if" if multi_input else "")
+
+
+def _dprocess_context(program: c.Program, dm: c.BasicProcess, printer: IsabellePrinter,
+                      action_type: str) -> dict[str, Any]:
+    """D's alphabet, action type and definitions (its main action ``<D>Main``) and, in the
+    utp dialect, the composition ``N = (D [| cs |] P) \\ cs`` over the channel set ``cs``
+    (spec Structure): each process's state hidden by utp-main's ``state 'a \\<bullet> P``
+    (state_srea, rea_designs/utp_rdes_prog.thy:424-432; NCSP by NCSP_state_srea,
+    sf_rdes/utp_sfrd_prog.thy:407), synchronised by ``P \\<lbrakk>cs\\<rbrakk>\\<^sub>C Q``
+    (circus/utp_circus_parallel.thy:838, parallel_is_NCSP :947) and hidden by ``HideCSP``
+    (circus/utp_circus_hiding.thy:167, HideCSP_NCSP_closed :184)."""
+    names = printer.symbols.names
+    definitions = [_definition(printer, d, action_type)
+                   for d in _dprocess_actions(program).values()]
+    ctors = printer.symbols.constructors
+    singles, ranges = [], []
+    for ch in program.channels:
+        if ch.name not in REGISTER_CHANNELS:
+            continue
+        for v in ch.variants or (c.ChannelVariant(None, ()),):
+            (ranges if v.types else singles).append(ctors[(ch.name, v.tag)])
+    parts = ([f"{{{', '.join(singles)}}}"] if singles else []) + \
+        [f"range {r}" for r in ranges]
+    channels = parts[0]
+    for part in parts[1:]:
+        channels = f"({channels} \\<union> {part})"
+    return {
+        "state_name": names[dm.state.name], "action_type": action_type,
+        "fields": [{"name": names[f.name], "type": _quoted(printer.type(f.type))}
+                   for f in dm.state.fields],
+        "definitions": definitions, "main": definitions[-1].name,
+        "channels_name": names[f"{program.system.name}_channels"], "channels": channels,
     }
 
 

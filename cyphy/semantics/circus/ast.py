@@ -332,6 +332,9 @@ class BasicProcess:
     local: Schema
     actions: tuple[ActionDef, ...]
     main: Action
+    # the declared initial values of locals (name, value): a local that becomes state (an
+    # ODE's, in the Isabelle dialects) starts there, else at 0; not printed as such
+    initial: tuple[tuple[str, ex.Expr], ...] = field(default=(), compare=False)
 
 
 @dataclass(frozen=True, slots=True)
@@ -383,7 +386,7 @@ class Program:
 
     globals: AxDef
     channels: tuple[ChannelDecl, ...]
-    dmodel: OpaqueProcess
+    dmodel: "OpaqueProcess | BasicProcess"  # D: written from its state machine, else opaque
     pmodel: BasicProcess
     system: ProcessDef
     functions: tuple[FunctionDecl, ...] = ()

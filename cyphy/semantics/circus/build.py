@@ -3,7 +3,7 @@ of the d-model, elaborate the p-model, and apply Rule 1 (which applies the other
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from cyphy import codes
 from cyphy import expr as ex
@@ -26,6 +26,8 @@ NO_MAPPING = codes.code("E-MAPPING", codes.E,
 NO_PDF = codes.code("E-PDF", codes.E, "the LaTeX output cannot be typeset to PDF")
 UNTRANSLATABLE = codes.code("E-SEMANTICS", codes.E,
                             "the mapping cannot be translated to CyPhyCircus")
+OPAQUE_DMODEL = codes.code("W-SEMANTICS-DMODEL", codes.W,
+                           "the d-model's state machine cannot be written as the process D")
 NO_MOTION = codes.code("W-SEMANTICS-MOTION", codes.W,
                        "Evolve leaves out the equations of motion of the kinematic tree")
 
@@ -37,6 +39,7 @@ class SemanticsOptions:
     tscale: float | None = None
     consts: dict[str, object] | None = None
     default_inertial: str | None = None  # "sdf": massless links get SDF's defaults (a warning)
+    machine: str | None = None  # the d-model's machine D is written from (default: as simulate)
 
 
 @dataclass
@@ -83,25 +86,77 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
     except SemanticsError as err:
         report.report(UNTRANSLATABLE, err.message, err.span, err.hint)
         return None
+    dprocess = _dmodel_process(ws, resolution, report, mapping, program, options.machine)
+    if report.has_errors:
+        return None
+    if dprocess is not None:
+        program = replace(program, dmodel=dprocess)
     return Semantics(program, ctx.names, mapping, model)
+
+
+def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
+                    mapping: ast.PlatformMapping, program: c.Program,
+                    name: str | None) -> c.BasicProcess | None:
+    """``D`` from the state machine that controls the mapped p-model (``name``, else the
+    one its module runs, as ``simulate`` and ``reach`` choose it), compiled as they compile
+    it; None, the d-model left opaque, when the files have no machine (said in every
+    output) or, with a warning at the machine, when it cannot be written yet; None with an
+    error when the machine asked for by ``name`` is not among the files."""
+    from cyphy.lang.scopes import Scopes
+    from cyphy.model.machines import select_machine
+    from cyphy.semantics.circus.dmodel import dmodel_process
+    from cyphy.semantics.machines.automaton import compile_machine
+    from cyphy.semantics.machines.cycle import MACHINE, MachineError, interpreter_for
+
+    files = list(ws.user_files())
+    machine, (message, hint) = select_machine(files, resolution, mapping.pmodel[-1], name)
+    if machine is None:
+        if name is not None:  # asked for by name: no semantics without it
+            report.report(MACHINE, message, mapping.span, hint)
+        elif "several" in message:
+            report.report(OPAQUE_DMODEL, f"the d-model process is left opaque: {message}",
+                          mapping.span, hint)
+        return None
+    try:
+        interpreter = interpreter_for(machine, files, resolution, Scopes(ws), None,
+                                      mapping.pmodel[-1])
+        automaton = compile_machine(interpreter)
+    except MachineError as err:
+        report.report(OPAQUE_DMODEL, f"the d-model process is left opaque: state machine "
+                      f"{machine.name}: {err.message}", err.span, err.hint)
+        return None
+    channels = {ch.name: ch for ch in program.channels}
+    reads = tuple(v.tag for v in channels["registerRead"].variants if v.tag is not None)
+    writes = {v.tag: len(v.types) for v in channels["registerWrite"].variants
+              if v.tag is not None}
+    try:
+        return dmodel_process(program.dmodel.name, automaton, reads, writes)
+    except ValueError as err:
+        report.report(OPAQUE_DMODEL, f"the d-model process is left opaque: state machine "
+                      f"{machine.name} calls {err}, which the mapping does not map with "
+                      "these arguments", machine.decl.span,
+                      f"map {err} in {mapping.name}")
+        return None
 
 
 def _motion(model: ElaboratedModel, report: Report) -> tuple[ex.Expr, ...]:
     """The kinematic tree's equations of motion for ``Evolve``: the very equations ``cyphy
     solve`` assembles by default, the root fixed to the world and gravity −9.81 m/s² along the
     model's z (the semantics has no option for either: the axiomatic Isabelle dialect reduces
-    the same default equations). A tree that has none (a link without mass, a loop, more
+    the same default equations), after the zero parent twist and rate of every joint on a
+    root link (:func:`~cyphy.semantics.dynamics.equations.fixed_root_twists`). A tree that has none (a link without mass, a loop, more
     joints than the symbolic limit) leaves them out with a warning: the rest of the semantics
     does not depend on them."""
     from cyphy.semantics.dynamics.rigid_body import DynamicsError
-    from cyphy.semantics.dynamics.equations import motion
+    from cyphy.semantics.dynamics.equations import fixed_root_twists, motion
 
+    twists = tuple(e.expr for e in fixed_root_twists(model))  # the root is fixed: pV = pA = 0
     try:
-        return tuple(e.expr for e in motion(model))
+        return twists + tuple(e.expr for e in motion(model))
     except DynamicsError as err:
         report.report(NO_MOTION, f"Evolve has no equations of motion: {err.message}", err.span,
                       err.hint)
-        return ()
+        return twists
 
 
 def _choose_mapping(ws: Workspace, report: Report, wanted: str | None

@@ -24,6 +24,19 @@ from cyphy.semantics.circus.values import constant_type, si_units, type_of, valu
 TIME = "t"  # the time variable of equations; CyPhyCircus's own, not declared
 TIMER = "timer"
 REGISTER_CHANNELS = ("registerRead", "registerWrite", "tock")
+RECEIVE_LOOP = "Y"  # the recursion variable of ReceiveFromDModel
+
+#: Where the program departs from the paper's rules, in words every printer states (the
+#: text and LaTeX as comments, the Isabelle theories in their header).
+DEVIATIONS = (
+    "ReceiveFromDModel receives the d-model's calls one after the other, in any number and "
+    "order, until the cycle's first tock (mu Y . (AFromDModel ; Y [] BFromDModel ; Y [] "
+    "tock -> Skip)); the main action then waits for the cycle's other cycle - 1 tocks. The "
+    "paper interleaves the receivers (AFromDModel ||| BFromDModel) under Wait(cycle): an "
+    "interleaving with empty name sets discards the calls' updates (utp-main c9122f14, "
+    "utp_circus_parallel.thy:846-847, the merge at :18-26), and the first tock cuts it off "
+    "without a final state, so no call would reach the p-model's state.",
+)
 
 
 class SemanticsError(Exception):
@@ -73,8 +86,10 @@ class Context:
 
 def rule1_program(ctx: Context) -> c.Program:
     """Rule 1: global constants ``cycle : ℕ`` and ``tscale : ℝ`` (positive, with the
-    d-model's cycle restriction and a fixed ``tscale`` if given), the channels, the opaque
-    d-model process ``D``, the p-model process ``P`` (Rule 2) and
+    d-model's cycle restriction and a fixed ``tscale`` if given), the channels, the d-model
+    process ``D`` (opaque here: :mod:`cyphy.semantics.circus.build` writes it from the
+    d-model's state machine, :mod:`cyphy.semantics.circus.dmodel`), the p-model process ``P``
+    (Rule 2) and
     ``N = (D ⟦ registerRead, registerWrite, tock ⟧ P) \\ {registerRead, registerWrite, tock}``."""
     cycle, tscale = ex.Name(("cycle",)), ex.Name(("tscale",))
     where: list[ex.Expr] = [ex.BinOp(">", cycle, ex.Num("0")),
@@ -131,8 +146,10 @@ def rule2_pmodel_process(ctx: Context) -> c.BasicProcess:
     """Rule 2: the p-model process ``P``: constants, the state schema ``PState`` (private
     and visible variables), the local schema ``PLocal``, ``Init``, the actions of Rules 3-5
     and of the output mappings, ``Evolve`` and the main action
-    ``Init ; μ X • (SendToDModel ; (ReceiveFromDModel △ Wait(cycle)) ; timer := 0 ;
-    (Evolve △ (timer ≥ cycle × tscale)) ; X)``."""
+    ``Init ; μ X • (SendToDModel ; ReceiveFromDModel ; Wait(cycle - 1) ; timer := 0 ;
+    (Evolve △ (timer ≥ cycle × tscale)) ; X)``: ours where the paper has
+    ``(ReceiveFromDModel △ Wait(cycle))``, whose updates are lost
+    (:func:`receive_until_tock`)."""
     name = ctx.model.name
     consts = constants(ctx)
     state = state_schema(ctx)
@@ -145,11 +162,14 @@ def rule2_pmodel_process(ctx: Context) -> c.BasicProcess:
     cycle_length = ex.BinOp("*", ex.Name(("cycle",)), ex.Name(("tscale",)))
     main = c.Seq((c.Call("Init"), c.Mu("X", c.Seq((
         c.Call("SendToDModel"),
-        c.Interrupt(c.Call("ReceiveFromDModel"), c.Wait(ex.Name(("cycle",)))),
+        c.Call("ReceiveFromDModel"),
+        c.Wait(ex.BinOp("-", ex.Name(("cycle",)), ex.Num("1"))),
         c.Assign((TIMER,), (ex.Num("0"),)),
         c.InterruptCond(c.Call("Evolve"), ex.BinOp(">=", timer, cycle_length)),
         c.Call("X"))))))
-    return c.BasicProcess(name, consts, state, local, tuple(actions), main)
+    initial = tuple((p.mangled, si_units(p.initial)) for _, device in _device_elements(ctx.model)
+                    for p in device.of_kind(ast.DeclKind.LOCAL) if p.initial is not None)
+    return c.BasicProcess(name, consts, state, local, tuple(actions), main, initial)
 
 
 def constants(ctx: Context) -> tuple[c.Constant, ...]:
@@ -315,9 +335,10 @@ def rule5_then_branch(ctx: Context, m: ast.EventMapping) -> c.Action:
 
 
 def receive_from_dmodel(ctx: Context) -> list[c.ActionDef]:
-    """Rule 2's ``ReceiveFromDModel``: the interleaving of one action per output event,
-    operation and variable mapping (``MoveFromDModel ||| StopFromDModel``), ``Skip`` if
-    there are none."""
+    """Rule 2's ``ReceiveFromDModel``: one action per output event, operation and variable
+    mapping, received until the cycle's first tock (:func:`receive_until_tock`; the paper
+    interleaves them, ``MoveFromDModel ||| StopFromDModel``); ``tock → Skip`` if there are
+    none."""
     defs: list[c.ActionDef] = []
     receivers: list[str] = []
     for op in ctx.mapping.operations:
@@ -331,10 +352,25 @@ def receive_from_dmodel(ctx: Context) -> list[c.ActionDef]:
     for v in ctx.mapping.variables:
         defs.append(variable_mapping(ctx, v))
         receivers.append(defs[-1].name)
-    calls = [c.Call(n) for n in receivers]
-    body: c.Action = c.Skip() if not calls else calls[0] if len(calls) == 1 \
-        else c.Interleave(tuple(calls))
-    return [*defs, c.ActionDef("ReceiveFromDModel", (), body)]
+    return [*defs, c.ActionDef("ReceiveFromDModel", (), receive_until_tock(receivers))]
+
+
+def receive_until_tock(receivers: list[str]) -> c.Action:
+    """``μ Y • (AFromDModel ; Y □ BFromDModel ; Y □ tock → Skip)``: the calls of one cycle,
+    in any number and order, each applied after the one before, until the cycle's first
+    ``tock`` ends the loop.
+
+    A deviation from the paper (which interleaves the receivers, ``A ||| B``, interrupted by
+    ``Wait(cycle)``): an interleaving with empty name sets restores the state from before it
+    at its end (utp-main c9122f14, utp/utp_circus_parallel.thy:846-847, the merge at
+    :18-26), it ends only when every branch has ended though a cycle calls one operation,
+    and an interrupted action has no final state, so no call would ever reach the
+    p-model's state. In the sequence here every update persists, and the tock that ends the
+    software's cycle ends the loop normally; the main action then waits for the cycle's
+    other ``cycle - 1`` tocks."""
+    tock = c.Prefix(c.Comm("tock", None, ()), c.Skip())
+    branches = tuple(c.Seq((c.Call(n), c.Call(RECEIVE_LOOP))) for n in receivers)
+    return c.Mu(RECEIVE_LOOP, c.ExtChoice((*branches, tock))) if branches else tock
 
 
 def operation_mapping(ctx: Context, op: ast.OperationMapping) -> list[c.ActionDef]:

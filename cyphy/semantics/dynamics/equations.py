@@ -92,6 +92,9 @@ def assemble(model: ElaboratedModel, elements: list[str] | None = None,
                  if isinstance(n, ex.Name) and id(n) not in functions}  # sin is no variable
         if not elements or names <= known | set(system.parameters):
             system.equations.append(Equation(relation, "relation", relation.span))
+    for twist in fixed_root_twists(model, floating_base):
+        if {n.text for n in twist.expr.walk() if isinstance(n, ex.Name)} <= known:
+            system.equations.append(twist)
     if mapping is not None and call is not None:
         _add_mapping_call(system, model, mapping, call, call_params)
     _integrals_to_states(system)
@@ -264,6 +267,43 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
         added = True
     if added:
         system.definitions.extend(motion.definitions)
+
+
+FIXED_ROOT = "fixed root"  # the origin of the equations fixed_root_twists gives
+
+
+def fixed_root_twists(model: ElaboratedModel, floating_base: bool = False) -> list[Equation]:
+    """The parent twist of every joint whose parent is a root link, and its rate, are zero:
+    ``J_pV == (|0, …, 0|)`` and ``J_pA == (|0, …, 0|)``. A root link is fixed to the world
+    (the equations of motion assume it, :func:`motion`), so the parent's twist is the
+    world's; nothing else in the model gives these inputs, which left them free in
+    ``Evolve`` and stopped ``simulate`` on a whole model. With ``floating_base`` the root
+    moves and its twist is its own state: no equation."""
+    if floating_base:
+        return []
+    children = {j.child.name for j in model.joints if j.child is not None}
+    out: list[Equation] = []
+    for joint in model.joints:
+        if joint.parent is None or joint.child is None or joint.device is None \
+                or joint.parent.name in children:
+            continue
+        span = joint.span
+        for name in ("pV", "pA"):
+            port = joint.device.port(name)
+            size = _vector_size(port.type) if port is not None else None
+            if port is None or size is None:
+                continue
+            zero = ex.Vector((tuple(ex.Num("0", span=span) for _ in range(size)),), span=span)
+            out.append(Equation(ex.BinOp("==", ex.Name((port.mangled,), span=span), zero,
+                                         span=span), f"{joint.device.prefix} {FIXED_ROOT}", span))
+    return out
+
+
+def _vector_size(t: ast.TypeRef) -> int | None:
+    """The length of ``vector(T, n)`` with a literal ``n``, else None."""
+    if isinstance(t, ast.VectorType) and isinstance(t.size, ex.Num) and t.size.is_integer:
+        return int(t.size.text)
+    return None
 
 
 def motion(model: ElaboratedModel,
@@ -443,10 +483,11 @@ def _integrals_to_states(system: System) -> None:
 
 
 def _defined_by_others(system: System) -> set[str]:
-    """Inputs that a relation or a mapping sets are not free inputs."""
+    """Inputs that a relation, a mapping or the fixed root sets are not free inputs."""
     out: set[str] = set()
     for eq in system.equations:
-        if eq.origin == "relation" or eq.origin.startswith("mapping"):
+        if eq.origin == "relation" or eq.origin.startswith("mapping") \
+                or eq.origin.endswith(FIXED_ROOT):
             out.update(n.text for n in eq.expr.walk() if isinstance(n, ex.Name))
     return out
 

@@ -55,6 +55,7 @@ class ExplicitOde:
     variable: str
     rhs: ex.Expr
     kind: str
+    value: ex.Expr | None = None  # an output's: its value as a function of the states
 
 
 @dataclass
@@ -111,6 +112,7 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
               for name in [*reduced.states, *reduced.outputs]}
     out = EvolveOdes()
     rhs: dict[str, Any] = {}
+    values: dict[str, Any] = {}  # the outputs' solutions over the states
     failed = False
 
     def fail(message: str, name: str) -> None:
@@ -138,10 +140,14 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
             continue
         rhs_y = sum((sympy.diff(g, symbol[s]) * rhs[s] for s in rhs), sympy.Integer(0))
         rhs[name] = sympy.expand(rhs_y)
+        values[name] = g
     printed: dict[str, ex.Expr] = {}
+    solutions: dict[str, ex.Expr] = {}
     for name, value in rhs.items():
         try:
             printed[name] = to_expr(value)
+            if name in values:
+                solutions[name] = to_expr(sympy.expand(values[name]))
         except NotAnExpression as err:
             fail(f"the ODE of {name} has a term the printers cannot write: {err}", name)
     if failed:
@@ -151,7 +157,7 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
         if s not in state_fields:
             out.added.append(s)
     for name in sorted(set(rhs) - set(reduced.states)):
-        out.odes.append(ExplicitOde(name, printed[name], "output"))
+        out.odes.append(ExplicitOde(name, printed[name], "output", solutions[name]))
     for eq in evolution.equations:  # the semantics' own equations (timer' = 1): no port's
         if isinstance(eq, ex.BinOp) and eq.op == "==" and isinstance(eq.left, ex.Derivative) \
                 and isinstance(eq.left.operand, ex.Name) \

@@ -37,6 +37,7 @@ Why each step is sound:
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 import re
 import time
@@ -48,10 +49,20 @@ import sympy
 
 from cyphy.verify.flowstar.constraints import dnf
 from cyphy.verify.flowstar.export import CLOCK, TIMER, Problem, render, symbol
+from cyphy.verify.flowstar.limits import MAX_ORDER
 from cyphy.verify.flowstar.simulate import BUDGET, Witness, find_witness, unsafe_paths
 from cyphy.verify.flowstar.verdict import Outcome, run_text
 
 AUTO_SPLIT = 4  # boxes per part when a run without splitting ends UNKNOWN
+#: The refinement ladder: the changes to Flow*'s settings tried, one more a round, on a run
+#: left open before its box is split (splitting cannot help a loss that grows with time):
+#: the step halved (the truncation error shrinks, and Picard's iteration needs h·‖A‖
+#: small), the Taylor order raised by 2, the remainder estimate ×10 (Picard's iteration
+#: failing to contract ends a computation early, "not completed").
+LADDER = ("step", "order", "remainder")
+#: Trajectories the falsification search before Flow* simulates: the centre, the corners
+#: and lines through the centre of the initial box, then a first refinement.
+FIRST_BUDGET = 40
 
 
 @dataclass(frozen=True)
@@ -71,6 +82,8 @@ class Result:
     details: list[str] = field(default_factory=list)  # one line per run
     witness: Witness | None = None
     names: list[str] = field(default_factory=list)  # the witness's variables, in order
+    # The model of every Flow* run, in the order run: file name (runs/NAME.NNN.model) → text
+    runs: dict[str, str] = field(default_factory=dict)
 
     @property
     def exit_code(self) -> int:
@@ -196,6 +209,7 @@ class _Piece:
     joint: bool = False
     tasks: list[Task] = field(default_factory=list)
     outcomes: list[Outcome] = field(default_factory=list)
+    rung: int = 0  # the refinement ladder's rungs tried (:data:`LADDER`)
     split_done: bool = False
     reachable: bool = False  # a simulated trajectory of the part alone enters its atoms
 
@@ -206,27 +220,44 @@ class _Piece:
 
 def check(p: Problem, name: str, binary: str, timeout: float | None = None,
           boxes: int = 1, auto_split: bool = True, jobs: int | None = None) -> Result:
-    """The verdict on ``p``: see the module's docstring. Every run of a round goes to one
-    pool of ``jobs`` Flow* processes: the disjuncts of the unsafe set, their independent
-    parts, the boxes of each; later rounds split what the first left open, then run the
-    parts of a disjunct that none of them proved jointly."""
+    """The verdict on ``p``: see the module's docstring. First a simulation search for a
+    witness over each disjunct's whole initial set (falsification first: no Flow* run when a
+    trajectory is found); then every run of a round goes to one pool of ``jobs`` Flow*
+    processes: the disjuncts of the unsafe set, their independent parts, the boxes of each.
+    Every box Flow* leaves open is searched for a witness too. Later rounds retry what the
+    first left open with finer settings (:data:`LADDER`, one rung a round), then on
+    smaller boxes, then run the parts of a disjunct that none of them proved jointly."""
     started = time.perf_counter()
     jobs = jobs or os.cpu_count() or 1
     disjuncts = p.disjuncts()
+    searched: dict[tuple[str, int], Witness | None] = {}  # witness searches, by model text
+    runs: dict[str, str] = {}
+    files: dict[int, str] = {}  # id of a task → its file among ``runs``
+    for d in disjuncts:
+        witness = _search(searched, render(d, name), [], FIRST_BUDGET)
+        if witness is not None:
+            return Result("UNSAFE", "a simulated trajectory from the initial set enters the "
+                          f"unsafe set at t = {witness.entry.time:.6g} (found by the "
+                          "simulation search before any Flow* run)",
+                          time.perf_counter() - started, [], witness,
+                          [*d.states, *d.held_inputs])
     pieces: list[_Piece] = []
     for j, d in enumerate(disjuncts):
         ps = parts(d)
         pieces += [_Piece(j, part, _part_label(part, k, len(ps), j, len(disjuncts)))
                    for k, part in enumerate(ps)]
     pending = {id(pc): (pc, _tasks(pc.problem, name, pc.label, boxes)) for pc in pieces}
-    notes: list[str] = []  # the runs a later round replaced by smaller boxes
-    searched: dict[str, Witness | None] = {}  # witness searches done, by model text
+    notes: list[str] = []  # the runs a later round replaced by finer settings or boxes
 
     def details() -> list[str]:
-        return notes + [f"  {t.label}: {o.verdict} ({o.reason})" for pc in pieces
-                        for t, o in zip(pc.tasks, pc.outcomes)]
+        return notes + [f"  {t.label}: {o.verdict} ({o.reason}) [{files[id(t)]}]"
+                        for pc in pieces for t, o in zip(pc.tasks, pc.outcomes)]
 
     while pending:
+        for _, ts in pending.values():
+            for t in ts:
+                files[id(t)] = f"runs/{name}.{len(runs) + 1:03d}.model"
+                runs[files[id(t)]] = t.text
         outcomes = _run_round({key: ts for key, (_, ts) in pending.items()}, binary, timeout,
                               jobs)
         for key, (pc, ts) in pending.items():
@@ -240,10 +271,11 @@ def check(p: Problem, name: str, binary: str, timeout: float | None = None,
             return Result("UNSAFE", "a simulated trajectory from the initial set enters the "
                           f"unsafe set at t = {witness.entry.time:.6g} (Flow*: "
                           f"{outcome.reason}{_paths(outcome)})",
-                          time.perf_counter() - started, details(), witness, names)
+                          time.perf_counter() - started, details(), witness, names, runs)
         errors = [o for pc in pieces for o in pc.outcomes if o.verdict == "ERROR"]
         if errors:
-            return Result("ERROR", errors[0].reason, time.perf_counter() - started, details())
+            return Result("ERROR", errors[0].reason, time.perf_counter() - started, details(),
+                          runs=runs)
         proved = {pc.disjunct for pc in pieces if pc.proved}
         if len(proved) == len(disjuncts):
             break
@@ -255,47 +287,101 @@ def check(p: Problem, name: str, binary: str, timeout: float | None = None,
         what = "every disjunct of the unsafe set" if len(disjuncts) > 1 else "the initial set"
         jointly = " (its independent parts jointly: none proved it alone)" if any(
             pc.joint and pc.proved for pc in pieces) else ""
+        scope = _for_all_time(disjuncts, name, binary, timeout, runs, notes)
         return Result("SAFE", f"Flow* proved {what} safe{jointly} in {count} run"
-                      f"{'s' if count > 1 else ''}, every computation completed", elapsed,
-                      details())
+                      f"{'s' if count > 1 else ''}, every computation completed; {scope}",
+                      time.perf_counter() - started, details(), runs=runs)
     unsafe = [o for pc in pieces for o in pc.outcomes if o.verdict == "UNSAFE"]
     if unsafe:
         return Result("UNKNOWN", "Flow* found a flowpipe inside the unsafe set, but no "
                       "simulated trajectory from the initial set enters it: the flowpipe may "
                       "lie on a spurious branch (a jump its enclosure allows and no "
-                      f"trajectory takes){_paths(unsafe[0])}", elapsed, details())
+                      f"trajectory takes){_paths(unsafe[0])}", elapsed, details(), runs=runs)
     open_ = [t.label for pc in pieces if pc.disjunct not in proved
              for t, o in zip(pc.tasks, pc.outcomes) if o.verdict != "SAFE"]
     return Result("UNKNOWN", "not proved: " + "; ".join(open_[:6]) +
-                  (" …" if len(open_) > 6 else ""), elapsed, details())
+                  (" …" if len(open_) > 6 else ""), elapsed, details(), runs=runs)
+
+
+def _for_all_time(disjuncts: list[Problem], name: str, binary: str, timeout: float | None,
+                  runs: dict[str, str], notes: list[str]) -> str:
+    """Which SAFE it is: for every horizon when, for each disjunct, some independent part's
+    initial box is an inductive invariant that one cycle keeps clear of the unsafe set
+    (:mod:`cyphy.verify.flowstar.invariant`, one Flow* run per part), else up to the
+    horizon. The runs are recorded in ``runs`` and ``notes``."""
+    from cyphy.verify.flowstar.invariant import invariant_model
+
+    horizon = f"up to the horizon of {disjuncts[0].scenario.horizon:g} s"
+    candidates = [(j, part, invariant_model(part, name)) for j, d in enumerate(disjuncts)
+                  for part in parts(d)]
+    candidates = [(j, part, text) for j, part, text in candidates if text is not None]
+    if not {j for j, _, _ in candidates} >= set(range(len(disjuncts))):
+        return f"{horizon} (no invariant to check: the clock is read, or a point " \
+            "coordinate changes over a cycle)"
+    tasks = [Task(f"invariant of {part.scenario.initial} [{', '.join(part.states)}]", part,
+                  text) for _, part, text in candidates]
+    outcomes = [run_text(t.text, binary, timeout, 1) for t in tasks]  # one jump: a cycle
+    for task, outcome in zip(tasks, outcomes):
+        file = f"runs/{name}.{len(runs) + 1:03d}.model"
+        runs[file] = task.text
+        notes.append(f"  {task.label}: {outcome.verdict} ({outcome.reason}) [{file}]")
+    # a SAFE counts only when a jump reached a sink: more flowpipes than the cycle alone
+    # has (its steps and the one ending on the guard), else the check would be vacuous
+    held = {j for (j, part, _), o in zip(candidates, outcomes) if o.verdict == "SAFE" and
+            (o.flowpipes or 0) >= _cycle_flowpipes(part) + 1}
+    if held >= set(range(len(disjuncts))):
+        period = disjuncts[0].scenario.period
+        return ("for every horizon: one cycle of "
+                f"{period:g} s from the initial box ends inside it and avoids the unsafe "
+                "set (an inductive invariant, checked by Flow*)")
+    return f"{horizon} (the initial box is not proved invariant over one cycle)"
+
+
+def _cycle_flowpipes(p: Problem) -> int:
+    """The most flowpipes one cycle alone can take: its steps (the smallest step, when
+    adaptive) and the one ending on the guard ``timer = cycle × tscale``."""
+    step = p.scenario.settings.step
+    smallest = step[0] if isinstance(step, tuple) else step
+    return math.ceil(p.scenario.period / smallest - 1e-9) + 1
 
 
 def _next_round(disjuncts: list[Problem], pieces: list[_Piece], proved: set[int], name: str,
                 boxes: int, auto_split: bool, notes: list[str]
                 ) -> dict[int, tuple[_Piece, list[Task]]]:
     """What to run next for each disjunct not proved: its pieces whose one run ended open,
-    on ``AUTO_SPLIT`` boxes (not a part whose own atoms a trajectory enters: the box of
-    that trajectory's start would stay unsafe); when nothing is left to split, its parts
-    jointly (:func:`joint`), unless one of them timed out."""
+    with the next rung of :data:`LADDER`; when the ladder is spent, on ``AUTO_SPLIT`` boxes
+    (not a part whose own atoms a trajectory enters: the box of that trajectory's start
+    would stay unsafe); when nothing is left to split, its parts jointly (:func:`joint`),
+    unless one of them timed out."""
     pending: dict[int, tuple[_Piece, list[Task]]] = {}
     for j, d in enumerate(disjuncts):
         if j in proved:
             continue
         mine = [pc for pc in pieces if pc.disjunct == j]
-        split_now = False
+        retried = False
         for pc in mine:
-            if not auto_split or boxes > 1 or pc.split_done or pc.reachable or \
+            if not auto_split or pc.split_done or pc.reachable or \
                     len(pc.outcomes) != 1 or not _open(pc.outcomes[0]):
+                continue
+            o = pc.outcomes[0]
+            if pc.rung < len(LADDER):
+                pc.rung += 1
+                finer, what = refine(pc.problem, pc.rung)
+                notes.append(f"  {pc.tasks[0].label}: {o.verdict} ({o.reason}); retried "
+                             f"with {what}")
+                pending[id(pc)] = (pc, _tasks(finer, name, f"{pc.label} [{what}]", 1))
+                retried = True
+                continue
+            if boxes > 1:
                 continue
             pc.split_done = True
             ts = _tasks(pc.problem, name, pc.label, AUTO_SPLIT)
             if len(ts) > 1:
-                o = pc.outcomes[0]
                 notes.append(f"  {pc.tasks[0].label}: {o.verdict} ({o.reason}); split into "
                              f"{AUTO_SPLIT} boxes")
                 pending[id(pc)] = (pc, ts)
-                split_now = True
-        if split_now or len(mine) < 2 or any(pc.joint for pc in mine) or \
+                retried = True
+        if retried or len(mine) < 2 or any(pc.joint for pc in mine) or \
                 any(_timed_out(o) for pc in mine for o in pc.outcomes):
             continue  # (the joint run, larger than a part that timed out, would too)
         whole = joint(d)
@@ -304,6 +390,31 @@ def _next_round(disjuncts: list[Problem], pieces: list[_Piece], proved: set[int]
         pieces.append(pc)
         pending[id(pc)] = (pc, _tasks(whole, name, pc.label, boxes))
     return pending
+
+
+def refine(p: Problem, rung: int) -> tuple[Problem, str]:
+    """``p`` with the first ``rung`` changes of :data:`LADDER` to Flow*'s settings, and
+    what they are (for the report)."""
+    settings = p.scenario.settings
+    changes: dict[str, Any] = {}
+    for key in LADDER[:rung]:
+        value = getattr(settings, key)
+        if key == "step":
+            changes[key] = tuple(v / 2 for v in value) if isinstance(value, tuple) \
+                else value / 2
+        elif key == "order":
+            changes[key] = tuple(min(v + 2, MAX_ORDER) for v in value) \
+                if isinstance(value, tuple) else min(value + 2, MAX_ORDER)
+        else:
+            changes[key] = value * 10
+    what = ", ".join(f"{k} {_setting(v)}" for k, v in changes.items())
+    scenario = dataclasses.replace(p.scenario,
+                                   settings=dataclasses.replace(settings, **changes))
+    return dataclasses.replace(p, scenario=scenario), what
+
+
+def _setting(value: Any) -> str:
+    return f"[{value[0]:g}, {value[1]:g}]" if isinstance(value, tuple) else f"{value:g}"
 
 
 def joint(p: Problem) -> Problem:
@@ -332,37 +443,52 @@ def _timed_out(outcome: Outcome) -> bool:
     return outcome.reason.startswith("Flow* did not finish")
 
 
+def _search(searched: dict[tuple[str, int], Witness | None], text: str,
+            hints: list[list[str]], budget: int) -> Witness | None:
+    """:func:`find_witness` on the model ``text``, once per model and budget."""
+    key = (text, budget)
+    if key not in searched:
+        searched[key] = find_witness(text, hints, budget)
+    return searched[key]
+
+
 def _confirm(disjuncts: list[Problem], name: str, pieces: list[_Piece], several: set[int],
-             searched: dict[str, Witness | None]) -> tuple[Witness, list[str], Outcome] | None:
-    """A witness for one of the runs Flow* called UNSAFE, searched on the whole automaton
-    (with that run's disjunct) from that run's box, guided by Flow*'s unsafe paths. When
-    there is none and the run was of one of several parts (``several``: their disjuncts),
-    the part's own atoms are searched on the part alone: when a trajectory enters them,
-    splitting that part cannot prove it. ``searched`` keeps each model's search (the parts
-    of a disjunct share the whole automaton on the same box)."""
-
-    def search(text: str, hints: list[list[str]]) -> Witness | None:
-        if text not in searched:
-            searched[text] = find_witness(text, hints, budget)
-        return searched[text]
-
+             searched: dict[tuple[str, int], Witness | None]
+             ) -> tuple[Witness, list[str], Outcome] | None:
+    """A witness for one of the runs Flow* left open (UNSAFE, UNKNOWN or unfinished),
+    searched on the whole automaton (with that run's disjunct) from that run's box, guided
+    by Flow*'s unsafe paths when it called the run UNSAFE. When there is none and the run
+    was an UNSAFE of one of several parts (``several``: their disjuncts), the part's own
+    atoms are searched on the part alone: when a trajectory enters them, splitting that
+    part cannot prove it. ``searched`` keeps each model's search (the parts of a disjunct
+    share the whole automaton on the same box)."""
     for pc in pieces:
         budget = max(BUDGET // len(pc.tasks), 30)  # the boxes of a split share one budget
         for task, outcome in zip(pc.tasks, pc.outcomes):
-            if outcome.verdict != "UNSAFE":
+            if outcome.verdict not in ("UNSAFE", "UNKNOWN"):
                 continue
             whole = _whole(disjuncts[pc.disjunct], task.problem)
             # Flow*'s paths name the whole automaton's modes unless the part dropped them
             same = task.problem.scenario.states.keys() == whole.scenario.states.keys() and \
                 task.problem.scenario.transitions == whole.scenario.transitions
             hints = unsafe_paths(outcome.counterexample) if same else []
-            witness = search(render(whole, name), hints)
+            witness = _search(searched, render(_settled(whole, disjuncts[pc.disjunct]), name),
+                              hints, budget)
             if witness is not None:
                 return witness, [*whole.states, *whole.held_inputs], outcome
-            if not pc.joint and pc.disjunct in several and not pc.reachable:
-                pc.reachable = search(render(task.problem, name),
-                                      unsafe_paths(outcome.counterexample)) is not None
+            if outcome.verdict == "UNSAFE" and not pc.joint and pc.disjunct in several and \
+                    not pc.reachable:
+                pc.reachable = _search(searched, render(task.problem, name),
+                                       unsafe_paths(outcome.counterexample),
+                                       budget) is not None
     return None
+
+
+def _settled(p: Problem, base: Problem) -> Problem:
+    """``p`` with ``base``'s Flow* settings: the ladder's finer settings change nothing a
+    simulation does, so the search of a box is not repeated for each rung."""
+    return dataclasses.replace(p, scenario=dataclasses.replace(
+        p.scenario, settings=base.scenario.settings))
 
 
 def _part_label(part: Problem, k: int, n: int, j: int, m: int) -> str:

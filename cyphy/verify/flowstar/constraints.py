@@ -65,14 +65,6 @@ def dnf(pred: Any, variables: set[Any]) -> list[Conjunction]:
     return _simplify(_dnf(pred, False, variables))
 
 
-def negated_dnf(preds: list[Any], variables: set[Any]) -> list[Conjunction]:
-    """The closure of ``not (p1 or p2 or …)``: the guard of "no transition is taken"."""
-    out: list[Conjunction] = [()]
-    for p in preds:
-        out = _and(out, _dnf(p, True, variables))
-    return _simplify(out)
-
-
 def _dnf(p: Any, negate: bool, variables: set[Any]) -> list[Conjunction]:
     if p is sympy.true or p is sympy.false:
         return [()] if (p is sympy.true) != negate else []

@@ -34,10 +34,13 @@ import sympy
 
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span, did_you_mean
-from cyphy.verify.flowstar.constraints import Conjunction, dnf, negated_dnf
+from cyphy.verify.flowstar.constraints import Conjunction, dnf
+from cyphy.verify.flowstar.guards import targets
+from cyphy.verify.flowstar.limits import MAX_JUMPS
 from cyphy.verify.flowstar.printer import FUNCTIONS, NotExpressible, flowstar_text, number, valid_name
 from cyphy.pipeline.elaborate import ElaborateOptions, elaborate
 from cyphy.verify.flowstar.scenario import EXPORT, Scenario
+from cyphy.verify.flowstar.time_functions import replace_time_functions
 
 
 TIMER, CLOCK = "timer", "t"
@@ -194,6 +197,11 @@ class _Builder:
         zero = {sympy.Symbol(f"der_{u}", real=True): 0 for u in frame}
         states = [x for x in reduced.states if x not in probes]
         rhs = {x: sympy.expand(reduced.rhs[x].xreplace(zero)) for x in states}
+        rhs, auxiliary = replace_time_functions(rhs, symbol(CLOCK), {*reduced.states, *frame})
+        for a in auxiliary:  # functions of time as states of their own (linear ODEs)
+            states.append(a.name)
+            rhs[a.name] = a.rhs
+            s.init[a.name] = a.initial
         outputs = {n: sympy.expand(v.xreplace(zero)) for n, v in reduced.outputs.items()}
         outputs.update({name: sympy.expand(reduced.rhs[probe].xreplace(zero))
                         for probe, name in probes.items() if name not in states})
@@ -212,10 +220,16 @@ class _Builder:
                   for name, (e, span) in event_exprs.items()}
         unsafe = self._unsafe(scope, unsafe_exprs)
         problem = Problem(self.model.name, s, states, rhs, inputs, outputs,
-                          effects, events, unsafe, {v: k for k, v in self.ports.items()},
+                          effects, events, unsafe, {v: k for k, v in self.ports.items()} |
+                          {a.name: a.meaning for a in auxiliary},
                           dict(self.call_effects), self.machine,
                           self._operation_effects(frame) if self.machine else {})
         self._check_init(problem)
+        if problem.required_jumps > MAX_JUMPS:
+            raise self.fail(
+                f"the horizon of {s.horizon:g} s is {problem.required_jumps - 1} cycles of "
+                f"{s.period:g} s: more jumps than Flow* can count ({MAX_JUMPS}, a C int)",
+                s.span("horizon"), "shorten the horizon or lengthen the cycle")
         if s.settings.max_jumps is not None and s.settings.max_jumps < problem.required_jumps:
             raise self.fail(
                 f"max_jumps = {s.settings.max_jumps} is too small: the horizon of "
@@ -627,14 +641,12 @@ def render(p: Problem, output_name: str) -> str:
     for mode in p.effects:
         values = _mode_values(p, mode)
         rhs = {x: sympy.expand(p.rhs[x].xreplace(values)) for x in p.states}
-        poly = all(f.is_polynomial(*var_syms) for f in rhs.values())
-        lines += [f"  {mode}", "  {", "   poly ode 2" if poly else "   nonpoly ode", "   {"]
-        for x in p.states:
-            lines.append(f"    {x}' = {flowstar_text(rhs[x], poly)}")
-        for u in held:
-            lines.append(f"    {u}' = 0")
-        lines += [f"    {TIMER}' = 1", f"    {CLOCK}' = 1", "   }",
-                  "   inv", "   {"]
+        rhs.update({u: sympy.Integer(0) for u in held})
+        rhs.update({TIMER: sympy.Integer(1), CLOCK: sympy.Integer(1)})
+        form, texts = _ode(rhs, [symbol(v) for v in variables])
+        lines += [f"  {mode}", "  {", f"   {form}", "   {"]
+        lines += [f"    {x}' = {texts[x]}" for x in variables]
+        lines += ["   }", "   inv", "   {"]
         if mode not in final:
             lines.append(f"    {TIMER} <= {number(period)}")
         lines += ["   }", "  }", ""]
@@ -671,25 +683,72 @@ def render(p: Problem, output_name: str) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _ode(rhs: dict[str, Any], variables: list[Any]) -> tuple[str, dict[str, str]]:
+    """The best Flow* form of a mode's ODEs and their right-hand sides in it: ``lti ode``
+    when every one is affine with numeric coefficients (Flow*'s linear integrator keeps
+    the enclosure of a stable flow tight for any horizon, where ``poly ode 2``'s grows
+    until the computation stops, spec §7), else ``poly ode 2`` when polynomial, else
+    ``nonpoly ode``. Never an all-zero ``lti ode``: Flow* 2.1.0 crashes on one (tested:
+    segmentation fault)."""
+    if any(f != 0 for f in rhs.values()) and \
+            all(_affine(f, variables) is not None for f in rhs.values()):
+        return "lti ode", {x: _lti_text(_affine(f, variables), variables)
+                           for x, f in rhs.items()}
+    poly = all(f.is_polynomial(*variables) for f in rhs.values())
+    return ("poly ode 2" if poly else "nonpoly ode"), {x: flowstar_text(f, poly)
+                                                       for x, f in rhs.items()}
+
+
+def _affine(f: Any, variables: list[Any]) -> tuple[list[Any], Any] | None:
+    """(coefficients of ``variables``, constant) when ``f`` is affine in them with numeric
+    coefficients."""
+    if not f.is_polynomial(*variables) or f.free_symbols - set(variables):
+        return None
+    poly = sympy.Poly(f, *variables)
+    if poly.total_degree() > 1:
+        return None
+    coeffs = [poly.coeff_monomial(v) for v in variables]
+    constant = poly.coeff_monomial(1)
+    if not all(c.is_number for c in [*coeffs, constant]):
+        return None
+    return coeffs, constant
+
+
+def _lti_text(affine: tuple[list[Any], Any], variables: list[Any]) -> str:
+    """``lti ode`` syntax (spec §4.5): a sum or difference of ``NUM*ID``, ``ID`` and ``NUM``
+    terms, no parentheses; a leading minus is part of the first number (or, before a name,
+    the grammar's unary minus)."""
+    coeffs, constant = affine
+    terms = [(c, str(v) if abs(c) == 1 else f"{number(c)}*{v}")
+             for c, v in zip(coeffs, variables) if c != 0]
+    if constant != 0 or not terms:
+        terms.append((constant, number(constant)))
+    out = ""
+    for k, (c, text) in enumerate(terms):
+        negative = c < 0
+        out += ("-" if negative else "") + text if k == 0 else \
+            (" - " if negative else " + ") + text
+    return out
+
+
 def _jumps(p: Problem, variables: set[Any], final: set[str]
            ) -> list[tuple[str, str, Conjunction]]:
-    """Per controller state, in the scenario's order: each transition's ``when`` (one jump
-    per disjunct), then staying, guarded by the closure of "no ``when`` holds". A final
-    state has none: it flows to the horizon."""
+    """Per controller state, in the scenario's order: one guard per target, the event
+    combinations whose first ``when`` (in file order; none: stay) leads there, as disjoint
+    cubes (:mod:`cyphy.verify.flowstar.guards`: no two jumps with the same target and reset
+    overlap), each cube one jump per disjunct of its predicate. A final state has none: it
+    flows to the horizon."""
     out: list[tuple[str, str, Conjunction]] = []
     for state in p.effects:
         if state in final:
             continue
-        whens = []
-        for t in p.scenario.transitions:
-            if t.source != state:
-                continue
-            values = _mode_values(p, state)
-            pred = sympy.And(*[sympy.Not(p.events[e].xreplace(values)) if negated
-                               else p.events[e].xreplace(values) for e, negated in t.literals])
-            whens.append(pred)
-            out += [(state, t.target, c) for c in dnf(pred, variables)]
-        out += [(state, state, c) for c in negated_dnf(whens, variables)]
+        values = _mode_values(p, state)
+        leaving = [(t.target, t.literals) for t in p.scenario.transitions if t.source == state]
+        for target, cubes in targets(state, leaving):
+            for cube in cubes:
+                pred = sympy.And(*[sympy.Not(p.events[e].xreplace(values)) if negated
+                                   else p.events[e].xreplace(values) for e, negated in cube])
+                out += [(state, target, c) for c in dnf(pred, variables)]
     return out
 
 

@@ -20,6 +20,7 @@ from typing import Any
 
 from cyphy import codes
 from cyphy.diagnostics import Report, Span, did_you_mean
+from cyphy.verify.flowstar.limits import MAX_BOUND, MAX_JUMPS, MAX_ORDER, MAX_PRECISION
 
 SCENARIO = codes.code("E-SCENARIO", codes.E, "the scenario file cannot be used")
 EXPORT = codes.code("E-FLOWSTAR", codes.E,
@@ -28,6 +29,12 @@ EXPORT = codes.code("E-FLOWSTAR", codes.E,
 _TOP = {"model", "elements", "horizon", "tscale", "cycle", "consts", "init", "environment",
         "controller", "machine", "unsafe", "flowstar", "default_inertial"}
 _FLOWSTAR = {"step", "order", "remainder", "cutoff", "precision", "max_jumps"}
+_CAPS = {
+    "order": (MAX_ORDER, "each Flow* step would take hours (orders above 20 rarely help)"),
+    "precision": (MAX_PRECISION, "MPFR bits; 53 is a double, and more only slows Flow*"),
+    "max_jumps": (MAX_JUMPS, "Flow* reads it as a C int, which would wrap to a negative "
+                  "number and disable the bound"),
+}
 _WHEN = re.compile(r"\s*(not\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*\Z")
 
 
@@ -257,7 +264,7 @@ def _init(r: _Reader, value: Any) -> None:
         keys = ("init", name)
         if isinstance(v, list) and len(v) == 2:
             lo, hi = r.number(v[0], keys), r.number(v[1], keys)
-            if lo is None or hi is None:
+            if lo is None or hi is None or not _bounded(r, name, (lo, hi), keys):
                 continue
             if lo > hi:
                 r.error(f"the interval of '{name}' is empty ({lo} > {hi})", keys,
@@ -266,11 +273,22 @@ def _init(r: _Reader, value: Any) -> None:
             r.s.init[name] = (lo, hi)
         elif isinstance(v, (int, float)) and not isinstance(v, bool):
             number = r.number(v, keys)
-            if number is not None:
+            if number is not None and _bounded(r, name, (number,), keys):
                 r.s.init[name] = (number, number)
         else:
             r.error(f"the initial value of '{name}' must be a number or an interval "
                     "[low, high]", keys)
+
+
+def _bounded(r: _Reader, name: str, values: tuple[float, ...], keys: tuple[str, ...]
+             ) -> bool:
+    """Whether the initial values lie within ±MAX_BOUND (reported when not)."""
+    if all(abs(v) <= MAX_BOUND for v in values):
+        return True
+    r.error(f"the initial value of '{name}' lies beyond ±{MAX_BOUND:g}: a double keeps no "
+            "digit below the units there, so boxes, simulations and Flow*'s intervals of it "
+            "mean nothing", keys, "give the state's physical range")
+    return False
 
 
 def _environment(r: _Reader, value: Any) -> None:
@@ -383,7 +401,11 @@ def _settings(r: _Reader, value: Any) -> None:
         v = table.get(key)
         if isinstance(v, list):  # adaptive: [min, max]
             keys = ("flowstar", key)
-            if len(v) != 2 or not all(_positive(x, kind) for x in v) or v[0] > v[1]:
+            if len(v) == 2 and kind is int and all(_positive(x, int) for x in v) and \
+                    v[1] > MAX_ORDER:
+                r.error(f"'flowstar.{key}' = {v[1]} is above {MAX_ORDER}: {_CAPS[key][1]}",
+                        keys, f"write at most {MAX_ORDER}")
+            elif len(v) != 2 or not all(_positive(x, kind) for x in v) or v[0] > v[1]:
                 r.error(f"'flowstar.{key}' as a list is [min, max] of positive "
                         f"{'numbers' if kind is float else 'integers'}, min <= max", keys,
                         f"for example {key} = {[0.001, 0.01] if kind is float else [4, 8]}")
@@ -406,6 +428,9 @@ def _settings(r: _Reader, value: Any) -> None:
             v = table[key]
             if isinstance(v, bool) or not isinstance(v, int) or v <= 0:
                 r.error(f"'flowstar.{key}' must be a positive integer", ("flowstar", key))
+            elif v > _CAPS[key][0]:
+                r.error(f"'flowstar.{key}' = {v} is above {_CAPS[key][0]}: {_CAPS[key][1]}",
+                        ("flowstar", key), f"write at most {key} = {_CAPS[key][0]}")
             else:
                 values[key] = v
     r.s.settings = Settings(**values)

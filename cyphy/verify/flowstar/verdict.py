@@ -38,6 +38,7 @@ class Outcome:
     reason: str
     seconds: float | None = None  # Flow*'s own time cost (CPU time), when it printed one
     counterexample: str = ""  # Flow*'s counterexamples/NAME.counterexample, when it wrote one
+    flowpipes: int | None = None  # how many Flow* computed, when it said
 
     @property
     def exit_code(self) -> int:
@@ -86,7 +87,8 @@ def decide(returncode: int, stdout: str, stderr: str, problems: list[str] = ()) 
                        "violation or the over-approximation)", seconds)
     if problems:
         return Outcome("UNKNOWN", "Flow* said SAFE, but " + "; ".join(problems), seconds)
-    return Outcome("SAFE", f"all {completed.group(1)} flowpipes avoid the unsafe set", seconds)
+    return Outcome("SAFE", f"all {completed.group(1)} flowpipes avoid the unsafe set", seconds,
+                   flowpipes=int(completed.group(1)))
 
 
 def _first_line(text: str) -> str:
