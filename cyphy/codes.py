@@ -21,6 +21,9 @@ def code(id: str, severity: Severity, summary: str) -> Code:
 
 E, W = Severity.ERROR, Severity.WARNING
 
+# The command line's values (exit status 2, as argparse's usage errors).
+OPTION = code("E-OPTION", E, "a command-line value does not fit the model")
+
 # Reading files.
 IO = code("E-IO", E, "a file or folder cannot be read")
 NO_FILES = code("E-NO-FILES", E, "no model files (.pm, .rst, .rsm) were found")

@@ -25,6 +25,8 @@ DEPTH = 40_000
 #: (pickling, hashing of frozen dataclasses). It is address space, used only as it is reached.
 STACK_BYTES = 512 * 1024 * 1024
 _THREAD = "cyphy"
+#: Seconds an interrupt waits for the command to unwind once its external runs are killed.
+INTERRUPT_GRACE = 10.0
 
 
 def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
@@ -33,12 +35,15 @@ def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
     waits; the thread is a daemon, so it does not keep the process alive. ``tick`` is called
     about five times a second while ``fn`` runs (progress)."""
     outcome: list[tuple[bool, object]] = []
+    done = threading.Event()
 
     def body() -> None:
         try:
             outcome.append((True, fn()))
         except BaseException as err:  # noqa: BLE001 - handed to the caller as it is
             outcome.append((False, err))
+        finally:
+            done.set()
 
     old_limit, old_stack = sys.getrecursionlimit(), threading.stack_size()
     try:
@@ -53,6 +58,15 @@ def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
             thread.join(0.2)  # a timed wait, so that Ctrl-C is seen at once
             if tick is not None and thread.is_alive():
                 tick()
+    except KeyboardInterrupt:
+        # Kill the external runs (Flow*) the thread waits on; it then unwinds, removing
+        # its scratch folders, which is worth a short wait.
+        from cyphy import interrupts
+
+        if interrupts.stop_all():  # (not thread.join: an interrupted join marks the
+            done.wait(INTERRUPT_GRACE)  # thread stopped while it runs, bpo-45274)
+        interrupts.resume_all()
+        raise
     finally:
         sys.setrecursionlimit(old_limit)
     ok, value = outcome[0]
@@ -71,3 +85,26 @@ def deep(fn: Callable[P, T]) -> Callable[P, T]:
             return fn(*args, **kwargs)
         return run_deep(lambda: fn(*args, **kwargs))
     return entry
+
+
+def where_too_deep(err: RecursionError) -> str:
+    """Where a :class:`RecursionError` happened in the model: ``FILE:LINE:COLUMN: `` of the
+    outermost expression (else syntax node) that the frames of the failed walk were visiting (the top of the
+    runaway nesting), or ``""`` when no frame holds one. Found after the fact from the
+    traceback, so that no walk pays for tracking it."""
+    from cyphy.diagnostics import Span
+    from cyphy.expr import Expr
+
+    fallback = ""
+    frame_tb = err.__traceback__
+    while frame_tb is not None:
+        for value in frame_tb.tb_frame.f_locals.values():
+            span = getattr(value, "span", None)
+            if isinstance(span, Span) and span.line > 0:
+                where = f"{span.file}:{span.line}:{span.column}: "
+                if isinstance(value, Expr):  # the expression, rather than its file or block
+                    return where
+                fallback = fallback or where
+        frame_tb = frame_tb.tb_next
+    return fallback
+

@@ -182,6 +182,12 @@ class Rendering:
 
     quiet: bool = False
     warnings_seen: int = 0
+    #: errors whose code is a usage error (:data:`USAGE_CODES`): the command exits 2
+    usage_errors: int = 0
+
+
+#: Codes of errors in the command line's values rather than in the model: exit status 2.
+USAGE_CODES = frozenset({"E-OPTION"})
 
 
 RENDERING = Rendering()
@@ -197,6 +203,8 @@ def render_text(diagnostics: Iterable[Diagnostic], sources: dict[str, str] | Non
             RENDERING.warnings_seen += 1
             if RENDERING.quiet:
                 continue
+        elif d.code.id in USAGE_CODES:
+            RENDERING.usage_errors += 1
         out.append(f"{_location(d.span)}{d.severity.value} {d.code.id}: "
                    f"{_shortened(d.message)}")
         text = sources.get(d.span.file)
@@ -241,6 +249,7 @@ def diagnostics_json(diagnostics: Iterable[Diagnostic]) -> list[dict[str, object
     """The diagnostics as JSON values (all of them: ``quiet`` concerns text only)."""
     out = [d.to_json() for d in diagnostics]
     RENDERING.warnings_seen += sum(1 for d in out if d["severity"] == "WARNING")
+    RENDERING.usage_errors += sum(1 for d in out if d["code"] in USAGE_CODES)
     return out
 
 

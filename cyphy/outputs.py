@@ -107,3 +107,61 @@ def write_all(files: Mapping[str, str | bytes], out_dir: Path) -> list[Path]:
         raise OutputError(f"cannot write into {out_dir}: {err.strerror or err}") from None
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def check_target(path: Path, folder: bool) -> None:
+    """Refuse, before any work starts, an output that could not be written at the end: a
+    folder where a file is wanted (or the reverse), a read-only file, or a place where
+    nothing can be created. A missing parent folder is not an error: it is created when the
+    output is written, as ``write_all`` creates its folder. Whether a folder can be written
+    is found by creating (and removing) a scratch entry in it: permission bits do not say,
+    for root or on a read-only file system."""
+    if path.exists():
+        if folder and not path.is_dir():
+            raise OutputError(f"{path} is a file, not a folder")
+        if not folder and path.is_dir():
+            raise OutputError(f"{path} is a folder: give a file name")
+        if not folder and path.is_file() and not os.access(path, os.W_OK):
+            raise OutputError(f"{path} is read-only")
+        if not folder and not path.is_file():
+            return  # a device or pipe (/dev/null, /dev/stdout): written in place
+    holder = path if folder and path.is_dir() else path.parent
+    existing = holder
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        raise OutputError(f"cannot create {holder}: {existing} is a file, not a folder")
+    try:
+        if existing == holder:
+            fd, probe = tempfile.mkstemp(prefix=STAGING_PREFIX + "probe-", dir=existing)
+            os.close(fd)
+            os.unlink(probe)
+        else:
+            os.rmdir(tempfile.mkdtemp(prefix=STAGING_PREFIX + "probe-", dir=existing))
+    except OSError as err:
+        raise OutputError(f"cannot write into {existing}: {err.strerror or err}") from None
+
+
+def write_file(path: Path, content: str | bytes) -> Path:
+    """Write one file atomically: into a temporary file beside it, then renamed over it, so a
+    reader (or a failure half-way) never sees part of it. Its folder is created if needed; a
+    device or pipe (``/dev/stdout``) is written in place."""
+    data = content.encode("utf-8") if isinstance(content, str) else content
+    try:
+        if path.exists() and not path.is_file() and not path.is_dir():
+            with open(path, "wb") as stream:
+                stream.write(data)
+            return path
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, staged = tempfile.mkstemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-",
+                                      dir=path.parent)
+        try:
+            with os.fdopen(fd, "wb") as stream:
+                stream.write(data)
+            os.replace(staged, path)
+        except BaseException:
+            os.unlink(staged)
+            raise
+    except OSError as err:
+        raise OutputError(f"cannot write {path}: {err.strerror or err}") from None
+    return path

@@ -36,19 +36,16 @@ def corpus_project_folders() -> list[Path]:
 
 
 def flowstar_binary() -> Path | None:
-    """The real Flow* binary: ``$CYPHY_FLOWSTAR``, the folder ``.ci/install`` builds it into, or
-    ``flowstar`` on PATH; ``None`` when there is none (its tests then skip)."""
-    import shutil
+    """The real Flow* binary, found as ``cyphy reach`` finds it (``$CYPHY_FLOWSTAR``, the
+    folder ``.ci/install`` builds it into, ``flowstar`` on PATH); ``None`` when there is none
+    (its tests then skip)."""
+    from cyphy.verify.flowstar.locate import find_flowstar
+    from cyphy.verify.flowstar.verdict import FlowstarMissing
 
-    if os.environ.get("CYPHY_FLOWSTAR"):
-        return Path(os.environ["CYPHY_FLOWSTAR"])
-    tools = os.environ.get("CYPHY_TOOLS_DIR") or str(
-        Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "cyphy-tools")
-    built = Path(tools) / "flowstar"
-    if built.is_file() and os.access(built, os.X_OK):
-        return built
-    found = shutil.which("flowstar")
-    return Path(found) if found else None
+    try:
+        return Path(find_flowstar())
+    except FlowstarMissing:
+        return None
 
 
 needs_flowstar = pytest.mark.skipif(

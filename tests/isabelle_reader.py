@@ -1,33 +1,26 @@
 """Reads the terms cyphy's Isabelle printer writes back into CyPhyCircus actions (tests only).
 
-The grammar (``isabelle_terms.lark``) covers exactly the printed subset; the transformer
+The grammar (``utp_terms.lark``) covers exactly the printed subset; the transformer
 undoes the printer's choices: identifiers back to CyPhyCircus names (``_v`` / ``_b``
 suffixes), lifted HOL subterms back to expressions, ``real`` coercions dropped, right-nested
-binary chains flattened, the prelude's ``DerC``/``IntegralC`` back to derivative and integral.
+binary chains flattened.
 """
 
 from __future__ import annotations
 
 import re
-from functools import lru_cache
-from pathlib import Path
 
-from lark import Lark, Transformer, v_args
+from lark import Transformer, v_args
 
 from cyphy import expr as ex
 from cyphy.backends.isabelle.terms import HOL_BINOPS, UTP_BINOPS, Symbols
 from cyphy.backends.isabelle.names import RESERVED
 from cyphy.semantics.circus import ast as c
+from cyphy.verify.theory.utp_types import parser
 
 _HOL_OPS = {v: k for k, v in HOL_BINOPS.items()} | {"powr": "^", "^": "^"}
 _UTP_OPS = {v: k for k, v in UTP_BINOPS.items()} | {"^": "^"}
 _BOUND_SUFFIX = re.compile(r"^(.+)_b\d*$")
-
-
-@lru_cache(maxsize=1)
-def parser() -> Lark:
-    return Lark.open(str(Path(__file__).with_name("isabelle_terms.lark")),
-                     start=["action", "hol"], parser="lalr", strict=True)
 
 
 class ReadError(Exception):
@@ -242,10 +235,6 @@ class ToCircus(Transformer):
         func = str(ident)
         if func == "real" and len(args) == 1:
             return args[0]
-        if func == "DerC":
-            return ex.Derivative(args[0])
-        if func == "IntegralC":
-            return ex.Integral(args[0])
         return ex.Call(ex.Name((self.functions.get(func, func),)), tuple(args))
 
 

@@ -241,15 +241,32 @@ def test_show_prints_the_link_equations(capsys) -> None:
     assert "    Slide_V == Slide_X * Shoulder_V + Slide_A * Slide_v\n" in text
 
 
-def test_adjugate_inverts_a_small_matrix() -> None:
-    """The inverse of ``D`` for joints of several coordinates: adjugate / determinant."""
-    from cyphy.semantics.dynamics.articulated import Polynomial, _adjugate
+def test_ldl_inverse_inverts_small_matrices() -> None:
+    """The inverse of ``D`` for joints of several coordinates: its LDLᵀ factorisation in
+    named definitions, evaluated in order, against NumPy's (LAPACK) inverse, for a well and
+    a badly conditioned symmetric positive definite matrix."""
+    from cyphy.semantics.dynamics.articulated import _ldl_inverse
+    from cyphy.semantics.dynamics.polynomial import Polynomial
 
     rng = np.random.default_rng(3)
-    m = rng.uniform(-1, 1, (3, 3)) + 3 * np.eye(3)
-    adjugate, det = _adjugate([[Polynomial.lift(x) for x in row] for row in m])
-    inverse = np.array([[a.number() for a in row] for row in adjugate]) / det.number()
-    assert np.abs(inverse - np.linalg.inv(m)).max() < 1e-12
+    for size, condition in ((3, 1e1), (6, 1e8)):
+        basis, _ = np.linalg.qr(rng.uniform(-1, 1, (size, size)))
+        m = basis @ np.diag(np.geomspace(1.0, 1.0 / condition, size)) @ basis.T
+        definitions: list = []
+
+        def name(key, value, joint, always=False):
+            definitions.append((key, Polynomial.lift(value)))
+            return Polynomial.atom(key)
+
+        names = [[Polynomial.atom(f"m_{r}_{c}") for c in range(size)] for r in range(size)]
+        inverse = _ldl_inverse(names, "p", None, name)
+        scope = {f"m_{r}_{c}": float(m[r, c]) for r in range(size) for c in range(size)}
+        for key, value in definitions:
+            scope[key] = eval(value.text(), {"__builtins__": {}}, scope)  # noqa: S307
+        ours = np.array([[scope[x.text()] for x in row] for row in inverse])
+        reference = np.linalg.inv(m)
+        assert np.abs(ours - reference).max() <= 1e-16 * condition * 100 * \
+            np.abs(reference).max()
 
 
 @pytest.mark.skipif(__import__("shutil").which("pdflatex") is None,

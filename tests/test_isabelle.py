@@ -20,8 +20,9 @@ from cyphy.cli import main
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.build import build_semantics
 from isabelle_reader import parser, read_action, read_definitions
-from isabelle_types import check_theory
+from cyphy.verify.theory.utp_types import check_theory
 from robot_model import ROBOT
+from theory_check import session_findings
 
 MARXBOT = EXAMPLES / "marxbot" / "Mapping.rsm"
 MARXBOT_ACTIONS = ["Init", "ObstacleToDModel", "SendToDModel", "MoveCall", "MoveFromDModel",
@@ -73,8 +74,7 @@ def term_identifiers(term: str) -> set[str]:
     return set(re.findall(r"(?<![\w.])[A-Za-z][A-Za-z0-9_]*", without_symbols))
 
 
-KEYWORDS_OF_TERMS = {"Skip", "Stop", "MuC", "InterruptCondC", "WaitC", "EvolveC", "DerC",
-                     "IntegralC", "true", "false", "True", "False", "UNIV", "set", "list",
+KEYWORDS_OF_TERMS = {"Skip", "Stop", "MuC", "InterruptCondC", "WaitC", "EvolveC", "true", "false", "True", "False", "UNIV", "set", "list",
                      "real", "nat", "int", "bool", "uop", "bop", "trop", "fmod", "powr", "Cons",
                      "sin", "cos", "tan", "sqrt", "exp", "ln", "abs", "arctan"}
 
@@ -136,10 +136,11 @@ def check_session(session, program: c.Program) -> None:  # type: ignore[no-untyp
     for ident in idents:
         assert ident not in BUILTIN_COMMANDS, ident
 
-    # The type checker of tests/isabelle_types.py: every definition, constant and axiom
+    # The type checker of cyphy/verify/theory/utp_types.py: every definition, constant and axiom
     # type-checks against the library's signatures; no transpose, vector constants only
     # read by component.
     assert check_theory(text) == []
+    assert session_findings(session.files) == []  # cyphy check-theory accepts the session
     assert "transpose" not in text
     for k in program.pmodel.constants:
         if isinstance(k.type, c.TSeq):
@@ -254,6 +255,25 @@ def test_names_table(marxbot_session) -> None:
     assert table["M::move::dsl"] == ("move_dsl", "move_dsl")
 
 
+def test_names_table_lists_every_state_field_of_the_theory(marxbot_session) -> None:
+    """Each field of the theory's alphabets (read by check-theory's reader, not from the
+    printer's tables) is a row: the vector ports by component (LHinge_F_1..6, not LHinge_F),
+    the integrator states (LMotor_e_int) as integrals of their operand."""
+    from cyphy.verify.theory.scope import declarations
+    from cyphy.verify.theory.lexer import commands, tokenize
+
+    text = marxbot_session.files[f"{marxbot_session.theory_name}.thy"]
+    fields = {tok.text for cmd in commands(tokenize(text)) if cmd.keyword == "alphabet"
+              for kind, tok in declarations(cmd) if kind == "constant"}
+    rows = [r.split("\t") for r in marxbot_session.files["names.tsv"].splitlines()[1:]]
+    listed = {r[2]: r[0] for r in rows}
+    assert fields and fields <= set(listed), sorted(fields - set(listed))
+    assert [listed[f"LHinge_F_{k}"] for k in range(1, 7)] == [
+        f"marXbotBase::Core::LHinge.F[{k}]" for k in range(1, 7)]
+    assert "LHinge_F" not in listed
+    assert listed["LMotor_e_int"] == "integral of marXbotBase::Core::LHinge::LMotor.e"
+
+
 def test_cli_writes_the_session(tmp_path: Path, capsys) -> None:
     out = tmp_path / "isa"
     assert main(["gen", "--isabelle", str(MARXBOT), "-o", str(out), "--tscale", "0.01"]) == 0
@@ -263,7 +283,7 @@ def test_cli_writes_the_session(tmp_path: Path, capsys) -> None:
     assert '"(tscale = 0.01)"' in (out / "marXbotBase_CyPhyCircus.thy").read_text()
     assert "W-INTERLEAVE" not in capsys.readouterr().err
     readme = (out / "README").read_text()
-    assert "isabelle build -d <utp-main> -D ." in readme
+    assert "isabelle build -o document=false -d <utp-main> -D <session>" in readme
 
 
 def test_cli_writes_nothing_for_a_broken_model(tmp_path: Path) -> None:

@@ -1,4 +1,4 @@
-"""The axiomatic dialect's type checker (tests/isabelle_ax_types.py): it accepts the theories
+"""The axiomatic dialect's type checker (cyphy/verify/theory/ax_types.py): it accepts the theories
 cyphy generates (the examples' whole models, the marXbot restricted to its motors, the corpus
 marXbot), and rejects seeded faults: ``real list * real``, a keyword as a parameter name, an
 undefined constant, a state variable where a value is needed outside a lifted position, a
@@ -15,7 +15,7 @@ from conftest import CORPUS, EXAMPLES, needs_corpus
 from cyphy import api
 from cyphy.backends.isabelle.ax_terms import AX_RESERVED
 from cyphy.backends.isabelle.names import IsabelleNames
-from isabelle_ax_types import (AX_CONSTANTS, AX_KEYWORDS, AX_SIGNATURES, UNCHECKED,
+from cyphy.verify.theory.ax_types import (AX_CONSTANTS, AX_KEYWORDS, AX_SIGNATURES, UNCHECKED,
                                check_ax_theory, parse_type, parser)
 
 THEORY = "DCMotorBase_AxCyPhyCircus.thy"

@@ -21,7 +21,8 @@ from cyphy import api
 from cyphy.semantics.dynamics.reduce import inline_definitions
 from cyphy.backends.isabelle.names import RESERVED, is_identifier
 from cyphy.cli import main
-from isabelle_ax_types import check_ax_theory
+from cyphy.verify.theory.ax_types import check_ax_theory
+from theory_check import session_findings
 from test_isabelle import MARXBOT, MARXBOT_ACTIONS, lex_errors, mappings, theory_header, \
     write_model
 
@@ -89,6 +90,7 @@ def check_static(files: dict[str, str], theory: str) -> str:
     assert "\nlemma" not in text and "[closure]" not in text and "NCSP" not in text
     assert '= "Axiomatic_CyPhyCircus" +' in files["ROOT"] and f"    {name}\n" in files["ROOT"]
     assert "\nconsts\n  cycle :: nat\n  tscale :: real\n" in text
+    assert session_findings(files) == []  # cyphy check-theory accepts the session
     # define before use: every action a body mentions is defined above it (or is WaitT)
     defined = {"WaitT"} if "\nprimrec WaitT ::" in text else set()
     actions = {n for n, _, _ in definitions(text)}

@@ -191,7 +191,7 @@ def _solved(case: str, tmp_path: Path, name: str):  # type: ignore[no-untyped-de
 def test_isabelle_and_latex_carry_the_equations_of_motion(case: str, tmp_path: Path) -> None:
     sem = semantics(_paths(case, tmp_path))
     session = generate_session(sem.program, sem.names)
-    # the static checks and the HOL type checker (tests/isabelle_types.py), and every
+    # the static checks and the HOL type checker (cyphy/verify/theory/utp_types.py), and every
     # definition read back from the theory into the action it was printed from
     check_session(session, sem.program)
     evolution = session.actions["Evolve"].body

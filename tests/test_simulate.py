@@ -77,9 +77,9 @@ def test_bad_options_are_diagnosed(tmp_path: Path, capsys, args, text) -> None:
     from tests.test_dynamics import PENDULUM
 
     (tmp_path / "p.rsm").write_text(PENDULUM)
-    assert main(["simulate", str(tmp_path), *args]) == 1
+    assert main(["simulate", str(tmp_path), *args]) == 2  # values of the command line
     captured = capsys.readouterr()
-    assert text in captured.err and "E-SIMULATE" in captured.err and captured.out == ""
+    assert text in captured.err and "E-OPTION" in captured.err and captured.out == ""
 
 
 # ----------------------------------------------------------------------------- scenarios

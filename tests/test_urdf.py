@@ -213,8 +213,9 @@ def test_ball_and_universal_joints(tmp_path: Path) -> None:
     assert check_urdf(tmp_path / "Multi.urdf") == ""
     robot = ET.parse(tmp_path / "Multi.urdf").getroot()
     axes = [(j.get("name"), j.find("axis").get("xyz")) for j in robot.iter("joint")]
-    assert axes == [("Base__Shoulder", "1 0 0"), ("Base__Shoulder__2", "0 1 0"),
-                    ("Base__Shoulder__3", "0 0 1"), ("Upper__Wrist", "1 0 0"),
+    # the ball joint's yaw, pitch and roll (ZYX), the coordinates of solve and simulate
+    assert axes == [("Base__Shoulder", "0 0 1"), ("Base__Shoulder__2", "0 1 0"),
+                    ("Base__Shoulder__3", "1 0 0"), ("Upper__Wrist", "1 0 0"),
                     ("Upper__Wrist__2", "0 1 0")]
     assert pinocchio.buildModelFromUrdf(str(tmp_path / "Multi.urdf")).nv == 5
     mjcf = api.generate_mjcf([model_file], api.TreeGenOptions(output=str(tmp_path),

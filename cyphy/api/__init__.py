@@ -3,7 +3,7 @@
 A thin facade: each entry point composes the stages (:mod:`cyphy.pipeline`, the semantics,
 the back ends) and returns values; the stages decide which diagnostics to report. Topics live
 in their own modules (``solve``, ``simulate``, ``semantics``, ``robot_formats``, ``view``,
-``machines``) and are re-exported here, so ``from cyphy import api; api.check(...)`` is the one
+``machines``, ``theory``) and are re-exported here, so ``from cyphy import api; api.check(...)`` is the one
 way in. Nothing here prints or exits; :mod:`cyphy.cli` renders what these functions return.
 
 The names are imported on first use (PEP 562): ``from cyphy.api import check`` loads the
@@ -26,6 +26,7 @@ if TYPE_CHECKING:  # what the names are, for type checkers and the import graph
                                      generate_isabelle, semantics)
     from cyphy.api.simulate import SimulateOptions, SimulateResult, simulate
     from cyphy.api.solve import SolveOptions, SolveResult, UsageError, solve, unknown_elements
+    from cyphy.api.theory import check_theory
     from cyphy.api.view import ViewRequest, view
     from cyphy.pipeline.check import CheckOptions, CheckResult, check
     from cyphy.pipeline.elaborate import ElaborateOptions, ElaborateResult, elaborate
@@ -41,6 +42,7 @@ _HOME: dict[str, str] = {
     **dict.fromkeys(("SimulateOptions", "SimulateResult", "simulate"), "cyphy.api.simulate"),
     **dict.fromkeys(("SolveOptions", "SolveResult", "UsageError", "solve", "unknown_elements"),
                     "cyphy.api.solve"),
+    **dict.fromkeys(("check_theory",), "cyphy.api.theory"),
     **dict.fromkeys(("ViewRequest", "view"), "cyphy.api.view"),
     **dict.fromkeys(("CheckOptions", "CheckResult", "check"), "cyphy.pipeline.check"),
     **dict.fromkeys(("ElaborateOptions", "ElaborateResult", "elaborate"),

@@ -101,6 +101,7 @@ def generate_urdf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
     """URDF 1.0 (``cyphy gen --urdf``): ``<Model>.urdf``, or one ``<Model>__<Root>.urdf`` per
     tree of links, and the name table. Loops are cut as for ``--target pybullet``."""
     # lazy: NumPy: `cyphy check` must not pay for it
+    from cyphy.backends.robot_formats.names import complete_names
     from cyphy.backends.robot_formats.sdf_xml import names_json, to_xml
     from cyphy.backends.robot_formats.urdf import robot_to_urdf
 
@@ -112,7 +113,8 @@ def generate_urdf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
     if report.has_errors:
         return generated
     generated.files = {name: to_xml(node) for name, node in files.items()}
-    generated.files[f"{built.name}.names.json"] = names_json(_names(built))
+    generated.files[f"{built.name}.names.json"] = names_json(
+        complete_names(_names(built), files.values()))
     return generated
 
 
@@ -123,6 +125,7 @@ def generate_mjcf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
     motor per driven joint, loops closed by equality constraints; and the name table."""
     # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.backends.robot_formats.mjcf import robot_to_mjcf
+    from cyphy.backends.robot_formats.names import complete_names
     from cyphy.backends.robot_formats.sdf_xml import names_json, to_xml
 
     generated, built, model = robot(paths, options, "mjcf")
@@ -134,7 +137,8 @@ def generate_mjcf(paths: Sequence[str | Path], options: TreeGenOptions = TreeGen
     if report.has_errors:
         return generated
     generated.files = {f"{built.name}.xml": to_xml(root),
-                       f"{built.name}.names.json": names_json(_names(built))}
+                       f"{built.name}.names.json":
+                       names_json(complete_names(_names(built), [root]))}
     return generated
 
 

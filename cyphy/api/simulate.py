@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
 
+from cyphy import codes
 from cyphy.deep import deep
 from cyphy.diagnostics import Report, Span
 from cyphy.pipeline.check import CheckResult
@@ -94,6 +95,8 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
         if reduced.obstacles:
             report_obstacles(reduced, report)
             return result
+        if several:
+            settings = dataclasses.replace(settings, pitches=sim.euler_pitches(tree))
         result.trajectory = sim.simulate_reduced(reduced, settings)
     except AssemblyError as err:
         report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
@@ -108,7 +111,10 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
             if qualified:
                 hint = "give them values: " + " ".join(f"--const {n}=VALUE" for n in qualified)
         span = getattr(model.pmodel, "span", None) or Span.unknown(str(paths[0]))
-        report.report(sim.SIMULATE, err.message, span, hint)
+        if isinstance(err, sim.OptionError):
+            report.report(codes.OPTION, err.message, Span.unknown("<command line>"), hint)
+        else:
+            report.report(sim.SIMULATE, err.message, span, hint)
     return result
 
 
@@ -124,7 +130,8 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
 
     report = Report()
     empty = ElaborateResult(CheckResult(None, report), None)  # type: ignore[arg-type]
-    scenario = load_scenario(options.scenario, report)  # type: ignore[arg-type]
+    scenario = load_scenario(options.scenario, report,  # type: ignore[arg-type]
+                             needs_unsafe=False)
     if scenario is None:
         return SimulateResult(empty)
     if options.model is not None:
@@ -166,6 +173,8 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
         result.trajectory = sim.simulate_reduced(
             reduced, settings, controller, effects, scenario.period, events,
             getattr(controller, "observable", frozenset()))
+    except sim.OptionError as err:
+        report.report(codes.OPTION, err.message, Span.unknown("<command line>"), err.hint)
     except (sim.SimulationError, ValueError) as err:
         report.report(sim.SIMULATE, getattr(err, "message", str(err)),
                       scenario.span("controller"), getattr(err, "hint", ""))

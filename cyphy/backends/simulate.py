@@ -19,6 +19,7 @@ of that instant and what it does sets inputs until the next cycle.
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 from dataclasses import dataclass, field
@@ -53,6 +54,9 @@ class SimulationOptions:
     atol: float = 1e-9
     samples: int = 201  # output instants, evenly spaced over [0, t_end]
     progress: Callable[[float], None] | None = None  # called with the fraction done
+    # the states that are pitches of ZYX Euler angles → what they turn ("ball joint J"):
+    # the run stops with a message where one reaches ±π/2 (the angles' singularity)
+    pitches: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass
@@ -70,6 +74,11 @@ class Trajectory:
         return self.values[:, self.names.index(name)]
 
 
+#: The most memory a trajectory may take (see :func:`check_memory`).
+MEMORY_BUDGET = 2 * 2**30
+BYTES_PER_VALUE = 40
+
+
 class SimulationError(Exception):
     """What stops a simulation (an unknown name, an input that cannot be read, the
     integrator's failure), with a hint."""
@@ -77,6 +86,11 @@ class SimulationError(Exception):
     def __init__(self, message: str, hint: str) -> None:
         super().__init__(message)
         self.message, self.hint = message, hint
+
+
+class OptionError(SimulationError):
+    """A command-line value that does not fit the model (reported as ``E-OPTION``: exit
+    status 2)."""
 
 
 # ----------------------------------------------------------------------------- inputs
@@ -92,18 +106,21 @@ def input_expression(text: str) -> Any:
     result = parse_text(f"const input_value: real = {text}", "<--input>")
     item = result.file.items[0] if result.file and result.file.items else None
     if result.diagnostics or item is None or getattr(item, "value", None) is None:
-        raise SimulationError(f"cannot read the input value '{text}'",
+        raise OptionError(f"cannot read the input value '{text}'",
                               "write an expression of t, for example 10*sin(t)")
     t = sympy.Symbol("t", real=True)
     try:
         value = SympyPrinter(symbols={"t": t}).doprint(item.value)
     except (UnsupportedNode, TypeError, ValueError) as err:
-        raise SimulationError(f"cannot read the input value '{text}': {err}",
+        raise OptionError(f"cannot read the input value '{text}': {err}",
                               "write an expression of t, for example 10*sin(t)") from None
     unknown = sorted(str(s) for s in sympy.sympify(value).free_symbols if s != t)
     if unknown:
-        raise SimulationError(f"the input value '{text}' names {', '.join(unknown)}",
+        raise OptionError(f"the input value '{text}' names {', '.join(unknown)}",
                               "an input may depend on t only")
+    if sympy.sympify(value).has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
+        raise OptionError(f"the input value '{text}' is not finite ({value})",
+                          "write an expression with a finite value at every t")
     return value
 
 
@@ -122,8 +139,63 @@ def _input_functions(names: Sequence[str], given: Mapping[str, str]
         if expr.is_Number:  # most inputs: not given (lambdify costs 10 ms each, measured)
             out.append(lambda _t, value=float(expr): value)
         else:
-            out.append(sympy.lambdify(t, expr, "math"))
+            out.append(_finite(name, given.get(base, ""), sympy.lambdify(t, expr, "math")))
     return out
+
+
+def _finite(name: str, text: str, fn: Callable[[float], float]) -> Callable[[float], float]:
+    """``fn`` refusing a value that is not finite (``1/(t-1)`` at 1, ``log(t)`` at 0): the
+    integrator would otherwise carry a NaN into every column."""
+    def checked(tt: float) -> float:
+        try:
+            value = fn(tt)
+        except (ValueError, ZeroDivisionError, OverflowError) as err:
+            raise OptionError(f"--input {name}={text} cannot be evaluated at t = {tt:g}: "
+                              f"{err}", "write an expression defined at every t") from None
+        if not math.isfinite(value):
+            raise OptionError(f"--input {name}={text} is {value} at t = {tt:g}",
+                              "write an expression with a finite value at every t")
+        return value
+    return checked
+
+
+def check_names(options: SimulationOptions, states: Sequence[str], inputs: Sequence[str]
+                ) -> None:
+    """Refuse ``--init`` and ``--input`` names that are not the model's states and inputs
+    (an unknown one would be ignored and the run silently start from zero), each with the
+    likely intent: a state given as an input, a misspelling. ``der_X`` inputs take ``X``."""
+    from cyphy.diagnostics import did_you_mean
+
+    valid = set(inputs) | {n[4:] for n in inputs if n.startswith("der_")}
+    for name in sorted(set(options.init) - set(states)):
+        hint = (f"{name} is an input: give it with --input {name}=EXPR" if name in valid
+                else did_you_mean(name, states) or "the states are: " + ", ".join(states))
+        raise OptionError(f"--init {name}: not a state of the model", hint)
+    for name in sorted(set(options.inputs) - valid):
+        if name in states:
+            raise OptionError(f"--input {name}: {name} is a state, which the equations "
+                              "determine", f"give its initial value with --init {name}=VALUE")
+        raise OptionError(f"--input {name}: not an input of the model",
+                          did_you_mean(name, valid) or "the inputs are: " +
+                          (", ".join(sorted(valid)) or "none"))
+    for name, value in options.init.items():
+        if not math.isfinite(value):
+            raise OptionError(f"--init {name}={value}: not a finite number",
+                              "give a finite initial value")
+
+
+def check_memory(samples: int, columns: int) -> None:
+    """Refuse, before integrating, a run whose trajectory would not fit in
+    :data:`MEMORY_BUDGET`: each value is held about three times (the integrator's output,
+    the table, its text) at some 40 bytes in all."""
+    needed = samples * (columns + 1) * BYTES_PER_VALUE
+    if needed > MEMORY_BUDGET:
+        most = max(2, MEMORY_BUDGET // ((columns + 1) * BYTES_PER_VALUE))
+        raise OptionError(f"--samples {samples}: a trajectory of {columns} column"
+                          f"{'s' if columns != 1 else ''} would "
+                          f"take about {needed / 2**30:.1f} GiB (the budget is "
+                          f"{MEMORY_BUDGET / 2**30:.0f} GiB)",
+                          f"give at most --samples {most}")
 
 
 # ----------------------------------------------------------------------------- symbolic path
@@ -145,10 +217,8 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
 
     states = list(reduced.states)
     inputs = list(reduced.inputs)
-    unknown = sorted(set(options.init) - set(states))
-    if unknown:
-        raise SimulationError(f"--init names {', '.join(unknown)}: not a state",
-                              "the states are: " + ", ".join(states))
+    check_names(options, states, inputs)
+    check_memory(options.samples, len(states) + len(reduced.outputs))
     symbol = {n: sympy.Symbol(n, real=True) for n in [*states, *inputs]}
     t = sympy.Symbol("t", real=True)
     outputs = sorted(reduced.outputs)
@@ -177,7 +247,12 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     def u(tt: float) -> list[float]:
         return [held[n] if n in held else f(tt) for n, f in zip(inputs, given)]
 
+    guarded = [(states.index(n), what) for n, what in sorted(options.pitches.items())
+               if n in states]
+
     def f(tt: float, x: np.ndarray) -> np.ndarray:
+        for k, what in guarded:
+            _pitch_guard(what, float(x[k]), tt)
         return np.asarray(rhs(*x, *u(tt), tt), dtype=float).reshape(-1)
 
     x0 = np.array([float(options.init.get(s, 0.0)) for s in states])
@@ -193,7 +268,7 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
     if controller is None or period is None:
         times, xs = _integrate(f, x0, grid, options)
-        return Trajectory([*states, *outputs], times, observe(times, xs))
+        return _finite_trajectory(Trajectory([*states, *outputs], times, observe(times, xs)))
     all_t, all_rows = [], []
     sent: list[tuple[float, str, tuple[float, ...]]] = []
     start, x, k = 0.0, x0, 0
@@ -216,7 +291,48 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     times = np.concatenate(all_t)
     rows = np.vstack(all_rows)
     order = np.unique(times, return_index=True)[1]
-    return Trajectory([*states, *outputs], times[order], rows[order], sent)
+    return _finite_trajectory(Trajectory([*states, *outputs], times[order], rows[order], sent))
+
+
+def _finite_trajectory(trajectory: Trajectory) -> Trajectory:
+    """The trajectory, or an error naming where it stops being finite: a table of NaN is
+    no result."""
+    rows = trajectory.values
+    bad = ~np.isfinite(rows)
+    if bad.any():
+        k, j = np.argwhere(bad)[0]
+        raise SimulationError(f"{trajectory.names[j]} is {rows[k, j]} at t = "
+                              f"{trajectory.times[k]:g}: the trajectory is not finite from "
+                              "there", "check the inputs and initial values, or try "
+                              "another --method")
+    return trajectory
+
+
+def euler_pitches(tree: Any) -> dict[str, str]:
+    """The coordinates that are pitches of ZYX Euler angles (a ball joint's second, a
+    floating base's ``pitch``), with what they turn, for ``simulate``'s guard."""
+    from cyphy.semantics.dynamics.rigid_body import EULER, coordinate_names
+
+    return {coordinate_names(j, "theta")[-2]:
+            f"{'floating base' if j.kind == 'floating' else 'ball joint'} {j.name}"
+            for j in tree.joints if j.kind in EULER}
+
+
+#: How close to ±π/2 (in ``|cos(pitch)|``) ZYX Euler angles may come: ``q̈ = B⁻¹·w`` loses
+#: about ``1e-16/|cos(pitch)|`` of its relative accuracy (rigid_body.subspace_factors), 1e-7
+#: here, and the rates of yaw and roll grow as ``1/|cos(pitch)|``.
+PITCH_GUARD = 1e-9
+
+
+def _pitch_guard(what: str, pitch: float, t: float) -> None:
+    import math
+
+    if abs(math.cos(pitch)) < PITCH_GUARD:
+        raise SimulationError(
+            f"the {what} reached pitch {pitch:.12g} rad at t = {t:g} s, where its ZYX Euler "
+            "angles are singular (yaw and roll turn about one axis; their rates are "
+            "unbounded)", "turn the joint frame (its pose) so that the motion stays away from "
+            "pitch ±π/2")
 
 
 def _integrate(f: Callable[[float, np.ndarray], np.ndarray], x0: np.ndarray,
@@ -307,32 +423,55 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     n = tree.dof
     thetas, speeds = list(tree.coordinates("theta")), list(tree.coordinates("v"))
     states = [*thetas, *speeds]
-    unknown = sorted(set(options.init) - set(states))
-    if unknown:
-        raise SimulationError(f"--init names {', '.join(unknown)}, which is not a state "
-                              "of the tree", "the states are: " + ", ".join(states))
     efforts = list(tree.coordinates("tau"))
-    unknown = sorted(set(options.inputs) - set(efforts))
-    if unknown:
-        raise SimulationError(f"--input names {', '.join(unknown)}, which is not an input "
-                              "of the tree", "the inputs are: " + ", ".join(efforts))
+    check_names(options, states, efforts)
+    check_memory(options.samples, len(states))
     slots = np.array([k for j, start in zip(tree.joints, tree.offsets) if j.kind != "floating"
                       for k in range(start, start + j.dof)], dtype=int)
     given = _input_functions(efforts, options.inputs)
     constant = all(name not in options.inputs for name in efforts)
     zero = np.zeros(n)
 
+    annotated = _annotated_efforts(tree)
+
     def f(tt: float, x: np.ndarray) -> np.ndarray:
         tau = zero
         if not constant:
             tau = np.zeros(n)
             tau[slots] = [g(tt) for g in given]
+        if annotated is not None:
+            tau = tau + annotated(x[:n], x[n:])
         return np.concatenate([x[n:], forward_dynamics(tree, x[:n], x[n:], tau)])
 
     x0 = np.array([float(options.init.get(s, 0.0)) for s in states])
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
     times, xs = _integrate(f, x0, grid, options)
-    return Trajectory(states, times, xs.T.copy())
+    return _finite_trajectory(Trajectory(states, times, xs.T.copy()))
+
+
+def _annotated_efforts(tree: Any) -> Callable[[np.ndarray, np.ndarray], np.ndarray] | None:
+    """The efforts of the joints' annotated damping, springs and limit stops as a function
+    of the coordinates and rates (:mod:`cyphy.semantics.dynamics.joint_forces`, as the
+    symbolic path has them), or None when no joint has any."""
+    from cyphy.semantics.dynamics.joint_forces import axis_forces, passive_efforts, stop
+    from cyphy.semantics.dynamics.rigid_body import mass_matrix
+
+    forces = [(k, f) for joint, start in zip(tree.joints, tree.offsets)
+              for k, f in enumerate(axis_forces(joint.kind, joint.element), start=start)
+              if f.passive or f.limited]
+    if not forces:
+        return None
+    rest = np.diag(mass_matrix(tree, [0.0] * tree.dof)).astype(float)
+    index = np.array([k for k, _ in forces], dtype=int)
+    axes = [f for _, f in forces]
+
+    def efforts(q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        out = np.zeros(len(q))
+        out[index] = passive_efforts(axes, q[index], qd[index])
+        out[index] += [stop(f, rest[k], q[k], qd[k]) for k, f in forces]
+        return out
+
+    return efforts
 
 
 # ----------------------------------------------------------------------------- output
@@ -357,8 +496,11 @@ def to_json(trajectory: Trajectory) -> str:
                       indent=1) + "\n"
 
 
-def plot(trajectory: Trajectory, path: str, names: Sequence[str] = ()) -> None:
-    """A PNG of the chosen columns over time (all states when none is chosen; at most 8)."""
+def plot(trajectory: Trajectory, names: Sequence[str] = ()) -> bytes:
+    """A PNG of the chosen columns over time (all states when none is chosen; at most 8), as
+    bytes: the caller writes it atomically, where it checked it could before the run."""
+    import io
+
     import matplotlib
 
     matplotlib.use("Agg")
@@ -376,8 +518,10 @@ def plot(trajectory: Trajectory, path: str, names: Sequence[str] = ()) -> None:
     axes.grid(True, alpha=0.3)
     axes.legend(fontsize="small")
     figure.tight_layout()
-    figure.savefig(path, metadata={"Software": None})
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", metadata={"Software": None})
     plt.close(figure)
+    return buffer.getvalue()
 
 
 def progress_to_stderr(fraction: float) -> None:

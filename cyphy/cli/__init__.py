@@ -18,17 +18,18 @@ from types import ModuleType
 from typing import NoReturn, Sequence
 
 import cyphy
-from cyphy import progress
+from cyphy import interrupts, progress
 from cyphy.cli.options import common_options, joined_values
-from cyphy.deep import run_deep
+from cyphy.cli.targets import output_problem
+from cyphy.deep import run_deep, where_too_deep
 from cyphy.diagnostics import RENDERING
 
 #: The commands, in the order ``--help`` lists them: each the module ``cyphy.cli.<name>``.
-COMMANDS = ("check", "show", "solve", "simulate", "gen", "reach", "view", "lsp")
+COMMANDS = ("check", "show", "solve", "simulate", "gen", "reach", "view", "lsp", "check_theory")
 
 
 def _command_module(name: str) -> ModuleType:
-    return importlib.import_module(f"cyphy.cli.{name}")
+    return importlib.import_module(f"cyphy.cli.{name.replace('-', '_')}")  # check-theory
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -63,6 +64,7 @@ def run() -> NoReturn:
     on a 10,000-link model; everything has been written and closed by then, and the standard
     streams are flushed here (mypy ends the same way)."""
     try:
+        interrupts.raise_on_sigterm()
         progress.start()
         try:  # deeply nested models need a deep stack (cyphy/deep.py)
             code = run_deep(main, progress.tick)
@@ -72,8 +74,8 @@ def run() -> NoReturn:
         sys.stderr.flush()
     except BrokenPipeError:  # `cyphy show … | head`: the reader has gone
         pass
-    except KeyboardInterrupt:  # Ctrl-C while waiting, or while the output is flushed
-        code = 130
+    except KeyboardInterrupt as err:  # Ctrl-C or SIGTERM while waiting, or while flushing
+        code = interrupts.exit_status(err)
     os._exit(code)
 
 
@@ -81,8 +83,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(joined_values(sys.argv[1:] if argv is None else argv))
     if getattr(args, "max_copies", None):
         os.environ["CYPHY_MAX_COPIES"] = str(args.max_copies)  # read by cyphy.limits
-    RENDERING.quiet, RENDERING.warnings_seen = args.quiet, 0
+    RENDERING.quiet, RENDERING.warnings_seen, RENDERING.usage_errors = args.quiet, 0, 0
+    if (problem := output_problem(args)) is not None:  # before any long work
+        sys.stderr.write(f"cyphy {args.command}: error: {problem}\n")
+        return 2
     code = _command(args)
+    if code == 1 and RENDERING.usage_errors:  # a value given on the command line is wrong
+        return 2
     if code == 0 and args.warnings_as_errors and RENDERING.warnings_seen:
         sys.stderr.write(f"cyphy: error: {RENDERING.warnings_seen} warning"
                          f"{'s' if RENDERING.warnings_seen != 1 else ''} "
@@ -98,8 +105,8 @@ def _command(args: argparse.Namespace) -> int:
         return code
     except KeyboardInterrupt:
         return 130
-    except RecursionError:
-        sys.stderr.write(TOO_DEEP)
+    except RecursionError as err:
+        sys.stderr.write(TOO_DEEP.replace("error: ", "error: " + where_too_deep(err), 1))
         return 1
     except Exception as err:  # a bug of ours: say so plainly, without a traceback
         sys.stderr.write(f"cyphy: internal error ({type(err).__name__}: {err}); please report "

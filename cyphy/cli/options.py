@@ -4,6 +4,7 @@ and the values they parse to: one definition each, so every command spells them 
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from typing import Sequence
 
@@ -28,8 +29,9 @@ def path_option(parser: argparse.ArgumentParser) -> None:
 
 def const_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
-                        help="value of a constant that has none (NAME may be qualified: "
-                        "Treel::HEIGHT); repeatable")
+                        help="value of a constant, which wins over the model's own (NAME may be "
+                        "qualified: Treel::HEIGHT; one the model lacks is an error); "
+                        "repeatable")
     parser.add_argument("--consts", metavar="FILE",
                         help="constant values from a TOML or JSON file (NAME = VALUE)")
 
@@ -45,6 +47,18 @@ def const_values(args: argparse.Namespace) -> dict[str, object]:
     except ConstantsError as err:
         sys.stderr.write(f"cyphy: error: {err}\n")
         raise SystemExit(2) from None
+
+
+def finite_float(text: str) -> float:
+    """A number option: ``nan`` and ``inf`` are refused here rather than reaching the
+    integrator, Flow*'s timeout or the camera."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: '{text}'") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"not a finite number: '{text}'")
+    return value
 
 
 def positive_int(text: str) -> int:
@@ -64,6 +78,8 @@ def _gravity(text: str) -> tuple[float, float, float]:
         x, y, z = (float(p) for p in parts)
     except ValueError:
         raise argparse.ArgumentTypeError(f"'{text}' is not three numbers x,y,z") from None
+    if not all(math.isfinite(v) for v in (x, y, z)):
+        raise argparse.ArgumentTypeError(f"'{text}' is not three finite numbers x,y,z")
     return (x, y, z)
 
 

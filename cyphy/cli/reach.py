@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import argparse
+import shutil
 import sys
+import tempfile
 from pathlib import Path
 
 from cyphy.cli.options import const_options, const_values, default_inertial_option, path_option
 from cyphy.diagnostics import render_text
-from cyphy.outputs import OutputError, default_output_dir, write_all
+from cyphy.outputs import OutputError, write_all
 from cyphy.verify.flowstar import limits
 
 
@@ -24,7 +26,8 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
     reach.add_argument("--scenario", metavar="FILE", required=True,
                        help="the controller scenario (TOML)")
     reach.add_argument("--flowstar-bin", metavar="PATH",
-                       help="the Flow* executable (default: flowstar on PATH)")
+                       help="the Flow* executable (default: $CYPHY_FLOWSTAR, the one "
+                       ".ci/install built, or flowstar on PATH)")
     reach.add_argument("--timeout", type=limits.seconds, metavar="SECONDS",
                        help="give up (UNKNOWN) when a Flow* run takes longer")
     reach.add_argument("--split", type=limits.boxes, default=1, metavar="N",
@@ -36,8 +39,11 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
     reach.add_argument("--jobs", type=int, metavar="N",
                        help="Flow* runs at a time (default: the number of cores)")
     reach.add_argument("-o", "--output", metavar="DIR",
-                       help="where the model is written, and in runs/ each model Flow* ran "
-                       "(default: flowstar-gen/ beside it)")
+                       help="keep the Flow* model in DIR, and in runs/ each model Flow* ran "
+                       "(default: a temporary folder, removed at the end)")
+    reach.add_argument("--keep", action="store_true",
+                       help="keep the temporary folder with the Flow* models, and print its "
+                       "path")
     reach.add_argument("--model", metavar="NAME", help="the p-model")
     reach.add_argument("--machine", metavar="NAME",
                        help="the d-model's state machine that is the controller when the "
@@ -51,7 +57,8 @@ def run(args: argparse.Namespace) -> int:
     # lazy: --help imports every command module; these pull in the model (Lark, NumPy, SymPy)
     from cyphy.verify.flowstar.commands import generate
     from cyphy.verify.flowstar.check import check
-    from cyphy.verify.flowstar.verdict import FlowstarMissing, find_flowstar
+    from cyphy.verify.flowstar.locate import find_flowstar
+    from cyphy.verify.flowstar.verdict import FlowstarMissing
 
     try:
         binary = find_flowstar(args.flowstar_bin)
@@ -68,20 +75,23 @@ def run(args: argparse.Namespace) -> int:
     if generated.report.has_errors or not generated.files or problem is None:
         sys.stderr.write("cyphy reach: nothing checked: the model or scenario has errors\n")
         return 2
-    out_dir = Path(args.output) if args.output else default_output_dir(args.paths, "flowstar")
+    # Never beside the inputs, which may be read-only (the corpus): -o, else a scratch folder
+    out_dir = Path(args.output) if args.output else Path(tempfile.mkdtemp(prefix="cyphy-reach-"))
+    kept = args.output is not None or args.keep
     try:
         model = write_all(generated.files, out_dir)[0]
-    except OutputError as err:
-        sys.stderr.write(f"cyphy reach: error: {err}\n")
-        return 2
-    try:
         result = check(problem, model.stem, binary, args.timeout, args.split,
                        not args.no_auto_split, args.jobs)
-        write_all(result.runs, out_dir)  # the models Flow* ran (parts, boxes, rungs)
+        if kept:
+            write_all(result.runs, out_dir)  # the models Flow* ran (parts, boxes, rungs)
     except (FlowstarMissing, OutputError) as err:
         sys.stderr.write(f"cyphy reach: error: {err}\n")
         return 2
-    line = f"{result.verdict}: {result.reason} (Flow* runs {result.seconds:.1f} s; model {model})\n"
+    finally:
+        if not kept:
+            shutil.rmtree(out_dir, ignore_errors=True)
+    where = f"; model {model}" if kept else ""
+    line = f"{result.verdict}: {result.reason} (Flow* runs {result.seconds:.1f} s{where})\n"
     stream = sys.stderr if result.verdict == "ERROR" else sys.stdout
     stream.write(line)
     if result.witness is not None:

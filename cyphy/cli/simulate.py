@@ -4,12 +4,16 @@ scenario's controller or the d-model's state machine."""
 from __future__ import annotations
 
 import argparse
+import math
+import os
 import sys
+import tempfile
 from pathlib import Path
 
 from cyphy.cli.options import (const_options, const_values, default_inertial_option,
-                               gravity_option, path_option)
+                               finite_float, gravity_option, path_option)
 from cyphy.diagnostics import Report, render_text
+from cyphy.outputs import OutputError, write_file
 
 
 def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
@@ -32,7 +36,7 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
     simulate.add_argument("--machine", metavar="NAME",
                           help="the d-model's state machine that is the controller when the "
                           "scenario has no [controller]")
-    simulate.add_argument("--t-end", type=float, metavar="T",
+    simulate.add_argument("--t-end", type=finite_float, metavar="T",
                           help="simulated time in seconds (default 1, or the scenario's "
                           "horizon)")
     simulate.add_argument("--init", action="append", default=[], metavar="NAME=VALUE",
@@ -43,8 +47,8 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
     simulate.add_argument("--method", default="LSODA",
                           choices=("LSODA", "BDF", "Radau", "RK45", "DOP853"),
                           help="solve_ivp's method (default LSODA, stiff-capable)")
-    simulate.add_argument("--rtol", type=float, default=1e-6, help="relative tolerance")
-    simulate.add_argument("--atol", type=float, default=1e-9, help="absolute tolerance")
+    simulate.add_argument("--rtol", type=finite_float, default=1e-6, help="relative tolerance")
+    simulate.add_argument("--atol", type=finite_float, default=1e-9, help="absolute tolerance")
     simulate.add_argument("--samples", type=int, default=201,
                           help="output instants over [0, T] (default 201)")
     simulate.add_argument("--numeric", action="store_true",
@@ -84,6 +88,10 @@ def run(args: argparse.Namespace) -> int:
     except ValueError:
         sys.stderr.write("cyphy simulate: error: --init takes a number: NAME=0.5\n")
         return 2
+    bad = [f"{k}={v}" for k, v in values.items() if not math.isfinite(v)]
+    if bad:
+        sys.stderr.write(f"cyphy simulate: error: --init {bad[0]}: not a finite number\n")
+        return 2
     if args.machine is not None and args.scenario is None:
         sys.stderr.write("cyphy simulate: error: --machine needs --scenario (a scenario "
                          "without [controller])\n")
@@ -93,6 +101,11 @@ def run(args: argparse.Namespace) -> int:
     if not args.t_end > 0 or args.samples < 2:
         sys.stderr.write("cyphy simulate: error: --t-end must be positive and --samples at "
                          "least 2\n")
+        return 2
+    try:  # the budget for the smallest trajectory: time and one column (refined later)
+        sim.check_memory(args.samples, 1)
+    except sim.OptionError as err:
+        sys.stderr.write(f"cyphy simulate: error: {err.message} ({err.hint})\n")
         return 2
     settings = sim.SimulationOptions(args.t_end, values, inputs, args.method, args.rtol,
                                      args.atol, args.samples,
@@ -107,21 +120,37 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))
     if result.trajectory is None or result.report.has_errors:
         return 1
-    if args.plot:
-        try:
-            sim.plot(result.trajectory, args.plot, args.plot_var)
-        except sim.SimulationError as err:
-            sys.stderr.write(f"cyphy simulate: error: {err.message} ({err.hint})\n")
-            return 1
     if result.numeric:
         sys.stderr.write("cyphy simulate: the kinematic tree alone (articulated-body "
                          "algorithm): the other devices' equations are not simulated\n")
     text = (sim.to_json if args.format == "json" else sim.to_csv)(result.trajectory)
+    code = 0
     if args.output:
-        Path(args.output).write_text(text)
+        code = _keep(Path(args.output), text)
     else:
         sys.stdout.write(text)
-    return 0
+    if args.plot:
+        try:
+            png = sim.plot(result.trajectory, args.plot_var)
+        except sim.SimulationError as err:
+            sys.stderr.write(f"cyphy simulate: error: {err.message} ({err.hint})\n")
+            return 1
+        code = _keep(Path(args.plot), png) or code
+    return code
+
+
+def _keep(target: Path, content: str | bytes) -> int:
+    """Write a result atomically; when that fails after all (the disk filled during the
+    run), save it in a temporary file rather than lose it, and say where (exit 1)."""
+    try:
+        write_file(target, content)
+        return 0
+    except OutputError as err:
+        fd, rescue = tempfile.mkstemp(prefix="cyphy-", suffix=target.suffix)
+        with os.fdopen(fd, "wb") as stream:
+            stream.write(content.encode("utf-8") if isinstance(content, str) else content)
+        sys.stderr.write(f"cyphy simulate: error: {err}; the result is saved in {rescue}\n")
+        return 1
 
 
 def _scenario_horizon(path: str) -> float:
@@ -129,5 +158,5 @@ def _scenario_horizon(path: str) -> float:
     # lazy: --help imports every command module; these pull in the model
     from cyphy.verify.flowstar.scenario import load_scenario
 
-    scenario = load_scenario(path, Report())
+    scenario = load_scenario(path, Report(), needs_unsafe=False)
     return scenario.horizon if scenario is not None else 1.0

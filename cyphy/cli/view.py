@@ -3,12 +3,17 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from pathlib import Path
 
-from cyphy.cli.options import const_options, const_values, path_option
+from cyphy.cli.options import const_options, const_values, finite_float, path_option
 from cyphy.diagnostics import render_text
-from cyphy.outputs import OutputError, write_all
+from cyphy.outputs import OutputError, write_file
+
+#: The largest joint position ``view --set`` takes: beyond it a pose's coordinates lose
+#: every digit that a picture shows (1e300 overflowed the projection).
+MAX_POSITION = 1e6
 
 
 def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
@@ -29,9 +34,9 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
     view.add_argument("--view", choices=("iso", "front", "side", "top"), default="iso",
                       help="the camera: iso (default), front (along +y), side (along -x), "
                       "top (down)")
-    view.add_argument("--elevation", type=float, metavar="DEG",
+    view.add_argument("--elevation", type=finite_float, metavar="DEG",
                       help="the camera's elevation, overriding --view's")
-    view.add_argument("--azimuth", type=float, metavar="DEG",
+    view.add_argument("--azimuth", type=finite_float, metavar="DEG",
                       help="the camera's azimuth, overriding --view's")
     const_options(view)
     path_option(view)
@@ -49,6 +54,12 @@ def run(args: argparse.Namespace) -> int:
         except ValueError:
             sys.stderr.write(f"cyphy view: error: --set {text}: expected JOINT=NUMBER\n")
             return 2
+        if not math.isfinite(positions[name.strip()]) or \
+                abs(positions[name.strip()]) > MAX_POSITION:
+            sys.stderr.write(f"cyphy view: error: --set {text}: a joint position is a finite "
+                             f"number of radians or metres, at most {MAX_POSITION:g} in size "
+                             "(further cannot be drawn)\n")
+            return 2
     if args.output is not None and not args.output.endswith(".png"):
         sys.stderr.write("cyphy view: error: -o names a .png file\n")
         return 2
@@ -63,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
     ((name, png),) = generated.files.items()
     target = Path(args.output) if args.output else Path(name)
     try:
-        (written,) = write_all({target.name: png}, target.parent)
+        written = write_file(target, png)
     except OutputError as err:
         sys.stderr.write(f"cyphy view: error: {err}\n")
         return 1

@@ -8,6 +8,7 @@ hints; the transformer turns Lark trees into the frozen dataclasses of :mod:`cyp
 from __future__ import annotations
 
 import difflib
+import re
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Iterable
@@ -188,7 +189,11 @@ def _syntax_diagnostic(err: UnexpectedInput, text: str, path: str) -> Diagnostic
         message = f"unexpected {_describe_token(token)}"
         hint = f"expected {_expected_text(expected)}"
         close = difflib.get_close_matches(value, _keywords(expected), n=1, cutoff=0.7)
-        if close and token.type == "NAME":
+        word = _connective(value, text[:token.start_pos or 0])
+        if word:  # `a and b`: RoboSim's connectives are symbols
+            symbol = "/\\" if word == "and" else "\\/"
+            hint = f"RoboSim writes '{word}' as '{symbol}', for example a {symbol} b ({hint})"
+        elif close and token.type == "NAME":
             hint = f"did you mean '{close[0]}'? ({hint})"
         elif token.type == "NAME" and value in _keywords(expected):
             pass
@@ -196,6 +201,17 @@ def _syntax_diagnostic(err: UnexpectedInput, text: str, path: str) -> Diagnostic
 
     span = Span(path, line, column, line, column + 1)
     return Diagnostic(codes.SYNTAX, str(err).splitlines()[0], span, "")
+
+
+def _connective(value: str, before: str) -> str | None:
+    """``and`` or ``or`` when the unexpected token is that word or follows it: a newcomer's
+    conjunction, which RoboSim writes ``/\\`` (and disjunction ``\\/``)."""
+    if value in ("and", "or"):
+        return value
+    # `a and b`, or `(a) and (b)`, which parses as a call of `and` until the next line
+    recent = "\n".join(before.splitlines()[-2:])
+    found = re.findall(r"(?<![\w.:])(and|or)(?=\s*(?:\(|$))", recent)
+    return found[-1] if found else None
 
 
 def _describe_token(token: Token) -> str:

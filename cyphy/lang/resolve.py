@@ -176,6 +176,10 @@ class _Checker:
         for package, member, decl in self.ws.all_declarations():
             if package.name and accept(decl):
                 elsewhere.setdefault(member, package.name)
+        if name in elsewhere:  # spelt right: only the import is missing
+            package = "::".join(elsewhere[name])
+            return (f"'{name}' is declared in {package}, which this file does not import: "
+                    f"add `import {package}::*` (or `import {package}::{name}`)")
         close = did_you_mean(name, elsewhere)
         if not close:
             return ""
@@ -360,7 +364,7 @@ class _Checker:
                            "or relate it through a relation")
                 return
             visible = scope.all_names() | self.scopes.visible_names(self.file, is_value)
-            hint = did_you_mean(n, visible) or f"declare '{n}' or import the package defining it"
+            hint = _name_hint(n, visible) or f"declare '{n}' or import the package defining it"
             self.error(codes.S1, f"unknown name '{n}'", node.span, hint)
             return
         found = self.scopes.lookup(self.file, name, is_value)
@@ -562,7 +566,7 @@ class _Checker:
                 if len(steps) >= 2:
                     self._port(blocks[first][0], steps[1][0], steps[1][1])
                 continue
-            hint = did_you_mean(first, scope.all_names() | set(blocks)) or \
+            hint = _name_hint(first, scope.all_names() | set(blocks)) or \
                 "name a variable of this block, or Block.port of a block of the p-model"
             self.error(codes.S1, f"unknown name '{first}' in relation", steps[0][1], hint)
 
@@ -864,7 +868,7 @@ class _MappingChecker:
             if len(steps) == 1:
                 if self.c.scopes.lookup(self.c.file, (first,), is_value) or not known:
                     continue  # with an unknown operation (PMap4) its parameters are unknown
-                hint = did_you_mean(first, scope.all_names()) or (
+                hint = _name_hint(first, scope.all_names()) or (
                     "declare it with 'var', or use a parameter of the d-model operation")
                 self.c.error(codes.S1, f"unknown name '{first}' in mapping", steps[0][1], hint)
                 continue
@@ -977,3 +981,16 @@ def _describe(node: ast.PModel | ast.Block | ast.Part) -> str:
     if isinstance(node, ast.Part):
         return f"part {node.name}"
     return f"{node.kind.value} {node.name}"
+
+
+#: Names a newcomer writes for values RoboSim does not have (Python's, C's, IEEE 754's).
+NON_FINITE = frozenset({"nan", "NaN", "NAN", "inf", "Inf", "INF", "infinity", "Infinity"})
+
+
+def _name_hint(name: str, candidates: Iterable[str]) -> str:
+    """The hint for an unknown value name: RoboSim has no ``nan`` or ``inf`` (rather than
+    "did you mean 'tan'?"), else the close names."""
+    if name in NON_FINITE:
+        return (f"RoboSim has no '{name}': every value is a finite number (a quantity "
+                "without a known value is a const without one, given by --const)")
+    return did_you_mean(name, candidates)

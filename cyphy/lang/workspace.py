@@ -8,6 +8,8 @@ replaces it whole.
 
 from __future__ import annotations
 
+import os
+
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -71,9 +73,23 @@ def declared_name(decl: Declaration) -> str | None:
     return getattr(decl, "name", None)
 
 
-def model_files_in(folder: Path, recursive: bool) -> list[Path]:
-    pattern = "**/*" if recursive else "*"
-    return sorted(p for p in folder.glob(pattern) if p.suffix in MODEL_SUFFIXES and p.is_file())
+def model_files_in(folder: Path, recursive: bool,
+                   unreadable: list[tuple[Path, str]] | None = None) -> list[Path]:
+    """The model files in ``folder`` (and below it when ``recursive``). A folder that cannot
+    be listed is added to ``unreadable`` with the reason (``Path.glob`` skips it silently,
+    and its models would be missing without a word)."""
+    found: list[Path] = []
+
+    def refused(err: OSError) -> None:
+        if unreadable is not None:
+            unreadable.append((Path(err.filename or folder), err.strerror or str(err)))
+
+    for root, dirs, files in os.walk(folder, onerror=refused):
+        dirs.sort()
+        found.extend(Path(root, f) for f in files if Path(f).suffix in MODEL_SUFFIXES)
+        if not recursive:
+            break
+    return sorted(p for p in found if p.is_file())
 
 
 def library_files() -> list[Path]:
@@ -109,10 +125,11 @@ def load_workspace(
     ws = Workspace()
     targets: list[Path] = []
     neighbours: list[Path] = []
+    unreadable: list[tuple[Path, str]] = []
     for raw in paths:
         p = Path(raw)
         if p.is_dir():
-            found = model_files_in(p, recursive=True)
+            found = model_files_in(p, recursive=True, unreadable=unreadable)
             if not found:
                 report.report(codes.NO_FILES, f"no model files (.pm, .rst, .rsm) in {p}",
                               Span.unknown(str(p)), "name a model file or a folder holding some")
@@ -126,11 +143,15 @@ def load_workspace(
     for raw in search_paths:
         p = Path(raw)
         if p.is_dir():
-            neighbours.extend(model_files_in(p, recursive=True))
+            neighbours.extend(model_files_in(p, recursive=True, unreadable=unreadable))
         else:
             report.report(codes.IO, f"--path {p} is not a folder", Span.unknown(str(p)),
                           "give a folder of model files")
 
+    for folder, why in unreadable:
+        report.report(codes.IO, f"cannot read the folder {folder}: {why}",
+                      Span.unknown(str(folder)), "give yourself read and search permission on "
+                      "it, or leave it out: its model files are not read")
     seen: set[Path] = set()
     every = targets + neighbours
     for i, p in enumerate(every):

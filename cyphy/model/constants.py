@@ -68,3 +68,48 @@ def parse_const_options(pairs: Iterable[str], file: str | None) -> dict[str, Val
             raise ConstantsError(f"--const takes NAME=VALUE, not '{pair}'")
         values[name.strip()] = parse_value(value.strip())
     return values
+
+
+def declared_constants(files: Iterable[object]) -> set[str]:
+    """The names of every constant declared in the files (p-models, packages, the library's
+    devices): what a ``--const`` key can name. A walk over the syntax trees' fields, done only
+    when constants are given."""
+    import dataclasses
+
+    names: set[str] = set()
+    todo: list[object] = list(files)
+    seen: set[int] = set()
+    while todo:
+        node = todo.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        if isinstance(node, ast.VarDecl):
+            if node.kind is ast.DeclKind.CONST:
+                names.add(node.name)
+            continue
+        if isinstance(node, (list, tuple)):
+            todo.extend(node)
+        elif dataclasses.is_dataclass(node) and not isinstance(node, type):
+            todo.extend(getattr(node, f.name) for f in dataclasses.fields(node)
+                        if f.name != "span")
+    return names
+
+
+def unknown_constants(keys: Iterable[str], declared: set[str]) -> list[tuple[str, str]]:
+    """The ``--const`` keys that name no declared constant (their last ``::`` segment is the
+    constant's name), each with a hint."""
+    from cyphy.diagnostics import did_you_mean
+
+    out = []
+    for key in keys:
+        prefix, _, name = key.rpartition("::")
+        if name not in declared:
+            close = did_you_mean(name, declared)
+            if close and prefix:  # the key as it would be written: Treel::HEIGHT
+                close = close.replace("'", f"'{prefix}::", 1).replace(" or '",
+                                                                    f" or '{prefix}::")
+            out.append((key, close or ("the model's constants: " +
+                                       ", ".join(sorted(declared)[:20]) if declared
+                                       else "the model declares no constant")))
+    return out

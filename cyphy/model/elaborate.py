@@ -39,6 +39,8 @@ MODEL = codes.code("E-MODEL", codes.E, "the p-model to elaborate cannot be chose
 EVAL = codes.code("E-EVAL", codes.E, "a constant expression cannot be evaluated")
 MISSING = codes.code("E-CONST", codes.E, "constants without values that a generator needs")
 INDEX = codes.code("E-INDEX", codes.E, "an index range that is not a range of integers")
+CONST_NAME = codes.code("E-CONST-NAME", codes.E,
+                        "a --const or --consts name that names no constant of the model")
 
 DEVICE_KINDS = (ast.DeclKind.INPUT, ast.DeclKind.OUTPUT, ast.DeclKind.INOUT,
                 ast.DeclKind.LOCAL, ast.DeclKind.CONST)
@@ -151,6 +153,7 @@ class _Context:
         self.scopes = Scopes(ws)
         self.consts = dict(consts)
         self.used_consts: set[str] = set()
+        self.declared: set[tuple[str, str, str]] = set()  # (qualified, definition, name)
         self.missing: dict[str, list[Span]] = {}
         self.constants: dict[str, Value] = {}
         self.literals: dict[ex.Expr, Value] = {}
@@ -164,6 +167,7 @@ class _Context:
     # ----- constants
     def binding(self, decl: ast.VarDecl, env: Env | None, qualified: str, definition: str,
                 override: ex.Expr | None = None, override_env: Env | None = None) -> _Binding:
+        self.declared.add((qualified, definition, decl.name))
         if override is not None:
             return _Binding(decl, override, override_env, qualified, definition)
         return _Binding(decl, decl.value, env, qualified, definition)
@@ -180,6 +184,7 @@ class _Context:
                 qualified = f"{package}::{decl.name}" if package else decl.name
                 env = Env(self, decl_file)
                 binding = _Binding(decl, decl.value, env, qualified, qualified)
+                self.declared.add((qualified, qualified, decl.name))
             self._globals[key] = binding
         return self._globals[key]
 
@@ -203,8 +208,10 @@ class _Context:
             return None
         b.state = "busy"
         value: Value | None = None
-        if b.expr is None:
-            value = self._user_value(b)
+        given = self._user_value(b) if b.expr is None or b.expr is b.decl.value else None
+        if given is not None:  # --const wins over the declaration's own value
+            value = given
+        elif b.expr is None:
             if value is None:
                 b.state = "missing"
                 self.missing.setdefault(b.definition, []).append(b.decl.span)
@@ -229,14 +236,32 @@ class _Context:
         name, the definition name, a ``::`` suffix of either, or the bare name."""
         best: tuple[int, str] | None = None
         for key in self.consts:
-            for full in (b.qualified, b.definition):
-                if full == key or full.endswith("::" + key) or key == b.decl.name:
-                    if best is None or len(key) > best[0]:
-                        best = (len(key), key)
+            if _names(key, b.qualified, b.definition, b.decl.name):
+                if best is None or len(key) > best[0]:
+                    best = (len(key), key)
         if best is None:
             return None
         self.used_consts.add(best[1])
         return self.consts[best[1]]
+
+    def report_unknown_consts(self, span: Span) -> None:
+        """Report (``E-CONST-NAME``) each ``--const``/``--consts`` name that names none of
+        the constants the model declares (a typo would otherwise be silently ignored);
+        the commands that elaborate stop on it as on any error."""
+        from cyphy.diagnostics import did_you_mean
+
+        candidates = {n for names in self.declared for n in names}
+        unknown = [key for key in sorted(self.consts) if key not in self.used_consts and
+                   not any(_names(key, *names) for names in self.declared)]
+        if unknown:  # a constant of another part of the files (a d-model's) is no typo
+            elsewhere = _declared_constants(self.ws)
+            candidates |= elsewhere
+            unknown = [key for key in unknown if key.split("::")[-1] not in elsewhere]
+        for key in unknown:
+            self.report.report(CONST_NAME, f"--const {key}: the model has no constant named "
+                               f"{key}", span, did_you_mean(key, candidates) or
+                               "name a constant the model declares (its bare name, or "
+                               "qualified: Model::Link::NAME)")
 
     def evaluate(self, e: ex.Expr | None, env: Env) -> Value | None:
         """The value of ``e``, or None when it needs a constant without a value (recorded)
@@ -287,6 +312,34 @@ class _Context:
 
 
 # --------------------------------------------------------------------------- elaboration
+
+
+def _declared_constants(ws: Workspace) -> set[str]:
+    """The names of every constant the files declare, wherever (a d-model's, an operation's,
+    a library device's): ``--const`` may give them values for the commands that read them,
+    and one set of values may serve several models."""
+    import dataclasses
+
+    out: set[str] = set()
+    todo: list[object] = [item for f in ws.files.values() for item in f.items]
+    while todo:
+        node = todo.pop()
+        if isinstance(node, ast.VarDecl):
+            if node.kind is ast.DeclKind.CONST:
+                out.add(node.name)
+            continue
+        if isinstance(node, (list, tuple)):
+            todo.extend(node)
+        elif dataclasses.is_dataclass(node) and not isinstance(node, ex.Expr):
+            todo.extend(getattr(node, f.name) for f in dataclasses.fields(node))
+    return out
+
+
+def _names(key: str, qualified: str, definition: str, name: str) -> bool:
+    """Whether a ``--const`` key names the constant: its instance-qualified or definition
+    name, a ``::`` suffix of either, or its bare name."""
+    return key == name or any(full == key or full.endswith("::" + key)
+                              for full in (qualified, definition))
 
 
 def require_constants(model: ElaboratedModel, report: Report, what: str) -> bool:
@@ -351,25 +404,36 @@ def _files_span(ws: Workspace) -> Span:
 
 
 def elaborate(ws: Workspace, resolution: Resolution, report: Report, model: str | None = None,
-              consts: Mapping[str, Value] | None = None) -> ElaboratedModel | None:
+              consts: Mapping[str, Value] | None = None, strict_consts: bool = True
+              ) -> ElaboratedModel | None:
     """Elaborate one p-model of the workspace (see :func:`choose_pmodel`)."""
     chosen = choose_pmodel(ws, model, report)
     if chosen is None:
         return None
-    return elaborate_pmodel(ws, resolution, report, *chosen, consts)
+    return elaborate_pmodel(ws, resolution, report, *chosen, consts,
+                            strict_consts=strict_consts)
 
 
 def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: ast.PModel,
                      file: ast.SourceFile, consts: Mapping[str, Value] | None = None,
-                     devices: bool = True) -> ElaboratedModel:
+                     devices: bool = True, strict_consts: bool = True) -> ElaboratedModel:
     """Elaborate the given p-model (as the top-level model) of ``file``. Without
     ``devices`` the model has links, bodies, joints (with their axes and annotations) and
     their values, but no sensors, actuators, devices, equations or relations: the value
     checks need geometry, not behaviour, and devices are most of the work on a large
     model."""
     ctx = _Context(ws, resolution, report, consts or {})
+    if consts:  # a misspelt --const would be ignored, and the constant stay without a value
+        from cyphy.model.constants import declared_constants, unknown_constants
+
+        for key, hint in unknown_constants(consts, declared_constants(ws.files.values())):
+            report.report(codes.OPTION, f"--const {key}: the model has no constant {key!r}",
+                          Span.unknown("<command line>"), hint)
     with collector.paused():  # see cyphy/collector.py
-        return _Elaborator(ctx, devices).run(pm, file)
+        model = _Elaborator(ctx, devices).run(pm, file)
+    if devices and strict_consts:  # the whole model: every constant it declares was seen
+        ctx.report_unknown_consts(pm.span)
+    return model
 
 
 class _Elaborator:

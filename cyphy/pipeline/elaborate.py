@@ -25,6 +25,9 @@ class ElaborateOptions:
     # Links without inertial information get these defaults ("sdf": SDFormat's), with a
     # warning each (cyphy.model.default_inertial); None: they stay without mass.
     default_inertial: str | None = None
+    # a ``consts`` name that names no constant of the model is an error (E-CONST-NAME); a
+    # scenario's [consts] also hold call arguments, which are no constants
+    strict_consts: bool = True
 
 
 @dataclass
@@ -52,7 +55,9 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
             and all(_value_error(d) for d in checked.report.errors))):
         return ElaborateResult(checked, None)
     model = run(checked.workspace, checked.resolution, checked.report, options.model,
-                options.consts)  # type: ignore[arg-type]
+                options.consts, options.strict_consts)  # type: ignore[arg-type]
+    if any(d.code.id == "E-CONST-NAME" for d in checked.report.errors):
+        return ElaborateResult(checked, None)  # a misspelt --const: nothing is shown
     if model is not None and options.default_inertial is not None:
         # lazy: NumPy: `cyphy check` must not pay for it
         from cyphy.model.default_inertial import apply_default_inertial

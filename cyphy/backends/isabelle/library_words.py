@@ -7,13 +7,14 @@ UTP-Circus; directories ``optics``, ``toolkit``, ``utp``, ``theories/{kleene,des
 rea_designs,sf_rdes,circus}``, without ``examples`` and ``models``). Each entry is
 ``word file:line`` where it was read.
 
-- :data:`SYNTAX_WORDS`: every delimiter of a mixfix annotation (``("frz _ \\<bullet> _")``,
-  ``(infix "sp" 60)``) that is an identifier on its own. Isabelle's inner lexer turns such a
-  delimiter into a keyword, so an identifier spelt the same no longer parses (a parameter
-  named ``on`` gives ``"MoveCall sp on = …"``, a parse error). Delimiters with a subscript
-  (``choose\\<^sub>R``, ``pre\\<^sub>D``) are other tokens and leave the bare word free. HOL's
-  own delimiters ``at`` and ``within`` (``at_within`` in HOL/Topological_Spaces.thy, imported
-  through Complex_Main) are added by hand: HOL's sources are not in that repository.
+- :data:`SYNTAX_WORDS` (utp-main) and :data:`HOL_SYNTAX_WORDS` (Isabelle's HOL, from
+  github:digama0/isabelle 2d6638d, a 2024 snapshot whose notation for these words is
+  Isabelle2020's; and Pure's own inner keywords): every delimiter of a mixfix annotation
+  (``("frz _ \\<bullet> _")``, ``(infix "choose" 64)``) that is an identifier on its own.
+  Isabelle's inner lexer turns such a delimiter into a keyword, so an identifier spelt the
+  same no longer parses (a parameter named ``on`` gives ``"MoveCall sp on = …"``, a parse
+  error). Derived by ``tools/derive_isabelle_words.py`` into ``reserved_words.tsv`` (word,
+  library, file:line); rerun it to update the table, never edit the table by hand.
 - :data:`LIBRARY_CONSTANTS`: the names of the sessions' ``definition``, ``abbreviation``,
   ``fun``, ``primrec``, ``function``, ``lift_definition``, ``consts`` and ``axiomatization``
   constants. A global of the theory with such a name would hide the library's constant from
@@ -22,55 +23,26 @@ rea_designs,sf_rdes,circus}``, without ``examples`` and ``models``). Each entry 
 
 from __future__ import annotations
 
+from pathlib import Path
+
 
 def _table(text: str) -> dict[str, str]:
     return dict(line.split(" ", 1) for line in text.strip().splitlines())
 
 
-#: Mixfix delimiters that are identifiers (word → file:line of the annotation).
-SYNTAX_WORDS: dict[str, str] = _table("""
-BASELENS optics/Lens_Instances.thy:226
-CPTYPE theories/rea_designs/utp_rdes_parallel.thy:27
-FLDLENS optics/Lens_Instances.thy:218
-IDSTR utp/utp_parser_utils.thy:16
-II utp/utp_rel.thy:95
-LENSTYPE utp/utp_state_parser.thy:26
-PAIRTYPE utp/utp_state_parser.thy:27
-TRY utp/utp_pred.thy:608
-U utp/utp_lift_parser.thy:199
-UCARD utp/utp_dvar.thy:59
-alpha utp/utp_state_parser.thy:31
-con utp/utp_morgan.thy:13
-div utp/utp_easy_parser.thy:114
-do theories/designs/utp_des_prog.thy:380
-else theories/designs/utp_des_prog.thy:173
-false utp/utp_easy_parser.thy:70
-fds optics/Scenes.thy:414
-fi theories/designs/utp_des_prog.thy:173
-frz utp/utp_frame.thy:87
-if theories/designs/utp_des_prog.thy:173
-in theories/designs/utp_des_prog.thy:494
-invr utp/utp_rel.thy:235
-is utp/utp_healthy.thy:17
-mdf utp/utp_frame.thy:85
-mods utp/utp_frame.thy:89
-nmods utp/utp_frame.thy:91
-ns utp/utp_frame.thy:83
-nuses utp/utp_frame.thy:93
-od theories/designs/utp_des_prog.thy:380
-on optics/Lens_Laws.thy:76
-sp utp/utp_sp.thy:19
-state theories/rea_designs/utp_rdes_prog.thy:429
-true utp/utp_easy_parser.thy:69
-tt theories/reactive/utp_rea_core.thy:148
-var utp/utp_state_parser.thy:104
-vrt utp/utp_rel.thy:250
-while utp/utp_rel.thy:235
-wlp utp/utp_wlp.thy:15
-wp utp/utp_easy_parser.thy:181
-at HOL/Topological_Spaces.thy (definition at_within, mixfix "at (_)/ within (_)")
-within HOL/Topological_Spaces.thy (definition at_within, mixfix "at (_)/ within (_)")
-""")
+def _derived(library: str) -> dict[str, str]:
+    """Rows of ``reserved_words.tsv`` (written by tools/derive_isabelle_words.py from the
+    fetched sources) for one library: word → file:line."""
+    text = Path(__file__).with_name("reserved_words.tsv").read_text(encoding="utf-8")
+    rows = (line.split("\t") for line in text.splitlines() if line and not line.startswith("#"))
+    return {word: where for word, lib, where in rows if lib == library}
+
+
+#: Mixfix delimiters of utp-main that are identifiers (word → file:line of the annotation).
+SYNTAX_WORDS: dict[str, str] = _derived("utp-main")
+#: Mixfix delimiters of Isabelle's HOL (the import closure of UTP-Circus and the prelude) and
+#: Pure's inner keywords: ``choose``, ``sums``, ``differentiable``, ``Int``, ``LEAST``, ….
+HOL_SYNTAX_WORDS: dict[str, str] = _derived("HOL")
 
 #: Constants of the imported sessions (name → file:line of the declaration).
 LIBRARY_CONSTANTS: dict[str, str] = _table("""

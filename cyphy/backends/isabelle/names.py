@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import re
 
-from cyphy.backends.isabelle.library_words import LIBRARY_CONSTANTS, SYNTAX_WORDS
+from cyphy.backends.isabelle.library_words import (HOL_SYNTAX_WORDS, LIBRARY_CONSTANTS,
+                                                   SYNTAX_WORDS)
 from cyphy.semantics.circus.names import identifier
 
 _IDENT = re.compile(r"[A-Za-z](?:[A-Za-z0-9]|_(?=[A-Za-z0-9]))*")
@@ -45,7 +46,7 @@ id set map fst snd real int nat sin cos tan sqrt exp ln log abs sgn min max norm
 length hd tl last dom ran card Inf Sup top bot tr tt st ok wait ref transpose rev nth take
 drop zip filter concat sum prod list bool unit option Some None Nil Cons True False
 uop bop trop qtop action hrel upred uexpr NCSP CSP Healthy
-EvolveC InterruptC InterruptCondC MuC WaitC DerC IntegralC fmod
+EvolveC InterruptC InterruptCondC MuC WaitC fmod
 """.split())
 
 #: CZT/Z keywords (one mangled name serves every printer).
@@ -55,9 +56,11 @@ parents
 """.split())
 
 #: Every word a generated identifier avoids: the lists above (HOL, Isar, Z), and the mixfix
-#: delimiters and constants read from utp-main's sources (:mod:`isabelle_library_words`).
+#: delimiters of HOL and utp-main and utp-main's constants, read from the library sources
+#: (:mod:`cyphy.backends.isabelle.library_words`).
 RESERVED = (OUTER_KEYWORDS | COMMANDS | INNER_WORDS | SHADOWED | Z_KEYWORDS
-            | frozenset(SYNTAX_WORDS) | frozenset(LIBRARY_CONSTANTS))
+            | frozenset(SYNTAX_WORDS) | frozenset(HOL_SYNTAX_WORDS)
+            | frozenset(LIBRARY_CONSTANTS))
 
 
 def is_identifier(text: str) -> bool:

@@ -54,12 +54,12 @@ def session_files(built: Any, options: Any, report: Report) -> dict[str, str] | 
             continue
         branches = " ||| ".join(found.branches)
         updated = ", ".join(sorted(found.updated))
-        if not options.namesets:
+        if found.partition:  # (not applied: --isabelle-namesets was not given)
             hint = ("this follows the paper; --isabelle-namesets writes the interleaving with "
-                    "a name-set partition where the branches update disjoint variables")
-        else:
-            hint = ("--isabelle-namesets cannot help here: no name-set partition exists, "
-                    f"the branches all may update {', '.join(sorted(found.overlap))}")
+                    "a name-set partition, as the branches update disjoint variables")
+        else:  # offer no option that cannot help
+            hint = ("this follows the paper; no name-set partition keeps the updates: the "
+                    f"branches all may update {', '.join(sorted(found.overlap))}")
         report.report(LOSSY_INTERLEAVING,
                       f"{found.action} ≙ {branches} interleaves with empty name sets: the "
                       f"updates of {updated} are discarded when it ends", span, hint)

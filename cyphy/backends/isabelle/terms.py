@@ -17,8 +17,8 @@ Expressions print in one of three modes (``../shared/spec/isabelle.md`` section 
 - ``rel``: a relation between a state and its rate of change (the argument of ``EvolveC``):
   ``$x`` is the value, ``$x\\<acute>`` the time derivative.
 
-Derivatives of locals and integrals stay symbolic through the prelude's ``DerC`` and
-``IntegralC`` (the paper leaves integrals symbolic too).
+A derivative is printed only as ``$x\\<acute>`` of a state variable inside an evolution, and
+integrals become integrator states before printing; any other is refused (UnsupportedNode).
 """
 
 from __future__ import annotations
@@ -291,15 +291,12 @@ class IsabellePrinter:
         operand = e.operand
         if isinstance(operand, ex.Name) and self._mode == "rel" and self._is_state(operand.text):
             return f"${self.symbols.names[operand.text]}\\<acute>"
-        if isinstance(operand, ex.Name) and self._mode == "hol":
-            return f"(DerC {self._print(operand)})"
-        raise UnsupportedNode(e, "a derivative outside an evolution")
+        raise UnsupportedNode(e, "a derivative outside an evolution's equations")
 
     def _print_Integral(self, e: ex.Integral) -> str:
-        if e.lower is not None or e.upper is not None:
-            raise UnsupportedNode(e, "a definite integral")
-        operand = self._print(e.operand)
-        return f"(IntegralC {operand})" if self._mode == "hol" else f"(uop IntegralC {operand})"
+        # the scalar process turns each integral of an evolution into an integrator state
+        # (cyphy.semantics.scalarise); one left here has no Isabelle meaning
+        raise UnsupportedNode(e, "an integral outside an evolution's equations")
 
     def _print_SeqExpr(self, e: ex.Seq) -> str:
         """A HOL list; over the state, consed with ``bop Cons`` (utp-main's explicit syntax

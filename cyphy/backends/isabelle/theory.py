@@ -11,6 +11,8 @@ in ``cyphy/backends/isabelle/templates/`` hold the layout; every term comes from
 
 from __future__ import annotations
 
+import re
+
 from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Any
@@ -459,8 +461,27 @@ def _names_table(table: NameTable, names: IsabelleNames, symbols: Symbols) -> st
     """qualified RoboSim name, CyPhyCircus name, Isabelle identifier (locals are bound)."""
     rows = ["qualified\tcyphycircus\tisabelle"]
     globals_ = names.identifiers()
+    by_mangled = {mangled: qualified for qualified, mangled in table.items()}
+    split = {m.group(1) for n, _ in names.items()
+             if (m := re.fullmatch(r"(.+?)(?:_\d+)+", n)) and m.group(1) in by_mangled
+             and names.get(m.group(1)) is None}
     for qualified, mangled in table.items():
+        if mangled in split:
+            continue  # the theory has its components (below), not the vector itself
         ident = names.get(mangled) or bound_identifier(mangled, globals_)
         rows.append(f"{qualified}\t{mangled}\t{ident}")
+    # What the theory has in their place: the components of a vector or matrix (the state is
+    # scalar: LHinge_F is LHinge_F_1 .. LHinge_F_6) and the integrator states of integrals.
+    for mangled, ident in sorted(names.items()):
+        if mangled in by_mangled:
+            continue
+        m = re.fullmatch(r"(.+?)((?:_\d+)+)", mangled)
+        if m and m.group(1) in split:
+            index = "".join(f"[{k}]" for k in m.group(2).split("_")[1:])
+            rows.append(f"{by_mangled[m.group(1)]}{index}\t{mangled}\t{ident}")
+            continue
+        m = re.fullmatch(r"(.+)_int\d*", mangled)
+        if m and m.group(1) in by_mangled:
+            rows.append(f"integral of {by_mangled[m.group(1)]}\t{mangled}\t{ident}")
     return "\n".join(rows) + "\n"
 

@@ -11,7 +11,8 @@ Decisions (README "gen --mjcf"):
   repair an inertia that violates the triangle inequality, which it would otherwise refuse;
 * joints: revolute, gearbox (already a revolute joint, W-SDF-GEARBOX) and screw → ``hinge``,
   prismatic → ``slide``, ball → ``ball``, universal and revolute2 → two hinges in one body,
-  fixed → none; bounds → ``range``, damping and friction → ``damping``, ``frictionloss``;
+  fixed → none; bounds → ``range``, damping, friction and spring → ``damping``,
+  ``frictionloss``, ``stiffness`` and ``springref``;
 * one geom per RoboSim body (box half sizes, cylinder radius and half length, sphere, mesh
   for the formats MuJoCo reads: STL, OBJ, MSH); a geom MuJoCo would refuse (another mesh
   format, a size that is not positive) is a comment and W-MJCF-GEOM;
@@ -162,6 +163,10 @@ def _dynamics(element: Node, joint: RobotJoint) -> None:
         element.attrs["damping"] = number(joint.damping)
     if joint.friction:
         element.attrs["frictionloss"] = number(joint.friction)
+    if joint.stiffness:
+        element.attrs["stiffness"] = number(joint.stiffness)
+        if joint.spring_reference:
+            element.attrs["springref"] = number(joint.spring_reference)
 
 
 def _geom(body: Node, shape: Shape, frame: Pose, meshes: MeshPaths, assets: Node,

@@ -121,7 +121,9 @@ def _joint(robot: Node, joint: RobotJoint, parent_frame: Pose, child: RobotLink,
         robot.children.append(_joint_node(joint.name, joint, kind, joint.parent, child.name,
                                            origin, joint.axes[0] if joint.axes else None))
         return
-    axes = list(joint.axes) if joint.kind != "ball" else [np.eye(3)[i] for i in range(3)]
+    # a ball joint as cyphy's ZYX Euler angles: yaw about z, pitch about y, roll about x of
+    # the joint frame, so that the three coordinates are solve's and simulate's
+    axes = list(joint.axes) if joint.kind != "ball" else [np.eye(3)[i] for i in (2, 1, 0)]
     report.report(SPLIT, f"joint {joint.qualified} is a {joint.kind} joint, which URDF lacks: "
                   f"it is written as {len(axes)} revolute joints through massless links",
                   span, "use --mjcf or SDF for the joint itself")

@@ -31,8 +31,12 @@ subspace ``S`` (6×nᵢ, :func:`joint_subspace`): the screw axis of a revolute o
 joint as one column of numbers; for a joint of several coordinates (universal, ball, the
 floating base: ``dynamics.DOF``) ``S(q)`` depends on the coordinates, its entries named
 ``p_S_k_c``, and the twist gains the rate of the subspace ``Ṡ·q̇`` (``p_Sdq_k``, in ``c``).
-Such a joint has ``p_U_k_c``, ``p_D_a_b`` (symmetric, a ≤ b), ``D⁻¹`` by its adjugate
-(``p_det``, ``p_Dinv_a_b``), ``p_u_a`` and ``p_qdd_a``, its coordinates named as
+Such a joint has ``p_U_k_c``, ``p_D_a_b`` (symmetric, a ≤ b), ``D⁻¹`` by its LDLᵀ
+factorisation (``p_Dd_k``, ``p_L_a_b``, ``p_Li_a_b``, ``p_Dinv_a_b``), ``p_u_a`` and
+``p_qdd_a``. A ball joint or floating base runs the recursion in the rates ``w = B·q̇`` of
+``S(q) = S0·B(q)`` (its angular velocity, ``p_S0_k_c``), whose ``D`` has no singularity, and
+turns ``p_w_a`` into ``p_qdd_a = B⁻¹·w`` (``1/cos(pitch)`` as ``1/p_cp``), the only loss of
+accuracy near pitch ±π/2 being the Euler rates' own. Its coordinates are named as
 ``cyphy solve`` names a vector's components (``Wrist_theta_1``; a floating base's
 ``<Root>_x`` … and rates ``<Root>_vx`` …, :func:`cyphy.semantics.dynamics.rigid_body.coordinate_names`,
 with no effort: nothing drives it).
@@ -46,10 +50,13 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from cyphy.model.elements import ElaboratedModel
-from cyphy.semantics.dynamics.rigid_body import (STANDARD_GRAVITY, DynamicsError, KinematicTree,
-                                      TreeJoint, parent_to_child, port_size, motion_subspace,
-                                      motion_subspace_rate, coordinate_names, forward_dynamics,
-                                      joint_kind, kinematic_tree)
+from cyphy.semantics.dynamics.joint_forces import AxisForces, axis_forces, passive_efforts
+from cyphy.semantics.dynamics.polynomial import Polynomial, _cos, _dot, _sin, _single
+from cyphy.semantics.dynamics.rigid_body import (EULER, STANDARD_GRAVITY, DynamicsError,
+                                      KinematicTree, TreeJoint, coordinate_names,
+                                      forward_dynamics, joint_kind, kinematic_tree,
+                                      motion_subspace, motion_subspace_rate, parent_to_child,
+                                      port_size, subspace_factors)
 from cyphy.semantics.scalarise import component_name
 
 
@@ -65,12 +72,27 @@ class Definition:
 
 
 @dataclass(frozen=True)
+class Stop:
+    """A bounded coordinate's limit effort ``name`` (a variable the definitions use, which
+    :func:`cyphy.semantics.dynamics.joint_forces.stop_expr` defines): the coordinate's and
+    its rate's names, its bounds, and the joint's inertia at rest along it."""
+
+    name: str
+    joint: TreeJoint
+    position: str
+    rate: str
+    forces: AxisForces
+    inertia: float
+
+
+@dataclass(frozen=True)
 class ExplicitMotion:
-    """The definitions in order, and per joint (tree order) the names of its accelerations
-    (``p_qdd``: one per coordinate)."""
+    """The definitions in order, per joint (tree order) the names of its accelerations
+    (``p_qdd``: one per coordinate), and the limit stops the efforts include."""
 
     definitions: tuple[Definition, ...]
     accelerations: tuple[tuple[TreeJoint, tuple[str, ...]], ...]
+    stops: tuple[Stop, ...] = ()
 
 
 def subspace(joint: TreeJoint) -> np.ndarray:
@@ -78,226 +100,6 @@ def subspace(joint: TreeJoint) -> np.ndarray:
     without the float noise of the frames (``1.8e-16`` where a rotated axis has a zero)."""
     s = np.asarray(joint.screw, dtype=float).reshape(6, 1)
     return np.where(np.abs(s) < 1e-12 * max(float(np.abs(s).max()), 1e-300), 0.0, s)
-
-
-def _accumulate(terms: dict[tuple[str, ...], float], key: tuple[str, ...], c: float) -> None:
-    """Add ``c`` to the coefficient of ``key``, dropping a term that cancels to zero (so
-    that a polynomial's terms are its non-zero ones, and ``is_number`` can trust them)."""
-    total = terms.get(key, 0.0) + c
-    if total == 0.0:
-        terms.pop(key, None)
-    else:
-        terms[key] = total
-
-
-class Polynomial:
-    """A sum of products ``Σ cₖ·∏ atoms`` with float coefficients: the algorithm's arithmetic
-    without SymPy's (whose assumption queries on every product made a 10-link arm take 20 s,
-    measured with cProfile). An atom is a name: a symbol, ``cos:q``, ``sin:q`` or ``inv:D``
-    (``1/D``). Only products and sums are needed; ``to_sympy`` builds an expression
-    once at the end."""
-
-    __slots__ = ("terms",)
-
-    def __init__(self, terms: dict[tuple[str, ...], float] | None = None) -> None:
-        self.terms = terms or {}
-
-    @staticmethod
-    def atom(name: str) -> "Polynomial":
-        return Polynomial({(name,): 1.0})
-
-    @staticmethod
-    def lift(value: Any) -> "Polynomial":
-        if isinstance(value, Polynomial):
-            return value
-        number = float(value)
-        return Polynomial({(): number} if number != 0.0 else {})
-
-    def is_number(self) -> bool:
-        return not self.terms or (len(self.terms) == 1 and () in self.terms)
-
-    def number(self) -> float:
-        return self.terms.get((), 0.0)
-
-    def __add__(self, other: Any) -> "Polynomial":
-        other = Polynomial.lift(other)
-        if not other.terms:
-            return self
-        terms = dict(self.terms)
-        for key, c in other.terms.items():
-            _accumulate(terms, key, c)
-        return Polynomial(terms)
-
-    __radd__ = __add__
-
-    def __neg__(self) -> "Polynomial":
-        return Polynomial({k: -c for k, c in self.terms.items()})
-
-    def __sub__(self, other: Any) -> "Polynomial":
-        return self + (-Polynomial.lift(other))
-
-    def __rsub__(self, other: Any) -> "Polynomial":
-        return Polynomial.lift(other) + (-self)
-
-    def __mul__(self, other: Any) -> "Polynomial":
-        if not isinstance(other, Polynomial):
-            number = float(other)
-            if number == 0.0:
-                return Polynomial()
-            return Polynomial({k: c * number for k, c in self.terms.items()})
-        terms: dict[tuple[str, ...], float] = {}
-        for k1, c1 in self.terms.items():
-            for k2, c2 in other.terms.items():
-                _accumulate(terms, tuple(sorted(k1 + k2)) if k1 and k2 else k1 or k2, c1 * c2)
-        return Polynomial(terms)
-
-    __rmul__ = __mul__
-
-    def atoms(self) -> set[str]:
-        """The names it uses (``q`` of ``cos:q``, ``D`` of ``inv:D``)."""
-        return {a.partition(":")[2] or a for key in self.terms for a in key}
-
-    def size(self, sizes: dict[str, int]) -> int:
-        """Its node count with every name in ``sizes`` written out (that many nodes)."""
-        return sum(1 + sum(sizes.get(a.partition(":")[2] or a, 1) for a in key)
-                   for key in self.terms) or 1
-
-    def _terms(self, atom: Callable[[str], str], power: str) -> list[tuple[float, str]]:
-        out = []
-        for key, c in sorted(self.terms.items()):
-            up, down = [], []
-            for name in sorted(set(key)):
-                count = key.count(name)
-                kind, _, arg = name.partition(":")
-                base = atom(arg) if kind == "inv" else atom(name)
-                text = base if count == 1 else f"{base}{power}{count}"
-                (down if kind == "inv" else up).append(text)
-            body = "*".join(up)
-            if down:
-                body = (body or "1") + "/" + "/".join(down)
-            out.append((c, body))
-        return out
-
-    def text(self, atom: Callable[[str], str] | None = None, power: str = "**") -> str:
-        """In the notation of ``sympy.sstr`` (``0.5*J0_V_1**2 - cos(J0_theta)/J0_D``),
-        coefficients written exactly (``repr`` of the float); ``atom`` prints a name or a
-        ``cos:q``/``sin:q`` atom (default: as SymPy does)."""
-        atom = atom or _plain_atom
-        parts: list[str] = []
-        for c, body in self._terms(atom, power):
-            magnitude = abs(c)
-            if not body:
-                term = repr(magnitude)
-            elif magnitude == 1.0:
-                term = body
-            else:
-                term = f"{repr(magnitude)}*{body}"
-            if not parts:
-                parts.append(f"-{term}" if c < 0 else term)
-            else:
-                parts.append(f" - {term}" if c < 0 else f" + {term}")
-        return "".join(parts) or "0"
-
-    def to_sympy(self, symbols: dict[str, Any]) -> Any:
-        """The SymPy expression (``symbols``: name → SymPy value, filled with real symbols
-        for the names not in it)."""
-        import sympy
-
-        def atom(name: str) -> Any:
-            kind, _, arg = name.partition(":")
-            if not arg:
-                if name not in symbols:
-                    symbols[name] = sympy.Symbol(name, real=True)
-                return symbols[name]
-            inner = atom(arg)
-            return {"cos": sympy.cos, "sin": sympy.sin}[kind](inner) if kind != "inv" \
-                else 1 / inner
-
-        total = sympy.Integer(0)
-        for key, c in self.terms.items():
-            term = sympy.Float(c) if c != 1.0 else sympy.Integer(1)
-            for name in key:
-                term = term * atom(name)
-            total = total + term
-        return total
-
-    def trig_reduced(self) -> "Polynomial":
-        """With ``sin²q`` written ``1 − cos²q`` until no term holds a sine twice: the
-        transforms' products of rotations then collect (``cos³q + cos q·sin²q`` is
-        ``cos q``)."""
-        out = Polynomial()
-        for key, c in self.terms.items():
-            term = Polynomial({(): c})
-            for name in sorted(set(key)):
-                count = key.count(name)
-                if name.startswith("sin:") and count >= 2:
-                    cos = Polynomial.atom("cos:" + name[4:])
-                    factor = Polynomial.lift(1.0)
-                    for _ in range(count // 2):
-                        factor = factor * (1.0 - cos * cos)
-                    if count % 2:
-                        factor = factor * Polynomial.atom(name)
-                    term = term * factor
-                else:
-                    term = term * Polynomial({(name,) * count: 1.0})
-            out = out + term
-        return out
-
-    def to_expr(self) -> Any:
-        """As the shared expression AST (``cyphy.expr``): a sum of products, coefficients as
-        decimal numbers (``repr`` of the float), ``cos``/``sin`` calls, ``1/D`` a division."""
-        from cyphy import expr as ex
-
-        def atom(name: str) -> ex.Expr:
-            kind, _, arg = name.partition(":")
-            if not arg:
-                return ex.Name((name,))
-            return ex.Call(ex.Name((kind,)), (ex.Name((arg,)),))
-
-        out: ex.Expr | None = None
-        for key, c in sorted(self.terms.items()):
-            up = [atom(a) for a in key if not a.startswith("inv:")]
-            down = [atom(a[4:]) for a in key if a.startswith("inv:")]
-            magnitude = abs(c)
-            number = str(int(magnitude)) if magnitude.is_integer() and magnitude < 1e15 \
-                else repr(magnitude)
-            factors = ([ex.Num(number)] if magnitude != 1.0 or not up else []) + up
-            term = factors[0]
-            for f in factors[1:]:
-                term = ex.BinOp("*", term, f)
-            for d in down:
-                term = ex.BinOp("/", term, d)
-            if out is None:
-                out = ex.UnaryOp("-", term) if c < 0 else term
-            else:
-                out = ex.BinOp("-" if c < 0 else "+", out, term)
-        return out if out is not None else ex.Num("0")
-
-    def chopped(self, relative: float = 1e-12, absolute: float = 1e-15) -> "Polynomial":
-        """Without float noise (``1e-17·cos q`` where a term of a transform cancels)."""
-        if not self.terms:
-            return self
-        limit = max(relative * max(abs(c) for c in self.terms.values()), absolute)
-        return Polynomial({k: c for k, c in self.terms.items() if abs(c) >= limit})
-
-
-def _plain_atom(name: str) -> str:
-    kind, _, arg = name.partition(":")
-    return f"{kind}({arg})" if arg else name
-
-
-def _cos(q: Polynomial) -> Polynomial:
-    return Polynomial.atom(f"cos:{_single(q)}")
-
-
-def _sin(q: Polynomial) -> Polynomial:
-    return Polynomial.atom(f"sin:{_single(q)}")
-
-
-def _single(q: Polynomial) -> str:
-    [(key, coefficient)] = q.terms.items()
-    assert coefficient == 1.0 and len(key) == 1, "a joint coordinate is one symbol"
-    return key[0]
 
 
 class _Namer:
@@ -313,22 +115,6 @@ class _Namer:
             return value
         self.definitions.append((name, value, joint))
         return Polynomial.atom(name)
-
-
-def _dot(row: Sequence[Any], column: Sequence[Any]) -> Any:
-    """``Σ rowₖ·columnₖ`` skipping exact zeros."""
-    total: Any = Polynomial()
-    for a, b in zip(row, column):
-        if _zero(a) or _zero(b):
-            continue
-        total = total + a * b
-    return total
-
-
-def _zero(value: Any) -> bool:
-    if isinstance(value, Polynomial):
-        return not value.terms
-    return float(value) == 0.0
 
 
 def _matvec(m: Any, v: Sequence[Any]) -> list[Any]:
@@ -360,14 +146,19 @@ def _cross_force(v: Sequence[Any], f: Sequence[Any]) -> list[Any]:
     return top + _cross(v[:3], f[3:])
 
 
-def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], Any]
-                    ) -> ExplicitMotion:
+def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], Any],
+                    annotated: bool = False) -> ExplicitMotion:
     """The articulated-body algorithm on symbols: ``variables(joint, port)`` names a joint's
     ``theta``, ``v`` or ``tau`` (a list of names for a joint of several coordinates; an
     empty ``tau`` list: no effort, as for a floating base). Cost and size linear in the
-    number of joints (a bounded number of short definitions per link)."""
+    number of joints (a bounded number of short definitions per link). With ``annotated``,
+    each coordinate's effort also has the damping and spring of its joint's annotation and,
+    for a bounded one, its limit stop (a name, ``<coordinate>_stop``, listed in ``stops``:
+    :mod:`cyphy.semantics.dynamics.joint_forces`)."""
     name = _Namer()
     n = len(tree)
+    stops: list[Stop] = []
+    at_rest = _rest_inertia(tree) if annotated else None  # for the stops' stiffness
 
     def coordinates(joint: TreeJoint, port: str) -> list[Polynomial]:
         found = variables(joint, port)
@@ -382,6 +173,7 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
     subspaces: list[list[list[Any]]] = []  # S, 6 rows of dof columns
     twists: list[list[Any]] = []
     products: list[list[Any]] = []  # c = ad(V)·S·q̇ (+ Ṡ·q̇)
+    factors: dict[int, tuple[list[list[Any]], list[list[Any]]]] = {}  # (S0, B⁻¹)
     for i, joint in enumerate(tree.joints):
         p = joint.prefix
         q = coordinates(joint, "theta")
@@ -396,6 +188,8 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
         twists.append(v)
         c = _cross_motion(v, motion)
         products.append([name(f"{p}_c_{k + 1}", c[k] + rate[k], joint) for k in range(6)])
+        if joint.kind in EULER:
+            factors[i] = _euler_factors(joint, q, name)
 
     # Pass 2: leaves to root; a child's articulated inertia and bias are added to its
     # parent's once the child is complete (tree order puts every child after its parent)
@@ -406,7 +200,7 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
     efforts: list[Any] = [None] * n
     for i in range(n - 1, -1, -1):
         joint = tree.joints[i]
-        p, s = joint.prefix, subspaces[i]
+        p, s = joint.prefix, factors[i][0] if i in factors else subspaces[i]
         columns = joint.dof
         column = [[s[k][c] for k in range(6)] for c in range(columns)]
         scale = 1e-14 * float(np.abs(joint.inertia).max())  # float noise of the frames
@@ -422,25 +216,24 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
         u_mat = [[name(f"{p}_U_{k + 1}{tag(c)}", _dot(ia[k], column[c]), joint)
                   for c in range(columns)] for k in range(6)]
         tau = coordinates(joint, "tau")
+        if at_rest is not None:
+            tau = _annotated(joint, tau, variables, stops, at_rest[tree.offsets[i]:])
         if columns == 1:
             d = name(f"{p}_D", _dot(column[0], [u_mat[k][0] for k in range(6)]), joint,
                      always=True)
             d_inv = [[Polynomial.atom(f"inv:{_single(d)}")]]
             u = [name(f"{p}_u", tau[0] - _dot(column[0], pa), joint)]
-        else:  # several coordinates: D (at most 6×6, symmetric) inverted by its adjugate
+        else:  # several coordinates: D (at most 6×6, symmetric positive definite)
             d_m: list[list[Any]] = [[None] * columns for _ in range(columns)]
             for a in range(columns):
                 for b in range(a, columns):
                     d_m[a][b] = d_m[b][a] = name(
                         f"{p}_D_{a + 1}_{b + 1}",
                         _dot(column[a], [u_mat[k][b] for k in range(6)]), joint)
-            adjugate, det = _adjugate(d_m)
-            inv_det = Polynomial.atom(f"inv:{_single(name(f'{p}_det', det, joint, always=True))}")
-            d_inv = [[None] * columns for _ in range(columns)]
-            for a in range(columns):
-                for b in range(a, columns):
-                    d_inv[a][b] = d_inv[b][a] = name(f"{p}_Dinv_{a + 1}_{b + 1}",
-                                                     adjugate[a][b] * inv_det, joint)
+            d_inv = _ldl_inverse(d_m, p, joint, name)
+            if i in factors:  # the efforts in the rates w = B·q̇: B⁻ᵀ·τ
+                b_inv = factors[i][1]
+                tau = [_dot([b_inv[b][a] for b in range(columns)], tau) for a in range(columns)]
             u = [name(f"{p}_u_{a + 1}", tau[a] - _dot(column[a], pa), joint)
                  for a in range(columns)]
         us[i], d_invs[i], efforts[i] = u_mat, d_inv, u
@@ -475,7 +268,7 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
     accelerations: list[list[Any]] = []
     out: list[tuple[TreeJoint, tuple[str, ...]]] = []
     for i, joint in enumerate(tree.joints):
-        p, s = joint.prefix, subspaces[i]
+        p, s = joint.prefix, factors[i][0] if i in factors else subspaces[i]
         columns = joint.dof
         parent = accelerations[joint.parent] if joint.parent >= 0 else gravity
         moved = _matvec(xs[i], parent)
@@ -483,14 +276,53 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
         rest = [efforts[i][a] - _dot([us[i][k][a] for k in range(6)], ap)
                 for a in range(columns)]
         names = [f"{p}_qdd" if columns == 1 else f"{p}_qdd_{a + 1}" for a in range(columns)]
-        qdd = [name(names[a], _dot(d_invs[i][a], rest), joint, always=True)
-               for a in range(columns)]
+        if i in factors:  # w = D⁻¹·(…) in the rates w = B·q̇, then q̈ = B⁻¹·w
+            w = [name(f"{p}_w_{a + 1}", _dot(d_invs[i][a], rest), joint, always=True)
+                 for a in range(columns)]
+            b_inv = factors[i][1]
+            for a in range(columns):
+                name(names[a], _dot(b_inv[a], w), joint, always=True)
+        else:
+            w = [name(names[a], _dot(d_invs[i][a], rest), joint, always=True)
+                 for a in range(columns)]
         out.append((joint, tuple(names)))
-        step = [_dot(s[k], qdd) for k in range(6)]
+        step = [_dot(s[k], w) for k in range(6)]
         accelerations.append([name(f"{p}_dV_{k + 1}", ap[k] + step[k], joint)
                               for k in range(6)])
     definitions = tuple(Definition(key, value, joint) for key, value, joint in name.definitions)
-    return ExplicitMotion(definitions, tuple(out))
+    return ExplicitMotion(definitions, tuple(out), tuple(stops))
+
+
+def _annotated(joint: TreeJoint, tau: list[Any], variables: Callable[[TreeJoint, str], Any],
+                stops: list[Stop], rest: np.ndarray) -> list[Any]:
+    """``tau`` with the joint's annotated damping, spring and limit stops added to its
+    efforts (see :func:`explicit_motion`); ``rest``: the diagonal of the mass matrix at
+    ``q = 0`` from the joint's first coordinate on."""
+    forces = axis_forces(joint.kind, joint.element)
+    if not forces:
+        return tau
+    names = {port: [variables(joint, port)] if joint.dof == 1 else list(variables(joint, port))
+             for port in ("theta", "v")}
+    q = [Polynomial.atom(x) for x in names["theta"]]
+    qd = [Polynomial.atom(x) for x in names["v"]]
+    out = [value + extra for value, extra in zip(tau, passive_efforts(forces, q, qd))]
+    for k, force in enumerate(forces):
+        if force.limited:
+            stop = Stop(f"{names['theta'][k]}_stop", joint, names["theta"][k], names["v"][k],
+                        force, float(rest[k]))
+            stops.append(stop)
+            out[k] = out[k] + Polynomial.atom(stop.name)
+    return out
+
+
+def _rest_inertia(tree: KinematicTree) -> np.ndarray:
+    """The diagonal of the mass matrix at ``q = 0`` (a stop's stiffness scales with it);
+    zeros when no joint is bounded (nothing to compute)."""
+    from cyphy.semantics.dynamics.rigid_body import mass_matrix
+
+    if not any(f.limited for j in tree.joints for f in axis_forces(j.kind, j.element)):
+        return np.zeros(tree.dof)
+    return np.diag(mass_matrix(tree, [0.0] * tree.dof)).astype(float)
 
 
 def _clean(value: Any) -> Any:
@@ -503,8 +335,8 @@ def joint_subspace(joint: TreeJoint, q: Sequence[Polynomial], qd: Sequence[Polyn
                    name: Callable[..., Any]) -> tuple[list[list[Any]], list[Any]]:
     """``(S, Ṡ·q̇)`` of the joint at coordinates ``q`` and rates ``qd`` (6 rows of ``dof``
     columns, and a 6-vector): numbers for one coordinate (:func:`subspace`, no rate); for
-    several, ``dynamics.motion_subspace`` and ``motion_subspace_rate`` on symbols, each entry that is
-    not a number named (``p_S_k_c``, ``p_Sdq_k``) through ``name``."""
+    several, ``dynamics.motion_subspace`` and ``motion_subspace_rate`` on symbols, each
+    entry that is not a number named (``p_S_k_c``, ``p_Sdq_k``) through ``name``."""
     if joint.dof == 1:
         return [[float(x) for x in row] for row in subspace(joint)], [0.0] * 6
     p = joint.prefix
@@ -515,31 +347,51 @@ def joint_subspace(joint: TreeJoint, q: Sequence[Polynomial], qd: Sequence[Polyn
     return s, [name(f"{p}_Sdq_{k + 1}", _clean(rate[k]), joint) for k in range(6)]
 
 
-def _adjugate(m: list[list[Any]]) -> tuple[list[list[Any]], Any]:
-    """The adjugate and the determinant of a small square matrix of ``Polynomial`` (Laplace
-    expansion along the first row, minors memoised)."""
-    size = len(m)
-    memo: dict[tuple[tuple[int, ...], tuple[int, ...]], Any] = {}
+def _euler_factors(joint: TreeJoint, q: Sequence[Polynomial], name: Callable[..., Any]
+                   ) -> tuple[list[list[Any]], list[list[Any]]]:
+    """``(S0, B⁻¹)`` of a ball joint or floating base
+    (:func:`cyphy.semantics.dynamics.rigid_body.subspace_factors`): the recursion solves for
+    the rates ``w = B·q̇`` (``p_w_k``), whose ``D`` stays well conditioned up to pitch
+    ±π/2, and ``q̈ = B⁻¹·w``, ``1/cos(pitch)`` being ``1/p_cp``. A floating base's ``S0``
+    depends on its rotation: its entries are named ``p_S0_k_c``."""
+    p = joint.prefix
+    cosine = name(f"{p}_cp", _cos(q[-2]), joint, always=True)
+    raw, inverse = subspace_factors(joint, list(q), _cos, _sin,
+                                    Polynomial.atom(f"inv:{_single(cosine)}"))
+    s0 = [[name(f"{p}_S0_{k + 1}_{c + 1}", _clean(raw[k, c]), joint)
+           for c in range(joint.dof)] for k in range(6)]
+    return s0, [[_clean(x) for x in row] for row in inverse]
 
-    def det(rows: tuple[int, ...], cols: tuple[int, ...]) -> Any:
-        if not rows:
-            return Polynomial.lift(1.0)
-        key = (rows, cols)
-        if key not in memo:
-            total: Any = Polynomial()
-            for j, c in enumerate(cols):
-                if _zero(m[rows[0]][c]):
-                    continue
-                minor = det(rows[1:], cols[:j] + cols[j + 1:])
-                total = total + (m[rows[0]][c] * minor) * (-1.0 if j % 2 else 1.0)
-            memo[key] = total
-        return memo[key]
 
-    everything = tuple(range(size))
-    adjugate = [[det(tuple(r for r in everything if r != b),
-                     tuple(c for c in everything if c != a)) * (-1.0 if (a + b) % 2 else 1.0)
-                 for b in range(size)] for a in range(size)]
-    return adjugate, det(everything, everything)
+def _ldl_inverse(d: list[list[Any]], p: str, joint: TreeJoint, name: Callable[..., Any]
+                 ) -> list[list[Any]]:
+    """The inverse of a small symmetric positive definite ``d`` through its factorisation
+    ``D = L·diag(p_Dd_k)·Lᵀ`` (``L`` unit lower triangular, ``p_L_i_j``; its inverse
+    ``p_Li_i_j``), named ``p_Dinv_a_b``: pivots on the diagonal, no determinant, which loses
+    its digits (``det`` cancels) where ``D`` is nearly singular."""
+    size = len(d)
+    lower: list[list[Any]] = [[0.0] * size for _ in range(size)]
+    pivots: list[Any] = []
+    for j in range(size):
+        pivot = d[j][j] - _dot([lower[j][k] * lower[j][k] for k in range(j)], pivots)
+        pivots.append(name(f"{p}_Dd_{j + 1}", pivot, joint, always=True))
+        inverse = Polynomial.atom(f"inv:{_single(pivots[j])}")
+        for i in range(j + 1, size):
+            value = d[i][j] - _dot([lower[i][k] * lower[j][k] for k in range(j)], pivots)
+            lower[i][j] = name(f"{p}_L_{i + 1}_{j + 1}", value * inverse, joint)
+    unit: list[list[Any]] = [[1.0 if i == j else 0.0 for j in range(size)] for i in range(size)]
+    for i in range(size):  # L⁻¹, unit lower triangular too
+        for j in range(i):
+            value = -_dot([lower[i][k] for k in range(j, i)], [unit[k][j] for k in range(j, i)])
+            unit[i][j] = name(f"{p}_Li_{i + 1}_{j + 1}", value, joint)
+    reciprocal = [Polynomial.atom(f"inv:{_single(x)}") for x in pivots]
+    out: list[list[Any]] = [[None] * size for _ in range(size)]
+    for a in range(size):  # D⁻¹ = L⁻ᵀ·diag(1/pivots)·L⁻¹
+        for b in range(a, size):
+            value = _dot([unit[k][a] * unit[k][b] for k in range(b, size)],
+                         reciprocal[b:])
+            out[a][b] = out[b][a] = name(f"{p}_Dinv_{a + 1}_{b + 1}", value, joint)
+    return out
 
 
 _JOINT_PORTS = ("theta", "v", "a", "tau")
@@ -585,4 +437,4 @@ def model_motion(model: ElaboratedModel, gravity: Sequence[float] = STANDARD_GRA
             return found.mangled
         return [component_name(found.mangled, k) for k in range(joint.dof)]
 
-    return explicit_motion(tree, port)
+    return explicit_motion(tree, port, annotated=True)

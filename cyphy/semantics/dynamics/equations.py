@@ -267,6 +267,25 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
         added = True
     if added:
         system.definitions.extend(motion.definitions)
+        _add_stops(system, motion.stops)
+
+
+def _add_stops(system: System, stops: tuple[Any, ...]) -> None:
+    """Each bounded coordinate's limit effort ``<q>_stop`` (a local variable the definitions
+    use) and its equation, the contact model of
+    :func:`cyphy.semantics.dynamics.joint_forces.stop_expr`."""
+    from cyphy.semantics.dynamics.joint_forces import stop_expr
+
+    for stop in stops:
+        span = stop.joint.element.span
+        system.variables[stop.name] = ast.PrimitiveType("real")
+        system.kinds[stop.name] = "local"
+        value = stop_expr(stop.forces, stop.inertia, ex.Name((stop.position,), span=span),
+                          ex.Name((stop.rate,), span=span))  # scalar names, as the
+        # definitions use them (a vector port's component: ``W_theta_2``)
+        system.equations.append(Equation(ex.BinOp("==", ex.Name((stop.name,), span=span),
+                                                  value, span=span),
+                                         f"{stop.joint.prefix} limit", span))
 
 
 FIXED_ROOT = "fixed root"  # the origin of the equations fixed_root_twists gives

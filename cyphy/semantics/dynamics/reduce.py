@@ -199,6 +199,9 @@ class Reducer:
                              for v in result.rhs.values())) if result.rhs else set()
         if self.system.definitions and result.rhs:
             used |= self._definitions(result)
+        # and what the outputs use, so that every name they mention is defined (an input
+        # such as a root joint's parent twist, which only an output reads)
+        used |= set().union(*(sympy.sympify(v).free_symbols for v in result.outputs.values()))
         used_names = {str(u) for u in used}
         result.inputs = sorted(n for n in self.inputs | {str(s) for s in
                                                           self.input_derivatives.values()}

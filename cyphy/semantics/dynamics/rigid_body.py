@@ -497,6 +497,34 @@ def motion_subspace(joint: TreeJoint, q: Any, cos: Any, sin: Any) -> np.ndarray:
     return np.vstack([np.hstack([zero, turns]), np.hstack([joint.frame @ rotation.T, zero])])
 
 
+def subspace_factors(joint: TreeJoint, q: Any, cos: Any, sin: Any, inverse_cos: Any
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """``(S0, B⁻¹)`` with ``S(q) = S0·B(q)`` for a joint of several coordinates: the motion
+    subspace in the rates ``w = B·q̇`` (a ball joint's angular velocity, a floating base's
+    linear and angular velocity), which has no singularity, and the map back to the
+    coordinates' rates. ``B`` is the ZYX Euler rate matrix of :func:`_euler` (a floating
+    base: the identity on the translations) and ``B⁻¹`` its inverse in closed form, with
+    ``inverse_cos`` the reciprocal of ``cos(pitch)``; a universal joint has ``B`` the identity.
+    Solving for ``w`` and then ``q̈ = B⁻¹·w`` keeps the articulated-body algorithm's ``D``
+    well conditioned up to the singularity (a factorisation of ``S``, not an inverse of
+    ``D = Bᵀ·D0·B`` by its determinant), the loss of accuracy being only the inherent
+    ``1/cos(pitch)`` of Euler-angle rates."""
+    if joint.kind not in EULER:
+        return motion_subspace(joint, q, cos, sin), np.eye(joint.dof)
+    _, sp, cr, sr = cos(q[-2]), sin(q[-2]), cos(q[-1]), sin(q[-1])
+    inverse = np.array([[0, sr * inverse_cos, cr * inverse_cos], [0, cr, -sr],
+                        [1, sp * sr * inverse_cos, sp * cr * inverse_cos]])
+    if joint.kind == "spherical":
+        return np.vstack([joint.frame, skew(joint.point) @ joint.frame]), inverse
+    rotation, _ = _euler(q[-3:], cos, sin)
+    zero = np.zeros((3, 3))
+    s0 = np.vstack([np.hstack([zero, joint.frame]), np.hstack([joint.frame @ rotation.T, zero])])
+    b_inverse = np.zeros((6, 6), dtype=inverse.dtype)
+    b_inverse[:3, :3] = np.eye(3)
+    b_inverse[3:, 3:] = inverse
+    return s0, b_inverse
+
+
 def motion_subspace_rate(joint: TreeJoint, q: Any, qd: Any, cos: Any, sin: Any) -> np.ndarray:
     """``Ṡ(q)·q̇``: the change of the motion subspace's entries in the child frame times the
     rates (zero for one coordinate; Featherstone's ``c_J``)."""
@@ -664,6 +692,7 @@ def forward_dynamics(tree: KinematicTree, q: Sequence[float], qd: Sequence[float
         euler_singularity(tree, q)
     base = np.concatenate([np.zeros(3), -tree.gravity])
     xs, vs, cs, inertias, biases, subspaces = [], [], [], [], [], []
+    factors: dict[int, np.ndarray] = {}  # B⁻¹ of a joint of several coordinates
     for i, joint in enumerate(tree.joints):
         k = offsets[i]
         if joint.dof == 1:
@@ -675,9 +704,12 @@ def forward_dynamics(tree: KinematicTree, q: Sequence[float], qd: Sequence[float
             qi = [float(v) for v in q[k:k + joint.dof]]
             rates = [float(v) for v in qd[k:k + joint.dof]]
             x = parent_to_child(joint, qi, math.cos, math.sin).astype(float)
-            s = motion_subspace(joint, qi, math.cos, math.sin).astype(float)
-            v_joint = s @ np.array(rates)
+            v_joint = motion_subspace(joint, qi, math.cos, math.sin).astype(float) @ np.array(rates)
             c_joint = motion_subspace_rate(joint, qi, rates, math.cos, math.sin).astype(float)
+            pitch = math.cos(qi[-2]) if joint.kind in EULER else 1.0
+            s, b_inverse = (m.astype(float) for m in subspace_factors(
+                joint, qi, math.cos, math.sin, 1.0 / pitch))
+            factors[i] = b_inverse
         v = x @ vs[joint.parent] + v_joint if joint.parent >= 0 else v_joint
         cross = _ad_numeric(v)
         xs.append(x)
@@ -700,13 +732,14 @@ def forward_dynamics(tree: KinematicTree, q: Sequence[float], qd: Sequence[float
             u = float(tau[k]) - float(s @ biases[i])
             d_inv_u, spread = u / d, np.outer(u_vec, u_vec) / d
             us[i], ds[i], uu[i] = u_vec, d, u
-        else:
+        else:  # in the rates w = B·q̇ of S = S0·B: D0 = S0ᵀ·IA·S0 stays well conditioned
             d_matrix = s.T @ u_vec
             eigenvalues = np.linalg.eigvalsh(d_matrix)
             if not eigenvalues[0] > 1e-12 * max(float(eigenvalues[-1]), joint.scale):
                 raise _singular(joint)
-            d_inverse = np.linalg.inv(d_matrix)
-            u = np.array([float(t) for t in tau[k:k + joint.dof]]) - s.T @ biases[i]
+            d_inverse = np.linalg.solve(d_matrix, np.eye(joint.dof))  # LU, not the adjugate
+            efforts = np.array([float(t) for t in tau[k:k + joint.dof]])
+            u = factors[i].T @ efforts - s.T @ biases[i]
             d_inv_u, spread = d_inverse @ u, u_vec @ d_inverse @ u_vec.T
             us[i], ds[i], uu[i] = u_vec, d_inverse, u
         if joint.parent >= 0:
@@ -725,8 +758,8 @@ def forward_dynamics(tree: KinematicTree, q: Sequence[float], qd: Sequence[float
             qdd[k] = (uu[i] - float(us[i] @ a)) / ds[i]
             accelerations.append(a + joint.screw * qdd[k])
         else:
-            rates = ds[i] @ (uu[i] - us[i].T @ a)
-            qdd[k:k + joint.dof] = rates
+            rates = ds[i] @ (uu[i] - us[i].T @ a)  # w = B·q̈
+            qdd[k:k + joint.dof] = factors[i] @ rates
             accelerations.append(a + subspaces[i] @ rates)
     return qdd
 
@@ -863,6 +896,7 @@ def motion_equations(model: ElaboratedModel,
     # One symbolic Newton-Euler pass gives M(q)*a + h(q, v) at once; the composite-body
     # algorithm's products of symbolic transforms swell (34 s for 6 joints, measured).
     efforts = inverse_dynamics(tree, q, qd, qdd)
+    _passive(tree, q, qd, efforts)
 
     def model_names(node: ex.Expr) -> ex.Expr | None:
         return variables.get(node.text) if isinstance(node, ex.Name) else None
@@ -886,6 +920,19 @@ def motion_equations(model: ElaboratedModel,
             right = ex.transform(to_expr(rhs, decimals=True), model_names)
             out.append((ex.BinOp("==", left, right, span=span), joint))
     return out
+
+
+def _passive(tree: KinematicTree, q: Sequence[Any], qd: Sequence[Any], efforts: Any) -> None:
+    """Take the annotated damping and springs of the joints into ``efforts`` (the effort
+    the actuator gives is the rigid body's need minus them,
+    :mod:`cyphy.semantics.dynamics.joint_forces`; limits are not written out)."""
+    from cyphy.semantics.dynamics.joint_forces import axis_forces, passive_efforts
+
+    for joint, start in zip(tree.joints, tree.offsets):
+        forces = axis_forces(joint.kind, joint.element)
+        span = slice(start, start + len(forces))
+        for k, extra in enumerate(passive_efforts(forces, q[span], qd[span]), start=start):
+            efforts[k] = efforts[k] - extra
 
 
 def port_size(t: Any) -> int | None:

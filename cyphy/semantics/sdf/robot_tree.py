@@ -72,6 +72,8 @@ class RobotJoint:
     velocity: float | None = None
     damping: float = 0.0
     friction: float = 0.0
+    stiffness: float = 0.0  # the axis's spring_stiffness, about spring_reference
+    spring_reference: float = 0.0
     driven: bool = False  # an actuator sits in the joint (the joint's aref)
 
     @property
@@ -276,6 +278,8 @@ def _joint(node: Node, links: dict[str, RobotLink], qualified: dict[str, str],
         joint.velocity = velocity if velocity >= 0 else None
         joint.damping = _float(_value(axis, "dynamics", "damping"), 0.0)
         joint.friction = _float(_value(axis, "dynamics", "friction"), 0.0)
+        joint.stiffness = _float(_value(axis, "dynamics", "spring_stiffness"), 0.0)
+        joint.spring_reference = _float(_value(axis, "dynamics", "spring_reference"), 0.0)
     return joint
 
 

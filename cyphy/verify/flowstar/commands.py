@@ -29,7 +29,7 @@ def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str 
     report = Report()
     if scenario_path is None:
         report.report(SCENARIO, "the Flow* export needs a scenario", Span.unknown("<command>"),
-                      "give --scenario FILE (see the README's scenario format)")
+                      "give --scenario FILE (the scenario format: docs/commands/reach.md)")
         return Generated(report), None
     scenario = load_scenario(scenario_path, report)
     if scenario is None:
@@ -61,6 +61,6 @@ def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str 
                      for k, d in enumerate(disjuncts)}
     except NotExpressible as err:  # what the checks while building did not foresee
         report.report(EXPORT, f"the automaton cannot be written for Flow*: {err}",
-                      scenario.span("unsafe"), "see the README's scenario format")
+                      scenario.span("unsafe"), "the scenario format: docs/commands/reach.md")
         return Generated(report, sources), None
     return Generated(report, sources, files), problem

@@ -126,7 +126,8 @@ def build_problem(paths: Sequence[str | Path], scenario: Scenario, report: Repor
     it cannot be done. Also returns the source texts for rendering diagnostics."""
     result = elaborate(paths, ElaborateOptions(scenario.model, dict(scenario.consts),
                                                search_paths,
-                                               default_inertial=scenario.default_inertial))
+                                               default_inertial=scenario.default_inertial,
+                                               strict_consts=False))  # call arguments too
     for d in result.report.diagnostics:
         report.add(d)
     sources = dict(result.check.sources)

@@ -150,8 +150,10 @@ class _Reader:
                            "keys: " + ", ".join(sorted(allowed)))
 
 
-def load_scenario(path: str | Path, report: Report) -> Scenario | None:
-    """The scenario, or None with diagnostics when the file cannot be read or is malformed."""
+def load_scenario(path: str | Path, report: Report, needs_unsafe: bool = True
+                  ) -> Scenario | None:
+    """The scenario, or None with diagnostics when the file cannot be read or is malformed.
+    ``needs_unsafe=False`` (``simulate``, which checks nothing) lets it have no [unsafe]."""
     p = Path(path)
     try:
         text = p.read_text(encoding="utf-8")
@@ -166,7 +168,7 @@ def load_scenario(path: str | Path, report: Report) -> Scenario | None:
         line, col = (int(m.group(1)), int(m.group(2))) if m else (1, 1)
         report.report(SCENARIO, f"not valid TOML: {err}", Span(str(p), line, col, line,
                                                                 col + 1),
-                      "see the README's scenario format")
+                      "the scenario format: docs/commands/reach.md")
         return None
     s = Scenario(str(p), text, horizon=0.0, tscale=0.0)
     r = _Reader(s, report)
@@ -216,7 +218,8 @@ def load_scenario(path: str | Path, report: Report) -> Scenario | None:
                 "without [controller] the d-model's machine is the controller")
     if "controller" in data:
         _controller(r, data["controller"])
-    _unsafe(r, data.get("unsafe"))
+    if needs_unsafe or "unsafe" in data:
+        _unsafe(r, data.get("unsafe"))
     _settings(r, data.get("flowstar", {}))
     after = len([d for d in report.diagnostics if d.code is SCENARIO])
     return s if after == before else None

@@ -11,15 +11,14 @@ takes, so :mod:`cyphy.verify.flowstar.check` reports it only with a simulated wi
 
 from __future__ import annotations
 
-import os
 import re
-import shutil
-import signal
 import subprocess
 import tempfile
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
+
+from cyphy.verify.flowstar import processes
 
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
 _VERDICT = re.compile(r"Result of (?:the )?safety verification(?: on the computed flowpipes)?"
@@ -120,18 +119,6 @@ class FlowstarMissing(Exception):
     """The Flow* executable cannot be found or started."""
 
 
-def find_flowstar(name: str | None) -> str:
-    """The Flow* executable as an absolute path: Flow* runs in a scratch directory of its
-    own, where a relative path would name nothing."""
-    path = shutil.which(name or "flowstar")
-    if path is None:
-        raise FlowstarMissing(
-            f"Flow* not found ({name or 'flowstar'} is not an executable on PATH): install "
-            "Flow* 2.1.0 (https://flowstar.org) and put it on PATH as flowstar, or give "
-            "--flowstar-bin PATH")
-    return str(Path(path).resolve())
-
-
 def run_text(text: str, binary: str, timeout: float | None = None,
              required_jumps: int | None = None) -> Outcome:
     """Run Flow* on the model ``text`` (fed on stdin, as Flow* requires) in a scratch
@@ -142,9 +129,8 @@ def run_text(text: str, binary: str, timeout: float | None = None,
     with tempfile.TemporaryDirectory(prefix="cyphy-flowstar-") as scratch:
         started = time.perf_counter()
         try:
-            proc = subprocess.Popen([binary], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                    stderr=subprocess.PIPE, cwd=scratch,
-                                    start_new_session=True)
+            proc = processes.start([binary], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                   stderr=subprocess.PIPE, cwd=scratch)
         except OSError as err:
             raise FlowstarMissing(f"cannot run {binary}: {err.strerror or err}") from None
         try:
@@ -156,6 +142,8 @@ def run_text(text: str, binary: str, timeout: float | None = None,
         except BaseException:
             _kill_group(proc)
             raise
+        finally:
+            processes.finished(proc)
         found = sorted(Path(scratch, "counterexamples").glob("*.counterexample"))
         counterexample = found[0].read_text(encoding="utf-8", errors="replace") if found \
             else ""
@@ -166,8 +154,5 @@ def run_text(text: str, binary: str, timeout: float | None = None,
 
 def _kill_group(proc: subprocess.Popen) -> None:
     """Kill Flow* and everything it started (its own session), then reap it."""
-    try:
-        os.killpg(proc.pid, signal.SIGKILL)
-    except (ProcessLookupError, PermissionError):
-        pass
+    processes.kill_group(proc)
     proc.communicate()

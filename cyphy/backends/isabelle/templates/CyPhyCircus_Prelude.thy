@@ -9,12 +9,19 @@
 
    The first three are axiomatised: only their healthiness is stated, nothing about their
    behaviour. The axioms are consistent (take EvolveC F = Skip, P \<triangle>\<^sub>C Q = P ;; Q and
-   InterruptCondC P b = P). DerC and IntegralC are uninterpreted: they mark the derivative
-   of a local and a running integral, which the paper also leaves symbolic. *)
+   InterruptCondC P b = P). *)
 
 theory CyPhyCircus_Prelude
   imports "UTP-Circus.utp_circus" "HOL.Transcendental"
-begin
+begin recall_syntax
+
+(* UTP's syntax recalled: utp-main c9122f14 purges HOL's notation for \<and>, \<or>, \<not>
+   (utp/utp_pred.thy:32-35) and for the lattice symbols (utp/utp_pred.thy:122-135) to give
+   those symbols to UTP's predicates. HOL.Transcendental is outside utp_circus's imports, and
+   a theory's grammar is the union of its parents', so the merge above brings HOL's
+   productions back and every UTP predicate would parse two ways. recall_syntax
+   (toolkit/Total_Recall.thy:15, 43-45) re-applies the purges, as utp-main's own theories
+   that import plain HOL do (hybrid/utp_hyrel.thy:12). *)
 
 text \<open>utp-main's toolkit imports HOL.Deriv (toolkit/utp_toolkit.thy, line 12), not
   HOL.Transcendental: sin, cos, tan, arctan, exp, ln, sqrt and powr (a real exponent) come
@@ -39,10 +46,6 @@ where
   EvolveC_NCSP [closure]: "EvolveC F is NCSP" and
   InterruptC_NCSP [closure]: "\<lbrakk> P is NCSP; Q is NCSP \<rbrakk> \<Longrightarrow> P \<triangle>\<^sub>C Q is NCSP" and
   InterruptCondC_NCSP [closure]: "P is NCSP \<Longrightarrow> InterruptCondC P b is NCSP"
-
-consts
-  DerC :: "'a \<Rightarrow> 'a"
-  IntegralC :: "'a \<Rightarrow> 'a"
 
 section \<open>Recursion\<close>
 

@@ -1,6 +1,7 @@
-"""A Hindley–Milner type checker for the axiomatic dialect's theories (tests).
+"""A Hindley–Milner type checker for the axiomatic dialect's theories (``cyphy check-theory``).
 
-The sibling of :mod:`isabelle_types` for ``cyphy gen --isabelle --isabelle-dialect axiomatic``:
+The sibling of :mod:`cyphy.verify.theory.utp_types` for the theories of
+``cyphy gen --isabelle --isabelle-dialect axiomatic``:
 the same unifier with sorts, over :data:`AX_SIGNATURES`, the type of every constant, operator
 and syntax translation the axiomatic printer emits, each read from the public source it cites:
 
@@ -11,7 +12,7 @@ and syntax translation the axiomatic printer emits, each read from the public so
 - ``APS`` = isabelle-utp/Abstract_Prog_Syntax at b97410d (``;;``, ``\\<lhd> \\<rhd>``, ``:=``);
 - ``SE`` = isabelle-utp/Shallow-Expressions at 4ed4348 (``(e)\\<^sub>e``, svids, substitutions);
 - ``OP`` = isabelle-utp/Optics at f48265c (lenses, prisms, ``chantype``, ``alphabet``);
-- HOL's own constants from :data:`isabelle_types.SIGNATURES`.
+- HOL's own constants from :data:`cyphy.verify.theory.utp_types.SIGNATURES`.
 
 Ax_CyPhyCircus's parent session, ``CyPhyCircus_Toolkit``, is in no public repository (its ROOT
 names it; no repository holds a session of that name). What only it defines is typed from a
@@ -38,9 +39,10 @@ from pathlib import Path
 from lark import Lark, Token, Tree
 
 from cyphy.backends.isabelle.ax_terms import AX_RESERVED
+from cyphy.backends.isabelle.library_words import HOL_SYNTAX_WORDS
 from cyphy.backends.isabelle.names import OUTER_KEYWORDS
-from isabelle_types import (SIGNATURES, TCon, TVar, Type, TypeError_, constrain, fun, parse_type,
-                            prod_type, prune, unify)
+from cyphy.verify.theory.utp_types import (SIGNATURES, TCon, TVar, Type, TypeError_, constrain,
+                                           fun, parse_type, prod_type, prune, unify)
 
 AX = "Ax_CyPhyCircus 8bfbe4a "
 CT = "Circus_Toolkit 97811b8 "
@@ -150,8 +152,8 @@ UNCHECKED = (
 #: parents. (A delimiter glued to a bracket, ``swap(`` of Abstract_Prog_Syntax.thy:42 or
 #: ``H{`` of line 82, leaves the bare word an identifier.)
 AX_INNER_KEYWORDS = frozenset(
-    # HOL (Isabelle2020 HOL.thy, Orderings.thy, Divides.thy)
-    "if then else let case of o O mod div dvd SOME THE ALL EX CONST TYPE".split()
+    # HOL's and Pure's mixfix words, derived from the sources (reserved_words.tsv)
+    list(HOL_SYNTAX_WORDS)
     # Abstract_Prog_Syntax.thy:18 (II), 37-39 (if/then/fi, elseif, else), 44 (while/do/od),
     # 45 (repeat/until); IsaCircus_Syntax.thy:41-43 (Skip, Stop, Chaos)
     + "II fi elseif while do od repeat until Skip Stop Chaos".split()
@@ -179,7 +181,7 @@ AX_CONSTANTS = AX_RESERVED | frozenset(n for n in AX_SIGNATURES if n.isidentifie
 
 @lru_cache(maxsize=1)
 def parser() -> Lark:
-    return Lark.open(str(Path(__file__).with_name("isabelle_ax_terms.lark")),
+    return Lark.open(str(Path(__file__).with_name("ax_terms.lark")),
                      start=["action", "expr"], parser="lalr")
 
 
@@ -188,7 +190,8 @@ def instance(name: str) -> Type:
 
 
 def _constrain(t: Type, cls: str) -> None:
-    """``t`` in class ``cls`` (the classes of :data:`isabelle_types.INSTANCES`), and known."""
+    """``t`` in class ``cls`` (the classes of
+    :data:`cyphy.verify.theory.utp_types.INSTANCES`), and known."""
     if isinstance(prune(t), TVar):
         raise TypeError_(f"the type is not determined where {cls} is needed")
     constrain(t, {cls})
@@ -579,7 +582,8 @@ class AxChecker:
         return self.name(str(ch[0]), env, lifted)
 
     def e_number(self, ch, env, lifted):  # type: ignore[no-untyped-def]
-        return TVar({"field"} if "." in str(ch[0]) else {"numeral"})
+        # a decimal is numeral / 10^n (HOL/Rat.thy:1158-1173): numeral and inverse
+        return TVar({"numeral", "inverse"} if "." in str(ch[0]) else {"numeral"})
 
     def e_true(self, ch, env, lifted):  # type: ignore[no-untyped-def]
         return TCon("bool")

@@ -1,8 +1,8 @@
-"""A Hindley–Milner type checker for the HOL/UTP terms cyphy's Isabelle printer emits (tests).
+"""A Hindley–Milner type checker for the HOL/UTP terms cyphy's Isabelle printer emits.
 
 Isabelle cannot run here, so this is the second route to "the theory type-checks": every
 definition body of a generated theory (utp-main c9122f14 dialect) is parsed with the round-trip
-grammar (``isabelle_terms.lark``) and its type inferred by unification, over
+grammar (``utp_terms.lark``) and its type inferred by unification, over
 
 - :data:`SIGNATURES`: the type of every constant, operator and syntax translation the printer
   uses, each read from the library source it cites (utp-main at commit c9122f14; HOL's own
@@ -25,47 +25,74 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from lark import Token, Tree
+from functools import lru_cache
+from pathlib import Path
 
-from cyphy.backends.isabelle.library_words import SYNTAX_WORDS
+from lark import Lark, Token, Tree
+
+from cyphy.backends.isabelle.library_words import HOL_SYNTAX_WORDS, SYNTAX_WORDS
 from cyphy.backends.isabelle.names import OUTER_KEYWORDS
-from isabelle_reader import parser
+
+
+
+@lru_cache(maxsize=1)
+def parser() -> Lark:
+    """The grammar of the terms the utp printer writes (``utp_terms.lark``): the subset of
+    Isabelle/UTP's inner syntax a generated theory uses."""
+    return Lark.open(str(Path(__file__).with_name("utp_terms.lark")),
+                     start=["action", "hol"], parser="lalr", strict=True)
+
 
 U = "utp-main c9122f14 "
+H = "Isabelle 2d6638d src/HOL/"
 #: name → (type, where it was read). Type variables may carry classes: ``'a::plus``.
 SIGNATURES: dict[str, tuple[str, str]] = {
-    # HOL (Isabelle2020 HOL session)
-    "+": ("'a::plus \\<Rightarrow> 'a \\<Rightarrow> 'a", "HOL/Groups.thy class plus"),
-    "-": ("'a::minus \\<Rightarrow> 'a \\<Rightarrow> 'a", "HOL/Groups.thy class minus"),
-    "*": ("'a::times \\<Rightarrow> 'a \\<Rightarrow> 'a", "HOL/Groups.thy class times"),
-    "/": ("'a::divide \\<Rightarrow> 'a \\<Rightarrow> 'a", "HOL/Rings.thy class divide"),
-    "^": ("'a::power \\<Rightarrow> nat \\<Rightarrow> 'a", "HOL/Power.thy class power"),
+    # HOL: Isabelle's src/HOL at github:digama0/isabelle 2d6638d (a 2024 snapshot; these
+    # declarations and their notation are as in Isabelle2020). Overloaded constants are
+    # class operations: the class is the sort their type variable carries.
+    "+": ("'a::plus \\<Rightarrow> 'a \\<Rightarrow> 'a",
+          H + "Groups.thy:195 (class plus, line 194)"),
+    "-": ("'a::minus \\<Rightarrow> 'a \\<Rightarrow> 'a",
+          H + "Groups.thy:198 (class minus, line 197)"),
+    "*": ("'a::times \\<Rightarrow> 'a \\<Rightarrow> 'a",
+          H + "Groups.thy:204 (class times, line 203)"),
+    "/": ("'a::inverse \\<Rightarrow> 'a \\<Rightarrow> 'a",
+          H + "Fields.thy:26 (abbreviation inverse_divide (infixl \"'/\" 70) of class inverse, "
+          "line 22; Rings.thy:683's divide is written div)"),
+    "^": ("'a::power \\<Rightarrow> nat \\<Rightarrow> 'a",
+          H + "Power.thy:17 (class power, line 14)"),
     "powr": ("real \\<Rightarrow> real \\<Rightarrow> real",
-             "HOL/Transcendental.thy powr (at real, the only ln instance we use)"),
-    "uminus": ("'a::uminus \\<Rightarrow> 'a", "HOL/Groups.thy class uminus"),
-    "=": ("'a \\<Rightarrow> 'a \\<Rightarrow> bool", "HOL/HOL.thy eq"),
-    "\\<noteq>": ("'a \\<Rightarrow> 'a \\<Rightarrow> bool", "HOL/HOL.thy not_equal"),
-    "<": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool", "HOL/Orderings.thy class ord"),
-    ">": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool", "HOL/Orderings.thy greater"),
-    "\\<le>": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool", "HOL/Orderings.thy class ord"),
-    "\\<ge>": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool", "HOL/Orderings.thy greater_eq"),
-    "\\<longrightarrow>": ("bool \\<Rightarrow> bool \\<Rightarrow> bool", "HOL/HOL.thy implies"),
-    "\\<longleftrightarrow>": ("bool \\<Rightarrow> bool \\<Rightarrow> bool", "HOL/HOL.thy iff"),
-    "@": ("'a list \\<Rightarrow> 'a list \\<Rightarrow> 'a list", "HOL/List.thy append"),
-    "!": ("'a list \\<Rightarrow> nat \\<Rightarrow> 'a", "HOL/List.thy nth"),
-    "Cons": ("'a \\<Rightarrow> 'a list \\<Rightarrow> 'a list", "HOL/List.thy datatype list"),
-    "Nil": ("'a list", "HOL/List.thy datatype list"),
-    "real": ("nat \\<Rightarrow> real", "HOL/Real.thy abbreviation real (of_nat)"),
-    "True": ("bool", "HOL/HOL.thy True"), "False": ("bool", "HOL/HOL.thy False"),
-    "UNIV": ("'a set", "HOL/Set.thy UNIV"),
-    "sin": ("real \\<Rightarrow> real", "HOL/Transcendental.thy sin"),
-    "cos": ("real \\<Rightarrow> real", "HOL/Transcendental.thy cos"),
-    "tan": ("real \\<Rightarrow> real", "HOL/Transcendental.thy tan"),
-    "arctan": ("real \\<Rightarrow> real", "HOL/Transcendental.thy arctan"),
-    "exp": ("real \\<Rightarrow> real", "HOL/Transcendental.thy exp"),
-    "ln": ("real \\<Rightarrow> real", "HOL/Transcendental.thy ln"),
-    "sqrt": ("real \\<Rightarrow> real", "HOL/NthRoot.thy sqrt"),
-    "abs": ("'a::abs \\<Rightarrow> 'a", "HOL/Groups.thy class abs"),
+             H + "Transcendental.thy:1567 (class ln; real's instance, line 1575)"),
+    "uminus": ("'a::uminus \\<Rightarrow> 'a", H + "Groups.thy:201 (class uminus, line 200)"),
+    "=": ("'a \\<Rightarrow> 'a \\<Rightarrow> bool", H + "HOL.thy:87 (eq; notation line 91)"),
+    "\\<noteq>": ("'a \\<Rightarrow> 'a \\<Rightarrow> bool", H + "HOL.thy:168 (not_equal)"),
+    "<": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool",
+          H + "Orderings.thy:177 (less of class ord)"),
+    ">": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool", H + "Orderings.thy:191 (greater)"),
+    "\\<le>": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool",
+               H + "Orderings.thy:176 (less_eq of class ord)"),
+    "\\<ge>": ("'a::ord \\<Rightarrow> 'a \\<Rightarrow> bool",
+               H + "Orderings.thy:187 (greater_eq)"),
+    "\\<longrightarrow>": ("bool \\<Rightarrow> bool \\<Rightarrow> bool",
+                           H + "HOL.thy:86 (implies)"),
+    "\\<longleftrightarrow>": ("bool \\<Rightarrow> bool \\<Rightarrow> bool",
+                               H + "HOL.thy:179 (iff)"),
+    "@": ("'a list \\<Rightarrow> 'a list \\<Rightarrow> 'a list", H + "List.thy:75 (append)"),
+    "!": ("'a list \\<Rightarrow> nat \\<Rightarrow> 'a", H + "List.thy:125 (nth)"),
+    "Cons": ("'a \\<Rightarrow> 'a list \\<Rightarrow> 'a list", H + "List.thy:13"),
+    "Nil": ("'a list", H + "List.thy:12"),
+    "real": ("nat \\<Rightarrow> real", H + "Real.thy:952 (abbreviation real, of_nat)"),
+    "True": ("bool", H + "HOL.thy:100"), "False": ("bool", H + "HOL.thy:109"),
+    "UNIV": ("'a set", H + "Set.thy:576"),
+    "sin": ("real \\<Rightarrow> real", H + "Transcendental.thy:3271 (at real)"),
+    "cos": ("real \\<Rightarrow> real", H + "Transcendental.thy:3274 (at real)"),
+    "tan": ("real \\<Rightarrow> real", H + "Transcendental.thy:4645 (at real)"),
+    "arctan": ("real \\<Rightarrow> real", H + "Transcendental.thy:5087"),
+    "exp": ("real \\<Rightarrow> real", H + "Transcendental.thy:1152 (at real)"),
+    "ln": ("real \\<Rightarrow> real",
+           H + "Transcendental.thy:1564 (class ln; at real, line 1575)"),
+    "sqrt": ("real \\<Rightarrow> real", H + "NthRoot.thy:397"),
+    "abs": ("'a::abs \\<Rightarrow> 'a", H + "Groups.thy:1167 (class abs, line 1166)"),
     # utp-main c9122f14
     "lit": ("'t \\<Rightarrow> ('t, 'a) uexpr", U + "utp/utp_expr.thy:50"),
     "var": ("('t \\<Longrightarrow> 'a) \\<Rightarrow> ('t, 'a) uexpr", U + "utp/utp_expr.thy:45"),
@@ -98,9 +125,9 @@ SIGNATURES: dict[str, tuple[str, str]] = {
                 U + "utp/utp_pred.thy:38 (adhoc: conj, conj_upred, lines 47 and 334)"),
     "\\<or>": ("'a::uconj \\<Rightarrow> 'a \\<Rightarrow> 'a", U + "utp/utp_pred.thy:39"),
     "\\<Rightarrow>": ("'s upred \\<Rightarrow> 's upred \\<Rightarrow> 's upred",
-                       U + "utp/utp_pred.thy:40 (adhoc: impl, line 335)"),
+                       U + "utp/utp_pred.thy:40 (adhoc: impl, line 336)"),
     "\\<Leftrightarrow>": ("'s upred \\<Rightarrow> 's upred \\<Rightarrow> 's upred",
-                           U + "utp/utp_pred.thy:41 (adhoc: iff_upred, line 336)"),
+                           U + "utp/utp_pred.thy:41 (adhoc: iff_upred, line 337)"),
     "\\<not>": ("'a::uconj \\<Rightarrow> 'a", U + "utp/utp_pred.thy:42 (adhoc: Not, not_upred)"),
     "true": ("'s upred", U + "utp/utp_pred.thy:234 (utrue, line 331)"),
     "false": ("'s upred", U + "utp/utp_pred.thy:235 (ufalse, line 332)"),
@@ -123,8 +150,9 @@ SIGNATURES: dict[str, tuple[str, str]] = {
            U + "utp/utp_rel.thy:93 (useq at hrel)"),
     "\\<box>": ("('s, 'e) action \\<Rightarrow> ('s, 'e) action \\<Rightarrow> ('s, 'e) action",
                 U + "theories/sf_rdes/utp_sfrd_extchoice.thy:25"),
-    "ExtChoiceIdx": ("'i set \\<Rightarrow> ('i \\<Rightarrow> ('s, 'e) action) \\<Rightarrow> "
-                     "('s, 'e) action", U + "theories/sf_rdes/utp_sfrd_extchoice.thy:18"),
+    "EXTCHOICE": ("'i set \\<Rightarrow> ('i \\<Rightarrow> ('s, 'e) action) \\<Rightarrow> "
+                  "('s, 'e) action", U + "theories/sf_rdes/utp_sfrd_extchoice.thy:11 "
+                  "(\\<box> x\\<in>A \\<bullet> P: syntax line 18, translation line 22)"),
     "|||": ("('s, 'e) action \\<Rightarrow> ('s, 'e) action \\<Rightarrow> ('s, 'e) action",
             U + "theories/circus/utp_circus_parallel.thy:846"),
     "inter_circus": ("('s, 'e) action \\<Rightarrow> ('a \\<Longrightarrow> 's) \\<Rightarrow> "
@@ -132,7 +160,7 @@ SIGNATURES: dict[str, tuple[str, str]] = {
                      "('s, 'e) action", U + "theories/circus/utp_circus_parallel.thy:839"),
     "cond_srea": ("('s, 'e) action \\<Rightarrow> 's upred \\<Rightarrow> ('s, 'e) action "
                   "\\<Rightarrow> ('s, 'e) action",
-                  U + "theories/reactive/utp_rea_prog.thy:298 (syntax line 305)"),
+                  U + "theories/reactive/utp_rea_prog.thy:298 (syntax line 306)"),
     "GuardCSP": ("'s upred \\<Rightarrow> ('s, 'e) action \\<Rightarrow> ('s, 'e) action",
                  U + "theories/sf_rdes/utp_sfrd_prog.thy:415 (&\\<^sub>C, line 422)"),
     "PrefixCSP": ("('e, 's) uexpr \\<Rightarrow> ('s, 'e) action \\<Rightarrow> ('s, 'e) action",
@@ -143,7 +171,9 @@ SIGNATURES: dict[str, tuple[str, str]] = {
                  U + "theories/sf_rdes/utp_sfrd_prog.thy:864 (?(x): "
                  "theories/circus/utp_circus_prefix.thy:21)"),
     "assigns_csp": ("('a \\<Longrightarrow> 's) \\<Rightarrow> ('a, 's) uexpr \\<Rightarrow> "
-                    "('s, 'e) action", U + "theories/sf_rdes/utp_sfrd_prog.thy:290-291"),
+                    "('s, 'e) action",
+                    U + "theories/sf_rdes/utp_sfrd_prog.thy:290-291 (syntax; AssignsCSP, line 284, "
+                    "by the translation of line 294)"),
     "SpecC": ("('a \\<Longrightarrow> 's) \\<Rightarrow> 's upred \\<Rightarrow> 's upred "
               "\\<Rightarrow> ('s, 'e) action", U + "theories/sf_rdes/utp_sfrd_prog.thy:49"),
     # the prelude shipped with cyphy (cyphy/backends/isabelle/templates/CyPhyCircus_Prelude.thy)
@@ -156,20 +186,21 @@ SIGNATURES: dict[str, tuple[str, str]] = {
             "prelude: definition MuC"),
     "WaitC": ("'e \\<Rightarrow> nat \\<Rightarrow> ('s, 'e) action", "prelude: primrec WaitC"),
     "fmod": ("real \\<Rightarrow> real \\<Rightarrow> real", "prelude: definition fmod"),
-    "DerC": ("'a \\<Rightarrow> 'a", "prelude: consts DerC"),
-    "IntegralC": ("'a \\<Rightarrow> 'a", "prelude: consts IntegralC"),
 }
 
 #: class → type constructors in it; ``uexpr`` is in a class when its value type is
 #: (utp/utp_expr.thy:131-177, utp/utp_expr_insts.thy:10-76 at c9122f14).
 INSTANCES: dict[str, set[str]] = {
     "plus": {"real", "nat", "int", "uexpr"}, "minus": {"real", "nat", "int", "uexpr"},
-    "times": {"real", "nat", "int", "uexpr"}, "divide": {"real", "nat", "int", "uexpr"},
+    "times": {"real", "nat", "int", "uexpr"},
     "uminus": {"real", "int", "uexpr"}, "power": {"real", "nat", "int", "uexpr"},
     "abs": {"real", "int", "uexpr"}, "ord": {"real", "nat", "int"},
-    "numeral": {"real", "nat", "int", "uexpr"}, "field": {"real"},
+    "numeral": {"real", "nat", "int", "uexpr"},
+    # Fields.thy:22 (class inverse: what / needs); real is a field (Real.thy), nat and int
+    # are not, so 1 / 2 :: nat is rejected, as Isabelle rejects it; uexpr: utp_expr_insts.thy:37
+    "inverse": {"real", "uexpr"},
     "uconj": {"bool", "uexpr"},  # conj at bool, conj_upred at (bool, 's) uexpr
-    # the axiomatic dialect's (tests/isabelle_ax_types.py): real and, component-wise, products
+    # the axiomatic dialect's (ax_types.py): real and, component-wise, products
     # are real_normed_vectors (HOL/Real_Vector_Spaces.thy, HOL-Analysis Product_Vector.thy);
     # cyphyaction is a complete_lattice (Ax_CyPhyCircus.thy:18-21)
     "real_normed_vector": {"real", "prod"}, "complete_lattice": {"cyphyaction"},
@@ -177,11 +208,10 @@ INSTANCES: dict[str, set[str]] = {
 #: classes a product is in when its components are.
 _COMPONENTWISE = {"real_normed_vector"}
 #: classes whose uexpr instance needs the value type in the class (bool for uconj).
-_LIFTED = {"plus", "minus", "times", "divide", "uminus", "power", "abs", "numeral"}
+_LIFTED = {"plus", "minus", "times", "inverse", "uminus", "power", "abs", "numeral"}
 
 #: Words an identifier of a theory must not be: the imported syntax's keywords.
-KEYWORDS = frozenset(SYNTAX_WORDS) | OUTER_KEYWORDS | {"if", "then", "else", "let", "case",
-                                                      "of", "o", "O", "mod", "div", "dvd"}
+KEYWORDS = frozenset(SYNTAX_WORDS) | frozenset(HOL_SYNTAX_WORDS) | OUTER_KEYWORDS
 
 
 class TypeError_(Exception):
@@ -496,7 +526,7 @@ def read_theory(text: str) -> TheoryTypes:
 
 
 class Checker:
-    """Infers the type of a parsed term (a tree of ``isabelle_terms.lark``)."""
+    """Infers the type of a parsed term (a tree of ``utp_terms.lark``)."""
 
     def __init__(self, theory: TheoryTypes) -> None:
         self.theory = theory
@@ -611,7 +641,7 @@ class Checker:
         branch = self.sig("GuardCSP", self.infer(where, inner), self.infer(body, inner))
         universe = instance("UNIV")
         unify(universe, TCon("set", (var,)))
-        return self.sig("ExtChoiceIdx", universe, fun(var, branch))
+        return self.sig("EXTCHOICE", universe, fun(var, branch))
 
     def t_parallel(self, ch, env):  # type: ignore[no-untyped-def]
         return self.sig("inter_circus", *(self.infer(c, env) for c in ch))
@@ -748,7 +778,8 @@ class Checker:
 
     def t_number(self, ch, env):  # type: ignore[no-untyped-def]
         text = str(ch[0])
-        return TVar({"field"} if "." in text else {"numeral"})
+        # a decimal is numeral / 10^n (HOL/Rat.thy:1158-1173, float_tr): numeral and inverse
+        return TVar({"numeral", "inverse"} if "." in text else {"numeral"})
 
     def t_true(self, ch, env):  # type: ignore[no-untyped-def]
         return TCon("bool")
