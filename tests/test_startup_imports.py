@@ -73,3 +73,21 @@ def test_the_probe_sees_a_heavy_import(tmp_path: Path) -> None:
     assert code == 0 and "sympy" in modules
     code, modules = _imported_modules(["solve", "examples/dcmotor"])
     assert code == 0 and "cyphy.api.solve" in modules
+
+
+def test_the_lazy_facade_exports_the_entry_points() -> None:
+    """Every name of ``cyphy.api.__all__`` is the function or class of its topic, also when
+    a topic named like its entry point (``semantics``, ``simulate``, ``solve``, ``view``) was
+    imported as a module first: the import system binds that module on the package."""
+    probe = """
+import json, types
+import cyphy.api.semantics, cyphy.api.simulate, cyphy.api.solve, cyphy.api.view
+from cyphy import api
+print(json.dumps({n: isinstance(getattr(api, n), types.ModuleType) for n in api.__all__}))
+"""
+    done = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, text=True,
+                          capture_output=True, timeout=300,
+                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    is_module = json.loads(done.stdout.strip().splitlines()[-1])
+    assert {"check", "semantics", "simulate", "solve", "view", "check_theory"} <= set(is_module)
+    assert not any(is_module.values()), sorted(n for n, m in is_module.items() if m)
