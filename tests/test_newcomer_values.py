@@ -45,7 +45,7 @@ def _cyphy(*args: str) -> subprocess.CompletedProcess[str]:
     (["view", str(EXAMPLES / "manipulator"), "--set", "Shoulder=1e300"],
      "--set Shoulder=1e300"),
     (["view", str(EXAMPLES / "manipulator"), "--elevation", "nan"], "not a finite number"),
-    (["reach", DC, "--scenario", "x.toml", "--timeout", "nan"], "nan is not a finite positive"),
+    (["reach", DC, "--scenario", "x.toml", "--timeout", "nan"], "--timeout: not a finite number"),
 ])
 def test_bad_values_exit_2_with_a_message(argv: list[str], message: str, tmp_path: Path
                                           ) -> None:

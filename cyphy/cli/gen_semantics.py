@@ -4,12 +4,11 @@ platform mapping, as an Isabelle/UTP session, text or LaTeX."""
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from cyphy.cli.options import GEN_INERTIAL, const_values, default_inertial_option
+from cyphy.cli.options import GEN_INERTIAL, const_values, default_inertial_option, positive_float
 from cyphy.cli.target import Target
 
 if TYPE_CHECKING:
@@ -27,26 +26,13 @@ def _semantics_options(parser: argparse.ArgumentParser) -> None:
                             "[controller]")
     if "--tscale" in parser._option_string_actions:
         return
-    parser.add_argument("--tscale", type=_tscale, metavar="X",
+    parser.add_argument("--tscale", type=positive_float, metavar="X",
                         help="fix tscale, the length of a d-model time unit in seconds "
                         "(finite and positive)")
     parser.add_argument("--name", type=_system_name, metavar="N",
                         help="the name of the whole system (default: the mapping's); an "
                         "identifier: a letter, then letters, digits and single underscores")
     default_inertial_option(parser, GEN_INERTIAL)
-
-
-def _tscale(text: str) -> float:
-    """``--tscale``: a finite positive number. Any other value would become the axiom
-    ``tscale = X`` beside ``tscale > 0`` (or a NaN no prover reads): inconsistent axioms, from
-    which every lemma follows."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: '{text}'") from None
-    if not math.isfinite(value) or value <= 0:
-        raise argparse.ArgumentTypeError(f"must be finite and positive, not {text}")
-    return value
 
 
 def _system_name(text: str) -> str:

@@ -61,6 +61,15 @@ def finite_float(text: str) -> float:
     return value
 
 
+def positive_float(text: str) -> float:
+    """A finite positive number (``--tscale``, ``--timeout``): zero, a negative value or a NaN
+    would become an inconsistent axiom beside ``tscale > 0``, or a run that never ends."""
+    value = finite_float(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be finite and positive, not {text}")
+    return value
+
+
 def positive_int(text: str) -> int:
     try:
         value = int(text)

@@ -8,7 +8,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from cyphy.cli.options import const_options, const_values, default_inertial_option, path_option
+from cyphy.cli.options import (const_options, const_values, default_inertial_option, path_option,
+                               positive_float)
 from cyphy.diagnostics import render_text
 from cyphy.outputs import OutputError, write_all
 from cyphy.verify.flowstar import limits
@@ -28,7 +29,7 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
     reach.add_argument("--flowstar-bin", metavar="PATH",
                        help="the Flow* executable (default: $CYPHY_FLOWSTAR, the one "
                        ".ci/install built, or flowstar on PATH)")
-    reach.add_argument("--timeout", type=limits.seconds, metavar="SECONDS",
+    reach.add_argument("--timeout", type=positive_float, metavar="SECONDS",
                        help="give up (UNKNOWN) when a Flow* run takes longer")
     reach.add_argument("--split", type=limits.boxes, default=1, metavar="N",
                        help="split the initial set into N boxes along its widest state, one "

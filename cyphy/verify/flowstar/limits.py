@@ -16,24 +16,12 @@ a crash or a day-long run is refused (exit 2) with the limit and the reason.
 from __future__ import annotations
 
 import argparse
-import math
 
 MAX_JUMPS = 2 ** 31 - 1
 MAX_ORDER = 50
 MAX_SPLIT = 64
 MAX_PRECISION = 1024  # MPFR bits; 53 is a double
 MAX_BOUND = 1e15
-
-
-def seconds(text: str) -> float:
-    """``--timeout``: a finite positive number of seconds."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number of seconds") from None
-    if not math.isfinite(value) or value <= 0:
-        raise argparse.ArgumentTypeError(f"{text} is not a finite positive number of seconds")
-    return value
 
 
 def boxes(text: str) -> int:
