@@ -13,22 +13,35 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 HEAVY = ("sympy", "scipy", "matplotlib")
+#: cyphy's own packages that neither command needs: the other topics of the API, which
+#: ``cyphy.api`` loads on first use only (they pull in the semantics, Z3, Jinja, SymPy).
+UNNEEDED = ("cyphy.api.semantics", "cyphy.api.simulate", "cyphy.api.solve", "cyphy.api.view",
+            "cyphy.api.machines", "cyphy.semantics.circus", "cyphy.semantics.dynamics",
+            "cyphy.semantics.machines", "cyphy.backends.isabelle", "cyphy.backends.circus",
+            "cyphy.verify.flowstar.export", "cyphy.verify.flowstar.scenario",
+            "cyphy.verify.flowstar.controller")
 
-#: Runs the command in this process, then prints the top-level packages it imported.
+#: Runs the command in this process, then prints the modules it imported.
 _WRAPPER = """
 import json, sys
 from cyphy.cli import main
 code = main(sys.argv[1:])
-print(json.dumps([code, sorted({m.split('.')[0] for m in sys.modules})]))
+print(json.dumps([code, sorted(sys.modules)]))
 """
 
 
-def _imported(args: list[str]) -> tuple[int, set[str]]:
+def _imported_modules(args: list[str]) -> tuple[int, set[str]]:
     done = subprocess.run([sys.executable, "-c", _WRAPPER, *args], cwd=ROOT, text=True,
                           capture_output=True, timeout=300,
                           env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
     code, modules = json.loads(done.stdout.strip().splitlines()[-1])
     return code, set(modules)
+
+
+def _imported(args: list[str]) -> tuple[int, set[str]]:
+    """The exit status and the top-level packages imported."""
+    code, modules = _imported_modules(args)
+    return code, {m.split(".")[0] for m in modules}
 
 
 @pytest.mark.parametrize("args", [
@@ -43,7 +56,38 @@ def test_command_imports_no_heavy_library(args: list[str], tmp_path: Path) -> No
     assert modules.isdisjoint(HEAVY), sorted(modules & set(HEAVY))
 
 
+@pytest.mark.parametrize("args", [
+    ["check", "examples/marxbot"],
+    ["gen", "examples/marxbot", "--sdf", "-o", "{tmp}"],
+])
+def test_command_imports_only_its_part_of_the_api(args: list[str], tmp_path: Path) -> None:
+    code, modules = _imported_modules([a.format(tmp=tmp_path) for a in args])
+    assert code == 0
+    loaded = sorted(m for m in modules if m.startswith(UNNEEDED))
+    assert not loaded, loaded
+
+
 def test_the_probe_sees_a_heavy_import(tmp_path: Path) -> None:
     """The probe is not blind: ``solve`` reduces with SymPy, and the wrapper reports it."""
     code, modules = _imported(["solve", "examples/dcmotor"])
     assert code == 0 and "sympy" in modules
+    code, modules = _imported_modules(["solve", "examples/dcmotor"])
+    assert code == 0 and "cyphy.api.solve" in modules
+
+
+def test_the_lazy_facade_exports_the_entry_points() -> None:
+    """Every name of ``cyphy.api.__all__`` is the function or class of its topic, also when
+    a topic named like its entry point (``semantics``, ``simulate``, ``solve``, ``view``) was
+    imported as a module first: the import system binds that module on the package."""
+    probe = """
+import json, types
+import cyphy.api.semantics, cyphy.api.simulate, cyphy.api.solve, cyphy.api.view
+from cyphy import api
+print(json.dumps({n: isinstance(getattr(api, n), types.ModuleType) for n in api.__all__}))
+"""
+    done = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, text=True,
+                          capture_output=True, timeout=300,
+                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    is_module = json.loads(done.stdout.strip().splitlines()[-1])
+    assert {"check", "semantics", "simulate", "solve", "view", "check_theory"} <= set(is_module)
+    assert not any(is_module.values()), sorted(n for n, m in is_module.items() if m)
