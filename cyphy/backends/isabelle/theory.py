@@ -20,7 +20,7 @@ from typing import Any
 from cyphy import codes
 from cyphy.backends.isabelle.terms import (HOL_FUNCTIONS, IsabellePrinter, Symbols, UnsupportedNode,
                                      bound_identifier)
-from cyphy.backends.isabelle.names import IsabelleNames, is_identifier
+from cyphy.backends.isabelle.names import RESERVED, IsabelleNames, is_identifier
 from cyphy.semantics.circus.names import identifier
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable
@@ -295,8 +295,9 @@ def generate_session(program: c.Program, table: NameTable,
                      system_name: str | None = None) -> IsabelleSession:
     """The session folder's files for ``program``; raises :class:`IsabelleError` when a
     construct has no Isabelle/UTP counterpart."""
-    if system_name is not None and not is_identifier(system_name):
-        raise IsabelleError(f"the system name '{system_name}' is not an identifier")
+    if system_name is not None and (not is_identifier(system_name) or system_name in RESERVED):
+        raise IsabelleError(f"the system name '{system_name}' is not an identifier, or is a "
+                            "word of Isabelle/UTP's grammar")
     scalar = scalar_program(program)
     program = scalar.program
     lossy = find_lossy_interleavings(program.pmodel)
@@ -315,7 +316,9 @@ def generate_session(program: c.Program, table: NameTable,
         raise IsabelleError(str(err)) from None
     context.update(evolution_note=evolution_note(scalar, names),
                    theory=theory, prelude=PRELUDE, prefix=prefix, mapping=program.system.name,
-                   dmodel=program.dmodel.name, system=system_name or program.system.name,
+                   dmodel=program.dmodel.name,
+                   # the mapping's name, renamed like every other (``M`` is a UTP word)
+                   system=system_name or names.get(program.system.name) or program.system.name,
                    pmodel=pm.name, chan_type=names[f"{prefix}_chan"],
                    action_type=names[f"{prefix}_action"])
     env = _environment()
@@ -483,5 +486,12 @@ def _names_table(table: NameTable, names: IsabelleNames, symbols: Symbols) -> st
         m = re.fullmatch(r"(.+)_int\d*", mangled)
         if m and m.group(1) in by_mangled:
             rows.append(f"integral of {by_mangled[m.group(1)]}\t{mangled}\t{ident}")
+    # The d-model process's own state (its machine's mode, the events it read): no RoboSim
+    # element has these names, so the first column says whose they are.
+    listed = {row.rsplit("\t", 1)[1] for row in rows[1:]}
+    for field in sorted(symbols.state):
+        ident = names.get(field) or field
+        if ident not in listed:
+            rows.append(f"state of the d-model process\t{field}\t{ident}")
     return "\n".join(rows) + "\n"
 
