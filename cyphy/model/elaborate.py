@@ -244,7 +244,8 @@ class _Context:
         self.used_consts.add(best[1])
         return self.consts[best[1]]
 
-    def report_unknown_consts(self, span: Span) -> None:
+    def report_unknown_consts(self, span: Span, reported: frozenset[str] = frozenset()
+                              ) -> None:
         """Report (``E-CONST-NAME``) each ``--const``/``--consts`` name that names none of
         the constants the model declares (a typo would otherwise be silently ignored);
         the commands that elaborate stop on it as on any error."""
@@ -252,6 +253,7 @@ class _Context:
 
         candidates = {n for names in self.declared for n in names}
         unknown = [key for key in sorted(self.consts) if key not in self.used_consts and
+                   key not in reported and
                    not any(_names(key, *names) for names in self.declared)]
         if unknown:  # a constant of another part of the files (a d-model's) is no typo
             elsewhere = _declared_constants(self.ws)
@@ -423,16 +425,19 @@ def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: 
     checks need geometry, not behaviour, and devices are most of the work on a large
     model."""
     ctx = _Context(ws, resolution, report, consts or {})
+    reported: set[str] = set()
     if consts:  # a misspelt --const would be ignored, and the constant stay without a value
         from cyphy.model.constants import declared_constants, unknown_constants
 
         for key, hint in unknown_constants(consts, declared_constants(ws.files.values())):
             report.report(codes.OPTION, f"--const {key}: the model has no constant {key!r}",
                           Span.unknown("<command line>"), hint)
+            reported.add(key)
     with collector.paused():  # see cyphy/collector.py
         model = _Elaborator(ctx, devices).run(pm, file)
     if devices and strict_consts:  # the whole model: every constant it declares was seen
-        ctx.report_unknown_consts(pm.span)
+        # a name no file declares is reported once, above; this adds those of other models
+        ctx.report_unknown_consts(pm.span, frozenset(reported))
     return model
 
 

@@ -56,7 +56,7 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
         return ElaborateResult(checked, None)
     model = run(checked.workspace, checked.resolution, checked.report, options.model,
                 options.consts, options.strict_consts)  # type: ignore[arg-type]
-    if any(d.code.id == "E-CONST-NAME" for d in checked.report.errors):
+    if any(d.code.id in ("E-CONST-NAME", "E-OPTION") for d in checked.report.errors):
         return ElaborateResult(checked, None)  # a misspelt --const: nothing is shown
     if model is not None and options.default_inertial is not None:
         # lazy: NumPy: `cyphy check` must not pay for it
