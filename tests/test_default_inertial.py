@@ -149,11 +149,6 @@ def test_the_corpus_marxbot_under_its_smovement_simulates_the_machines_phases(ca
 
 
 @needs_corpus
-@pytest.mark.xfail(strict=True, reason=(
-    "known regression (session 23): since the fixed root's parent twist is an equation "
-    "(fixed_root_twists) instead of a scenario value, the Flow* export of the corpus marXbot "
-    "writes LHinge_v' = 0: the 2.7e-5*sin(LHinge_theta) gravity torque of the 2.8e-6 m offset "
-    "is lost; solve's definitions keep it (LHinge_ap_4). To be found and fixed."))
 def test_the_corpus_marxbot_scenario_exports_the_hinges_motion(tmp_path, capsys):
     assert main(["gen", str(MARXBOT), "--flowstar", "--scenario", str(SCENARIO), "-o",
                  str(tmp_path)]) == 0
@@ -165,9 +160,19 @@ def test_the_corpus_marxbot_scenario_exports_the_hinges_motion(tmp_path, capsys)
     assert jumps == ["DMoving -> Waiting", "DMoving -> DMoving", "Waiting -> DTurning",
                      *[f"{a} -> {b}" for a, b in zip(turning, turning[1:])],
                      "DTurning_6 -> DMoving"]
-    # RHinge about -y (no gravity torque); LHinge's body's default mass sits 2.8e-6 m off
-    # its axis after the tracks' roll of PI, a gravity torque Flow* takes as nonpoly.
-    assert "RHinge_v' = 0" in model and "sin(LHinge_theta)" in model
+    # The scenario's [consts] give PI = 3.141592653589793, and a given value wins over the
+    # declared one (common.pm: PI = 3.1415): the tracks' roll of PI is exact and both hinges'
+    # bodies sit on their axes, so gravity exerts no torque on either.
+    assert "RHinge_v' = 0" in model and "LHinge_v' = 0" in model
+    # With the model's own PI = 3.1415, LHinge's body's default mass sits 2.8e-6 m off its
+    # axis (1 kg · 9.81 m/s² · 2.78e-6 m over the unit inertia): a gravity torque, kept.
+    scenario = tmp_path / "pi_as_declared.toml"
+    scenario.write_text(SCENARIO.read_text().replace("PI = 3.141592653589793", "PI = 3.1415"))
+    assert main(["gen", str(MARXBOT), "--flowstar", "--scenario", str(scenario), "-o",
+                 str(tmp_path / "declared")]) == 0
+    declared = (tmp_path / "declared" / "pi_as_declared.model").read_text()
+    assert "LHinge_v' = -2.726795143679001e-05*sin(LHinge_theta)" in declared
+    assert "RHinge_v' = 0" in declared
 
 
 @needs_corpus
