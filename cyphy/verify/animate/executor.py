@@ -1,0 +1,290 @@
+"""Runs the composition ``(D [| cs |] P) \\ cs`` of a read theory: each process is a stack of
+actions over its own state; an event in ``cs`` happens when both offer it (an output's value
+binds the other's input), ``Evolve △ cond`` integrates the p-model's ODE until the condition
+holds. Time passes only in Evolve; the ``tock``s mark the cycles between."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+from cyphy.verify.animate.errors import AnimateError
+from cyphy.verify.animate.reader import Definition, TheoryModel
+from cyphy.verify.animate.terms import Unsupported, evaluate, op_name, place
+
+#: Events at one instant before the run is called a livelock (no time passes).
+MAX_EVENTS_PER_INSTANT = 100_000
+
+Frame = tuple[Any, dict[str, Any]]
+
+
+@dataclass(frozen=True)
+class MuBinding:
+    """What a recursion variable ``X`` of ``MuC (λ X. body)`` stands for."""
+
+    body: Any
+    env: dict[str, Any] = field(hash=False, compare=False)
+
+
+@dataclass
+class Proc:
+    """One process: its state (None: not yet given a value) and what it does next."""
+
+    name: str
+    state: dict[str, Any]
+    stack: list[Frame]
+    assigned: set[str] = field(default_factory=set)
+
+
+@dataclass
+class Offer:
+    channel: str
+    kind: str            # "out", "in" or "plain"
+    value: Any           # out: the value; in: the binders' names
+    proc: Proc           # the process as it is after the event (binders still to bind)
+
+
+@dataclass
+class Evolving:
+    tree: Any            # the ``exists`` node of EvolveC
+    until: Any           # the interrupt's condition (uexpr)
+    env: dict[str, Any]
+    proc: Proc
+
+
+class Runner:
+    """Executes actions of one theory; ``settle(name, proc)`` gives an algebraic state's
+    value when a discrete action reads one that no action has set (Evolve's equations)."""
+
+    def __init__(self, model: TheoryModel, constant: Callable[[str], Any],
+                 settle: Callable[[str, Proc], Any]) -> None:
+        self.model = model
+        self.constant = constant
+        self.settle = settle
+        self.where: Definition | None = None
+
+    # values -------------------------------------------------------------------------
+    def value(self, node: Any, proc: Proc, env: dict[str, Any]) -> Any:
+        def state(x: str) -> Any:
+            if x not in proc.state:
+                raise Unsupported(f"the name {x}, which is not in {proc.name}'s state")
+            v = proc.state[x]
+            return self.settle(x, proc) if v is None else v
+
+        def name(x: str) -> Any:
+            if x in env and not isinstance(env[x], MuBinding):
+                return env[x]
+            return self.constant(x)
+
+        try:
+            return evaluate(node, state, lambda x: _no_rate(x), name)
+        except Unsupported as err:
+            raise self._here(err) from None
+
+    def _here(self, err: Unsupported) -> AnimateError:
+        if self.where is None:
+            return AnimateError("E-ANIMATE-UNSUPPORTED", str(err), path=self.model.path,
+                                status=2)
+        return place(err, self.where)
+
+    # stepping -----------------------------------------------------------------------
+    def run(self, proc: Proc) -> list[Offer] | Evolving | None:
+        """Internal steps until the process offers events (a list, empty when it deadlocks),
+        evolves, or ends (None)."""
+        while proc.stack:
+            node, env = proc.stack.pop()
+            if isinstance(node, tuple) and node[0] == "tocks":
+                if node[1] <= 0:
+                    continue
+                if node[1] > 1:
+                    proc.stack.append((("tocks", node[1] - 1), env))
+                return [Offer("tock", "plain", None, proc)]
+            kind = node.data
+            ch = node.children
+            if kind == "skip":
+                continue
+            if kind == "stop":
+                return []
+            if kind in ("call", "call_args"):
+                self._call(proc, node, env)
+                continue
+            if kind == "seq":
+                proc.stack.append((ch[1], env))
+                proc.stack.append((ch[0], env))
+                continue
+            if kind == "prefix":
+                proc.stack.append((ch[1], env))
+                return [self._offer(ch[0], proc, env)]
+            if kind == "ext_choice":
+                offers: list[Offer] = []
+                for branch in (ch[0], ch[1]):
+                    copy = Proc(proc.name, dict(proc.state), list(proc.stack) + [(branch, env)],
+                                set(proc.assigned))
+                    got = self.run(copy)
+                    if not isinstance(got, list):
+                        raise self._here(Unsupported("an external choice whose branch does "
+                                                     "not start with an event"))
+                    offers += got
+                return offers
+            if kind == "cond":
+                test = self.value(ch[1], proc, env)
+                proc.stack.append((ch[0] if test else ch[2], env))
+                continue
+            if kind == "guard":
+                if not self.value(ch[0], proc, env):
+                    return []
+                proc.stack.append((ch[1], env))
+                continue
+            if kind == "mu":
+                var = str(ch[0])
+                inner = dict(env)
+                inner[var] = MuBinding(ch[1], inner)
+                proc.stack.append((ch[1], inner))
+                continue
+            if kind == "wait":
+                if str(ch[0]) != "tock":
+                    raise self._here(Unsupported(f"WaitC over the event {ch[0]}"))
+                n = self.value(ch[1], proc, env)
+                proc.stack.append((("tocks", int(n)), env))
+                continue
+            if kind == "assign_one":
+                self._assign(proc, [str(ch[0])], [self.value(ch[1], proc, env)])
+                continue
+            if kind == "assign":
+                names = [str(c) for c in ch if not hasattr(c, "data")]
+                exprs = [c for c in ch if hasattr(c, "data")]
+                self._assign(proc, names, [self.value(e, proc, env) for e in exprs])
+                continue
+            if kind == "spec":
+                self._spec(proc, node, env)
+                continue
+            if kind == "interrupt_cond":
+                target = self._evolution(ch[0], env)
+                return Evolving(target, ch[1], env, proc)
+            raise self._here(Unsupported(f"the action {kind}"))
+        return None
+
+    def _call(self, proc: Proc, node: Any, env: dict[str, Any]) -> None:
+        name = str(node.children[0])
+        bound = env.get(name)
+        if isinstance(bound, MuBinding):
+            proc.stack.append((bound.body, bound.env))
+            return
+        definition = self.model.definitions.get(name)
+        if definition is None:
+            raise self._here(Unsupported(f"the action {name}, which is not defined"))
+        args = [self.value(a, proc, env) for a in node.children[1:]]
+        if len(args) != len(definition.params):
+            raise self._here(Unsupported(f"{name} with {len(args)} arguments"))
+        self.where = definition
+        proc.stack.append((definition.tree, dict(zip(definition.params, args))))
+
+    def _evolution(self, node: Any, env: dict[str, Any]) -> Any:
+        if node.data == "call" and str(node.children[0]) in self.model.definitions:
+            node = self.model.definitions[str(node.children[0])].tree
+        if node.data != "evolution":
+            raise self._here(Unsupported("an interrupt of an action other than EvolveC"))
+        return node.children[0]
+
+    def _offer(self, event: Any, proc: Proc, env: dict[str, Any]) -> Offer:
+        ch = event.children
+        channel = str(ch[0])
+        if event.data == "event_plain":
+            return Offer(channel, "plain", None, proc)
+        if event.data in ("event_out", "event_dot"):
+            return Offer(channel, "out", self.value(ch[1], proc, env), proc)
+        return Offer(channel, "in", [str(c) for c in ch[1:]], proc)
+
+    def _assign(self, proc: Proc, names: list[str], values: list[Any]) -> None:
+        for n, v in zip(names, values):
+            if n not in proc.state:
+                raise self._here(Unsupported(f"an assignment to {n}, not in {proc.name}'s "
+                                             "state"))
+            if isinstance(v, float) and v != v:
+                raise AnimateError("E-ANIMATE-VALUE", f"{n} is assigned NaN", status=1)
+            proc.state[n] = v
+            proc.assigned.add(n)
+
+    def _spec(self, proc: Proc, node: Any, env: dict[str, Any]) -> None:
+        """``frame:[pre, post]``: the frame's new values, solved from the post's equations."""
+        import sympy  # lazy: only calls with a specification statement need it
+        frame = [str(c) for c in node.children[0].children]
+        if not self.value(node.children[1], proc, env):
+            raise AnimateError("E-ANIMATE-PRE", f"a call's precondition is false in "
+                               f"{self.where.name if self.where else 'the theory'}", status=1)
+        post = node.children[2]
+        binders = [str(b.children[0]) for b in post.children if getattr(b, "data", "") == "binder"]
+        syms = {x: sympy.Symbol(x) for x in frame + binders}
+
+        def state(x: str) -> Any:
+            if x in syms:
+                return syms[x]
+            v = proc.state.get(x)
+            return self.settle(x, proc) if v is None else v
+
+        def name(x: str) -> Any:
+            if x in syms:
+                return syms[x]
+            return env[x] if x in env else self.constant(x)
+
+        eqs = []
+        try:
+            for c in post.children:
+                if getattr(c, "data", "") == "binder":
+                    continue
+                n = c.children[0] if c.data == "lifted" else c
+                if n.data != "binop" or op_name(n.children[1]) != "=":
+                    raise Unsupported("a postcondition conjunct that is not an equation")
+                eqs.append(sympy.nsimplify(0) + evaluate(n.children[0], state, _no_rate, name)
+                           - evaluate(n.children[2], state, _no_rate, name))
+        except Unsupported as err:
+            raise self._here(err) from None
+        answers = sympy.solve(eqs, list(syms.values()), dict=True)
+        if len(answers) != 1 or any(syms[x] not in answers[0] for x in frame):
+            raise AnimateError("E-ANIMATE-SPEC", f"{self.where.name if self.where else 'a call'}"
+                               f": its postcondition does not determine {', '.join(frame)}",
+                               path=self.where.path if self.where else None,
+                               line=self.where.line if self.where else 0, status=1)
+        self._assign(proc, frame, [float(answers[0][syms[x]]) for x in frame])
+
+
+def _no_rate(x: str) -> Any:
+    raise Unsupported(f"the rate of {x} outside Evolve")
+
+
+def synchronise(left: list[Offer], right: list[Offer], cs: set[str]) \
+        -> tuple[str, Any, Proc | None, Proc | None] | None:
+    """The first event both sides agree on (or one side's event outside ``cs``): the
+    channel, the value exchanged, and each side's process after it (None: it did not
+    take part)."""
+    for offers, mine in ((left, 0), (right, 1)):
+        for o in offers:
+            if o.channel not in cs:
+                return o.channel, o.value, (o.proc if mine == 0 else None), \
+                    (o.proc if mine == 1 else None)
+    for a in left:
+        for b in right:
+            if a.channel != b.channel:
+                continue
+            if a.kind == "out" and b.kind == "in":
+                _bind(b, a.value)
+                return a.channel, a.value, a.proc, b.proc
+            if a.kind == "in" and b.kind == "out":
+                _bind(a, b.value)
+                return a.channel, b.value, a.proc, b.proc
+            if a.kind == b.kind == "plain":
+                return a.channel, None, a.proc, b.proc
+            if a.kind == b.kind == "out" and a.value == b.value:
+                return a.channel, a.value, a.proc, b.proc
+    return None
+
+
+def _bind(offer: Offer, value: Any) -> None:
+    """An input's names bound to the value (a tuple gives one component to each)."""
+    names = offer.value
+    parts = value if len(names) > 1 else (value,)
+    node, env = offer.proc.stack[-1] if offer.proc.stack else (None, {})
+    bound = dict(env)
+    bound.update(zip(names, parts))
+    if offer.proc.stack:
+        offer.proc.stack[-1] = (node, bound)
