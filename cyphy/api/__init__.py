@@ -19,6 +19,7 @@ import types
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # what the names are, for type checkers and the import graph
+    from cyphy.api.animate import AnimateError, Animation, animate
     from cyphy.api.machines import machine_interpreter
     from cyphy.api.robot_formats import (SdfGenOptions, TreeGenOptions, generate_mjcf,
                                          generate_sdf, generate_urdf, robot)
@@ -34,6 +35,7 @@ if TYPE_CHECKING:  # what the names are, for type checkers and the import graph
 
 #: Each public name → the module that defines it.
 _HOME: dict[str, str] = {
+    **dict.fromkeys(("AnimateError", "Animation", "animate"), "cyphy.api.animate"),
     **dict.fromkeys(("machine_interpreter",), "cyphy.api.machines"),
     **dict.fromkeys(("SdfGenOptions", "TreeGenOptions", "generate_mjcf", "generate_sdf",
                      "generate_urdf", "robot"), "cyphy.api.robot_formats"),

@@ -25,7 +25,8 @@ from cyphy.deep import run_deep, where_too_deep
 from cyphy.diagnostics import RENDERING
 
 #: The commands, in the order ``--help`` lists them: each the module ``cyphy.cli.<name>``.
-COMMANDS = ("check", "show", "solve", "simulate", "gen", "reach", "view", "lsp", "check_theory")
+COMMANDS = ("check", "show", "solve", "simulate", "gen", "reach", "view", "lsp", "check_theory",
+            "animate")
 
 
 def _command_module(name: str) -> ModuleType:

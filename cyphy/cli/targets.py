@@ -12,6 +12,7 @@ from cyphy.outputs import OutputError, check_target, default_output_dir
 #: names a folder (else a file).
 OUTPUTS: dict[str, tuple[tuple[str, str, bool], ...]] = {
     "simulate": (("output", "-o", False), ("plot", "--plot", False)),
+    "animate": (("output", "-o", False), ("plot", "--plot", False)),
     "view": (("output", "-o", False),),
     "gen": (("output", "-o", True), ("gazebo_model", "--gazebo-model", True)),
     "reach": (("output", "-o", True),),

@@ -26,6 +26,7 @@ class Animation:
     events: list[tuple[float, str, Any]]
     composition: str
     undetermined: list[str] = field(default_factory=list)
+    differential: list[str] = field(default_factory=list)  # the states Evolve integrates
 
 
 def _suggest(name: str, names: list[str]) -> str:
@@ -292,5 +293,6 @@ class _Animator:
             if not all(math.isfinite(v) for v in row):
                 raise AnimateError("E-ANIMATE-VALUE", f"a value is not finite at t = "
                                    f"{row[0]:.6g}", status=1)
+        differential = [x for x in names if any(x in s.states for s in self.systems.values())]
         return Animation(["t"] + names, rows, self.events, self.model.composition,
-                         sorted(self.undetermined))
+                         sorted(self.undetermined), differential)

@@ -52,6 +52,17 @@ def _equations(tree: Any, state: Callable[[str], Any], rate: Callable[[str], Any
     return eqs
 
 
+def _solve_one(eq: Any, u: Any) -> list[Any]:
+    """The solutions of ``eq = 0`` for ``u``: directly when linear (most are), else SymPy's."""
+    import sympy  # lazy: as below
+    coefficient = sympy.diff(eq, u)
+    if u not in coefficient.free_symbols:
+        if coefficient == 0:
+            return []
+        return [-eq.xreplace({u: 0}) / coefficient]
+    return list(sympy.solve(eq, u, rational=False))
+
+
 def _solve_causal(eqs: list[Any], unknowns: set[Any]) -> tuple[dict[Any, Any], list[Any]]:
     """Solve equations with one unknown left, substituting, until none is left; then
     SymPy's solve on the rest (a coupled block), keeping the closed answers."""
@@ -69,7 +80,7 @@ def _solve_causal(eqs: list[Any], unknowns: set[Any]) -> tuple[dict[Any, Any], l
                 continue
             if len(free) == 1:
                 (u,) = free
-                answers = sympy.solve(eq, u, dict=False)
+                answers = _solve_one(eq, u)
                 if len(answers) == 1:
                     solved = {k: v.xreplace({u: answers[0]}) for k, v in solved.items()}
                     solved[u] = answers[0]
@@ -80,7 +91,7 @@ def _solve_causal(eqs: list[Any], unknowns: set[Any]) -> tuple[dict[Any, Any], l
         pending = rest
         if not progress and pending and len(pending) <= 60:
             left = sorted(set().union(*(e.free_symbols for e in pending)) & unknowns, key=str)
-            answers = sympy.solve(pending, left, dict=True)
+            answers = sympy.solve(pending, left, dict=True, rational=False)
             if len(answers) == 1:
                 closed = {u: v for u, v in answers[0].items()
                           if not (v.free_symbols & unknowns)}

@@ -62,6 +62,7 @@ class Runner:
         self.constant = constant
         self.settle = settle
         self.where: Definition | None = None
+        self._specs: dict[int, tuple[Callable[..., Any], list[str]]] = {}
 
     # values -------------------------------------------------------------------------
     def value(self, node: Any, proc: Proc, env: dict[str, Any]) -> Any:
@@ -206,26 +207,39 @@ class Runner:
             proc.assigned.add(n)
 
     def _spec(self, proc: Proc, node: Any, env: dict[str, Any]) -> None:
-        """``frame:[pre, post]``: the frame's new values, solved from the post's equations."""
-        import sympy  # lazy: only calls with a specification statement need it
+        """``frame:[pre, post]``: the frame's new values, solved from the post's equations
+        (once per statement, over its parameters and the state it reads)."""
         frame = [str(c) for c in node.children[0].children]
         if not self.value(node.children[1], proc, env):
             raise AnimateError("E-ANIMATE-PRE", f"a call's precondition is false in "
                                f"{self.where.name if self.where else 'the theory'}", status=1)
+        key = id(node)
+        if key not in self._specs:
+            self._specs[key] = self._solve_spec(node, frame, proc, env)
+        solution, reads = self._specs[key]
+        args = [env[x] if x in env else (proc.state.get(x) if proc.state.get(x) is not None
+                                         else self.settle(x, proc)) for x in reads]
+        self._assign(proc, frame, [float(v) for v in solution(*args)])
+
+    def _solve_spec(self, node: Any, frame: list[str], proc: Proc,
+                    env: dict[str, Any]) -> tuple[Callable[..., Any], list[str]]:
+        import sympy  # lazy: only calls with a specification statement need it
         post = node.children[2]
         binders = [str(b.children[0]) for b in post.children if getattr(b, "data", "") == "binder"]
         syms = {x: sympy.Symbol(x) for x in frame + binders}
+        reads: dict[str, Any] = {}
 
         def state(x: str) -> Any:
             if x in syms:
                 return syms[x]
-            v = proc.state.get(x)
-            return self.settle(x, proc) if v is None else v
+            return reads.setdefault(x, sympy.Symbol("s__" + x))
 
         def name(x: str) -> Any:
             if x in syms:
                 return syms[x]
-            return env[x] if x in env else self.constant(x)
+            if x in env:
+                return reads.setdefault(x, sympy.Symbol("p__" + x))
+            return self.constant(x)
 
         eqs = []
         try:
@@ -235,17 +249,20 @@ class Runner:
                 n = c.children[0] if c.data == "lifted" else c
                 if n.data != "binop" or op_name(n.children[1]) != "=":
                     raise Unsupported("a postcondition conjunct that is not an equation")
-                eqs.append(sympy.nsimplify(0) + evaluate(n.children[0], state, _no_rate, name)
+                eqs.append(sympy.sympify(evaluate(n.children[0], state, _no_rate, name))
                            - evaluate(n.children[2], state, _no_rate, name))
         except Unsupported as err:
             raise self._here(err) from None
-        answers = sympy.solve(eqs, list(syms.values()), dict=True)
+        answers = sympy.solve(eqs, list(syms.values()), dict=True, rational=False)
         if len(answers) != 1 or any(syms[x] not in answers[0] for x in frame):
             raise AnimateError("E-ANIMATE-SPEC", f"{self.where.name if self.where else 'a call'}"
                                f": its postcondition does not determine {', '.join(frame)}",
                                path=self.where.path if self.where else None,
                                line=self.where.line if self.where else 0, status=1)
-        self._assign(proc, frame, [float(answers[0][syms[x]]) for x in frame])
+        names = list(reads)
+        solution = sympy.lambdify([reads[x] for x in names], [answers[0][syms[x]] for x in frame],
+                                  modules="math")
+        return solution, names
 
 
 def _no_rate(x: str) -> Any:
