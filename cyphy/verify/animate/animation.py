@@ -38,6 +38,7 @@ class _Constants:
     """The theory's constants, ``--const`` winning, then the axioms ``name = value``."""
 
     def __init__(self, model: TheoryModel, given: dict[str, float]) -> None:
+        self.model = model
         self.values = dict(model.values)
         known = sorted(set(model.values) | set(model.open_constants))
         for name, value in given.items():
@@ -65,7 +66,20 @@ class _Constants:
                                    "axiom of the theory", path=model.path, line=line, status=2)
 
     def get(self, name: str) -> Any:
+        """The value (KeyError for a constant without one: Evolve keeps it a symbol)."""
         return self.values[name]
+
+    def need(self, name: str) -> Any:
+        """The value, where running needs it now (a condition, a call, the cycle)."""
+        if name in self.values:
+            return self.values[name]
+        line = self.model.open_constants.get(name, 0)
+        if name in self.model.open_constants:
+            raise AnimateError("E-ANIMATE-CONST", f"the constant {name} has no value in the "
+                               "theory and running needs it", path=self.model.path, line=line,
+                               hint=f"give it with --const {name}=VALUE", status=1)
+        raise AnimateError("E-ANIMATE-READ", f"{name} is neither a constant of the theory nor "
+                           "a bound name", path=self.model.path, status=2)
 
 
 def animate(folder: str | Path, t_end: float, inputs: dict[str, str] | None = None,
@@ -92,7 +106,7 @@ class _Animator:
         self.p = Proc(p.name, dict.fromkeys(p.fields), [(model.definitions[p.main].tree, {})])
         self.t_sym = sympy.Symbol("t")
         self.inputs = self._inputs(inputs)
-        self.runner = Runner(model, self.constants.get, self._settle)
+        self.runner = Runner(model, self.constants.need, self._settle)
         self.systems: dict[frozenset[str], OdeSystem] = {}
         self.evolve_tree = next((df.tree.children[0] for df in model.definitions.values()
                                  if df.tree.data == "evolution"), None)
@@ -219,7 +233,7 @@ class _Animator:
             return value
 
         def name(x: str) -> Any:
-            return ev.env[x] if x in ev.env else self.constants.get(x)
+            return ev.env[x] if x in ev.env else self.constants.need(x)
 
         lhs = evaluate(node.children[0], state, state, name)
         rhs = evaluate(node.children[2], state, state, name)

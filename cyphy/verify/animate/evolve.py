@@ -144,11 +144,17 @@ def build(tree: Any, differential: list[str], fields: set[str], inputs: dict[str
     loose_rates = [s for k, s in sym.items() if k.startswith(RATE) and k[len(RATE):] not in diff
                    and s not in solved and any(s in e.free_symbols for e in eqs)]
     if loose_rates:
+        # only equations over the state alone (no existential, no open constant: their
+        # rates are unknown too) that name a variable whose rate is read
+        loose = {sym[str(r)[len(RATE):]] for r in loose_rates if str(r)[len(RATE):] in sym}
+        local = {s for k, s in sym.items() if k.startswith("b__")} | open_constants
         extra = []
         for e in eqs:
-            if not any(str(s).startswith(RATE) for s in e.free_symbols):
+            names = e.free_symbols
+            if names & loose and not names & local and not any(
+                    str(s).startswith(RATE) for s in names):
                 dt = sympy.diff(e, t)
-                for s in list(e.free_symbols):
+                for s in list(names):
                     if str(s) in fields:
                         dt += sympy.diff(e, s) * rate(str(s))
                 extra.append(dt)

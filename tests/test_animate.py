@@ -1,0 +1,242 @@
+"""``cyphy animate``: the generated theories, run from their text alone, give the
+trajectories of ``cyphy simulate`` (an independent path: the model's equations and the
+machine's interpreter, never the theory) under the same machine, inputs and constants; theory
+mutants that drop a call's effect or leave Init open make the comparison fail; bad input is a
+clear error with exit 2 (1 for a theory that cannot be run), never a traceback."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import EXAMPLES
+from cyphy import api
+from cyphy.cli import main
+from cyphy.verify.animate.animation import Animation, animate
+from cyphy.verify.animate.errors import AnimateError
+
+DCMOTOR = EXAMPLES / "dcmotor"
+MARXBOT = EXAMPLES / "marxbot"
+#: The dcmotor's whole_bench.toml: the obstacle from 3.05 m (its [init] interval's midpoint)
+#: at 2 m/s, one d-model time unit 0.1 s.
+DC_INPUTS = {"Range_distance": "3.05 - 2*t"}
+DC_CONSTS = {"tscale": 0.1}
+#: avoid_obstacle.toml: its [consts] under the theory's names, the obstacle from 0.255 m
+#: approached at the wheels' mean travel (r/2 = 0.0125125 m per rad of each motor's angle).
+MOTOR = {"R": 1.0, "L": 0.1, "Kt": 0.05, "Ke": 0.05, "b": 0.01, "J": 0.01, "Kp": 2.0,
+         "Ki": 5.0, "Kd": 0.0}
+MX_CONSTS = {**{f"{m}_{k}": v for m in ("LMotor", "RMotor") for k, v in MOTOR.items()},
+             "Proximity1_a": 0.3, "Proximity1_b": 0.01, "Proximity1_c": 0.0, "tscale": 0.1}
+MX_INPUTS = {"Proximity1_distance": "0.255 - 0.0125125*(LMotor_theta + RMotor_theta)"}
+
+
+def _generate(paths: list[Path], folder: Path) -> Path:
+    generated = api.generate_isabelle(paths, api.SemanticsGenOptions())
+    assert not generated.report.has_errors, generated.report.diagnostics
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, text in generated.files.items():
+        (folder / name).write_text(text)
+    return folder
+
+
+@pytest.fixture(scope="module")
+def sessions(tmp_path_factory) -> dict[str, Path]:  # type: ignore[no-untyped-def]
+    root = tmp_path_factory.mktemp("animate")
+    return {"dcmotor": _generate([DCMOTOR], root / "dcmotor"),
+            "marxbot": _generate([MARXBOT / "Mapping.rsm"], root / "marxbot")}
+
+
+def _simulate(model: Path, scenario: Path, t_end: float) -> dict[str, np.ndarray]:
+    """``cyphy simulate``'s trajectories (JSON on stdout, captured)."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(["simulate", str(model), "--scenario", str(scenario), "--t-end",
+                     str(t_end), "--format", "json", "-q"]) == 0
+    doc = json.loads(out.getvalue())
+    return {"t": np.array(doc["t"]), **{k: np.array(v) for k, v in doc["columns"].items()}}
+
+
+def _column(animation: Animation, name: str) -> np.ndarray:
+    i = animation.columns.index(name)
+    return np.array([row[i] for row in animation.rows])
+
+
+def _within_one_percent(animation: Animation, simulated: dict[str, np.ndarray],
+                        names: list[str]) -> list[str]:
+    """The speeds that differ from simulate's by more than 1% of their range, at the
+    animation's sample times (simulate's columns interpolated there)."""
+    times = _column(animation, "t")
+    bad = []
+    for name in names:
+        ours = _column(animation, name)
+        theirs = np.interp(times, simulated["t"], simulated[name])
+        scale = max(float(np.max(np.abs(theirs))), 1e-9)
+        if float(np.max(np.abs(ours - theirs))) > 0.01 * scale:
+            bad.append(name)
+    return bad
+
+
+@pytest.fixture(scope="module")
+def dc_simulated() -> dict[str, np.ndarray]:
+    return _simulate(DCMOTOR, DCMOTOR / "whole_bench.toml", 2.0)
+
+
+@pytest.fixture(scope="module")
+def mx_simulated() -> dict[str, np.ndarray]:
+    return _simulate(MARXBOT, MARXBOT / "avoid_obstacle.toml", 9.0)
+
+
+@pytest.fixture(scope="module")
+def dc_animated(sessions) -> Animation:  # type: ignore[no-untyped-def]
+    return animate(sessions["dcmotor"], 2.0, DC_INPUTS, DC_CONSTS, samples=81)
+
+
+@pytest.fixture(scope="module")
+def mx_animated(sessions) -> Animation:  # type: ignore[no-untyped-def]
+    return animate(sessions["marxbot"], 9.0, MX_INPUTS, MX_CONSTS, samples=91)
+
+
+def test_dcmotor_theory_gives_simulates_trajectories(dc_animated, dc_simulated) -> None:  # type: ignore[no-untyped-def]
+    assert _within_one_percent(dc_animated, dc_simulated,
+                               ["Motor_av", "Motor_i", "Shaft_v"]) == []
+
+
+def test_dcmotor_cruises_then_the_machine_stops_it_when_near_occurs(dc_animated) -> None:  # type: ignore[no-untyped-def]
+    t, av = _column(dc_animated, "t"), _column(dc_animated, "Motor_av")
+    mode = _column(dc_animated, "DCMotorSoftware_mode")
+    cruise = (t > 0.7) & (t < 1.0)
+    assert np.all(np.abs(av[cruise] - 10.0) < 0.5)  # PI control holds 10 rad/s
+    near = [e for e in dc_animated.events if e[1] == "registerRead_near" and e[2] is True]
+    stop = [e for e in dc_animated.events if e[1] == "registerWrite_stop"]
+    # the distance 3.05 - 2t reaches 1 m at t = 1.025: the first reading at or below is 1.1
+    assert near and near[0][0] == pytest.approx(1.1)
+    assert stop and stop[0][0] == pytest.approx(1.1)
+    assert not [e for e in dc_animated.events if e[1] == "registerWrite_drive" and e[0] > 1.05]
+    assert np.all(mode[t > 1.15] == 1) and np.all(mode[t < 1.05] == 0)
+    assert np.all(_column(dc_animated, "Motor_das")[t > 1.15] == 0.0)
+
+
+def test_marxbot_theory_gives_simulates_trajectories(mx_animated, mx_simulated) -> None:  # type: ignore[no-untyped-def]
+    assert _within_one_percent(mx_animated, mx_simulated, ["LMotor_av", "RMotor_av"]) == []
+
+
+def test_marxbot_stops_before_the_obstacle_and_turns(mx_animated) -> None:  # type: ignore[no-untyped-def]
+    t = _column(mx_animated, "t")
+    left, right = _column(mx_animated, "LMotor_av"), _column(mx_animated, "RMotor_av")
+    distance = _column(mx_animated, "Proximity1_distance")
+    assert np.min(distance) > 0.05  # it stops short of the obstacle
+    stop = [e for e in mx_animated.events if e[1] == "registerWrite_stop"]
+    assert stop and stop[0][0] == pytest.approx(1.8)
+    turning = (t > 4.0) & (t < 8.0)  # move(0, 0.5): the wheels opposite, ±av*L/(2r)
+    assert np.allclose(left[turning], 0.5 * 0.06 / (2 * 0.025025), rtol=0.01)
+    assert np.allclose(right[turning], -0.5 * 0.06 / (2 * 0.025025), rtol=0.01)
+
+
+def _mutant(folder: Path, tmp: Path, old: str, new: str) -> Path:
+    """A copy of the session with ``old`` replaced by ``new`` (once, in one theory)."""
+    out = tmp / f"mutant-{folder.name}"
+    out.mkdir()
+    changed = 0
+    for f in folder.iterdir():
+        text = f.read_text()
+        if f.suffix == ".thy" and old in text:
+            assert text.count(old) == 1
+            text = text.replace(old, new)
+            changed += 1
+        (out / f.name).write_text(text)
+    assert changed == 1, "the mutation found nothing to change"
+    return out
+
+
+def test_a_call_without_its_effect_fails_the_comparison(sessions, dc_simulated, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    mutant = _mutant(sessions["dcmotor"], tmp_path,
+                     "(registerWrite_drive?(w) \\<^bold>\\<rightarrow> (DriveCall w))",
+                     "(registerWrite_drive?(w) \\<^bold>\\<rightarrow> Skip)")
+    animation = animate(mutant, 2.0, DC_INPUTS, DC_CONSTS, samples=81)
+    assert "Motor_av" in _within_one_percent(animation, dc_simulated, ["Motor_av"])
+    assert np.all(_column(animation, "Motor_av") == 0.0)  # the motor never moves
+
+
+def test_init_left_open_fails_the_comparison(sessions, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    mutant = _mutant(sessions["dcmotor"], tmp_path,
+                     "Shaft_v, Motor_i, Motor_theta, Motor_av, Motor_e_int) :=\\<^sub>C "
+                     "(0, 0, 0, 0, 0, 0, 0, 0)",
+                     "Shaft_v, Motor_theta, Motor_av, Motor_e_int) :=\\<^sub>C "
+                     "(0, 0, 0, 0, 0, 0, 0)")
+    with pytest.raises(AnimateError) as err:
+        animate(mutant, 2.0, DC_INPUTS, DC_CONSTS, samples=11)
+    assert err.value.code == "E-ANIMATE-EVOLVE" and err.value.status == 1
+    assert "Motor_i" in err.value.message and "Init leaves" in err.value.message
+
+
+def _cli(capsys, *argv: str) -> tuple[int, str, str]:  # type: ignore[no-untyped-def]
+    capsys.readouterr()
+    try:
+        code = main(["animate", *argv])
+    except SystemExit as stop:  # argparse's own refusals (exit 2)
+        code = int(stop.code or 0)
+    got = capsys.readouterr()
+    return code, got.out, got.err
+
+
+def test_csv_json_and_plot_outputs(sessions, tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    out, png = tmp_path / "a.json", tmp_path / "a.png"
+    code, stdout, _err = _cli(capsys, str(sessions["dcmotor"]), "--t-end", "0.3",
+                              "--input", "Range_distance=3-2*t", "--const", "tscale=0.1",
+                              "--format", "json", "-o", str(out), "--plot", str(png))
+    assert code == 0 and stdout == ""
+    doc = json.loads(out.read_text())
+    assert doc["composition"] == "BenchMapping" and doc["columns"][0] == "t"
+    assert [e["channel"] for e in doc["events"][:3]] == ["registerRead_near",
+                                                         "registerWrite_drive", "tock"]
+    assert doc["events"][1]["value"] == 10.0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    code, stdout, _err = _cli(capsys, str(sessions["dcmotor"]), "--t-end", "0.3",
+                              "--input", "Range_distance=3-2*t", "--const", "tscale=0.1",
+                              "--samples", "4")
+    lines = stdout.splitlines()
+    assert code == 0 and len(lines) == 5 and lines[0].endswith(",events")
+    assert "registerWrite_drive.10.0" in lines[1]
+
+
+@pytest.mark.parametrize("argv, status, words", [
+    (["{tmp}"], 2, "no ROOT file"),
+    (["{dc}", "--input", "Range_distanse=1"], 2, "did you mean Range_distance?"),
+    (["{dc}", "--const", "tscale=nan"], 2, "not a finite number"),
+    (["{dc}", "--t-end", "0"], 2, "above 0"),
+    (["{dc}", "--t-end", "inf"], 2, "not a finite number"),
+    (["{dc}", "--const", "tscal=0.1"], 2, "did you mean tscale?"),
+    (["{dc}", "--input", "Range_distance=1/0"], 2, "not a finite value"),
+    (["{dc}", "--input", "Motor_av=1", "--const", "tscale=0.1"], 2, "not a world input"),
+    (["{dc}", "--input", "Range_distance=3-2*t"], 1, "tscale"),
+])
+def test_bad_input_is_a_clear_error(sessions, tmp_path, capsys, argv, status, words) -> None:  # type: ignore[no-untyped-def]
+    out = tmp_path / "out.csv"
+    argv = [a.format(tmp=tmp_path, dc=sessions["dcmotor"]) for a in argv] + ["-o", str(out)]
+    code, stdout, err = _cli(capsys, *argv)
+    assert (code, stdout) == (status, ""), err
+    assert words in err and "Traceback" not in err
+    assert not out.exists()  # no partial output
+
+
+def test_a_theory_it_cannot_read_is_reported_with_its_line(sessions, tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    mutant = _mutant(sessions["dcmotor"], tmp_path, '"StopCall = (', '"StopCall = ((Motor_das ## 1) ;; ')
+    thy = mutant / "DCMotorBase_CyPhyCircus.thy"
+    line = next(n for n, text in enumerate(thy.read_text().splitlines(), 1) if "##" in text)
+    code, stdout, err = _cli(capsys, str(mutant), "--const", "tscale=0.1")
+    assert (code, stdout) == (2, "")
+    assert f"{thy}:{line}: ERROR E-ANIMATE-READ" in err
+
+
+def test_the_axiomatic_dialect_is_refused_with_a_diagnostic(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    generated = api.generate_isabelle([DCMOTOR], api.SemanticsGenOptions(dialect="axiomatic"))
+    for name, text in generated.files.items():
+        (tmp_path / name).write_text(text)
+    code, stdout, err = _cli(capsys, str(tmp_path))
+    assert (code, stdout) == (2, "")
+    assert "E-ANIMATE-DIALECT" in err and "utp dialect only" in err
