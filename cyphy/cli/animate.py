@@ -96,7 +96,10 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(f"cyphy animate: error: {err}\n")
         return 1
     if animation.undetermined:
-        sys.stderr.write(f"cyphy animate: {len(animation.undetermined)} state variables that "
-                         "no equation determines are left out: "
-                         f"{', '.join(animation.undetermined)}\n")
+        names = animation.undetermined
+        shown = ", ".join(names[:6]) + (", …" if len(names) > 6 else "")
+        sys.stderr.write(f"cyphy animate: {len(names)} state variable"
+                         f"{'s' if len(names) != 1 else ''} that no equation determines "
+                         f"left out (world inputs not given with --input, forces the "
+                         f"equations leave open): {shown}\n")
     return 0

@@ -64,7 +64,7 @@ def _main_theory(folder: Path) -> tuple[Path, str]:
     try:
         session, findings = read_session(folder)
     except SessionError as err:
-        raise AnimateError("E-ANIMATE-SESSION", f"{err}", path=folder, status=2,
+        raise AnimateError("E-ANIMATE-SESSION", f"{err}", status=2,
                            hint="give the folder cyphy gen --isabelle wrote (it has a ROOT "
                            "file and the theories)") from None
     for finding in findings:
@@ -165,7 +165,7 @@ def read_model(folder: Path) -> TheoryModel:
             raise AnimateError("E-ANIMATE-READ", f"the composition runs {main}, which is not "
                                "defined", path=path, line=_line_of(text, rf"^definition {name} ::"),
                                status=2)
-        processes.append(Process(main, main, fields.get(state, {})))
+        processes.append(Process(state, main, fields.get(state, {})))
     return TheoryModel(path, definitions, values, open_constants, _channel_set(channel_expr),
                        processes, name, axioms)
 
