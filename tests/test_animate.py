@@ -215,11 +215,11 @@ def test_csv_json_and_plot_outputs(sessions, tmp_path, capsys) -> None:  # type:
 
 @pytest.mark.parametrize("argv, status, words", [
     (["{tmp}"], 2, "no ROOT file"),
-    (["{dc}", "--input", "Range_distanse=1"], 2, "did you mean Range_distance?"),
+    (["{dc}", "--input", "Range_distanse=1"], 2, "did you mean 'Range_distance'"),
     (["{dc}", "--const", "tscale=nan"], 2, "not a finite number"),
     (["{dc}", "--t-end", "0"], 2, "above 0"),
     (["{dc}", "--t-end", "inf"], 2, "not a finite number"),
-    (["{dc}", "--const", "tscal=0.1"], 2, "did you mean tscale?"),
+    (["{dc}", "--const", "tscal=0.1"], 2, "did you mean 'tscale'?"),
     (["{dc}", "--input", "Range_distance=1/0"], 2, "not a finite value"),
     (["{dc}", "--input", "Motor_av=1", "--const", "tscale=0.1"], 2, "not a world input"),
     (["{dc}", "--input", "Range_distance=3-2*t"], 1, "tscale"),

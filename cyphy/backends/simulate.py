@@ -560,29 +560,14 @@ def to_json(trajectory: Trajectory) -> str:
 def plot(trajectory: Trajectory, names: Sequence[str] = ()) -> bytes:
     """A PNG of the chosen columns over time (all states when none is chosen; at most 8), as
     bytes: the caller writes it atomically, where it checked it could before the run."""
-    import io
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from cyphy.backends.plotting import line_plot  # lazy: matplotlib behind it
 
     chosen = list(names) or trajectory.names[:8]
     missing = [n for n in chosen if n not in trajectory.names]
     if missing:
         raise SimulationError(f"--plot-var names {', '.join(missing)}, which is not simulated",
                               "choose among: " + ", ".join(trajectory.names))
-    figure, axes = plt.subplots(figsize=(7, 4), dpi=80)
-    for name in chosen:
-        axes.plot(trajectory.times, trajectory.column(name), label=name)
-    axes.set_xlabel("t (s)")
-    axes.grid(True, alpha=0.3)
-    axes.legend(fontsize="small")
-    figure.tight_layout()
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", metadata={"Software": None})
-    plt.close(figure)
-    return buffer.getvalue()
+    return line_plot(trajectory.times, [(name, trajectory.column(name)) for name in chosen])
 
 
 def progress_to_stderr(fraction: float) -> None:

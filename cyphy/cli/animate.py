@@ -54,6 +54,7 @@ def _pairs(items: list[str], option: str) -> dict[str, str] | str:
 
 
 def run(args: argparse.Namespace) -> int:
+    # lazy: the reader (lark), SymPy and SciPy load when the command runs, not for --help
     from cyphy.outputs import OutputError, write_file
     from cyphy.verify.animate.animation import animate
     from cyphy.verify.animate.errors import AnimateError

@@ -3,12 +3,12 @@ with every event the two processes exchanged."""
 
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from cyphy.diagnostics import did_you_mean
 from cyphy.verify.animate.errors import AnimateError
 from cyphy.verify.animate.evolve import OdeSystem, build
 from cyphy.verify.animate.executor import (MAX_EVENTS_PER_INSTANT, Evolving, Proc, Runner,
@@ -29,11 +29,6 @@ class Animation:
     differential: list[str] = field(default_factory=list)  # the states Evolve integrates
 
 
-def _suggest(name: str, names: list[str]) -> str:
-    close = difflib.get_close_matches(name, names, n=1)
-    return f"did you mean {close[0]}?" if close else ""
-
-
 class _Constants:
     """The theory's constants, ``--const`` winning, then the axioms ``name = value``."""
 
@@ -44,7 +39,7 @@ class _Constants:
         for name, value in given.items():
             if name not in known:
                 raise AnimateError("E-ANIMATE-OPTION", f"--const {name}: the theory has no "
-                                   "constant of that name", hint=_suggest(name, known),
+                                   "constant of that name", hint=did_you_mean(name, known),
                                    status=2)
             self.values[name] = value
         for tree, line in model.axioms:
@@ -118,7 +113,7 @@ class _Animator:
 
     def _inputs(self, given: dict[str, str]) -> dict[str, Any]:
         import sympy  # lazy: as above
-        from sympy.parsing.sympy_parser import parse_expr
+        from sympy.parsing.sympy_parser import parse_expr  # lazy: with sympy
         fields = sorted(self.p.state)
         out: dict[str, Any] = {}
         names = {f: sympy.Symbol(f) for f in fields}
@@ -129,7 +124,7 @@ class _Animator:
         for name, text in given.items():
             if name not in self.p.state:
                 raise AnimateError("E-ANIMATE-OPTION", f"--input {name}: not a state variable "
-                                   f"of {self.p.name}", hint=_suggest(name, fields), status=2)
+                                   f"of {self.p.name}", hint=did_you_mean(name, fields), status=2)
             try:
                 expr = parse_expr(text, local_dict=names, global_dict={"Integer": sympy.Integer,
                                   "Float": sympy.Float, "Rational": sympy.Rational,
@@ -142,7 +137,7 @@ class _Animator:
             if stray:
                 raise AnimateError("E-ANIMATE-OPTION", f"--input {name}={text}: {stray[0]} is "
                                    "neither t nor a state variable",
-                                   hint=_suggest(stray[0], fields), status=2)
+                                   hint=did_you_mean(stray[0], fields), status=2)
             if expr.is_number and not expr.is_finite:
                 raise AnimateError("E-ANIMATE-OPTION", f"--input {name}={text}: not a finite "
                                    "value", status=2)

@@ -60,10 +60,7 @@ def to_json(animation: Animation) -> str:
 def plot(animation: Animation, names: Sequence[str] = (), title: str = "") -> bytes:
     """A PNG of the chosen columns over time (default: the integrated states but the timer,
     at most 8) as bytes, for the caller to write atomically."""
-    import matplotlib  # lazy: only --plot draws
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt  # lazy: as above
+    from cyphy.backends.plotting import line_plot  # lazy: matplotlib behind it
 
     chosen = list(names) or [x for x in animation.differential if x != "timer"][:8]
     missing = [n for n in chosen if n not in animation.columns]
@@ -72,17 +69,5 @@ def plot(animation: Animation, names: Sequence[str] = (), title: str = "") -> by
                            "animation", hint="choose among: " + ", ".join(animation.columns[1:]),
                            status=2)
     times = [r[0] for r in animation.rows]
-    figure, axes = plt.subplots(figsize=(7, 4), dpi=80)
-    for name in chosen:
-        i = animation.columns.index(name)
-        axes.plot(times, [r[i] for r in animation.rows], label=name)
-    axes.set_xlabel("t (s)")
-    if title:
-        axes.set_title(title)
-    axes.grid(True, alpha=0.3)
-    axes.legend(fontsize="small")
-    figure.tight_layout()
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", metadata={"Software": None})
-    plt.close(figure)
-    return buffer.getvalue()
+    return line_plot(times, [(name, [r[animation.columns.index(name)] for r in animation.rows])
+                             for name in chosen], title)

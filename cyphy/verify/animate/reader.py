@@ -14,6 +14,9 @@ from pathlib import Path
 from typing import Any
 
 from cyphy.verify.animate.errors import AnimateError
+from cyphy.verify.animate.terms import evaluate_hol
+from cyphy.verify.theory.session import SessionError, read_session
+from cyphy.verify.theory.utp_types import TypeError_, parser, read_theory
 
 #: The import that marks the axiomatic dialect (Ax_CyPhyCircus), which ``animate`` cannot read.
 _AXIOMATIC = "Ax_CyPhyCircus"
@@ -60,7 +63,6 @@ def _line_of(text: str, pattern: str) -> int:
 
 def _main_theory(folder: Path) -> tuple[Path, str]:
     """The session's theory that states the composition (the one ``animate`` runs)."""
-    from cyphy.verify.theory.session import SessionError, read_session
     try:
         session, findings = read_session(folder)
     except SessionError as err:
@@ -91,8 +93,7 @@ def _main_theory(folder: Path) -> tuple[Path, str]:
 
 
 def _parse(text: str, start: str, path: Path, line: int) -> Any:
-    from lark.exceptions import LarkError  # lazy: lark loads with the grammar
-    from cyphy.verify.theory.utp_types import parser
+    from lark.exceptions import LarkError  # lazy: only a failed parse needs the class
     try:
         return parser().parse(text, start=start)
     except LarkError as err:
@@ -104,7 +105,6 @@ def _parse(text: str, start: str, path: Path, line: int) -> Any:
 
 
 def _hol_value(tree: Any, values: dict[str, Any]) -> Any:
-    from cyphy.verify.animate.terms import evaluate_hol
     return evaluate_hol(tree, values.__getitem__)
 
 
@@ -119,7 +119,6 @@ def _channel_set(expr: str) -> set[str]:
 def read_model(folder: Path) -> TheoryModel:
     """The composition the session states, read from its text; :class:`AnimateError` when
     the folder is not a session or its theory uses what the reader does not know."""
-    from cyphy.verify.theory.utp_types import TypeError_, read_theory
     path, text = _main_theory(folder)
     try:
         th = read_theory(text)
