@@ -211,6 +211,9 @@ def test_csv_json_and_plot_outputs(sessions, tmp_path, capsys) -> None:  # type:
     lines = stdout.splitlines()
     assert code == 0 and len(lines) == 5 and lines[0].endswith(",events")
     assert "registerWrite_drive.10.0" in lines[1]
+    again = _cli(capsys, str(sessions["dcmotor"]), "--t-end", "0.3", "--input",
+                 "Range_distance=3-2*t", "--const", "tscale=0.1", "--samples", "4")
+    assert again[1] == stdout  # byte-identical across runs
 
 
 @pytest.mark.parametrize("argv, status, words", [
@@ -223,6 +226,9 @@ def test_csv_json_and_plot_outputs(sessions, tmp_path, capsys) -> None:  # type:
     (["{dc}", "--input", "Range_distance=1/0"], 2, "not a finite value"),
     (["{dc}", "--input", "Motor_av=1", "--const", "tscale=0.1"], 2, "not a world input"),
     (["{dc}", "--input", "Range_distance=3-2*t"], 1, "tscale"),
+    (["{dc}", "--input", "Range_distance=1/(t-0.05)", "--const", "tscale=0.1"], 1,
+     "E-ANIMATE-VALUE"),
+    (["{dc}", "--const", "tscale=0.1", "--const", "cycle=2"], 2, "contradict an axiom"),
 ])
 def test_bad_input_is_a_clear_error(sessions, tmp_path, capsys, argv, status, words) -> None:  # type: ignore[no-untyped-def]
     out = tmp_path / "out.csv"

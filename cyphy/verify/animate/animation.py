@@ -86,7 +86,14 @@ def animate(folder: str | Path, t_end: float, inputs: dict[str, str] | None = No
     if samples < 2:
         raise AnimateError("E-ANIMATE-OPTION", "--samples must be at least 2", status=2)
     model = read_model(Path(folder))
-    return _Animator(model, t_end, inputs or {}, consts or {}, samples).run()
+    animator = _Animator(model, t_end, inputs or {}, consts or {}, samples)
+    try:
+        return animator.run()
+    except (ZeroDivisionError, OverflowError, ValueError) as err:  # math on the values
+        raise AnimateError("E-ANIMATE-VALUE", f"a value is undefined at t = {animator.t:.6g} "
+                           f"({err})", status=1,
+                           hint="an input or constant makes an equation divide by zero or "
+                           "leave its domain") from None
 
 
 class _Animator:
