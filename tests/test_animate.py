@@ -255,3 +255,21 @@ def test_the_axiomatic_dialect_is_refused_with_a_diagnostic(tmp_path, capsys) ->
     code, stdout, err = _cli(capsys, str(tmp_path))
     assert (code, stdout) == (2, "")
     assert "E-ANIMATE-DIALECT" in err and "utp dialect only" in err
+
+
+def test_the_animator_reads_the_theory_not_the_model() -> None:
+    """``cyphy/verify/animate`` imports no part of cyphy that reads or elaborates models: its
+    only inputs are the theory's text (read with check-theory's reader) and the options."""
+    import ast
+    folder = Path(__file__).resolve().parent.parent / "cyphy" / "verify" / "animate"
+    allowed = ("cyphy.verify.animate", "cyphy.verify.theory", "cyphy.diagnostics",
+               "cyphy.backends.plotting")
+    used = set()
+    for path in folder.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                used.add(node.module)
+            elif isinstance(node, ast.Import):
+                used.update(a.name for a in node.names)
+    ours = {m for m in used if m.startswith("cyphy")}
+    assert ours and all(m.startswith(allowed) for m in ours), sorted(ours)
