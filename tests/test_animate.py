@@ -20,6 +20,8 @@ from cyphy.cli import main
 from cyphy.verify.animate.animation import Animation, animate
 from cyphy.verify.animate.errors import AnimateError
 
+Series = dict[str, np.ndarray]
+
 DCMOTOR = EXAMPLES / "dcmotor"
 MARXBOT = EXAMPLES / "marxbot"
 #: The dcmotor's whole_bench.toml: the obstacle from 3.05 m (its [init] interval's midpoint)
@@ -45,7 +47,7 @@ def _generate(paths: list[Path], folder: Path) -> Path:
 
 
 @pytest.fixture(scope="module")
-def sessions(tmp_path_factory) -> dict[str, Path]:  # type: ignore[no-untyped-def]
+def sessions(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     root = tmp_path_factory.mktemp("animate")
     return {"dcmotor": _generate([DCMOTOR], root / "dcmotor"),
             "marxbot": _generate([MARXBOT / "Mapping.rsm"], root / "marxbot")}
@@ -66,7 +68,8 @@ def _column(animation: Animation, name: str) -> np.ndarray:
     return np.array([row[i] for row in animation.rows])
 
 
-def _common(animation: Animation, simulated: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+def _common(animation: Animation,
+            simulated: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """Indices of the instants both sampled (simulate samples every cycle)."""
     ours = _column(animation, "t")
     pairs = [(i, j) for i, t in enumerate(ours)
@@ -101,21 +104,22 @@ def mx_simulated() -> dict[str, np.ndarray]:
 
 
 @pytest.fixture(scope="module")
-def dc_animated(sessions) -> Animation:  # type: ignore[no-untyped-def]
+def dc_animated(sessions: dict[str, Path]) -> Animation:
     return animate(sessions["dcmotor"], 2.0, DC_INPUTS, DC_CONSTS, samples=41)
 
 
 @pytest.fixture(scope="module")
-def mx_animated(sessions) -> Animation:  # type: ignore[no-untyped-def]
+def mx_animated(sessions: dict[str, Path]) -> Animation:
     return animate(sessions["marxbot"], 9.0, MX_INPUTS, MX_CONSTS, samples=181)
 
 
-def test_dcmotor_theory_gives_simulates_trajectories(dc_animated, dc_simulated) -> None:  # type: ignore[no-untyped-def]
+def test_dcmotor_theory_gives_simulates_trajectories(dc_animated: Animation,
+                                                     dc_simulated: Series) -> None:
     assert _within_one_percent(dc_animated, dc_simulated,
                                ["Motor_av", "Motor_i", "Shaft_v"]) == []
 
 
-def test_dcmotor_cruises_then_the_machine_stops_it_when_near_occurs(dc_animated) -> None:  # type: ignore[no-untyped-def]
+def test_dcmotor_cruises_then_the_machine_stops_it_when_near_occurs(dc_animated: Animation) -> None:
     t, av = _column(dc_animated, "t"), _column(dc_animated, "Motor_av")
     mode = _column(dc_animated, "DCMotorSoftware_mode")
     cruise = (t > 0.7) & (t < 1.0)
@@ -130,11 +134,12 @@ def test_dcmotor_cruises_then_the_machine_stops_it_when_near_occurs(dc_animated)
     assert np.all(_column(dc_animated, "Motor_das")[t > 1.15] == 0.0)
 
 
-def test_marxbot_theory_gives_simulates_trajectories(mx_animated, mx_simulated) -> None:  # type: ignore[no-untyped-def]
+def test_marxbot_theory_gives_simulates_trajectories(mx_animated: Animation,
+                                                     mx_simulated: Series) -> None:
     assert _within_one_percent(mx_animated, mx_simulated, ["LMotor_av", "RMotor_av"]) == []
 
 
-def test_marxbot_stops_before_the_obstacle_and_turns(mx_animated) -> None:  # type: ignore[no-untyped-def]
+def test_marxbot_stops_before_the_obstacle_and_turns(mx_animated: Animation) -> None:
     t = _column(mx_animated, "t")
     left, right = _column(mx_animated, "LMotor_av"), _column(mx_animated, "RMotor_av")
     distance = _column(mx_animated, "Proximity1_distance")
@@ -162,7 +167,9 @@ def _mutant(folder: Path, tmp: Path, old: str, new: str) -> Path:
     return out
 
 
-def test_a_call_without_its_effect_fails_the_comparison(sessions, dc_simulated, tmp_path) -> None:  # type: ignore[no-untyped-def]
+def test_a_call_without_its_effect_fails_the_comparison(sessions: dict[str, Path],
+                                                        dc_simulated: Series,
+                                                        tmp_path: Path) -> None:
     mutant = _mutant(sessions["dcmotor"], tmp_path,
                      "(registerWrite_drive?(w) \\<^bold>\\<rightarrow> (DriveCall w))",
                      "(registerWrite_drive?(w) \\<^bold>\\<rightarrow> Skip)")
@@ -171,7 +178,7 @@ def test_a_call_without_its_effect_fails_the_comparison(sessions, dc_simulated, 
     assert np.all(_column(animation, "Motor_av") == 0.0)  # the motor never moves
 
 
-def test_init_left_open_fails_the_comparison(sessions, tmp_path) -> None:  # type: ignore[no-untyped-def]
+def test_init_left_open_fails_the_comparison(sessions: dict[str, Path], tmp_path: Path) -> None:
     mutant = _mutant(sessions["dcmotor"], tmp_path,
                      "Shaft_v, Motor_i, Motor_theta, Motor_av, Motor_e_int) :=\\<^sub>C "
                      "(0, 0, 0, 0, 0, 0, 0, 0)",
@@ -183,7 +190,7 @@ def test_init_left_open_fails_the_comparison(sessions, tmp_path) -> None:  # typ
     assert "Motor_i" in err.value.message and "Init leaves" in err.value.message
 
 
-def _cli(capsys, *argv: str) -> tuple[int, str, str]:  # type: ignore[no-untyped-def]
+def _cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
     capsys.readouterr()
     try:
         code = main(["animate", *argv])
@@ -193,7 +200,8 @@ def _cli(capsys, *argv: str) -> tuple[int, str, str]:  # type: ignore[no-untyped
     return code, got.out, got.err
 
 
-def test_csv_json_and_plot_outputs(sessions, tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+def test_csv_json_and_plot_outputs(sessions: dict[str, Path], tmp_path: Path,
+                                   capsys: pytest.CaptureFixture[str]) -> None:
     out, png = tmp_path / "a.json", tmp_path / "a.png"
     code, stdout, _err = _cli(capsys, str(sessions["dcmotor"]), "--t-end", "0.3",
                               "--input", "Range_distance=3-2*t", "--const", "tscale=0.1",
@@ -230,7 +238,9 @@ def test_csv_json_and_plot_outputs(sessions, tmp_path, capsys) -> None:  # type:
      "E-ANIMATE-VALUE"),
     (["{dc}", "--const", "tscale=0.1", "--const", "cycle=2"], 2, "contradict an axiom"),
 ])
-def test_bad_input_is_a_clear_error(sessions, tmp_path, capsys, argv, status, words) -> None:  # type: ignore[no-untyped-def]
+def test_bad_input_is_a_clear_error(sessions: dict[str, Path], tmp_path: Path,
+                                    capsys: pytest.CaptureFixture[str], argv: list[str],
+                                    status: int, words: str) -> None:
     out = tmp_path / "out.csv"
     argv = [a.format(tmp=tmp_path, dc=sessions["dcmotor"]) for a in argv] + ["-o", str(out)]
     code, stdout, err = _cli(capsys, *argv)
@@ -239,8 +249,14 @@ def test_bad_input_is_a_clear_error(sessions, tmp_path, capsys, argv, status, wo
     assert not out.exists()  # no partial output
 
 
-def test_a_theory_it_cannot_read_is_reported_with_its_line(sessions, tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
-    mutant = _mutant(sessions["dcmotor"], tmp_path, '"StopCall = (', '"StopCall = ((Motor_das ## 1) ;; ')
+Capsys = pytest.CaptureFixture[str]
+
+
+def test_a_theory_it_cannot_read_is_reported_with_its_line(sessions: dict[str, Path],
+                                                           tmp_path: Path,
+                                                           capsys: Capsys) -> None:
+    mutant = _mutant(sessions["dcmotor"], tmp_path, '"StopCall = (',
+                     '"StopCall = ((Motor_das ## 1) ;; ')
     thy = mutant / "DCMotorBase_CyPhyCircus.thy"
     line = next(n for n, text in enumerate(thy.read_text().splitlines(), 1) if "##" in text)
     code, stdout, err = _cli(capsys, str(mutant), "--const", "tscale=0.1")
@@ -248,7 +264,8 @@ def test_a_theory_it_cannot_read_is_reported_with_its_line(sessions, tmp_path, c
     assert f"{thy}:{line}: ERROR E-ANIMATE-READ" in err
 
 
-def test_the_axiomatic_dialect_is_refused_with_a_diagnostic(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+def test_the_axiomatic_dialect_is_refused_with_a_diagnostic(tmp_path: Path,
+                                                            capsys: Capsys) -> None:
     generated = api.generate_isabelle([DCMOTOR], api.SemanticsGenOptions(dialect="axiomatic"))
     for name, text in generated.files.items():
         (tmp_path / name).write_text(text)
