@@ -138,8 +138,7 @@ def test_name_sets_only_as_svids_in_the_parallel_notation() -> None:
 
 
 def test_parallel_with_name_sets_type_checks(tmp_path: Path) -> None:
-    """--isabelle-namesets has no interleaving to partition since ReceiveFromDModel is a
-    loop; the checker still reads the partitioned interleaving in both forms the printer
+    """ReceiveFromDModel is a loop, so nothing generated has name sets; the checker still reads the partitioned interleaving in both forms the printer
     writes for an Interleave node with name sets (seeded in place of the loop)."""
     from test_isabelle import SOFTWARE, write_model
 
@@ -149,7 +148,7 @@ def test_parallel_with_name_sets_type_checks(tmp_path: Path) -> None:
                "  output event lamp ? on { action Base::Lamp.on = on }\n}\n")
     paths = write_model(tmp_path, software, mapping)
     generated = api.generate_isabelle(paths, api.SemanticsGenOptions(
-        dialect="axiomatic", elements=("Robot::Base::J::M",), namesets=True))
+        dialect="axiomatic", elements=("Robot::Base::J::M",)))
     loop = generated.files["Robot_AxCyPhyCircus.thy"]
     assert "\\<lbrakk>" not in loop and check_ax_theory(loop) == []
     body = re.search(r'"ReceiveFromDModel = (.*)"', loop)

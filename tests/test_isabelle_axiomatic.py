@@ -12,7 +12,6 @@ from pathlib import Path
 import pytest
 import sympy
 from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
 
 from conftest import EXAMPLES
 
@@ -366,11 +365,11 @@ ROBOT_ELEMENTS = ("Robot::Base::J::M", "Robot::Arm::S")
 
 @settings(max_examples=25, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
-@given(model=mappings(), namesets=st.booleans())
-def test_generated_mappings_lex_and_type_check(tmp_path_factory, model, namesets) -> None:
+@given(model=mappings())
+def test_generated_mappings_lex_and_type_check(tmp_path_factory, model) -> None:
     folder = tmp_path_factory.mktemp("mapping")
     paths = write_model(folder, *model)
-    generated = axiomatic(paths, elements=ROBOT_ELEMENTS, namesets=namesets)
+    generated = axiomatic(paths, elements=ROBOT_ELEMENTS)
     assert not generated.report.has_errors, generated.report.diagnostics
     text = check_static(generated.files, "Robot_AxCyPhyCircus.thy")
     assert check_ax_theory(text) == []

@@ -27,7 +27,6 @@ class SemanticsGenOptions:
     consts: dict[str, object] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
     pdf: bool = False  # --latex: also typeset with pdflatex
-    namesets: bool = False  # --isabelle: keep interleaved updates with a name-set partition
     dialect: str = "utp"  # --isabelle: "utp" (utp-main 2020) or "axiomatic" (Ax_CyPhyCircus)
     elements: tuple[str, ...] = ()  # --isabelle axiomatic: the elements Evolve's ODE covers
     default_inertial: str | None = None  # see ElaborateOptions
@@ -92,8 +91,7 @@ def generate_cyphycircus(paths: Sequence[str | Path], target: str,
 def generate_isabelle(paths: Sequence[str | Path],
                       options: SemanticsGenOptions = SemanticsGenOptions()) -> Generated:
     """The Isabelle session of one platform mapping: ``ROOT``, the prelude, the theory, a
-    README and the names table. Files are empty when the model has errors. Interleavings
-    that discard state updates are reported as warnings (W-INTERLEAVE)."""
+    README and the names table. Files are empty when the model has errors."""
     # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.backends.isabelle.session import session_files
 

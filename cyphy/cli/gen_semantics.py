@@ -50,9 +50,6 @@ def _system_name(text: str) -> str:
 
 def _isabelle_options(parser: argparse.ArgumentParser) -> None:
     _semantics_options(parser)
-    parser.add_argument("--isabelle-namesets", action="store_true",
-                        help="write interleavings whose branches update disjoint variables "
-                        "with that name-set partition, so their updates are kept")
     parser.add_argument("--isabelle-dialect", choices=("utp", "axiomatic"), default="utp",
                         help="utp: utp-main's 2020 Circus with closure lemmas (default); "
                         "axiomatic: Ax_CyPhyCircus, Evolve as explicit ODEs (SymPy), into "
@@ -82,13 +79,12 @@ def _isabelle(args: argparse.Namespace) -> "Generated":
 
 def _semantics_gen_options(args: argparse.Namespace) -> "SemanticsGenOptions":
     """The options of every generator built on the semantics, from the parsed arguments
-    (``--pdf`` and ``--isabelle-namesets`` are each added by their own target)."""
+    (``--pdf`` is added by its own target)."""
     # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import SemanticsGenOptions
 
     return SemanticsGenOptions(args.model, args.name, args.tscale, const_values(args),
                                tuple(args.path), pdf=getattr(args, "pdf", False),
-                               namesets=getattr(args, "isabelle_namesets", False),
                                default_inertial=args.default_inertial,
                                machine=getattr(args, "machine", None))
 

@@ -604,7 +604,7 @@ def scalar_process(pm: c.BasicProcess, evolving_as_state: bool = True) -> Scalar
             return replace(a, args=tuple(sc.whole(x) for x in a.args))
         return None
 
-    from cyphy.semantics.circus.namesets import action_nodes, map_action
+    from cyphy.semantics.circus.walk import action_nodes, map_action
 
     actions = tuple(replace(d, body=map_action(d.body, rewrite)) for d in pm.actions)
     main = map_action(pm.main, rewrite)

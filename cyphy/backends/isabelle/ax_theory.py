@@ -18,13 +18,12 @@ from cyphy.semantics.dynamics.evolve_odes import EvolveOdes
 from cyphy.backends.isabelle.terms import HOL_FUNCTIONS, UnsupportedNode
 from cyphy.backends.isabelle.ax_terms import AX_RESERVED, AxiomaticPrinter
 from cyphy.backends.isabelle.names import is_identifier
-from cyphy.backends.isabelle.theory import (IsabelleError, IsabelleOptions, IsabelleSession,
+from cyphy.backends.isabelle.theory import (IsabelleError, IsabelleSession,
                                             _dprocess_actions, _environment, _names_table, _theory_context,
                                             scalar_program, symbols_of)
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, identifier
-from cyphy.semantics.circus.namesets import (action_nodes, find_lossy_interleavings, map_action,
-                                             with_namesets)
+from cyphy.semantics.circus.walk import action_nodes, map_action
 from cyphy.semantics.circus.rules import TIMER
 from cyphy.semantics.scalarise import initialised
 
@@ -34,7 +33,6 @@ WAIT = "WaitT"
 
 
 def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes | None,
-                        options: IsabelleOptions = IsabelleOptions(),
                         system_name: str | None = None,
                         elements: tuple[str, ...] = ()) -> IsabelleSession:
     """The session folder's files for ``program``; ``odes`` are Evolve's explicit ODEs
@@ -49,11 +47,7 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
         program = replace(program, pmodel=replace(pm, actions=tuple(
             initialised(d, states, pm.initial) for d in pm.actions),
             main=_outputs_tied(pm.main, odes)))
-    lossy = find_lossy_interleavings(program.pmodel)
     pm = program.pmodel
-    applied = options.namesets and any(f.partition for f in lossy)
-    if options.namesets:
-        pm = with_namesets(pm)
     symbols = symbols_of(program, AX_RESERVED)
     names = symbols.names
     names.add(WAIT)
@@ -68,7 +62,7 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
     session = f"{prefix}_AxCyPhy"
     action_type = f"({names[f'{prefix}_chan']}, {names[pm.state.name]}) cyphyaction"
     try:
-        context = _theory_context(program, pm, printer, lossy, options, applied, action_type)
+        context = _theory_context(program, pm, printer, action_type)
     except UnsupportedNode as err:
         raise IsabelleError(str(err)) from None
     defs = {d.name: d for d in pm.actions}
@@ -113,7 +107,7 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
             pmodel=pm.name, evolve=evolve),
         "names.tsv": _names_table(table, names, symbols),
     }
-    return IsabelleSession(files, theory, defs, names, symbols, lossy, applied)
+    return IsabelleSession(files, theory, defs, names, symbols)
 
 
 def _outputs_tied(main: c.Action, odes: EvolveOdes) -> c.Action:
