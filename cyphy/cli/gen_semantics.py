@@ -8,7 +8,8 @@ import sys
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from cyphy.cli.options import GEN_INERTIAL, const_values, default_inertial_option, positive_float
+from cyphy.cli.options import (GEN_INERTIAL, const_values, default_inertial_option,
+                               gen_scenario_option, positive_float)
 from cyphy.cli.target import Target
 
 if TYPE_CHECKING:
@@ -24,6 +25,7 @@ def _semantics_options(parser: argparse.ArgumentParser) -> None:
                             "(--cyphycircus, --latex, --isabelle) is written from it, and "
                             "(--flowstar) it is the controller when the scenario has no "
                             "[controller]")
+    gen_scenario_option(parser)
     if "--tscale" in parser._option_string_actions:
         return
     parser.add_argument("--tscale", type=positive_float, metavar="X",
@@ -86,7 +88,8 @@ def _semantics_gen_options(args: argparse.Namespace) -> "SemanticsGenOptions":
     return SemanticsGenOptions(args.model, args.name, args.tscale, const_values(args),
                                tuple(args.path), pdf=getattr(args, "pdf", False),
                                default_inertial=args.default_inertial,
-                               machine=getattr(args, "machine", None))
+                               machine=getattr(args, "machine", None),
+                               scenario=getattr(args, "scenario", None))
 
 
 def _latex_options(parser: argparse.ArgumentParser) -> None:

@@ -45,7 +45,7 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
         states = [o.variable for o in odes.odes if o.kind == "state"]
         pm = program.pmodel
         program = replace(program, pmodel=replace(pm, actions=tuple(
-            initialised(d, states, pm.initial) for d in pm.actions),
+            initialised(d, states, pm.initial, pm.ranges) for d in pm.actions),
             main=_outputs_tied(pm.main, odes)))
     pm = program.pmodel
     symbols = symbols_of(program, AX_RESERVED)

@@ -14,10 +14,12 @@ from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.walk import action_nodes
 
 
-def session_files(built: Any, options: Any, report: Report) -> dict[str, str] | None:
+def session_files(built: Any, options: Any, report: Report
+                  ) -> tuple[dict[str, str], c.ActionDef] | None:
     """The session's files (``ROOT``, the prelude, the theory, a README, the names table)
     for ``built`` (a :class:`cyphy.semantics.circus.build.Semantics`) under ``options``
-    (its ``dialect``, ``system_name``, ``elements``); None when an error was reported."""
+    (its ``dialect``, ``system_name``, ``elements``), with the theory's ``Init`` as printed
+    (what it starts differs between the dialects); None when an error was reported."""
     span = built.mapping.span
     why = unsatisfiable_axioms(built.program.globals)
     if why is not None:
@@ -45,7 +47,7 @@ def session_files(built: Any, options: Any, report: Report) -> dict[str, str] | 
                           "LaTeX printers (--cyphycircus, --latex) show it")
         return None
     files: dict[str, str] = session.files
-    return files
+    return files, session.actions["Init"]
 
 
 def _axiomatic_session(built: Any, options: Any, report: Report) -> Any:

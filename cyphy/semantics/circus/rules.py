@@ -11,7 +11,7 @@ Nothing here prints: the text, LaTeX and Isabelle printers in :mod:`cyphy.backen
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Iterable
+from typing import Iterable, Sequence
 
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
@@ -79,6 +79,7 @@ class Context:
     tscale: float | None = None
     ports: dict[tuple[str, ...], str] = field(default_factory=dict)
     motion: tuple[ex.Expr, ...] = ()  # the kinematic tree's equations of motion (build.py)
+    given: dict[str, tuple[float, float]] = field(default_factory=dict)  # a scenario's [init]
 
 
 # --------------------------------------------------------------------------- Rule 1
@@ -167,9 +168,20 @@ def rule2_pmodel_process(ctx: Context) -> c.BasicProcess:
         c.Assign((TIMER,), (ex.Num("0"),)),
         c.InterruptCond(c.Call("Evolve"), ex.BinOp(">=", timer, cycle_length)),
         c.Call("X"))))))
-    initial = tuple((p.mangled, si_units(p.initial)) for _, device in _device_elements(ctx.model)
-                    for p in device.of_kind(ast.DeclKind.LOCAL) if p.initial is not None)
-    return c.BasicProcess(name, consts, state, local, tuple(actions), main, initial)
+    declared = {p.mangled: si_units(p.initial) for _, device in _device_elements(ctx.model)
+                for p in device.of_kind(ast.DeclKind.LOCAL) if p.initial is not None}
+    fields = {f.name for f in state.fields}
+    given = {n: v for n, v in ctx.given.items() if n not in fields}  # locals, integrals
+    initial = {**declared, **{n: _number(lo) for n, (lo, hi) in given.items() if lo == hi}}
+    ranges = tuple((n, _number(lo), _number(hi)) for n, (lo, hi) in sorted(given.items())
+                   if lo != hi)
+    return c.BasicProcess(name, consts, state, local, tuple(actions), main,
+                          tuple(sorted(initial.items())), ranges)
+
+
+def _number(value: float) -> ex.Expr:
+    """A scenario's number as a literal (``3`` stays ``3``: theories type integers apart)."""
+    return ex.Num(repr(int(value)) if float(value).is_integer() else repr(float(value)))
 
 
 def constants(ctx: Context) -> tuple[c.Constant, ...]:
@@ -233,7 +245,11 @@ def init_action(ctx: Context, state: c.Schema) -> c.ActionDef:
     """Rule 2's ``Init`` (ours where the paper is silent): ``timer := 0`` and every private
     input that no equation or relation of the model determines (the actuator inputs the
     software sets) gets its declared initial value, or 0 if it is a scalar (a vector
-    input without a declared initial value is left to the first ``Evolve``)."""
+    input without a declared initial value is left to the first ``Evolve``). A scenario's
+    ``[init]`` (``ctx.given``) wins for every scalar state field it names, visible ones
+    too (a sensor's reading of the world): a number is assigned, an interval ``[lo, hi]``
+    is the specification statement ``x : [true, lo ≤ x' ≤ hi]`` after the assignment
+    (any start in the box, as Flow* reads it)."""
     determined = _determined_by_relations(ctx.model)
     private = {f.name for f in state.fields if not f.visible}
     targets, values = [TIMER], [ex.Num("0")]
@@ -248,7 +264,32 @@ def init_action(ctx: Context, state: c.Schema) -> c.ActionDef:
             elif not isinstance(typ, c.TSeq):
                 targets.append(p.mangled)
                 values.append(ex.Bool(False) if typ == c.BOOL else ex.Num("0"))
-    return c.ActionDef("Init", (), c.Assign(tuple(targets), tuple(values)))
+    scalar = {f.name for f in state.fields if f.type == c.REAL}
+    ranges: list[tuple[str, ex.Expr, ex.Expr]] = []
+    for name, (lo, hi) in sorted(ctx.given.items()):
+        if name not in scalar:
+            continue  # a local (the process's ``initial``) or no state: reported by the caller
+        if lo != hi:
+            ranges.append((name, _number(lo), _number(hi)))
+        elif name in targets:
+            values[targets.index(name)] = _number(lo)
+        else:
+            targets.append(name)
+            values.append(_number(lo))
+    body: c.Action = c.Assign(tuple(targets), tuple(values))
+    if ranges:
+        body = c.Seq((body, within(ranges)))
+    return c.ActionDef("Init", (), body)
+
+
+def within(ranges: Sequence[tuple[str, ex.Expr, ex.Expr]]) -> c.Spec:
+    """``x, y : [true, lo ≤ x ≤ hi ∧ …]``: the frame starts anywhere in its boxes (a frame
+    name in a specification's postcondition is its after-state value)."""
+    bounds: list[ex.Expr] = []
+    for name, lo, hi in ranges:
+        x = ex.Name((name,))
+        bounds.extend((ex.BinOp("<=", lo, x), ex.BinOp("<=", x, hi)))
+    return c.Spec(tuple(n for n, _, _ in ranges), ex.Bool(True), ex.conjunction(bounds))
 
 
 def evolve(ctx: Context, state: c.Schema, local: c.Schema) -> c.ActionDef:
