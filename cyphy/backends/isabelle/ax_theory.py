@@ -12,6 +12,7 @@ primary dialect (:mod:`cyphy.backends.isabelle.theory`): names, order, constants
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import Any
 
 from cyphy import expr as ex
 from cyphy.semantics.dynamics.evolve_odes import EvolveOdes
@@ -24,7 +25,7 @@ from cyphy.backends.isabelle.theory import (IsabelleError, IsabelleSession,
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, identifier
 from cyphy.semantics.circus.walk import action_nodes, map_action
-from cyphy.semantics.circus.rules import TIMER
+from cyphy.semantics.circus.rules import REGISTER_CHANNELS, TIMER
 from cyphy.semantics.scalarise import initialised
 
 PARENT = "Axiomatic_CyPhyCircus"
@@ -60,7 +61,10 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
     prefix = identifier(pm.name)
     theory = f"{prefix}_AxCyPhyCircus"
     session = f"{prefix}_AxCyPhy"
-    action_type = f"({names[f'{prefix}_chan']}, {names[pm.state.name]}) cyphyaction"
+    dm = program.dmodel if isinstance(program.dmodel, c.BasicProcess) else None
+    system_state = names.add(f"{program.system.name}State") if dm is not None else None
+    action_type = (f"({names[f'{prefix}_chan']}, "
+                   f"{system_state or names[pm.state.name]}) cyphyaction")
     try:
         context = _theory_context(program, pm, printer, action_type)
     except UnsupportedNode as err:
@@ -88,6 +92,9 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
                     "in the state. The paper quantifies them afresh in every Evolve; here "
                     "they keep their values between cycles, and Init starts them at 0 or "
                     "their declared initial values."))
+    if dm is not None:
+        context["dprocess"].update(_composition(program, dm, names, symbols, added),
+                                   state_name=system_state, extends=names[pm.state.name])
     env = _environment()
     evolve = ("Ax_CyPhyCircus's evolution takes an explicit ODE. The p-model's equations were "
               "reduced to one as `cyphy solve` does"
@@ -108,6 +115,32 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
         "names.tsv": _names_table(table, names, symbols),
     }
     return IsabelleSession(files, theory, defs, names, symbols)
+
+
+def _composition(program: c.Program, dm: c.BasicProcess, names: Any, symbols: Any,
+                 added: list[str]) -> dict[str, Any]:
+    """``N = (D ⟦ dvars | cs | pvars ⟧ P) \\ cs`` as Ax_CyPhyCircus can state it. It has no
+    state hiding (utp-main's ``state 'a • P``): its operators are over one state type
+    (Ax_CyPhyCircus.thy:34-58), and its own example composes two actions over one alphabet
+    with a name-set partition (examples/Ranger_CyPhyCircus.thy:57, ``RangerLoop
+    ⟦envVars | triggerChan | bufferVars⟧ EventBuffer``). So one alphabet, ``<N>State``,
+    extends P's with D's variables, every action is typed over it, and the parallel
+    (``_ParallelAct``, Circus_Toolkit IsaCircus_Syntax.thy:80, 100 → ``cParallelAct``,
+    Ax_CyPhyCircus.thy:52) gives D its variables and P its own; the channel set is
+    Circus_Toolkit's ``\\<lbrace>c, …\\<rbrace>`` (Channels_Events.thy:74-100: every event of
+    each channel) and the hiding ``P \\<Zhide> cs`` (IsaCircus_Syntax.thy:81, 101 → ``cHide``,
+    Ax_CyPhyCircus.thy:51)."""
+    ctors = [symbols.constructors[(ch.name, v.tag)] for ch in program.channels
+             if ch.name in REGISTER_CHANNELS for v in ch.variants or (c.ChannelVariant(None, ()),)]
+    pm = program.pmodel
+    p_vars = [names[f.name] for f in pm.state.fields] + [names[a] for a in added]
+
+    def svid(idents: list[str]) -> str:  # a variable, or a tuple (Variables.thy:212-218)
+        return idents[0] if len(idents) == 1 else "(" + ", ".join(idents) + ")"
+
+    return {"channels": "\\<lbrace>" + ", ".join(ctors) + "\\<rbrace>",
+            "d_vars": svid([names[f.name] for f in dm.state.fields]), "p_vars": svid(p_vars),
+            "system": names[program.system.name]}
 
 
 def _outputs_tied(main: c.Action, odes: EvolveOdes) -> c.Action:

@@ -360,8 +360,8 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
     dprocess = None
     if isinstance(program.dmodel, c.BasicProcess):
         dm = program.dmodel
-        d_type = names[f"{identifier(dm.name)}_action"] if utp else \
-            f"({names[f'{identifier(pm.name)}_chan']}, {names[dm.state.name]}) cyphyaction"
+        # the axiomatic dialect types D's actions over the system's one state, as P's
+        d_type = names[f"{identifier(dm.name)}_action"] if utp else action_type
         dprocess = _dprocess_context(program, dm, printer, d_type)
     return {
         "dprocess": dprocess,
