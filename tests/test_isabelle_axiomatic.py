@@ -92,9 +92,9 @@ def check_static(files: dict[str, str], theory: str) -> str:
     assert session_findings(files) == []  # cyphy check-theory accepts the session
     # define before use: every action a body mentions is defined above it (or is WaitT)
     defined = {"WaitT"} if "\nprimrec WaitT ::" in text else set()
-    actions = {n for n, _, _ in definitions(text)}
+    actions = {n for n, typ, _ in definitions(text) if typ.endswith(") cyphyaction")}
     for n, typ, body in definitions(text):
-        assert typ.endswith(") cyphyaction"), typ
+        assert typ.endswith(") cyphyaction") or typ.endswith("_chan set"), typ
         used = set(re.findall(r"(?<![\w`])[A-Za-z]\w*", re.sub(r"\\<[^>]*>", " ", body)))
         assert (used & actions) - {n} <= defined, (n, (used & actions) - defined)
         defined.add(n)
@@ -113,10 +113,15 @@ def test_marxbot_passes_the_static_checks(marxbot) -> None:
     names = dict(line.split("\t")[1:] for line in marxbot.files["names.tsv"].splitlines()[1:]
                  if line.count("\t") == 2)
     expected = [{"Evolve": "Evolve_v"}.get(a, a) for a in MARXBOT_ACTIONS]
-    # then the d-model process D (from the machine SMovement), over its own state
+    # then the d-model process D (from the machine SMovement) and the composition N, all
+    # over the system's one state (Ax_CyPhyCircus hides no state)
     expected += [f"marXbotSoftware{a}" for a in ("Init", "Read", "Step", "Write", "Main")]
+    expected += ["M_channels", "M_v"]  # M is a word of the grammar
     assert [n for n, _, _ in definitions(text)] == expected
-    assert '"(marXbotBase_chan, marXbotSoftwareState) cyphyaction"' in text
+    assert "alphabet MState = marXbotBaseState +\n  marXbotSoftware_mode :: nat\n" in text
+    assert {t for _, t, _ in definitions(text)} == {
+        "(marXbotBase_chan, MState) cyphyaction", "marXbotBase_chan set",
+        "real \\<Rightarrow> real \\<Rightarrow> (marXbotBase_chan, MState) cyphyaction"}
     assert "chantype marXbotBase_chan =\n  tock :: unit\n  registerRead_obstacle :: bool\n" \
         "  registerWrite_move :: \"real \\<times> real\"\n  registerWrite_stop :: unit\n" in text
     assert names.get("LMotor_das") == "LMotor_das"
@@ -316,6 +321,37 @@ def test_whole_model_evolve_is_the_reduction_of_cyphy_solve(whole) -> None:
 def test_whole_model_theory_type_checks(whole) -> None:
     name, generated = whole
     assert check_ax_theory(generated.files[f"{WHOLE[name][0]}_AxCyPhyCircus.thy"]) == []
+
+
+def test_whole_model_states_the_composition(whole) -> None:
+    """N = ((DMain ⟦dvars | cs | pvars⟧ MainAction) \\<Zhide> cs) over the one alphabet that
+    extends P's with D's: the name sets, read against the alphabets the theory declares,
+    partition the state (D's variables to D, every other to P), cs is every register
+    channel and tock; the checker rejects a name set with a name that is no variable."""
+    _, generated = whole
+    [theory] = [n for n in generated.files if n.endswith(".thy")]
+    text = generated.files[theory]
+    alphabets = {m.group(1): (m.group(2), re.findall(r"  (\w+) :: ", m.group(3)))
+                 for m in re.finditer(r"^alphabet (\w+) =(?: (\w+) \+)?\n((?:  .*\n)*)",
+                                      text, re.M)}
+    [(system, (parent, d_fields))] = [(k, v) for k, v in alphabets.items()
+                                      if k.endswith("State") and v[0] and v[0].endswith("State")
+                                      and v[0] in alphabets]
+    p_fields = []
+    while parent is not None:
+        parent, fields = alphabets[parent]
+        p_fields = fields + p_fields
+    m = re.search(r'"(\w+) = \(\((\w+)Main \\<lbrakk>\(([^)]*)\) \| (\w+) \| \(([^)]*)\)'
+                  r'\\<rbrakk> MainAction\) \\<Zhide> (\w+)\)"', text)
+    assert m is not None
+    n, _, d_set, cs, p_set, hidden = m.groups()
+    assert cs == hidden and f'definition {n} :: "({chan}, {system}) cyphyaction"' in text
+    assert d_set.split(", ") == d_fields and sorted(p_set.split(", ")) == sorted(p_fields)
+    chans = re.search(rf'"{cs} = \\<lbrace>(.*)\\<rbrace>"', text).group(1).split(", ")
+    chan, declared = re.search(r"^chantype (\w+) =\n((?:  .*\n)*)", text, re.M).groups()
+    assert sorted(chans) == sorted(re.findall(r"  (\w+) :: ", declared))
+    assert check_ax_theory(text) == []
+    assert check_ax_theory(text.replace(f"| {cs} | (timer, ", f"| {cs} | (timer_x, ", 1))
 
 
 def test_whole_model_generation_is_deterministic(whole) -> None:
