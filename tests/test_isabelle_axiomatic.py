@@ -341,6 +341,7 @@ def test_whole_model_states_the_composition(whole) -> None:
     while parent is not None:
         parent, fields = alphabets[parent]
         p_fields = fields + p_fields
+    chan, declared = re.search(r"^chantype (\w+) =\n((?:  .*\n)*)", text, re.M).groups()
     m = re.search(r'"(\w+) = \(\((\w+)Main \\<lbrakk>\(([^)]*)\) \| (\w+) \| \(([^)]*)\)'
                   r'\\<rbrakk> MainAction\) \\<Zhide> (\w+)\)"', text)
     assert m is not None
@@ -348,7 +349,6 @@ def test_whole_model_states_the_composition(whole) -> None:
     assert cs == hidden and f'definition {n} :: "({chan}, {system}) cyphyaction"' in text
     assert d_set.split(", ") == d_fields and sorted(p_set.split(", ")) == sorted(p_fields)
     chans = re.search(rf'"{cs} = \\<lbrace>(.*)\\<rbrace>"', text).group(1).split(", ")
-    chan, declared = re.search(r"^chantype (\w+) =\n((?:  .*\n)*)", text, re.M).groups()
     assert sorted(chans) == sorted(re.findall(r"  (\w+) :: ", declared))
     assert check_ax_theory(text) == []
     assert check_ax_theory(text.replace(f"| {cs} | (timer, ", f"| {cs} | (timer_x, ", 1))
