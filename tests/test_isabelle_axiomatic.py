@@ -177,17 +177,24 @@ def test_marxbot_evolve_is_the_reduction_of_cyphy_solve(marxbot) -> None:
                               - reduced.rhs[state].xreplace(zero)) == 0, state
     assert set(reduced.states) == {"LMotor_av", "LMotor_i", "LMotor_int1", "LMotor_theta",
                                    "RMotor_av", "RMotor_i", "RMotor_int2", "RMotor_theta"}
-    # the outputs that are state fields follow the states (chain rule), timer' = 1
+    # the outputs that are state fields follow the states and the world's input, the
+    # distance, which moves at its rate (chain rule), timer' = 1
     sym = {s: sympy.Symbol(s, real=True) for s in reduced.states}
+    distance = sympy.Symbol("Proximity1_distance", real=True)
+    rate = sympy.Symbol("Proximity1_distance_rate", real=True)
     for output in ("LMotor_T", "RMotor_T", "Proximity1_voltage"):
         g = reduced.outputs[output]
         expected = sum(sympy.diff(g, sym[s]) * reduced.rhs[s].xreplace(zero)
-                       for s in reduced.states)
+                       for s in reduced.states) + sympy.diff(g, distance) * rate
         assert sympy.simplify(hol_to_sympy(printed[output]) - expected) == 0, output
-    assert printed["Proximity1_voltage"] == "0"  # its input, the distance, is held
-    # before each evolution the outputs are set to their values over the states and inputs
-    # (the reduction's solutions): the IR law ties the voltage to the distance again
-    main = re.search(r'"MainAction = .*?\(\(timer, ([\w, ]+)\) := \(0, (.*)\)\) ;; '
+    assert printed["Proximity1_distance"] == "Proximity1_distance_rate"  # not frozen
+    assert hol_to_sympy(printed["Proximity1_voltage"]).has(rate)
+    # before each evolution the rate is chosen afresh, then the outputs are set to their
+    # values over the states and inputs (the reduction's solutions): the IR law ties the
+    # voltage to the distance again
+    main = re.search(r'"MainAction = .*?\(cSpec Proximity1_distance_rate \(True\)\\<\^sub>e '
+                     r'\(True\)\\<\^sub>e\) ;; '
+                     r'\(\(timer, ([\w, ]+)\) := \(0, (.*)\)\)\) ;; '
                      r'\(\(Evolve_v', marxbot.files[THEORY])
     assert main is not None
     tied = main.group(1).split(", ")
@@ -198,7 +205,7 @@ def test_marxbot_evolve_is_the_reduction_of_cyphy_solve(marxbot) -> None:
         assert sympy.simplify(hol_to_sympy(value) - expected) == 0, output
     assert printed["timer"] == "1"
     assert set(printed) == set(reduced.states) | {"LMotor_T", "RMotor_T", "Proximity1_voltage",
-                                                  "timer"}
+                                                  "Proximity1_distance", "timer"}
     # the locals and integrals that evolve are state fields now
     text = marxbot.files[THEORY]
     private = text[text.index("alphabet marXbotBaseState"):text.index("section \\<open>Actions")]

@@ -47,12 +47,12 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
         pm = program.pmodel
         program = replace(program, pmodel=replace(pm, actions=tuple(
             initialised(d, states, pm.initial, pm.ranges) for d in pm.actions),
-            main=_outputs_tied(pm.main, odes)))
+            main=_outputs_tied(pm.main, odes)))  # and the world inputs' rates chosen
     pm = program.pmodel
     symbols = symbols_of(program, AX_RESERVED)
     names = symbols.names
     names.add(WAIT)
-    added = list(odes.added) if odes is not None else []
+    added = list(odes.added) + list(odes.rates) if odes is not None else []
     for name in added:
         names.add(name)
     symbols = replace(symbols, state=symbols.state | frozenset(added),
@@ -91,7 +91,12 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
                     "field holds (device locals, integrals); Evolve's explicit ODE needs them "
                     "in the state. The paper quantifies them afresh in every Evolve; here "
                     "they keep their values between cycles, and Init starts them at 0 or "
-                    "their declared initial values."))
+                    "their declared initial values."
+                    + (f" {', '.join(names[r] for r in odes.rates)}: the rates of the world's "
+                       "inputs, constant during one evolution and chosen afresh (any value) "
+                       "before each, so the inputs vary continuously, piecewise linearly; the "
+                       "paper and the utp dialect leave them free." if odes and odes.rates
+                       else "")))
     if dm is not None:
         context["dprocess"].update(_composition(program, dm, names, symbols, added),
                                    state_name=system_state, extends=names[pm.state.name])
@@ -101,10 +106,12 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
               + (f" (restricted to {', '.join(elements)})" if elements else "")
               + ": one derivative per state of the reduction, the chain rule for the state "
               "fields the equations give as functions of the states (they follow the states "
-              "from their values, assigned before each evolution), timer` = 1. Inputs and "
-              "variables no equation determines "
-              "stay constant while the state evolves. Evolving variables that are no state "
-              f"field (device locals, integrals) are added to {names[pm.state.name]}.")
+              "from their values, assigned before each evolution), timer` = 1. The world's "
+              "inputs (visible fields no equation determines) move at rates u_rate chosen "
+              "afresh before each evolution; set-points and other variables no equation "
+              "determines stay constant while the state evolves. Evolving variables that are "
+              f"no state field (device locals, integrals, the rates) are added to "
+              f"{names[pm.state.name]}.")
     files = {
         "ROOT": env.get_template("ax_ROOT.j2").render(session=session, parent=PARENT,
                                                        theory=theory),
@@ -148,16 +155,21 @@ def _outputs_tied(main: c.Action, odes: EvolveOdes) -> c.Action:
     where the timer is reset, before each evolution: Evolve's explicit ODE carries an output
     by the chain rule from where it starts, so it must start on its definition (the utp
     dialect states the algebraic equation itself); the discrete actions between evolutions
-    (a call setting a set-point) change the value it must start at."""
+    (a call setting a set-point) change the value it must start at. Before it, the rates of
+    the world inputs are chosen afresh (``cSpec rates True True``): the world may change
+    how its inputs move at every cycle."""
     outputs = [(o.variable, o.value) for o in odes.odes
                if o.kind == "output" and o.value is not None]
-    if not outputs:
+    if not outputs and not odes.rates:
         return main
+    # the world inputs' rates (u' = u_rate in the ODE) take any value for the next evolution
+    choose = c.Spec(tuple(odes.rates), ex.Bool(True), ex.Bool(True)) if odes.rates else None
 
     def tie(a: c.Action) -> c.Action | None:
         if isinstance(a, c.Assign) and a.targets == (TIMER,):
-            return c.Assign(a.targets + tuple(n for n, _ in outputs),
+            tied = c.Assign(a.targets + tuple(n for n, _ in outputs),
                             a.values + tuple(v for _, v in outputs))
+            return tied if choose is None else c.Seq((choose, tied))
         return None
 
     return map_action(main, tie)
@@ -174,4 +186,8 @@ def _evolve_note(odes: EvolveOdes, elements: tuple[str, ...]) -> str:
         text += (f"; {', '.join(outputs)} follow the states by the chain rule, from their "
                  "values over the states, which the main action assigns where it resets the "
                  "timer")
-    return text + ". Inputs and variables no equation determines stay constant."
+    inputs = [o.variable for o in odes.odes if o.kind == "input"]
+    if inputs:
+        text += (f"; the world's inputs {', '.join(inputs)} move at their rates, chosen afresh "
+                 "before each evolution")
+    return text + ". Set-points and other variables no equation determines stay constant."

@@ -63,7 +63,8 @@ def _axiomatic_session(built: Any, options: Any, report: Report) -> Any:
         from cyphy.semantics.dynamics.evolve_odes import explicit_odes  # lazy: SymPy
 
         odes = explicit_odes(built.model, evolutions[0], {f.name for f in pm.state.fields},
-                             options.elements, report, built.mapping.span)
+                             options.elements, report, built.mapping.span,
+                             frozenset(f.name for f in pm.state.fields if f.visible))
         if odes is None:
             return None
     return generate_ax_session(built.program, built.names, odes,
