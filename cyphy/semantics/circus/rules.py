@@ -36,6 +36,17 @@ DEVIATIONS = (
     "interleaving with empty name sets discards the calls' updates (utp-main c9122f14, "
     "utp_circus_parallel.thy:846-847, the merge at :18-26), and the first tock cuts it off "
     "without a final state, so no call would reach the p-model's state.",
+    "Evolve also states the kinematic tree's equations of motion (one joint effort "
+    "J_tau = M(q) a + h(q, v) per joint) and, for each joint whose parent is a fixed root, "
+    "a zero parent twist and twist rate (J_pV = J_pA = 0): the paper's rules leave the "
+    "joints' efforts and a fixed root's motion unconstrained.",
+    "Init assigns, besides the timer and the private inputs no equation determines (the "
+    "spec's Rule 2: declared initial value, else 0), what a scenario starts (gen "
+    "--scenario: any state variable its [init] names, a number assigned, an interval "
+    "[lo, hi] as the specification statement x : [true, lo <= x' <= hi]); the Isabelle "
+    "dialects, which hold the ODEs' states and running integrals as state where the paper "
+    "quantifies them afresh in each Evolve (exists PLocal), start them at 0, their declared "
+    "or the scenario's values.",
 )
 
 
