@@ -154,11 +154,13 @@ def test_marxbot_terms_use_the_axiomatic_notation(marxbot) -> None:
     assert bodies["ReceiveFromDModel"] == (
         "ReceiveFromDModel = (\\<mu> Y. ((MoveFromDModel ;; Y) \\<box> ((StopFromDModel ;; Y) "
         "\\<box> (tock \\<rightarrow> Skip))))")
-    # the timer's reset also puts the outputs on their definitions (values: the test below)
+    # the timer's reset also puts the outputs on their definitions (values: the test below),
+    # after the world's input chooses its rate for the evolution
     main = re.fullmatch(
         r"MainAction = \(Init ;; \(\\<mu> X\. \(SendToDModel ;; \(ReceiveFromDModel ;; "
-        r"\(\(WaitT \(cycle - 1\)\) ;; \(\(\(timer, LMotor_T, Proximity1_voltage, RMotor_T\) := "
-        r"\(0, .*\)\) ;; \(\(Evolve_v \\<triangle>\\<\^sub>p \(timer \\<ge> \(\(real cycle\) \* "
+        r"\(\(WaitT \(cycle - 1\)\) ;; \(\(\(cSpec Proximity1_distance_rate \(True\)\\<\^sub>e "
+        r"\(True\)\\<\^sub>e\) ;; \(\(timer, LMotor_T, Proximity1_voltage, RMotor_T\) := "
+        r"\(0, .*\)\)\) ;; \(\(Evolve_v \\<triangle>\\<\^sub>p \(timer \\<ge> \(\(real cycle\) \* "
         r"tscale\)\)\) ;; X\)\)\)\)\)\)\)", bodies["MainAction"])
     assert main is not None, bodies["MainAction"]
     assert '"WaitT 0 = Skip" |\n  "WaitT (Suc n) = (tock \\<rightarrow> WaitT n)"' in text
