@@ -122,3 +122,21 @@ def test_bad_scenario_is_a_diagnostic_and_writes_nothing(tmp_path: Path, capsys,
     err = capsys.readouterr().err
     assert code == 1 and "E-SCENARIO" in err and expected in err
     assert "Traceback" not in err and not out.exists()
+
+
+def test_started_theories_pass_the_tests_checks_and_check_theory() -> None:
+    """The utp theory with a scenario's Init reads back into its program (the round trip),
+    and passes the type checker and check-theory; the axiomatic one its static checks."""
+    from cyphy import api
+    from cyphy.api.semantics import semantics
+    from cyphy.backends.isabelle.theory import generate_session
+    from test_isabelle import check_session
+    from test_isabelle_axiomatic import check_static
+
+    scenario = str(DCMOTOR / "whole_bench.toml")
+    _, built = semantics([DCMOTOR], api.SemanticsGenOptions(scenario=scenario))
+    check_session(generate_session(built.program, built.names), built.program)
+    generated = api.generate_isabelle([DCMOTOR], api.SemanticsGenOptions(
+        scenario=scenario, dialect="axiomatic"))
+    text = check_static(generated.files, "DCMotorBase_AxCyPhyCircus.thy")
+    assert "(cSpec Range_distance (True)" in text

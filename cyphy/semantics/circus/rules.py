@@ -300,7 +300,7 @@ def within(ranges: Sequence[tuple[str, ex.Expr, ex.Expr]]) -> c.Spec:
     for name, lo, hi in ranges:
         x = ex.Name((name,))
         bounds.extend((ex.BinOp("<=", lo, x), ex.BinOp("<=", x, hi)))
-    return c.Spec(tuple(n for n, _, _ in ranges), ex.Bool(True), ex.conjunction(bounds))
+    return c.Spec(tuple(n for n, _, _ in ranges), ex.Bool(True), c.Exists((), tuple(bounds)))
 
 
 def evolve(ctx: Context, state: c.Schema, local: c.Schema) -> c.ActionDef:
