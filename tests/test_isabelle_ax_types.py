@@ -106,7 +106,7 @@ def test_state_variable_outside_a_lifted_position_is_rejected(dcmotor: str) -> N
 
 
 def test_boolean_rate_is_rejected(dcmotor: str) -> None:
-    errors = seeded(dcmotor, "Range_range` = 0", "Range_range` = True")
+    errors = seeded(dcmotor, "Range_range` = Range_distance_rate", "Range_range` = True")
     assert len(errors) == 1 and errors[0].startswith("definition Evolve_v: cannot unify")
 
 

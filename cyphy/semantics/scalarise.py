@@ -27,7 +27,7 @@ from typing import Callable
 from cyphy import expr as ex
 from cyphy.lang import ast
 from cyphy.semantics.circus import ast as c
-from cyphy.semantics.circus.rules import within
+from cyphy.semantics.circus.values import within
 
 Shape = tuple[int, ...]
 SCALAR: Shape = ()

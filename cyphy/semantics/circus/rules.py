@@ -11,7 +11,7 @@ Nothing here prints: the text, LaTeX and Isabelle printers in :mod:`cyphy.backen
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Iterable, Sequence
+from typing import Iterable
 
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
@@ -19,7 +19,8 @@ from cyphy.lang import ast
 from cyphy.model.elements import ElaboratedModel, Sensor
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, capitalised
-from cyphy.semantics.circus.values import constant_type, si_units, type_of, value_expr
+from cyphy.semantics.circus.values import (constant_type, literal, si_units, type_of,
+                                          value_expr, within)
 
 TIME = "t"  # the time variable of equations; CyPhyCircus's own, not declared
 TIMER = "timer"
@@ -183,16 +184,11 @@ def rule2_pmodel_process(ctx: Context) -> c.BasicProcess:
                 for p in device.of_kind(ast.DeclKind.LOCAL) if p.initial is not None}
     fields = {f.name for f in state.fields}
     given = {n: v for n, v in ctx.given.items() if n not in fields}  # locals, integrals
-    initial = {**declared, **{n: _number(lo) for n, (lo, hi) in given.items() if lo == hi}}
-    ranges = tuple((n, _number(lo), _number(hi)) for n, (lo, hi) in sorted(given.items())
+    initial = {**declared, **{n: literal(lo) for n, (lo, hi) in given.items() if lo == hi}}
+    ranges = tuple((n, literal(lo), literal(hi)) for n, (lo, hi) in sorted(given.items())
                    if lo != hi)
     return c.BasicProcess(name, consts, state, local, tuple(actions), main,
                           tuple(sorted(initial.items())), ranges)
-
-
-def _number(value: float) -> ex.Expr:
-    """A scenario's number as a literal (``3`` stays ``3``: theories type integers apart)."""
-    return ex.Num(repr(int(value)) if float(value).is_integer() else repr(float(value)))
 
 
 def constants(ctx: Context) -> tuple[c.Constant, ...]:
@@ -281,26 +277,16 @@ def init_action(ctx: Context, state: c.Schema) -> c.ActionDef:
         if name not in scalar:
             continue  # a local (the process's ``initial``) or no state: reported by the caller
         if lo != hi:
-            ranges.append((name, _number(lo), _number(hi)))
+            ranges.append((name, literal(lo), literal(hi)))
         elif name in targets:
-            values[targets.index(name)] = _number(lo)
+            values[targets.index(name)] = literal(lo)
         else:
             targets.append(name)
-            values.append(_number(lo))
+            values.append(literal(lo))
     body: c.Action = c.Assign(tuple(targets), tuple(values))
     if ranges:
         body = c.Seq((body, within(ranges)))
     return c.ActionDef("Init", (), body)
-
-
-def within(ranges: Sequence[tuple[str, ex.Expr, ex.Expr]]) -> c.Spec:
-    """``x, y : [true, lo ≤ x ≤ hi ∧ …]``: the frame starts anywhere in its boxes (a frame
-    name in a specification's postcondition is its after-state value)."""
-    bounds: list[ex.Expr] = []
-    for name, lo, hi in ranges:
-        x = ex.Name((name,))
-        bounds.extend((ex.BinOp("<=", lo, x), ex.BinOp("<=", x, hi)))
-    return c.Spec(tuple(n for n, _, _ in ranges), ex.Bool(True), c.Exists((), tuple(bounds)))
 
 
 def evolve(ctx: Context, state: c.Schema, local: c.Schema) -> c.ActionDef:
