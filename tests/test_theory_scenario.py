@@ -140,3 +140,23 @@ def test_started_theories_pass_the_tests_checks_and_check_theory() -> None:
         scenario=scenario, dialect="axiomatic"))
     text = check_static(generated.files, "DCMotorBase_AxCyPhyCircus.thy")
     assert "(cSpec Range_distance (True)" in text
+
+
+def test_latex_with_a_started_init_typesets(tmp_path: Path, capsys) -> None:
+    """pdflatex (a real tool) typesets the LaTeX whose Init has the scenario's interval."""
+    import shutil
+
+    if shutil.which("pdflatex") is None:
+        pytest.skip("pdflatex is not installed")
+    scenario = tmp_path / "start.toml"
+    scenario.write_text(SCENARIO)
+    out = tmp_path / "out"
+    assert main(["gen", "--latex", "--pdf", str(DCMOTOR), "--scenario", str(scenario),
+                 "-o", str(out)]) == 0
+    tex = (out / "BenchMapping.tex").read_text()
+    init = tex[tex.index("Init \\circdef timer"):]
+    init = " ".join(init[:init.index("\\end{circusaction}")].replace("\\\\", " ").split())
+    assert init == ("Init \\circdef timer, Motor\\_das := 0, 0 \\circseq 1 Range\\_distance "
+                    "\\prefixcolon [true, 1 3 \\leq Range\\_distance' 1 \\land "
+                    "Range\\_distance' \\leq 3\\decimalpoint 1]")
+    assert (out / "BenchMapping.pdf").read_bytes().startswith(b"%PDF")
