@@ -52,13 +52,13 @@ def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = Semant
     if options.scenario is not None:
         loaded = Report()
         scenario = load_scenario(options.scenario, loaded, needs_unsafe=False)
-        if scenario is None:
-            text = {p: "" for p in (options.scenario,)}
+        if scenario is None:  # the diagnostics quote the file's lines when it can be read
+            sources: dict[str, str] = {}
             try:
-                text = {options.scenario: Path(options.scenario).read_text(encoding="utf-8")}
+                sources[options.scenario] = Path(options.scenario).read_text(encoding="utf-8")
             except (OSError, UnicodeDecodeError):
                 pass
-            return CheckResult(None, loaded, sources=text), None  # type: ignore[arg-type]
+            return CheckResult(None, loaded, sources=sources), None  # type: ignore[arg-type]
         options = _with_scenario(options, scenario)
     # The value checks concern geometry and inertia, which the semantics does not use.
     checked = check(paths, CheckOptions(search_paths=options.search_paths,
