@@ -107,8 +107,9 @@ def _report_unassigned(report: Report, scenario: Any, actions: Sequence[Any]) ->
                       "only the p-model process's state can start at a value: the text and "
                       "LaTeX keep the paper's ∃ PLocal (an ODE's state is quantified afresh in "
                       "each Evolve), the Isabelle dialects hold it as state under their own "
-                      "names (a running integral: Motor_e_int in the utp dialect, the "
-                      "reduction's Motor_int1 in the axiomatic one; see names.tsv)")
+                      "names (a running integral of e is <Device>_e_int in the utp dialect, "
+                      "the reduction's <Device>_int<n> in the axiomatic one; names.tsv lists "
+                      "them)")
 
 
 @deep
