@@ -28,6 +28,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import numpy as np  # noqa: E402
 
@@ -61,6 +62,23 @@ def chain_text(n: int) -> str:
 """)
     parts.append("}\n")
     return "".join(parts)
+
+
+def motor_chain_text(n: int, inductance: float = 0.1) -> str:
+    """``Chain<n>`` with a PI speed-controlled DC motor on every joint (``M0`` … on ``J0``
+    …, the constants of ``examples/dcmotor``; ``inductance`` its L, 0.1 H there: 1e-5 makes
+    the motors stiff)."""
+    from motors import speed_control_motor
+
+    text = chain_text(n).replace("import physmod::joints::Revolute\n",
+                                 "import physmod::joints::Revolute\n"
+                                 "import physmod::actuators::SpeedControlMotor\n")
+    for k in range(n - 1):
+        motor = speed_control_motor(f"M{k}", f"J{k}").replace(
+            "instantiation L = 0.1", f"instantiation L = {inductance!r}")
+        text = text.replace(f"flexibly connected to L{k + 1}\n",
+                            f"flexibly connected to L{k + 1}{motor}\n")
+    return text
 
 
 def _median(fn, runs: int) -> float:

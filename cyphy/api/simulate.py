@@ -78,6 +78,7 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
         gravity = options.gravity or dynamics.STANDARD_GRAVITY
         several = options.floating_base or any(
             dynamics.DOF.get(dynamics.joint_kind(j), 1) > 1 for j in model.joints)
+        tree = None
         if numeric or several:  # ZYX Euler angles must not start at their singularity
             tree = dynamics.kinematic_tree(model, gravity, options.floating_base)
             dynamics.euler_singularity(tree, [float(settings.init.get(name, 0.0))
@@ -97,7 +98,10 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
             return result
         if several:
             settings = dataclasses.replace(settings, pitches=sim.euler_pitches(tree))
-        result.trajectory = sim.simulate_reduced(reduced, settings)
+        elif reduced.definitions:  # the tree's accelerations: Pinocchio evaluates them
+            tree = dynamics.kinematic_tree(model, gravity, options.floating_base)
+        result.trajectory = sim.simulate_reduced(reduced, settings,
+                                                 tree=tree if reduced.definitions else None)
     except AssemblyError as err:
         report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
     except sim.SimulationError as err:

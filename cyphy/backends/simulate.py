@@ -28,6 +28,8 @@ from typing import Any, Callable, Collection, Mapping, Protocol, Sequence
 import numpy as np
 
 from cyphy import codes
+from cyphy.backends.generated import definition_names
+from cyphy.backends.stiffness import choose, finite_difference
 
 SIMULATE = codes.code("E-SIMULATE", codes.E, "the model cannot be simulated as asked")
 
@@ -49,7 +51,7 @@ class SimulationOptions:
     t_end: float = 1.0
     init: dict[str, float] = field(default_factory=dict)
     inputs: dict[str, str] = field(default_factory=dict)  # name → expression of t
-    method: str | None = None  # solve_ivp's method; None: the one that fits (:func:`method_for`)
+    method: str | None = None  # None: the one that fits (stiffness.choose)
     rtol: float = 1e-6
     atol: float = 1e-9
     samples: int = 201  # output instants, evenly spaced over [0, t_end]
@@ -71,6 +73,7 @@ class Trajectory:
     events: list[tuple[float, str, tuple[float, ...]]] = field(default_factory=list)
     method: str = ""  # the integrator that ran (solve_ivp's name)
     engine: str = ""  # what evaluated the dynamics, for the user's note
+    reason: str = ""  # why that integrator (cyphy.backends.stiffness.choose), for the note
 
     def column(self, name: str) -> np.ndarray:
         return self.values[:, self.names.index(name)]
@@ -207,8 +210,11 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
                      effects: Callable[[Calls], dict[str, float]] | None = None,
                      period: float | None = None,
                      events: Callable[[float, Mapping[str, float]], Mapping[str, object]]
-                     | None = None, observable: Collection[str] = ()) -> Trajectory:
-    """Integrate the reduced ODEs (:class:`cyphy.semantics.dynamics.reduce.Reduced`).
+                     | None = None, observable: Collection[str] = (), tree: Any = None
+                     ) -> Trajectory:
+    """Integrate the reduced ODEs (:class:`cyphy.semantics.dynamics.reduce.Reduced`);
+    ``tree``, the model's kinematic tree, is evaluated by Pinocchio when the ODEs use its
+    accelerations (:mod:`cyphy.backends.whole_model`).
 
     With a ``controller``, the run is cut at every ``period``: ``events(t, values)`` gives the
     input events at that instant, the controller's calls go through ``effects`` to input
@@ -229,7 +235,7 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     definitions = getattr(reduced, "definitions", [])  # a Flow* problem has none
     known = {str(a) for a in args} | {n for n, _ in definitions}
     leftover = sorted(({str(s) for e in rhs_expr for s in sympy.sympify(e).free_symbols} |
-                       _definition_names(definitions)) - known)
+                       definition_names(definitions)) - known)
     if leftover:
         raise SimulationError(f"constants without a value: {', '.join(leftover)}",
                               "give them values with --const NAME=VALUE")
@@ -238,11 +244,11 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
               for e in out_exprs]
     outputs = [o for o, ok in zip(outputs, out_ok) if ok]
     out_exprs = [e for e, ok in zip(out_exprs, out_ok) if ok]
-    if definitions:
-        rhs, out_fn = compiled([str(a) for a in args], definitions, rhs_expr, out_exprs)
-    else:
-        rhs = sympy.lambdify(args, rhs_expr, "numpy")
-        out_fn = sympy.lambdify(args, out_exprs, "numpy")
+    # lazy: SymPy and Pinocchio: only a simulation compiles
+    from cyphy.backends.whole_model import system_dynamics
+
+    dynamics = system_dynamics(states, inputs, rhs_expr, out_exprs, definitions, tree)
+    rhs, out_fn = dynamics.rhs, dynamics.outputs
     given = _input_functions(inputs, options.inputs)
     held: dict[str, float] = {}
 
@@ -267,12 +273,20 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
             rows.append([*x, *(float(np.asarray(y, dtype=float)) for y in ys)])
         return np.array(rows, dtype=float).reshape(len(times), len(states) + len(outputs))
 
+    jac = None
+    if dynamics.jacobian is not None:
+        def jac(tt: float, x: np.ndarray) -> np.ndarray:
+            return dynamics.jacobian(*x, *u(tt), tt)
+
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
-    method = method_for(options, stiff=True)
+    choice = choose(options.method, lambda: _jacobian_at_start(f, jac, x0),
+                    options.t_end, jac is not None)
+    method, engine = choice.method, dynamics.engine
     if controller is None or period is None:
-        times, xs = _integrate(f, x0, grid, options, method=method)
+        times, xs = _integrate(f, x0, grid, options, method=method, jac=jac)
         return _finite_trajectory(Trajectory([*states, *outputs], times, observe(times, xs),
-                                             method=method, engine="the compiled equations"))
+                                             method=method, engine=engine,
+                                             reason=choice.reason))
     all_t, all_rows = [], []
     sent: list[tuple[float, str, tuple[float, ...]]] = []
     start, x, k = 0.0, x0, 0
@@ -287,7 +301,7 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
         inside = grid[(grid >= start) & (grid < stop)]
         local = np.unique(np.concatenate([[start], inside, [stop]]))
         times, xs = _integrate(f, x, local, options, offset=(start, options.t_end),
-                               method=method)
+                               method=method, jac=jac)
         keep = np.isin(times, inside) | (times == start) | \
             ((times == stop) & (stop >= options.t_end))
         all_t.append(times[keep])
@@ -297,24 +311,23 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     rows = np.vstack(all_rows)
     order = np.unique(times, return_index=True)[1]
     return _finite_trajectory(Trajectory([*states, *outputs], times[order], rows[order], sent,
-                                         method, "the compiled equations"))
+                                         method, engine, choice.reason))
 
 
 #: The implicit (stiff-capable) methods of solve_ivp: those that take a Jacobian.
 STIFF = ("LSODA", "BDF", "Radau")
 
 
-def method_for(options: SimulationOptions, stiff: bool) -> str:
-    """The method asked for, else the one that fits: a kinematic tree alone is a non-stiff
-    mechanical system, which an explicit Runge–Kutta method integrates at a fraction of the
-    cost of LSODA (past 20 links LSODA switches to BDF with finite-difference Jacobians:
-    100 links took 392 s, RK45 12.6 s, issue 31). DOP853 rather than RK45: on the benchmark's
-    chains it needs fewer evaluations at the default tolerances (10 links: 599 against 608;
-    100 links: 776 against 836; LSODA 16,587). A whole model with devices may be stiff
-    (motors' electrical time constants), so it keeps LSODA, which switches by itself."""
-    if options.method:
-        return options.method
-    return "LSODA" if stiff else "DOP853"
+def _jacobian_at_start(f: Callable[[float, np.ndarray], np.ndarray],
+                       jac: Callable[[float, np.ndarray], np.ndarray] | None,
+                       x0: np.ndarray) -> np.ndarray | None:
+    """The state Jacobian at the start, for :func:`cyphy.backends.stiffness.choose`:
+    analytic when there is one, else central differences (once, to detect stiffness)."""
+    if not len(x0):
+        return None
+    if jac is not None:
+        return jac(0.0, x0)
+    return finite_difference(lambda x: f(0.0, x), x0)
 
 
 def _finite_trajectory(trajectory: Trajectory) -> Trajectory:
@@ -386,57 +399,6 @@ def _integrate(f: Callable[[float, np.ndarray], np.ndarray], x0: np.ndarray,
     return solution.t, solution.y
 
 
-def _definition_names(definitions: Sequence[tuple[str, Any]]) -> set[str]:
-    """The names the definitions use (SymPy values or articulated-body polynomials)."""
-    out: set[str] = set()
-    for _, value in definitions:
-        out |= {str(x) for x in value.free_symbols} if hasattr(value, "free_symbols") \
-            else value.atoms()
-    return out
-
-
-def compiled(args: Sequence[str], definitions: Sequence[tuple[str, Any]],
-             *results: Sequence[Any]) -> list[Callable[..., list[float]]]:
-    """Per list of ``results``, a Python function of ``args`` that computes the definitions
-    in order (one assignment each: a tree's equations of motion stay linear in its size) and
-    returns those expressions. Generated as source, as ``lambdify`` does, with ``math`` for
-    the functions (each cosine and sine of a joint angle computed once) and every name
-    prefixed (``v_``), so that no model name can clash with Python's."""
-    import math
-
-    import sympy
-    from sympy.printing.pycode import PythonCodePrinter
-
-    printer = PythonCodePrinter({"fully_qualified_modules": True})
-
-    def code(value: Any) -> str:
-        if not hasattr(value, "free_symbols"):  # an articulated-body polynomial
-            return value.text(_python_atom)
-        value = sympy.sympify(value)
-        return printer.doprint(value.xreplace(
-            {s: sympy.Symbol(f"v_{s.name}", real=True) for s in value.free_symbols}))
-
-    trig = sorted({a for _, value in definitions if not hasattr(value, "free_symbols")
-                   for key in value.terms for a in key if a[:4] in ("cos:", "sin:")})
-    body = [f"    {_python_atom(a)} = math.{a[:3]}(v_{a[4:]})" for a in trig]
-    body += [f"    v_{name} = {code(value)}" for name, value in definitions]
-    # one function returns every list (compiling the definitions is most of the cost of
-    # building it: 0.1 s for a 10-link arm's thousand, measured); each result picks its own
-    lists = ", ".join(f"[{', '.join(code(e) for e in exprs)}]" for exprs in results)
-    lines = [f"def _generated({', '.join(f'v_{a}' for a in args)}):", *body,
-             f"    return ({lists},)"]
-    namespace: dict[str, Any] = {"math": math}
-    exec(compile("\n".join(lines), "<cyphy simulate>", "exec"), namespace)  # noqa: S102
-    generated = namespace["_generated"]
-    return [(lambda *values, k=k: generated(*values)[k]) for k in range(len(results))]
-
-
-def _python_atom(name: str) -> str:
-    """``v_x`` for a name, ``cos_x`` for ``cos:x`` (computed once, at the top)."""
-    kind, _, arg = name.partition(":")
-    return f"{kind}_{arg}" if arg else f"v_{name}"
-
-
 # ----------------------------------------------------------------------------- numeric path
 
 def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
@@ -501,13 +463,15 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     # where Pinocchio would return NaN
     forward_dynamics(tree, x0[:n], x0[n:], efforts_at(0.0))
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
-    method = method_for(options, stiff=False)
+    choice = choose(options.method, lambda: _jacobian_at_start(f, jac, x0),
+                    options.t_end, jac is not None)
+    method = choice.method
     times, xs = _integrate(f, x0, grid, options, method=method, jac=jac)
     engine = "Pinocchio's articulated-body algorithm" if compiled_tree is not None else \
         "cyphy's NumPy articulated-body algorithm (Pinocchio, the pip package pin, is not " \
         "installed: it is about 100 times faster)"
     return _finite_trajectory(Trajectory(states, times, xs.T.copy(), method=method,
-                                         engine=engine))
+                                         engine=engine, reason=choice.reason))
 
 
 def _annotated_efforts(tree: Any) -> Callable[[np.ndarray, np.ndarray], np.ndarray] | None:

@@ -275,7 +275,7 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
         ap = [name(f"{p}_ap_{k + 1}", moved[k] + products[i][k], joint) for k in range(6)]
         rest = [efforts[i][a] - _dot([us[i][k][a] for k in range(6)], ap)
                 for a in range(columns)]
-        names = [f"{p}_qdd" if columns == 1 else f"{p}_qdd_{a + 1}" for a in range(columns)]
+        names = acceleration_names(joint)
         if i in factors:  # w = D⁻¹·(…) in the rates w = B·q̇, then q̈ = B⁻¹·w
             w = [name(f"{p}_w_{a + 1}", _dot(d_invs[i][a], rest), joint, always=True)
                  for a in range(columns)]
@@ -291,6 +291,13 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
                               for k in range(6)])
     definitions = tuple(Definition(key, value, joint) for key, value, joint in name.definitions)
     return ExplicitMotion(definitions, tuple(out), tuple(stops))
+
+
+def acceleration_names(joint: TreeJoint) -> list[str]:
+    """The names of the joint's accelerations (``p_qdd``, or ``p_qdd_1`` … for a joint of
+    several coordinates), which ``simulate`` also gives Pinocchio's values."""
+    p = joint.prefix
+    return [f"{p}_qdd" if joint.dof == 1 else f"{p}_qdd_{a + 1}" for a in range(joint.dof)]
 
 
 def _annotated(joint: TreeJoint, tau: list[Any], variables: Callable[[TreeJoint, str], Any],
