@@ -132,13 +132,17 @@ def input_expression(text: str) -> Any:
 def _input_functions(names: Sequence[str], given: Mapping[str, str]
                      ) -> list[Callable[[float], float]]:
     """One function of t per input name; ``der_X`` is the derivative of ``X``'s expression."""
-    import sympy
-
-    t = sympy.Symbol("t", real=True)
-    out = []
+    out: list[Callable[[float], float]] = []
     for name in names:
         base = name[4:] if name.startswith("der_") and name not in given else name
-        expr = input_expression(given[base]) if base in given else sympy.Integer(0)
+        if base not in given:  # without SymPy: `simulate --numeric` need not import it
+            out.append(lambda _t: 0.0)
+            continue
+        # lazy: SymPy costs 0.6 s to import, for the inputs given only
+        import sympy
+
+        t = sympy.Symbol("t", real=True)
+        expr = input_expression(given[base])
         if base != name:
             expr = sympy.diff(expr, t)
         if expr.is_Number:  # most inputs: not given (lambdify costs 10 ms each, measured)
