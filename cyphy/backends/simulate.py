@@ -255,8 +255,16 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     rhs, out_fn = dynamics.rhs, dynamics.outputs
     given = _input_functions(inputs, options.inputs)
     held: dict[str, float] = {}
+    # most inputs are not given (a chain's parent twists: 120 of 130 at 20 links): 0 once
+    varying = [k for k, name in enumerate(inputs)
+               if name in options.inputs or name[4:] in options.inputs]
 
     def u(tt: float) -> list[float]:
+        if not held:
+            values = [0.0] * len(inputs)
+            for k in varying:
+                values[k] = given[k](tt)
+            return values
         return [held[n] if n in held else f(tt) for n, f in zip(inputs, given)]
 
     guarded = [(states.index(n), what) for n, what in sorted(options.pitches.items())
@@ -351,7 +359,7 @@ def _finite_trajectory(trajectory: Trajectory) -> Trajectory:
 def euler_pitches(tree: Any) -> dict[str, str]:
     """The coordinates that are pitches of ZYX Euler angles (a ball joint's second, a
     floating base's ``pitch``), with what they turn, for ``simulate``'s guard."""
-    from cyphy.semantics.dynamics.rigid_body import EULER, coordinate_names
+    from cyphy.semantics.dynamics.tree import EULER, coordinate_names
 
     return {coordinate_names(j, "theta")[-2]:
             f"{'floating base' if j.kind == 'floating' else 'ball joint'} {j.name}"
@@ -417,7 +425,9 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     Jacobian when the tree has only revolute and prismatic joints (else the method's finite
     differences)."""
     from cyphy.backends.pinocchio_tree import pinocchio_model
-    from cyphy.semantics.dynamics.rigid_body import EULER, euler_singularity, forward_dynamics
+    from cyphy.semantics.dynamics.rigid_body import forward_dynamics
+    from cyphy.semantics.dynamics.spatial import euler_singularity
+    from cyphy.semantics.dynamics.tree import EULER
 
     n = tree.dof
     thetas, speeds = list(tree.coordinates("theta")), list(tree.coordinates("v"))

@@ -78,7 +78,8 @@ def _with_pinocchio(states: Sequence[str], inputs: Sequence[str], rhs_expr: Sequ
 
     from cyphy.backends.pinocchio_tree import pinocchio_model
     from cyphy.backends.simulate import _annotated_efforts
-    from cyphy.semantics.dynamics.rigid_body import EULER, euler_singularity
+    from cyphy.semantics.dynamics.spatial import euler_singularity
+    from cyphy.semantics.dynamics.tree import EULER
 
     args = [*states, *inputs, "t"]
     known = set(args)
