@@ -425,6 +425,7 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     Jacobian when the tree has only revolute and prismatic joints (else the method's finite
     differences)."""
     from cyphy.backends.pinocchio_tree import pinocchio_model
+    from cyphy.backends.whole_model import annotated_efforts
     from cyphy.semantics.dynamics.rigid_body import forward_dynamics
     from cyphy.semantics.dynamics.spatial import euler_singularity
     from cyphy.semantics.dynamics.tree import EULER
@@ -457,7 +458,7 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
         tau[slots] = [g(tt) for g in given]
         return tau
 
-    annotated = _annotated_efforts(tree)
+    annotated = annotated_efforts(tree)
 
     def f(tt: float, x: np.ndarray) -> np.ndarray:
         tau = efforts_at(tt)
@@ -486,31 +487,6 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
         "installed: it is about 100 times faster)"
     return _finite_trajectory(Trajectory(states, times, xs.T.copy(), method=method,
                                          engine=engine, reason=choice.reason))
-
-
-def _annotated_efforts(tree: Any) -> Callable[[np.ndarray, np.ndarray], np.ndarray] | None:
-    """The efforts of the joints' annotated damping, springs and limit stops as a function
-    of the coordinates and rates (:mod:`cyphy.semantics.dynamics.joint_forces`, as the
-    symbolic path has them), or None when no joint has any."""
-    from cyphy.semantics.dynamics.joint_forces import axis_forces, passive_efforts, stop
-    from cyphy.semantics.dynamics.rigid_body import mass_matrix
-
-    forces = [(k, f) for joint, start in zip(tree.joints, tree.offsets)
-              for k, f in enumerate(axis_forces(joint.kind, joint.element), start=start)
-              if f.passive or f.limited]
-    if not forces:
-        return None
-    rest = np.diag(mass_matrix(tree, [0.0] * tree.dof)).astype(float)
-    index = np.array([k for k, _ in forces], dtype=int)
-    axes = [f for _, f in forces]
-
-    def efforts(q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        out = np.zeros(len(q))
-        out[index] = passive_efforts(axes, q[index], qd[index])
-        out[index] += [stop(f, rest[k], q[k], qd[k]) for k, f in forces]
-        return out
-
-    return efforts
 
 
 # ----------------------------------------------------------------------------- output

@@ -77,7 +77,6 @@ def _with_pinocchio(states: Sequence[str], inputs: Sequence[str], rhs_expr: Sequ
     import sympy
 
     from cyphy.backends.pinocchio_tree import pinocchio_model
-    from cyphy.backends.simulate import _annotated_efforts
     from cyphy.semantics.dynamics.spatial import euler_singularity
     from cyphy.semantics.dynamics.tree import EULER
 
@@ -110,7 +109,7 @@ def _with_pinocchio(states: Sequence[str], inputs: Sequence[str], rhs_expr: Sequ
     iv = np.array([index[n] for n in speeds], dtype=int)
     slots = np.array([k for j, start in zip(tree.joints, tree.offsets) if j.kind != "floating"
                       for k in range(start, start + j.dof)], dtype=int)
-    annotated = _annotated_efforts(tree)
+    annotated = annotated_efforts(tree)
     euler = any(j.kind in EULER for j in tree.joints)
     n = tree.dof
 
@@ -178,3 +177,29 @@ def _jacobian(args: Sequence[str], states: Sequence[str], qdd: Sequence[str],
         return direct(*full) + through(*full) @ dqdd
 
     return jacobian
+
+
+def annotated_efforts(tree: Any) -> Callable[[np.ndarray, np.ndarray], np.ndarray] | None:
+    """The efforts of the joints' annotated damping, springs and limit stops as a function
+    of the coordinates and rates (:mod:`cyphy.semantics.dynamics.joint_forces`, as the
+    symbolic path has them), or None when no joint has any."""
+    # lazy: the semantics' modules pull in the model
+    from cyphy.semantics.dynamics.joint_forces import axis_forces, passive_efforts, stop
+    from cyphy.semantics.dynamics.rigid_body import mass_matrix
+
+    forces = [(k, f) for joint, start in zip(tree.joints, tree.offsets)
+              for k, f in enumerate(axis_forces(joint.kind, joint.element), start=start)
+              if f.passive or f.limited]
+    if not forces:
+        return None
+    rest = np.diag(mass_matrix(tree, [0.0] * tree.dof)).astype(float)
+    index = np.array([k for k, _ in forces], dtype=int)
+    axes = [f for _, f in forces]
+
+    def efforts(q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        out = np.zeros(len(q))
+        out[index] = passive_efforts(axes, q[index], qd[index])
+        out[index] += [stop(f, rest[k], q[k], qd[k]) for k, f in forces]
+        return out
+
+    return efforts

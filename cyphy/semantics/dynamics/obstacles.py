@@ -6,7 +6,7 @@ files, hint). Split from the reducer for issue 31.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from cyphy.diagnostics import Report, Span
 from cyphy.lang.notation import to_notation
@@ -14,9 +14,6 @@ from cyphy.lang.workspace import LIBRARY_ROOT
 from cyphy.semantics.dynamics.equations import (OBSTACLE, OVERDETERMINED, UNDERDETERMINED,
                                                 Equation)
 from cyphy.semantics.dynamics.structure import Competition
-
-if TYPE_CHECKING:
-    from cyphy.semantics.dynamics.reduce import Reduced
 
 
 @dataclass(frozen=True)
@@ -97,8 +94,9 @@ def obstacle_span(o: Obstacle) -> Span:
     return o.span or (o.equations[0].span if o.equations else Span.unknown())
 
 
-def report_obstacles(reduced: Reduced, report: Report) -> None:
-    """Each obstacle as a diagnostic (:func:`obstacle_code`) in the user's files."""
+def report_obstacles(reduced: Any, report: Report) -> None:
+    """Each obstacle of ``reduced`` (:class:`cyphy.semantics.dynamics.reduce.Reduced`, which
+    imports this module) as a diagnostic (:func:`obstacle_code`) in the user's files."""
     for o in reduced.obstacles:
         notes = list(o.notes) or [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
         report.report(obstacle_code(o), o.message, obstacle_span(o), obstacle_hint(o), notes)
