@@ -285,15 +285,18 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
             rows.append([*x, *(float(np.asarray(y, dtype=float)) for y in ys)])
         return np.array(rows, dtype=float).reshape(len(times), len(states) + len(outputs))
 
-    jac = None
-    if dynamics.jacobian is not None:
-        def jac(tt: float, x: np.ndarray) -> np.ndarray:
-            return dynamics.jacobian(*x, *u(tt), tt)
-
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
-    choice = choose(options.method, lambda: _jacobian_at_start(f, jac, x0),
-                    options.t_end, jac is not None)
+    # stiffness detected on central differences at the start (2n evaluations, cheaper than
+    # building the analytic Jacobian), which only a stiff method then gets
+    choice = choose(options.method, lambda: _jacobian_at_start(f, None, x0),
+                    options.t_end, dynamics.make_jacobian is not None)
     method, engine = choice.method, dynamics.engine
+    jac = None
+    if method in STIFF and dynamics.make_jacobian is not None:
+        analytic = dynamics.make_jacobian()
+
+        def jac(tt: float, x: np.ndarray) -> np.ndarray:
+            return analytic(*x, *u(tt), tt)
     if controller is None or period is None:
         times, xs = _integrate(f, x0, grid, options, method=method, jac=jac)
         return _finite_trajectory(Trajectory([*states, *outputs], times, observe(times, xs),

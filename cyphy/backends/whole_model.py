@@ -32,12 +32,14 @@ from cyphy.backends.generated import compiled, lambdified, needed, sparse_jacobi
 
 @dataclass(frozen=True)
 class SystemDynamics:
-    """``rhs(*x, *u, t)`` and ``outputs(*x, *u, t)`` (lists of floats), the state Jacobian
-    ``jacobian(*x, *u, t)`` when it is analytic (else None), and what evaluates the tree."""
+    """``rhs(*x, *u, t)`` and ``outputs(*x, *u, t)`` (lists of floats), what builds the
+    state Jacobian ``J(*x, *u, t)`` when it is analytic (else None), and what evaluates the
+    tree. The Jacobian is built only for a stiff method: SymPy's derivatives and their code
+    cost about a second for a 50-link chain with motors, more than its whole integration."""
 
     rhs: Callable[..., Sequence[float]]
     outputs: Callable[..., Sequence[float]]
-    jacobian: Callable[..., np.ndarray] | None
+    make_jacobian: Callable[[], Callable[..., np.ndarray]] | None
     engine: str
 
 
@@ -64,8 +66,8 @@ def system_dynamics(states: Sequence[str], inputs: Sequence[str], rhs_expr: Sequ
         rhs, out = compiled(args, definitions, rhs_expr, out_exprs)
         return SystemDynamics(rhs, out, None, "the compiled equations")
     rhs, out = lambdified(args, rhs_expr), lambdified(args, out_exprs)
-    jac = sparse_jacobian(args, rhs_expr, states)
-    return SystemDynamics(rhs, out, jac, "the compiled equations")
+    return SystemDynamics(rhs, out, lambda: sparse_jacobian(args, rhs_expr, states),
+                          "the compiled equations")
 
 
 def _with_pinocchio(states: Sequence[str], inputs: Sequence[str], rhs_expr: Sequence[Any],
@@ -133,13 +135,14 @@ def _with_pinocchio(states: Sequence[str], inputs: Sequence[str], rhs_expr: Sequ
     def outputs(*values: float) -> Sequence[float]:
         return out_fn(*values, *accelerations(*values))
 
-    jacobian = None
+    make_jacobian = None
     # analytic when the rest of the right-hand side is SymPy (no tree internals) and the
     # efforts do not depend on the state through annotated damping, springs or stops
     if compiled_tree.derivatives and annotated is None and not rhs_defs:
-        jacobian = _jacobian(args, states, qdd, rhs_expr, efforts, effort_defs, slots,
-                             iq, iv, joint_state, compiled_tree)
-    return SystemDynamics(rhs, outputs, jacobian, "Pinocchio's articulated-body algorithm "
+        def make_jacobian() -> Callable[..., np.ndarray]:
+            return _jacobian(args, states, qdd, rhs_expr, efforts, effort_defs, slots, iq,
+                             iv, joint_state, compiled_tree)
+    return SystemDynamics(rhs, outputs, make_jacobian, "Pinocchio's articulated-body algorithm "
                           "for the kinematic tree and the compiled equations of the devices")
 
 
