@@ -152,6 +152,16 @@ def _input_functions(names: Sequence[str], given: Mapping[str, str]
     return out
 
 
+def _check_inputs(functions: Sequence[Callable[[float], float]], grid: np.ndarray) -> None:
+    """Evaluate the given inputs at the output instants before the run, so that one not
+    defined there (``1/(t-0.05)`` at 0.05) is an ``E-OPTION`` naming it, whichever method
+    runs: an explicit method's steps pass beside the instant and it fails on the values'
+    growth instead, with no word about the input."""
+    for fn in functions:
+        for tt in grid:
+            fn(float(tt))
+
+
 def _finite(name: str, text: str, fn: Callable[[float], float]) -> Callable[[float], float]:
     """``fn`` refusing a value that is not finite (``1/(t-1)`` at 1, ``log(t)`` at 0): the
     integrator would otherwise carry a NaN into every column."""
@@ -286,6 +296,7 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
         return np.array(rows, dtype=float).reshape(len(times), len(states) + len(outputs))
 
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
+    _check_inputs([given[k] for k in varying], grid)
     # stiffness detected on central differences at the start (2n evaluations, cheaper than
     # building the analytic Jacobian), which only a stiff method then gets
     choice = choose(options.method, lambda: _jacobian_at_start(f, None, x0),
@@ -481,6 +492,7 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     # where Pinocchio would return NaN
     forward_dynamics(tree, x0[:n], x0[n:], efforts_at(0.0))
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
+    _check_inputs([g for name, g in zip(efforts, given) if name in options.inputs], grid)
     choice = choose(options.method, lambda: _jacobian_at_start(f, jac, x0),
                     options.t_end, jac is not None)
     method = choice.method
