@@ -30,6 +30,21 @@ OPAQUE_DMODEL = codes.code("W-SEMANTICS-DMODEL", codes.W,
                            "the d-model's state machine cannot be written as the process D")
 NO_MOTION = codes.code("W-SEMANTICS-MOTION", codes.W,
                        "Evolve leaves out the equations of motion of the kinematic tree")
+UNASSIGNED_INIT = codes.code("W-SCENARIO-INIT", codes.W,
+                             "a scenario's initial value names no state that Init can start")
+
+
+def started_by_init(actions: "tuple[c.ActionDef, ...] | list[c.ActionDef]") -> set[str]:
+    """The variables ``Init`` assigns or starts in a specification's box."""
+    from cyphy.semantics.circus.walk import action_nodes
+
+    out: set[str] = set()
+    for d in actions:
+        if d.name == "Init":
+            for n in action_nodes(d.body):
+                out.update(n.targets if isinstance(n, c.Assign) else
+                           n.frame if isinstance(n, c.Spec) else ())
+    return out
 
 
 @dataclass(frozen=True)
@@ -40,6 +55,8 @@ class SemanticsOptions:
     consts: dict[str, object] | None = None
     default_inertial: str | None = None  # "sdf": massless links get SDF's defaults (a warning)
     machine: str | None = None  # the d-model's machine D is written from (default: as simulate)
+    # a scenario's [init]: name → (low, high), a point when low == high; Init starts there
+    initial: dict[str, tuple[float, float]] | None = None
 
 
 @dataclass
@@ -48,6 +65,7 @@ class Semantics:
     names: NameTable
     mapping: ast.PlatformMapping
     model: ElaboratedModel | None = None  # what Evolve's equations come from (for solving)
+    scenario: object | None = None  # the scenario whose [init] Init starts (api.semantics)
 
 
 def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
@@ -80,7 +98,7 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
 
     ctx = Context(model, mapping, dmodel, NameTable(),
                   options.system_name or mapping.name, options.tscale,
-                  port_index(model), _motion(model, report))
+                  port_index(model), _motion(model, report), dict(options.initial or {}))
     try:
         program = rule1_program(ctx)
     except SemanticsError as err:
