@@ -14,7 +14,7 @@ import sympy
 
 from conftest import CORPUS, EXAMPLES, flowstar_binary, needs_corpus, needs_flowstar
 from cyphy import api
-from cyphy.semantics.dynamics.reduce import inline_definitions
+from cyphy.semantics.dynamics.closed_form import inline_definitions
 from cyphy.cli import main
 
 PENDULUM = """

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from cyphy.semantics.dynamics.reduce import inline_definitions
+from cyphy.semantics.dynamics.closed_form import inline_definitions
 from cyphy.diagnostics import Span
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
 from cyphy.model.inertia import Inertial

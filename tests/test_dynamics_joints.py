@@ -19,6 +19,7 @@ from cyphy.diagnostics import Span
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
 from cyphy.model.poses import Pose
 from cyphy.semantics.dynamics import rigid_body as dynamics
+from cyphy.semantics.dynamics import tree as tree_module
 from test_dynamics import _inertial, _pose  # the random links of the one-coordinate trees
 
 pin = pytest.importorskip("pinocchio")
@@ -304,7 +305,7 @@ def mixed_trees(draw) -> ElaboratedModel:
 def _axes_from_the_test(monkeypatch) -> None:
     """Joints built in the test carry their universal axes beside the joint (they have no
     device): cyphy reads them as it reads an annotation's ``axis``/``axis2``."""
-    original = dynamics._axis
+    original = tree_module._axis
 
     def axis(joint, constant, annotation):
         given = getattr(joint, "test_axes", None)
@@ -312,7 +313,7 @@ def _axes_from_the_test(monkeypatch) -> None:
             return np.asarray(given[constant], float) / np.linalg.norm(given[constant])
         return original(joint, constant, annotation)
 
-    monkeypatch.setattr(dynamics, "_axis", axis)
+    monkeypatch.setattr(tree_module, "_axis", axis)
 
 
 @settings(max_examples=60, deadline=None,

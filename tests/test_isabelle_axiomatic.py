@@ -17,7 +17,7 @@ from conftest import EXAMPLES
 
 MAPPINGS = Path(__file__).resolve().parent / "mappings"
 from cyphy import api
-from cyphy.semantics.dynamics.reduce import inline_definitions
+from cyphy.semantics.dynamics.closed_form import inline_definitions
 from cyphy.backends.isabelle.names import RESERVED, is_identifier
 from cyphy.cli import main
 from cyphy.verify.theory.ax_types import check_ax_theory

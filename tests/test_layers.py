@@ -28,8 +28,6 @@ KNOWN_LONG = {
     "cyphy.lang.resolve",
     "cyphy.model.elaborate",
     "cyphy.model.evaluate",
-    "cyphy.semantics.dynamics.reduce",
-    "cyphy.semantics.dynamics.rigid_body",
     "cyphy.semantics.scalarise",
     "cyphy.semantics.sdf.rules",
     "cyphy.verify.flowstar.export",

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from cyphy import api
-from cyphy.semantics.dynamics.reduce import inline_definitions
+from cyphy.semantics.dynamics.closed_form import inline_definitions
 from cyphy.cli import main
 from conftest import EXAMPLES
 

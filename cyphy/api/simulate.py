@@ -59,7 +59,8 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
     ``cycle × tscale`` seconds, and the mapping's operations give its calls' effects."""
     # lazy: NumPy, SciPy: `cyphy check` must not pay for it
     from cyphy.backends import simulate as sim
-    from cyphy.semantics.dynamics import rigid_body as dynamics
+    from cyphy.semantics.dynamics import spatial
+    from cyphy.semantics.dynamics import tree as dynamics
     from cyphy.semantics.dynamics.equations import ASSEMBLY, AssemblyError
 
     if options.scenario is not None:
@@ -78,16 +79,18 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
         gravity = options.gravity or dynamics.STANDARD_GRAVITY
         several = options.floating_base or any(
             dynamics.DOF.get(dynamics.joint_kind(j), 1) > 1 for j in model.joints)
+        tree = None
         if numeric or several:  # ZYX Euler angles must not start at their singularity
             tree = dynamics.kinematic_tree(model, gravity, options.floating_base)
-            dynamics.euler_singularity(tree, [float(settings.init.get(name, 0.0))
+            spatial.euler_singularity(tree, [float(settings.init.get(name, 0.0))
                                               for name in tree.coordinates("theta")])
             if numeric:
                 result.numeric = True
                 result.trajectory = sim.simulate_tree(tree, settings)
                 return result
         # lazy: NumPy, SymPy: `cyphy check` must not pay for it
-        from cyphy.semantics.dynamics.reduce import reduce_system, report_obstacles
+        from cyphy.semantics.dynamics.obstacles import report_obstacles
+        from cyphy.semantics.dynamics.reduce import reduce_system
         from cyphy.semantics.dynamics.equations import assemble
 
         reduced = reduce_system(assemble(model, gravity=options.gravity, definitions=True,
@@ -97,7 +100,10 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
             return result
         if several:
             settings = dataclasses.replace(settings, pitches=sim.euler_pitches(tree))
-        result.trajectory = sim.simulate_reduced(reduced, settings)
+        elif reduced.definitions:  # the tree's accelerations: Pinocchio evaluates them
+            tree = dynamics.kinematic_tree(model, gravity, options.floating_base)
+        result.trajectory = sim.simulate_reduced(reduced, settings,
+                                                 tree=tree if reduced.definitions else None)
     except AssemblyError as err:
         report.report(getattr(err, "code", ASSEMBLY), err.message, err.span, err.hint)
     except sim.SimulationError as err:

@@ -62,7 +62,9 @@ def solve(paths: Sequence[str | Path], options: SolveOptions = SolveOptions()) -
     """Assemble the model's equations (optionally with one mapping call), reduce them to
     explicit ODEs with SymPy and, where SymPy finds one, give the closed form."""
     # lazy: NumPy, SymPy: `cyphy check` must not pay for it
-    from cyphy.semantics.dynamics.reduce import closed_form, reduce_system, report_obstacles
+    from cyphy.semantics.dynamics.closed_form import closed_form
+    from cyphy.semantics.dynamics.obstacles import report_obstacles
+    from cyphy.semantics.dynamics.reduce import reduce_system
     from cyphy.semantics.dynamics.equations import AssemblyError, assemble, mapping_operation
 
     elaborated = elaborate(paths, ElaborateOptions(

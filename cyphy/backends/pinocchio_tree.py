@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from cyphy.semantics.dynamics.rigid_body import KinematicTree, TreeJoint
+from cyphy.semantics.dynamics.tree import KinematicTree, TreeJoint
 
 
 @dataclass(frozen=True)

@@ -28,6 +28,8 @@ from typing import Any, Callable, Collection, Mapping, Protocol, Sequence
 import numpy as np
 
 from cyphy import codes
+from cyphy.backends.generated import definition_names
+from cyphy.backends.stiffness import choose, finite_difference
 
 SIMULATE = codes.code("E-SIMULATE", codes.E, "the model cannot be simulated as asked")
 
@@ -49,7 +51,7 @@ class SimulationOptions:
     t_end: float = 1.0
     init: dict[str, float] = field(default_factory=dict)
     inputs: dict[str, str] = field(default_factory=dict)  # name → expression of t
-    method: str | None = None  # solve_ivp's method; None: the one that fits (:func:`method_for`)
+    method: str | None = None  # None: the one that fits (stiffness.choose)
     rtol: float = 1e-6
     atol: float = 1e-9
     samples: int = 201  # output instants, evenly spaced over [0, t_end]
@@ -71,6 +73,7 @@ class Trajectory:
     events: list[tuple[float, str, tuple[float, ...]]] = field(default_factory=list)
     method: str = ""  # the integrator that ran (solve_ivp's name)
     engine: str = ""  # what evaluated the dynamics, for the user's note
+    reason: str = ""  # why that integrator (cyphy.backends.stiffness.choose), for the note
 
     def column(self, name: str) -> np.ndarray:
         return self.values[:, self.names.index(name)]
@@ -129,13 +132,17 @@ def input_expression(text: str) -> Any:
 def _input_functions(names: Sequence[str], given: Mapping[str, str]
                      ) -> list[Callable[[float], float]]:
     """One function of t per input name; ``der_X`` is the derivative of ``X``'s expression."""
-    import sympy
-
-    t = sympy.Symbol("t", real=True)
-    out = []
+    out: list[Callable[[float], float]] = []
     for name in names:
         base = name[4:] if name.startswith("der_") and name not in given else name
-        expr = input_expression(given[base]) if base in given else sympy.Integer(0)
+        if base not in given:  # without SymPy: `simulate --numeric` need not import it
+            out.append(lambda _t: 0.0)
+            continue
+        # lazy: SymPy costs 0.6 s to import, for the inputs given only
+        import sympy
+
+        t = sympy.Symbol("t", real=True)
+        expr = input_expression(given[base])
         if base != name:
             expr = sympy.diff(expr, t)
         if expr.is_Number:  # most inputs: not given (lambdify costs 10 ms each, measured)
@@ -143,6 +150,16 @@ def _input_functions(names: Sequence[str], given: Mapping[str, str]
         else:
             out.append(_finite(name, given.get(base, ""), sympy.lambdify(t, expr, "math")))
     return out
+
+
+def _check_inputs(functions: Sequence[Callable[[float], float]], grid: np.ndarray) -> None:
+    """Evaluate the given inputs at the output instants before the run, so that one not
+    defined there (``1/(t-0.05)`` at 0.05) is an ``E-OPTION`` naming it, whichever method
+    runs: an explicit method's steps pass beside the instant and it fails on the values'
+    growth instead, with no word about the input."""
+    for fn in functions:
+        for tt in grid:
+            fn(float(tt))
 
 
 def _finite(name: str, text: str, fn: Callable[[float], float]) -> Callable[[float], float]:
@@ -207,8 +224,11 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
                      effects: Callable[[Calls], dict[str, float]] | None = None,
                      period: float | None = None,
                      events: Callable[[float, Mapping[str, float]], Mapping[str, object]]
-                     | None = None, observable: Collection[str] = ()) -> Trajectory:
-    """Integrate the reduced ODEs (:class:`cyphy.semantics.dynamics.reduce.Reduced`).
+                     | None = None, observable: Collection[str] = (), tree: Any = None
+                     ) -> Trajectory:
+    """Integrate the reduced ODEs (:class:`cyphy.semantics.dynamics.reduce.Reduced`);
+    ``tree``, the model's kinematic tree, is evaluated by Pinocchio when the ODEs use its
+    accelerations (:mod:`cyphy.backends.whole_model`).
 
     With a ``controller``, the run is cut at every ``period``: ``events(t, values)`` gives the
     input events at that instant, the controller's calls go through ``effects`` to input
@@ -229,7 +249,7 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     definitions = getattr(reduced, "definitions", [])  # a Flow* problem has none
     known = {str(a) for a in args} | {n for n, _ in definitions}
     leftover = sorted(({str(s) for e in rhs_expr for s in sympy.sympify(e).free_symbols} |
-                       _definition_names(definitions)) - known)
+                       definition_names(definitions)) - known)
     if leftover:
         raise SimulationError(f"constants without a value: {', '.join(leftover)}",
                               "give them values with --const NAME=VALUE")
@@ -238,15 +258,23 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
               for e in out_exprs]
     outputs = [o for o, ok in zip(outputs, out_ok) if ok]
     out_exprs = [e for e, ok in zip(out_exprs, out_ok) if ok]
-    if definitions:
-        rhs, out_fn = compiled([str(a) for a in args], definitions, rhs_expr, out_exprs)
-    else:
-        rhs = sympy.lambdify(args, rhs_expr, "numpy")
-        out_fn = sympy.lambdify(args, out_exprs, "numpy")
+    # lazy: SymPy and Pinocchio: only a simulation compiles
+    from cyphy.backends.whole_model import system_dynamics
+
+    dynamics = system_dynamics(states, inputs, rhs_expr, out_exprs, definitions, tree)
+    rhs, out_fn = dynamics.rhs, dynamics.outputs
     given = _input_functions(inputs, options.inputs)
     held: dict[str, float] = {}
+    # most inputs are not given (a chain's parent twists: 120 of 130 at 20 links): 0 once
+    varying = [k for k, name in enumerate(inputs)
+               if name in options.inputs or name[4:] in options.inputs]
 
     def u(tt: float) -> list[float]:
+        if not held:
+            values = [0.0] * len(inputs)
+            for k in varying:
+                values[k] = given[k](tt)
+            return values
         return [held[n] if n in held else f(tt) for n, f in zip(inputs, given)]
 
     guarded = [(states.index(n), what) for n, what in sorted(options.pitches.items())
@@ -268,11 +296,23 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
         return np.array(rows, dtype=float).reshape(len(times), len(states) + len(outputs))
 
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
-    method = method_for(options, stiff=True)
+    _check_inputs([given[k] for k in varying], grid)
+    # stiffness detected on central differences at the start (2n evaluations, cheaper than
+    # building the analytic Jacobian), which only a stiff method then gets
+    choice = choose(options.method, lambda: _jacobian_at_start(f, None, x0),
+                    options.t_end, dynamics.make_jacobian is not None)
+    method, engine = choice.method, dynamics.engine
+    jac = None
+    if method in STIFF and dynamics.make_jacobian is not None:
+        analytic = dynamics.make_jacobian()
+
+        def jac(tt: float, x: np.ndarray) -> np.ndarray:
+            return analytic(*x, *u(tt), tt)
     if controller is None or period is None:
-        times, xs = _integrate(f, x0, grid, options, method=method)
+        times, xs = _integrate(f, x0, grid, options, method=method, jac=jac)
         return _finite_trajectory(Trajectory([*states, *outputs], times, observe(times, xs),
-                                             method=method, engine="the compiled equations"))
+                                             method=method, engine=engine,
+                                             reason=choice.reason))
     all_t, all_rows = [], []
     sent: list[tuple[float, str, tuple[float, ...]]] = []
     start, x, k = 0.0, x0, 0
@@ -287,7 +327,7 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
         inside = grid[(grid >= start) & (grid < stop)]
         local = np.unique(np.concatenate([[start], inside, [stop]]))
         times, xs = _integrate(f, x, local, options, offset=(start, options.t_end),
-                               method=method)
+                               method=method, jac=jac)
         keep = np.isin(times, inside) | (times == start) | \
             ((times == stop) & (stop >= options.t_end))
         all_t.append(times[keep])
@@ -297,24 +337,23 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     rows = np.vstack(all_rows)
     order = np.unique(times, return_index=True)[1]
     return _finite_trajectory(Trajectory([*states, *outputs], times[order], rows[order], sent,
-                                         method, "the compiled equations"))
+                                         method, engine, choice.reason))
 
 
 #: The implicit (stiff-capable) methods of solve_ivp: those that take a Jacobian.
 STIFF = ("LSODA", "BDF", "Radau")
 
 
-def method_for(options: SimulationOptions, stiff: bool) -> str:
-    """The method asked for, else the one that fits: a kinematic tree alone is a non-stiff
-    mechanical system, which an explicit Runge–Kutta method integrates at a fraction of the
-    cost of LSODA (past 20 links LSODA switches to BDF with finite-difference Jacobians:
-    100 links took 392 s, RK45 12.6 s, issue 31). DOP853 rather than RK45: on the benchmark's
-    chains it needs fewer evaluations at the default tolerances (10 links: 599 against 608;
-    100 links: 776 against 836; LSODA 16,587). A whole model with devices may be stiff
-    (motors' electrical time constants), so it keeps LSODA, which switches by itself."""
-    if options.method:
-        return options.method
-    return "LSODA" if stiff else "DOP853"
+def _jacobian_at_start(f: Callable[[float, np.ndarray], np.ndarray],
+                       jac: Callable[[float, np.ndarray], np.ndarray] | None,
+                       x0: np.ndarray) -> np.ndarray | None:
+    """The state Jacobian at the start, for :func:`cyphy.backends.stiffness.choose`:
+    analytic when there is one, else central differences (once, to detect stiffness)."""
+    if not len(x0):
+        return None
+    if jac is not None:
+        return jac(0.0, x0)
+    return finite_difference(lambda x: f(0.0, x), x0)
 
 
 def _finite_trajectory(trajectory: Trajectory) -> Trajectory:
@@ -334,7 +373,7 @@ def _finite_trajectory(trajectory: Trajectory) -> Trajectory:
 def euler_pitches(tree: Any) -> dict[str, str]:
     """The coordinates that are pitches of ZYX Euler angles (a ball joint's second, a
     floating base's ``pitch``), with what they turn, for ``simulate``'s guard."""
-    from cyphy.semantics.dynamics.rigid_body import EULER, coordinate_names
+    from cyphy.semantics.dynamics.tree import EULER, coordinate_names
 
     return {coordinate_names(j, "theta")[-2]:
             f"{'floating base' if j.kind == 'floating' else 'ball joint'} {j.name}"
@@ -386,57 +425,6 @@ def _integrate(f: Callable[[float, np.ndarray], np.ndarray], x0: np.ndarray,
     return solution.t, solution.y
 
 
-def _definition_names(definitions: Sequence[tuple[str, Any]]) -> set[str]:
-    """The names the definitions use (SymPy values or articulated-body polynomials)."""
-    out: set[str] = set()
-    for _, value in definitions:
-        out |= {str(x) for x in value.free_symbols} if hasattr(value, "free_symbols") \
-            else value.atoms()
-    return out
-
-
-def compiled(args: Sequence[str], definitions: Sequence[tuple[str, Any]],
-             *results: Sequence[Any]) -> list[Callable[..., list[float]]]:
-    """Per list of ``results``, a Python function of ``args`` that computes the definitions
-    in order (one assignment each: a tree's equations of motion stay linear in its size) and
-    returns those expressions. Generated as source, as ``lambdify`` does, with ``math`` for
-    the functions (each cosine and sine of a joint angle computed once) and every name
-    prefixed (``v_``), so that no model name can clash with Python's."""
-    import math
-
-    import sympy
-    from sympy.printing.pycode import PythonCodePrinter
-
-    printer = PythonCodePrinter({"fully_qualified_modules": True})
-
-    def code(value: Any) -> str:
-        if not hasattr(value, "free_symbols"):  # an articulated-body polynomial
-            return value.text(_python_atom)
-        value = sympy.sympify(value)
-        return printer.doprint(value.xreplace(
-            {s: sympy.Symbol(f"v_{s.name}", real=True) for s in value.free_symbols}))
-
-    trig = sorted({a for _, value in definitions if not hasattr(value, "free_symbols")
-                   for key in value.terms for a in key if a[:4] in ("cos:", "sin:")})
-    body = [f"    {_python_atom(a)} = math.{a[:3]}(v_{a[4:]})" for a in trig]
-    body += [f"    v_{name} = {code(value)}" for name, value in definitions]
-    # one function returns every list (compiling the definitions is most of the cost of
-    # building it: 0.1 s for a 10-link arm's thousand, measured); each result picks its own
-    lists = ", ".join(f"[{', '.join(code(e) for e in exprs)}]" for exprs in results)
-    lines = [f"def _generated({', '.join(f'v_{a}' for a in args)}):", *body,
-             f"    return ({lists},)"]
-    namespace: dict[str, Any] = {"math": math}
-    exec(compile("\n".join(lines), "<cyphy simulate>", "exec"), namespace)  # noqa: S102
-    generated = namespace["_generated"]
-    return [(lambda *values, k=k: generated(*values)[k]) for k in range(len(results))]
-
-
-def _python_atom(name: str) -> str:
-    """``v_x`` for a name, ``cos_x`` for ``cos:x`` (computed once, at the top)."""
-    kind, _, arg = name.partition(":")
-    return f"{kind}_{arg}" if arg else f"v_{name}"
-
-
 # ----------------------------------------------------------------------------- numeric path
 
 def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
@@ -451,7 +439,10 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     Jacobian when the tree has only revolute and prismatic joints (else the method's finite
     differences)."""
     from cyphy.backends.pinocchio_tree import pinocchio_model
-    from cyphy.semantics.dynamics.rigid_body import EULER, euler_singularity, forward_dynamics
+    from cyphy.backends.whole_model import annotated_efforts
+    from cyphy.semantics.dynamics.rigid_body import forward_dynamics
+    from cyphy.semantics.dynamics.spatial import euler_singularity
+    from cyphy.semantics.dynamics.tree import EULER
 
     n = tree.dof
     thetas, speeds = list(tree.coordinates("theta")), list(tree.coordinates("v"))
@@ -481,7 +472,7 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
         tau[slots] = [g(tt) for g in given]
         return tau
 
-    annotated = _annotated_efforts(tree)
+    annotated = annotated_efforts(tree)
 
     def f(tt: float, x: np.ndarray) -> np.ndarray:
         tau = efforts_at(tt)
@@ -501,38 +492,16 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     # where Pinocchio would return NaN
     forward_dynamics(tree, x0[:n], x0[n:], efforts_at(0.0))
     grid = np.linspace(0.0, options.t_end, max(options.samples, 2))
-    method = method_for(options, stiff=False)
+    _check_inputs([g for name, g in zip(efforts, given) if name in options.inputs], grid)
+    choice = choose(options.method, lambda: _jacobian_at_start(f, jac, x0),
+                    options.t_end, jac is not None)
+    method = choice.method
     times, xs = _integrate(f, x0, grid, options, method=method, jac=jac)
     engine = "Pinocchio's articulated-body algorithm" if compiled_tree is not None else \
         "cyphy's NumPy articulated-body algorithm (Pinocchio, the pip package pin, is not " \
         "installed: it is about 100 times faster)"
     return _finite_trajectory(Trajectory(states, times, xs.T.copy(), method=method,
-                                         engine=engine))
-
-
-def _annotated_efforts(tree: Any) -> Callable[[np.ndarray, np.ndarray], np.ndarray] | None:
-    """The efforts of the joints' annotated damping, springs and limit stops as a function
-    of the coordinates and rates (:mod:`cyphy.semantics.dynamics.joint_forces`, as the
-    symbolic path has them), or None when no joint has any."""
-    from cyphy.semantics.dynamics.joint_forces import axis_forces, passive_efforts, stop
-    from cyphy.semantics.dynamics.rigid_body import mass_matrix
-
-    forces = [(k, f) for joint, start in zip(tree.joints, tree.offsets)
-              for k, f in enumerate(axis_forces(joint.kind, joint.element), start=start)
-              if f.passive or f.limited]
-    if not forces:
-        return None
-    rest = np.diag(mass_matrix(tree, [0.0] * tree.dof)).astype(float)
-    index = np.array([k for k, _ in forces], dtype=int)
-    axes = [f for _, f in forces]
-
-    def efforts(q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        out = np.zeros(len(q))
-        out[index] = passive_efforts(axes, q[index], qd[index])
-        out[index] += [stop(f, rest[k], q[k], qd[k]) for k, f in forces]
-        return out
-
-    return efforts
+                                         engine=engine, reason=choice.reason))
 
 
 # ----------------------------------------------------------------------------- output

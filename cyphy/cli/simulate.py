@@ -46,9 +46,9 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
                           "(default 0); repeatable")
     simulate.add_argument("--method", default=None,
                           choices=("LSODA", "BDF", "Radau", "RK45", "DOP853", "RK23"),
-                          help="solve_ivp's method (default: DOP853, explicit, for the "
-                          "kinematic tree alone (--numeric); LSODA, stiff-capable, for whole "
-                          "models); the choice is noted on stderr")
+                          help="solve_ivp's method (default: DOP853, explicit, unless the "
+                          "model is stiff at the start, then BDF with the analytic Jacobian); "
+                          "the choice is noted on stderr")
     simulate.add_argument("--rtol", type=finite_float, default=1e-6, help="relative tolerance")
     simulate.add_argument("--atol", type=finite_float, default=1e-9, help="absolute tolerance")
     simulate.add_argument("--samples", type=int, default=201,
@@ -125,11 +125,9 @@ def run(args: argparse.Namespace) -> int:
     if result.numeric:
         sys.stderr.write("cyphy simulate: the kinematic tree alone (articulated-body "
                          "algorithm): the other devices' equations are not simulated\n")
-    chosen = "asked for" if args.method else (
-        "explicit, the default for a kinematic tree alone" if result.numeric
-        else "stiff-capable, the default for a whole model")
-    sys.stderr.write(f"cyphy simulate: integrated with {result.trajectory.method} ({chosen}; "
-                     f"--method to change), dynamics by {result.trajectory.engine}\n")
+    sys.stderr.write(f"cyphy simulate: integrated with {result.trajectory.method} "
+                     f"({result.trajectory.reason}; --method to change), dynamics by "
+                     f"{result.trajectory.engine}\n")
     text = (sim.to_json if args.format == "json" else sim.to_csv)(result.trajectory)
     code = 0
     if args.output:

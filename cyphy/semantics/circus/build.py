@@ -165,7 +165,7 @@ def _motion(model: ElaboratedModel, report: Report) -> tuple[ex.Expr, ...]:
     root link (:func:`~cyphy.semantics.dynamics.equations.fixed_root_twists`). A tree that has none (a link without mass, a loop, more
     joints than the symbolic limit) leaves them out with a warning: the rest of the semantics
     does not depend on them."""
-    from cyphy.semantics.dynamics.rigid_body import DynamicsError
+    from cyphy.semantics.dynamics.errors import DynamicsError
     from cyphy.semantics.dynamics.equations import fixed_root_twists, motion
 
     twists = tuple(e.expr for e in fixed_root_twists(model))  # the root is fixed: pV = pA = 0

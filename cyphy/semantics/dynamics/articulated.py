@@ -52,11 +52,12 @@ import numpy as np
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics.dynamics.joint_forces import AxisForces, axis_forces, passive_efforts
 from cyphy.semantics.dynamics.polynomial import Polynomial, _cos, _dot, _sin, _single
-from cyphy.semantics.dynamics.rigid_body import (EULER, STANDARD_GRAVITY, DynamicsError,
-                                      KinematicTree, TreeJoint, coordinate_names,
-                                      forward_dynamics, joint_kind, kinematic_tree,
-                                      motion_subspace, motion_subspace_rate, parent_to_child,
-                                      port_size, subspace_factors)
+from cyphy.semantics.dynamics.errors import DynamicsError
+from cyphy.semantics.dynamics.rigid_body import forward_dynamics, port_size
+from cyphy.semantics.dynamics.spatial import (motion_subspace, motion_subspace_rate,
+                                              parent_to_child, subspace_factors)
+from cyphy.semantics.dynamics.tree import (EULER, STANDARD_GRAVITY, KinematicTree, TreeJoint,
+                                           coordinate_names, joint_kind, kinematic_tree)
 from cyphy.semantics.scalarise import component_name
 
 
@@ -275,7 +276,7 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
         ap = [name(f"{p}_ap_{k + 1}", moved[k] + products[i][k], joint) for k in range(6)]
         rest = [efforts[i][a] - _dot([us[i][k][a] for k in range(6)], ap)
                 for a in range(columns)]
-        names = [f"{p}_qdd" if columns == 1 else f"{p}_qdd_{a + 1}" for a in range(columns)]
+        names = acceleration_names(joint)
         if i in factors:  # w = D⁻¹·(…) in the rates w = B·q̇, then q̈ = B⁻¹·w
             w = [name(f"{p}_w_{a + 1}", _dot(d_invs[i][a], rest), joint, always=True)
                  for a in range(columns)]
@@ -291,6 +292,13 @@ def explicit_motion(tree: KinematicTree, variables: Callable[[TreeJoint, str], A
                               for k in range(6)])
     definitions = tuple(Definition(key, value, joint) for key, value, joint in name.definitions)
     return ExplicitMotion(definitions, tuple(out), tuple(stops))
+
+
+def acceleration_names(joint: TreeJoint) -> list[str]:
+    """The names of the joint's accelerations (``p_qdd``, or ``p_qdd_1`` … for a joint of
+    several coordinates), which ``simulate`` also gives Pinocchio's values."""
+    p = joint.prefix
+    return [f"{p}_qdd" if joint.dof == 1 else f"{p}_qdd_{a + 1}" for a in range(joint.dof)]
 
 
 def _annotated(joint: TreeJoint, tau: list[Any], variables: Callable[[TreeJoint, str], Any],

@@ -151,7 +151,7 @@ def _add_motion(system: System, model: ElaboratedModel,
     it, a link coupled to joints left out does not. A tree without equations of motion (too
     large to write out, a link without mass elsewhere) is then reported only for the whole
     model: chosen elements keep the equations they had before."""
-    from cyphy.semantics.dynamics.rigid_body import DynamicsError
+    from cyphy.semantics.dynamics.errors import DynamicsError
 
     if known is not None and not any(j.device is not None and
                                      any(p.mangled in known for p in j.device.ports)
@@ -189,7 +189,8 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
     link without mass elsewhere) is then reported only for the whole model: chosen elements
     keep the equations they had before."""
     from cyphy.semantics.dynamics.articulated import model_motion
-    from cyphy.semantics.dynamics.rigid_body import STANDARD_GRAVITY, DynamicsError, coordinate_names
+    from cyphy.semantics.dynamics.errors import DynamicsError
+    from cyphy.semantics.dynamics.tree import STANDARD_GRAVITY, coordinate_names
     from cyphy.semantics.scalarise import component_name
 
     if known is not None and not any(j.device is not None and
@@ -336,7 +337,8 @@ def motion(model: ElaboratedModel,
     ``0 == M(q)*a + h(q, v)`` for its six coordinates). The one source of these equations for
     ``cyphy solve`` (through :func:`assemble`) and the CyPhyCircus ``Evolve``; raises
     ``DynamicsError`` when the tree has none."""
-    from cyphy.semantics.dynamics.rigid_body import STANDARD_GRAVITY, motion_equations
+    from cyphy.semantics.dynamics.rigid_body import motion_equations
+    from cyphy.semantics.dynamics.tree import STANDARD_GRAVITY
 
     return [Equation(equation, f"{joint.prefix} motion", equation.span)
             for equation, joint in motion_equations(model, gravity or STANDARD_GRAVITY,

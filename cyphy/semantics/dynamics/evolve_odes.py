@@ -30,7 +30,8 @@ import sympy
 
 from cyphy import codes
 from cyphy import expr as ex
-from cyphy.semantics.dynamics.reduce import Reduced, obstacle_code, obstacle_hint, reduce_system
+from cyphy.semantics.dynamics.obstacles import obstacle_code, obstacle_hint
+from cyphy.semantics.dynamics.reduce import Reduced, reduce_system
 from cyphy.translate.to_sympy import T, NotAnExpression, to_expr
 from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.model.elements import ElaboratedModel

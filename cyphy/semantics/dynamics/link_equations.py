@@ -37,9 +37,9 @@ import numpy as np
 from cyphy import expr as ex
 from cyphy.semantics.dynamics.articulated import subspace
 from cyphy.semantics.dynamics.polynomial import Polynomial, _cos, _sin
-from cyphy.semantics.dynamics.rigid_body import (KinematicTree, TreeJoint, coordinate_names,
-                                                 motion_subspace, motion_subspace_rate,
-                                                 parent_to_child)
+from cyphy.semantics.dynamics.spatial import (motion_subspace, motion_subspace_rate,
+                                              parent_to_child)
+from cyphy.semantics.dynamics.tree import KinematicTree, TreeJoint, coordinate_names
 
 
 @dataclass(frozen=True)

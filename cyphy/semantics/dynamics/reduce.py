@@ -30,27 +30,13 @@ from sympy.core.function import AppliedUndef
 from cyphy import expr as ex
 from cyphy.translate.to_sympy import T, SympyPrinter, UnsupportedNode
 from cyphy.lang import ast
-from cyphy.lang.notation import to_notation
-from cyphy.lang.workspace import LIBRARY_ROOT
-from cyphy.diagnostics import Report, Span
-from cyphy.semantics.dynamics.equations import (OBSTACLE, OVERDETERMINED, UNDERDETERMINED,
-                                                Equation, System)
-from cyphy.semantics.dynamics.structure import (Competition, Row, overdetermined,
-                                               underdetermined)
+from cyphy.diagnostics import Span
+from cyphy.semantics.dynamics.equations import Equation, System
+from cyphy.semantics.dynamics.obstacles import Obstacle, competition, in_library, note
+from cyphy.semantics.dynamics.solving import (blocks_in_order, cancel_sums, match_unknowns,
+                                              solve_linear)
+from cyphy.semantics.dynamics.structure import Row, overdetermined, underdetermined
 from cyphy.semantics.scalarise import ScalariseError, Scalariser, components, type_shape
-
-
-@dataclass(frozen=True)
-class Obstacle:
-    kind: str  # overdetermined, underdetermined, algebraic-loop, unknown-function,
-    #            unsupported, too-large
-    message: str
-    variables: tuple[str, ...]
-    equations: tuple[Equation, ...]
-    # where to report it (in the user's files) and what to say about each equation; set by
-    # the reducer from the system's places (see ``Reducer.placed``)
-    span: Span | None = None
-    notes: tuple[str, ...] = ()
 
 
 @dataclass
@@ -232,7 +218,7 @@ class Reducer:
         rows.sort(key=lambda row: rank.get(row.equation.origin.split()[0], 0))
         competitions = overdetermined(rows)
         if competitions:
-            return [_competition(c) for c in competitions]
+            return [competition(c) for c in competitions]
         states = set().union(*(r.differentiated for r in rows))
         freedom = underdetermined(rows, states)
         if freedom is None:
@@ -250,12 +236,12 @@ class Reducer:
         """``o`` reported in the user's files: at its first equation written there, or else at
         the element whose library device the equation comes from; one note per equation."""
         def place(eq: Equation) -> Span | None:
-            if not _in_library(eq.span):
+            if not in_library(eq.span):
                 return eq.span
             return self.system.places.get(eq.origin)
 
         spans = [s for s in (place(eq) for eq in o.equations) if s is not None]
-        notes = list(o.notes) or [_note(eq, self.system.places) for eq in o.equations]
+        notes = list(o.notes) or [note(eq, self.system.places) for eq in o.equations]
         return replace(o, span=o.span or (spans[0] if spans else None), notes=tuple(notes))
 
     def _definitions(self, result: Reduced) -> set[Any]:
@@ -330,7 +316,7 @@ class Reducer:
                              and lhs.text == n] or candidates
                 name = preferred[0]
                 f = self.funcs[name]
-                linear = _linear_one([r], [f])
+                linear = solve_linear([r], [f])
                 solutions = [linear[0][f]] if linear else sympy.solve(r, f)
                 if len(solutions) != 1:
                     result.obstacles.append(Obstacle(
@@ -369,7 +355,7 @@ class Reducer:
         those are explicit (no derivative, linear in the unknown), so that it becomes a
         constraint the index reduction differentiates. Returns whether anything changed."""
         unknowns = [self._unknowns_in(r, states) for r, _ in residuals]
-        defined_by = _match(list(enumerate(unknowns)))
+        defined_by = match_unknowns(list(enumerate(unknowns)))
         used = set(defined_by.values())
         for i, (r, _) in enumerate(residuals):
             if i in used or not unknowns[i]:
@@ -380,7 +366,7 @@ class Reducer:
                         self._hidden_in(residuals[j][0]):
                     continue
                 f = self.funcs[y]
-                solution = _linear_one([residuals[j][0]], [f])
+                solution = solve_linear([residuals[j][0]], [f])
                 if solution is None:
                     continue
                 value = solution[0][f]
@@ -403,7 +389,7 @@ class Reducer:
                       for _, r in static))) if n not in self.inputs} if static else {}
         if not unknown_of:
             return residuals, False
-        defined_by = _match([(i, self._unknown_names(r, unknown_of, hidden=False))
+        defined_by = match_unknowns([(i, self._unknown_names(r, unknown_of, hidden=False))
                              for i, r in static])
         deps = nx.DiGraph()
         for name, i in sorted(defined_by.items()):
@@ -413,14 +399,14 @@ class Reducer:
         undefined = set(unknown_of.values()) - set(defined_by)
         solved: dict[Any, Any] = {}
         used: set[int] = set()
-        for block in _blocks_in_order(deps):
+        for block in blocks_in_order(deps):
             if any(p in undefined for b in block for p in deps.predecessors(b)) or \
                     any(b in undefined for b in block):
                 undefined.update(block)
                 continue
             eqs = [residuals[defined_by[v]][0].xreplace(solved) for v in block]
             objs = [self.funcs[v] for v in block]
-            solution = _linear_one(eqs, objs)
+            solution = solve_linear(eqs, objs)
             if solution is None:
                 try:
                     solution = sympy.solve(eqs, objs, dict=True)
@@ -429,7 +415,7 @@ class Reducer:
             if len(solution) != 1 or set(solution[0]) != set(objs):
                 undefined.update(block)
                 continue
-            solved.update({k: _cancel(v) for k, v in solution[0].items()})
+            solved.update({k: cancel_sums(v) for k, v in solution[0].items()})
             used.update(defined_by[v] for v in block)
         if not solved:
             return residuals, False
@@ -455,7 +441,7 @@ class Reducer:
     def _solve(self, residuals: list[tuple[Any, Equation]], unknown_of: dict[Any, str],
                dsyms: dict[Any, str], result: Reduced) -> None:
         by_name = {v: k for k, v in unknown_of.items()}
-        defined_by = _match([(i, self._unknown_names(r, unknown_of, hidden=False))
+        defined_by = match_unknowns([(i, self._unknown_names(r, unknown_of, hidden=False))
                              for i, (r, _) in enumerate(residuals)])
         deps = nx.DiGraph()
         for name, i in sorted(defined_by.items()):
@@ -490,7 +476,7 @@ class Reducer:
             blocked.add(v)
         solved: dict[Any, Any] = {}
         sub = deps.subgraph((needed | extra) & set(defined_by))
-        for block in _blocks_in_order(sub):
+        for block in blocks_in_order(sub):
             if any(p in blocked for b in block for p in deps.predecessors(b)):
                 blocked.update(block)
                 continue
@@ -509,7 +495,7 @@ class Reducer:
                         tuple(residuals[defined_by[v]][1] for v in block)))
                 blocked.update(block)
                 continue
-            solution = _linear_one(eqs, objs)
+            solution = solve_linear(eqs, objs)
             if solution is None:
                 try:
                     solution = sympy.solve(eqs, objs, dict=True)
@@ -525,7 +511,7 @@ class Reducer:
                 blocked.update(block)
                 continue
             for obj, value in solution[0].items():
-                solved[obj] = _cancel(value)
+                solved[obj] = cancel_sums(value)
         plain = {f: sympy.Symbol(f.func.__name__, real=True) for f in self.funcs.values()}
         plain.update({d: sym for d, sym in self.input_derivatives.items()})
         for d, s in dsyms.items():
@@ -550,160 +536,8 @@ class Reducer:
         return out
 
 
-def _in_library(span: Span) -> bool:
-    return span.file.startswith(str(LIBRARY_ROOT))
-
-
-def _equation_text(eq: Equation) -> str:
-    where = "relation" if eq.origin == "relation" else f"equation of {eq.origin}"
-    return f"{where} `{to_notation(eq.expr)}`"
-
-
-def _note(eq: Equation, places: dict[str, Span]) -> str:
-    note = f"{_equation_text(eq)} at {eq.span}"
-    if _in_library(eq.span) and eq.origin in places:
-        note += f" (the library's, for {eq.origin} declared at {places[eq.origin]})"
-    return note
-
-
-def _competition(c: Competition[Equation]) -> Obstacle:
-    """An over-determined equation and the equations that already determine its variables."""
-    rivals = "; ".join(f"{v} by the {_equation_text(eq)}" for v, eq in c.rivals)
-    variables = tuple(v for v, _ in c.rivals)
-    message = (f"the {_equation_text(c.equation)} over-determines the equations: it adds an "
-               f"equation but no unknown")
-    if rivals:
-        message += f", and each variable it names is already determined ({rivals})"
-    equations = (c.equation, *dict.fromkeys(eq for _, eq in c.rivals))
-    return Obstacle("overdetermined", message, variables, equations)
-
-
-def _match(equations: list[tuple[int, set[str]]]) -> dict[str, int]:
-    """A maximum matching of variables to the equations that mention them, preferring state
-    derivatives (``derivative(x) == y`` defines x', and then y is what is missing).
-
-    Kuhn's augmenting paths, variables taken in order of preference: once matched, a variable
-    stays matched, which is the preference NetworkX's Hopcroft-Karp cannot express. Plain
-    sorted order, so the same model gives the same reduction in every run."""
-    names = sorted(set().union(*(v for _, v in equations)),
-                   key=lambda n: (not n.startswith("d_"), n)) if equations else []
-    mentions: dict[str, list[int]] = {n: [] for n in names}
-    for k, (_, variables) in enumerate(equations):
-        for v in variables:
-            mentions[v].append(k)
-    owner: dict[int, str] = {}  # equation → variable
-
-    def augment(v: str, seen: set[int]) -> bool:
-        for k in mentions[v]:
-            if k in seen:
-                continue
-            seen.add(k)
-            if k not in owner or augment(owner[k], seen):
-                owner[k] = v
-                return True
-        return False
-
-    for v in names:
-        augment(v, set())
-    return {v: equations[k][0] for k, v in sorted(owner.items())}
-
-
-def _linear_one(eqs: list[Any], objs: list[Any]) -> list[dict[Any, Any]] | None:
-    """The solution of one equation linear in its one unknown, ``a·x + b = 0`` with ``a``
-    free of ``x`` and not zero: ``x = -b/a`` (what ``sympy.solve`` gives, without its
-    general machinery: most blocks are of this kind); None for anything else."""
-    if len(eqs) != 1:
-        return None
-    [r], [x] = eqs, objs
-    if any(d.has(x) for d in r.atoms(sympy.Derivative)):
-        return None
-    if isinstance(r, sympy.Add):  # the usual, expanded case, read off term by term
-        a, rest, linear = [], [], True
-        for term in r.args:
-            free, bound = term.as_independent(x, as_Add=False)
-            if bound == x:
-                a.append(free)
-            elif not term.has(x):
-                rest.append(term)
-            else:
-                linear = False
-                break
-        if linear and a:
-            coefficient = sympy.Add(*a)
-            if coefficient != 0:
-                return [{x: -sympy.Add(*rest) / coefficient}]
-    a = sympy.expand(sympy.diff(r, x))
-    if a == 0 or a.has(x):
-        return None
-    return [{x: -r.xreplace({x: 0}) / a}]
-
-
-def _cancel(value: Any) -> Any:
-    """``sympy.cancel`` where there is something to cancel: a denominator that is a sum
-    (cancelling the rest, most solutions, cost a third of a 10-link chain's reduction,
-    measured; they are expanded at the end anyway)."""
-    if any(p.exp.is_negative and p.base.is_Add for p in value.atoms(sympy.Pow)):
-        return sympy.cancel(value)
-    return value
-
-
 def _shown(v: str) -> str:
     return v[2:] + "'" if v.startswith("d_") else v
-
-
-def _blocks_in_order(graph: nx.DiGraph) -> list[list[str]]:
-    condensed = nx.condensation(graph)
-    return [sorted(condensed.nodes[n]["members"]) for n in nx.topological_sort(condensed)]
-
-
-_OBSTACLE_HINTS = {
-    "overdetermined": "remove it or one of the equations it competes with: a relation may "
-                      "only set what nothing else determines, such as a joint's effort tau "
-                      "or a motor's demand das; cyphy solves a joint's acceleration from its "
-                      "effort, never an effort from a prescribed motion. A motor drives a "
-                      "joint through its torque alone (relation M.T == J.tau): see "
-                      "docs/equations.md",
-    "underdetermined": "add an equation or relation that determines it, or restrict the "
-                       "system with --element",
-    "algebraic-loop": "rewrite the equations so the loop can be solved, or give the "
-                      "constants values (--const)",
-    "unknown-function": "the function is declared without a definition: SymPy cannot invert "
-                        "it",
-    "unsupported": "only equations lhs == rhs over numbers, vectors and matrices are solved",
-    "too-large": "`cyphy solve` and `cyphy simulate` keep them as named definitions and "
-                 "take trees of any size; for this target, restrict the model with "
-                 "elements/--element to fewer joints",
-}
-
-
-def obstacle_code(o: Obstacle) -> Any:
-    """``E-OVERDETERMINED``, ``E-UNDERDETERMINED``, ``E-DYNAMICS`` (too large) or
-    ``E-REDUCE``."""
-    from cyphy.semantics.dynamics.errors import TREE
-
-    return {"overdetermined": OVERDETERMINED, "underdetermined": UNDERDETERMINED,
-            "too-large": TREE}.get(o.kind, OBSTACLE)
-
-
-def obstacle_hint(o: Obstacle) -> str:
-    return _OBSTACLE_HINTS[o.kind]
-
-
-def obstacle_span(o: Obstacle) -> Span:
-    return o.span or (o.equations[0].span if o.equations else Span.unknown())
-
-
-def report_obstacles(reduced: Reduced, report: Report) -> None:
-    """Each obstacle as a diagnostic (:func:`obstacle_code`) in the user's files."""
-    for o in reduced.obstacles:
-        notes = list(o.notes) or [f"{eq.origin}: equation at {eq.span}" for eq in o.equations]
-        report.report(obstacle_code(o), o.message, obstacle_span(o), obstacle_hint(o), notes)
-
-
-#: The largest expression (in nodes, every definition written out) that
-#: ``inline_definitions`` writes out: the articulated-body definitions of a 2-joint arm
-#: written out take about 1.3·10⁵ nodes and SymPy's expansion of them 7 s (measured).
-INLINE_LIMIT = 20_000
 
 
 def reduce_system(system: System, wanted: frozenset[str] = frozenset()) -> Reduced:
@@ -712,117 +546,3 @@ def reduce_system(system: System, wanted: frozenset[str] = frozenset()) -> Reduc
     system's definitions (the equations of motion's named quantities: ``assemble``'s
     ``definitions``) stay names, listed in order in ``Reduced.definitions``."""
     return Reducer(system, wanted).reduce()
-
-
-def inline_definitions(reduced: Reduced, system: System) -> None:
-    """Write the definitions into the rhs and outputs (and drop them), or, beyond
-    ``INLINE_LIMIT`` nodes, leave the expressions as they are with an ``E-DYNAMICS``
-    obstacle: closed expressions of a small tree's accelerations (one or two joints), to
-    compare them with a formula."""
-    sizes: dict[str, int] = {}
-    for name, value in reduced.definitions:
-        sizes[name] = value.size(sizes) if hasattr(value, "size") else \
-            int(sympy.count_ops(value, visual=False)) + 1
-    largest = max(sizes.values())
-    if largest > INLINE_LIMIT:
-        equations = tuple(eq for eq in system.equations if eq.origin.endswith(" motion"))
-        joints = len(equations)
-        reduced.obstacles.append(Obstacle(
-            "too-large", f"the equations of motion of this {joints}-joint tree written out as "
-            f"closed expressions take about {largest:.1e} terms (at most {INLINE_LIMIT:.0e} "
-            "are written out): this target needs closed expressions", (),
-            equations[:1]))
-        return
-    symbols: dict[str, Any] = {}
-    for name, value in reduced.definitions:
-        symbols[name] = value.to_sympy(symbols) if hasattr(value, "to_sympy") else value
-    names = {sympy.Symbol(name, real=True): symbols[name] for name, _ in reduced.definitions}
-    for s, v in list(reduced.rhs.items()):
-        reduced.rhs[s] = sympy.expand(v.xreplace(names))
-    for s, v in list(reduced.outputs.items()):
-        reduced.outputs[s] = sympy.expand(v.xreplace(names))
-    reduced.definitions = []
-
-
-def closed_form(reduced: Reduced, inputs: dict[str, Any] | None = None) -> dict[str, Any] | None:
-    """Each state as an expression of ``t`` and its initial value ``<state>_0``, for constant
-    inputs; None when the system is not linear with constant coefficients.
-
-    The states are split into blocks by their dependencies (strongly connected components);
-    blocks are solved in order: a state that does not feed back on itself is integrated
-    (``theta' = av``), a coupled block ``x' = A x + g`` with constant ``g`` is solved from the
-    eigen-decomposition of ``A`` (``x = x* + V e^{Λt} V⁻¹ (x0 - x*)``, written with real
-    exponentials, sines and cosines), anything else goes to ``dsolve``. Coefficients are
-    floating point: exact roots of a cubic or quartic are of no use to anyone."""
-    if not reduced.states:
-        return None
-    values = {sympy.Symbol(n, real=True): v for n, v in (inputs or {}).items()}
-    sym = {s: reduced.symbols.get(s, sympy.Symbol(s, real=True)) for s in reduced.states}
-    rhs = {s: sympy.N(reduced.rhs[s].xreplace(values)) for s in reduced.states}
-    deps = nx.DiGraph()
-    deps.add_nodes_from(reduced.states)
-    for s, f in rhs.items():
-        for other in reduced.states:
-            if f.has(sym[other]):
-                deps.add_edge(other, s)
-    solution: dict[str, Any] = {}
-    for block in _blocks_in_order(deps):
-        known = {sym[s]: solution[s] for s in solution}
-        fs = {s: rhs[s].xreplace(known) for s in block}
-        x0 = {s: sympy.Symbol(f"{s}_0", real=True) for s in block}
-        if len(block) == 1 and not fs[block[0]].has(sym[block[0]]):
-            s = block[0]
-            tau = sympy.Symbol("tau", real=True)
-            integral = sympy.integrate(fs[s].xreplace({T: tau}), (tau, 0, T))
-            solution[s] = sympy.expand(x0[s] + integral)
-            continue
-        try:
-            matrix, rest = sympy.linear_eq_to_matrix([fs[s] for s in block],
-                                                     [sym[s] for s in block])
-        except (sympy.polys.polyerrors.PolynomialError, ValueError):
-            return None
-        g = -rest
-        if any(v.has(T) for v in g) or any(v.free_symbols - {*values} and
-                                           not v.is_number for v in matrix):
-            return None
-        solved = _linear_block(matrix, g, [x0[s] for s in block])
-        if solved is None:
-            return None
-        solution.update(dict(zip(block, solved)))
-    return solution
-
-
-def _linear_block(matrix: Any, g: Any, x0: list[Any]) -> list[Any] | None:
-    """``x' = A x + g`` with constant ``A`` and ``g`` (``g`` may hold symbols, linearly)."""
-    a = np.array(matrix.evalf(), dtype=float)
-    if abs(np.linalg.det(a)) < 1e-12:
-        return None
-    eigenvalues, vectors = np.linalg.eig(a)
-    if np.linalg.cond(vectors) > 1e10:
-        return None  # defective: no basis of eigenvectors
-    inverse = np.linalg.inv(vectors)
-    a_inv = sympy.Matrix(np.linalg.inv(a).tolist())
-    steady = -(a_inv * g)
-    start = sympy.Matrix(x0) - steady
-    out = []
-    for i in range(len(x0)):
-        total = steady[i]
-        for k, lam in enumerate(eigenvalues):
-            weight = sum(complex(vectors[i, k] * inverse[k, j]) * start[j]
-                         for j in range(len(x0)))
-            total += _exp_term(complex(lam), weight)
-        total = sympy.expand(total)
-        noise = {f: 0 for f in total.atoms(sympy.Float) if abs(f) < 1e-12}
-        out.append(total.xreplace(noise))
-    return out
-
-
-def _exp_term(lam: complex, weight: Any) -> Any:
-    """The real part of ``weight·e^{λt}`` (complex pairs add up to real cosines and sines)."""
-    re, im = sympy.Float(lam.real), sympy.Float(lam.imag)
-    weight = sympy.expand(weight)
-    w_re = sympy.re(weight)
-    w_im = sympy.im(weight)
-    if abs(lam.imag) < 1e-14:
-        return w_re * sympy.exp(re * T)
-    return sympy.exp(re * T) * (w_re * sympy.cos(im * T) - w_im * sympy.sin(im * T))

@@ -1,9 +1,7 @@
-"""Rigid-body dynamics of an elaborated p-model: its kinematic tree and the joint-space
-equations of motion ``M(q)·q̈ + h(q, q̇) = τ`` (issue 16).
-
-Spatial algebra after Lynch and Park, *Modern Robotics* ch. 8 (twists and wrenches are
-6-vectors with the angular part first, the convention of ``physmod::joints``), with the
-recursive algorithms of Featherstone, *Rigid Body Dynamics Algorithms* (2008):
+"""Rigid-body dynamics over a kinematic tree (:mod:`cyphy.semantics.dynamics.tree`, the data;
+:mod:`cyphy.semantics.dynamics.spatial`, the algebra): the joint-space equations of motion
+``M(q)·q̈ + h(q, q̇) = τ`` (issue 16), with the recursive algorithms of Featherstone, *Rigid
+Body Dynamics Algorithms* (2008):
 
 - the recursive Newton–Euler algorithm (RNEA, ch. 5) for inverse dynamics and the bias forces
   ``h(q, q̇)`` (gravity, Coriolis and centrifugal terms, the velocity-product term
@@ -11,592 +9,31 @@ recursive algorithms of Featherstone, *Rigid Body Dynamics Algorithms* (2008):
 - the composite-rigid-body algorithm (CRBA, ch. 6) for the mass matrix ``M(q)``,
 - the articulated-body algorithm (ABA, ch. 7) for forward dynamics at linear cost.
 
-The tree comes from the elaborated model: links joined by fixed connections (and by joints of
-the ``Fixed`` family) are merged into one body; a body that no joint moves is fixed to the
-world (the model frame), or with ``floating_base`` free (six coordinates: translations along
-the world axes and ZYX Euler angles). Each moving body has the frame of the child link of the
-joint that moves it. The model's link poses are the configuration ``q = 0``. Gravity is
-``−9.81 m/s²`` along the model's z unless given. Joints have one coordinate (revolute,
-prismatic) or several (universal: two angles; ball: ZYX Euler angles, singular at pitch
-±π/2), with a motion subspace ``S(q)`` in the child frame and its rate ``Ṡ·q̇`` (Featherstone
-ch. 4).
-
 The algorithms take plain floats (NumPy) or SymPy expressions (object arrays): the symbolic
 path, used to write the joint-space equations for the targets that need closed expressions
 (small trees), is the same code as the numeric one that the tests check against Pinocchio.
 ``cyphy solve`` and ``simulate`` use :mod:`cyphy.semantics.dynamics.articulated` (the same transforms,
 the articulated-body algorithm on named definitions, any size).
+
+The tree's and the algebra's names are imported here from their modules (where the
+algorithms use them), and callers may still reach them here.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 import numpy as np
 
-from cyphy.diagnostics import Span
-from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
-from cyphy.model.inertia import Inertial, combine, tensor
-from cyphy.model.poses import Pose
+from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics.dynamics.errors import DynamicsError
-
-STANDARD_GRAVITY = (0.0, 0.0, -9.81)
-
-@dataclass(frozen=True)
-class TreeJoint:
-    """One joint of the tree, with its ``dof`` coordinates (:data:`DOF`).
-
-    ``parent`` is the index of the parent joint's body in ``KinematicTree.joints`` (−1: a body
-    fixed to the world); ``placement`` is the child body's frame in the parent body's frame
-    (the world's for −1) at ``q = 0``; ``screw`` the joint's screw axis in the child body frame
-    (angular part first; for a joint of several coordinates its first column at ``q = 0``);
-    ``point`` the joint's origin (a point of a revolute axis) in the child frame; ``frame`` the
-    joint frame's axes in the child frame (the columns: a ball joint's and the floating base's
-    Euler angles turn about them); ``axes`` a universal joint's two unit axes in the child
-    frame. The floating base (``kind`` ``floating``, ``--floating-base``) is the joint of a
-    root body to the world: its frame has the world's axes and its origin is the body's."""
-
-    name: str  # the joint's qualified name (the root link's name for the floating base)
-    prefix: str  # the joint's device prefix (its variables are ``<prefix>_theta`` …)
-    kind: str  # revolute, prismatic, universal, spherical or floating
-    parent: int
-    placement: np.ndarray  # 4x4
-    axis: np.ndarray  # unit 3-vector, child body frame
-    point: np.ndarray  # 3-vector, child body frame
-    screw: np.ndarray  # 6-vector
-    inertia: np.ndarray  # 6x6 spatial inertia of the child body about its frame origin
-    body: tuple[str, ...]  # the links the joint moves as one body (child link first)
-    element: Joint | Link  # what a diagnostic points at (the root link: floating base)
-    frame: np.ndarray = field(default_factory=lambda: np.eye(3))  # 3x3, child body frame
-    axes: tuple[np.ndarray, ...] = ()  # universal: AXIS1, AXIS2 in the child body frame
-
-    @property
-    def dof(self) -> int:
-        """How many coordinates the joint has (:data:`DOF`)."""
-        return DOF[self.kind]
-
-    @property
-    def scale(self) -> float:
-        """The largest entry of the body's spatial inertia: what "zero" inertia along the axis
-        is measured against."""
-        cached = self.__dict__.get("_scale")
-        if cached is None:
-            cached = max(float(np.abs(self.inertia).max()), 1e-300)
-            object.__setattr__(self, "_scale", cached)
-        return cached
-
-    @property
-    def turn(self) -> np.ndarray:
-        """``[a]`` of the axis (Rodrigues' formula), computed once."""
-        cached = self.__dict__.get("_turn")
-        if cached is None:
-            cached = skew(self.axis).astype(float)
-            object.__setattr__(self, "_turn", cached)
-            object.__setattr__(self, "_turn2", cached @ cached)
-        return cached
-
-    @property
-    def turn2(self) -> np.ndarray:
-        """``[a]²``, computed once."""
-        self.turn  # noqa: B018 - fills the cache
-        return self.__dict__["_turn2"]
-
-
-#: Coordinates per joint kind. A universal joint turns about AXIS1 (fixed in the parent) then
-#: AXIS2 (fixed in the child); a ball joint (and the floating base's rotation) by ZYX Euler
-#: angles ``(yaw, pitch, roll)``, ``R = Rz(yaw)·Ry(pitch)·Rx(roll)`` about its frame's axes, the
-#: velocities being the angles' rates (singular at pitch ±π/2); the floating base first
-#: translates by ``(x, y, z)`` along the world axes.
-DOF = {"revolute": 1, "prismatic": 1, "universal": 2, "spherical": 3, "floating": 6}
-
-#: The joint kinds whose coordinates include ZYX Euler angles (singular at pitch ±π/2: a
-#: ``cyphy simulate`` start there is refused, :func:`euler_singularity`).
-EULER = frozenset({"spherical", "floating"})
-
-#: The floating base's coordinate names, after ``<Root>_``: positions, then ``v`` + name for the
-#: velocities and ``a`` + name for the accelerations (``Body_vyaw``, ``Body_az``).
-FLOATING = ("x", "y", "z", "yaw", "pitch", "roll")
-
-
-@dataclass(frozen=True)
-class KinematicTree:
-    """The joints in tree order (parents before children) and the gravity vector. ``q``,
-    ``q̇``, ``τ`` and the rows of ``M`` and ``h`` hold each joint's ``dof`` coordinates in
-    this order (``offsets``)."""
-
-    joints: tuple[TreeJoint, ...]
-    gravity: np.ndarray
-
-    @property
-    def names(self) -> tuple[str, ...]:
-        return tuple(j.name for j in self.joints)
-
-    @property
-    def dof(self) -> int:
-        """The number of coordinates (the size of ``q``)."""
-        return sum(j.dof for j in self.joints)
-
-    @property
-    def offsets(self) -> tuple[int, ...]:
-        """Where each joint's coordinates start in ``q``."""
-        out, k = [], 0
-        for joint in self.joints:
-            out.append(k)
-            k += joint.dof
-        return tuple(out)
-
-    def coordinates(self, variable: str = "theta") -> tuple[str, ...]:
-        """The scalar variable names of ``variable`` (``theta``, ``v``, ``a`` or ``tau``) in
-        the order of ``q``: ``<J>_theta`` for one coordinate, ``<J>_theta_1`` … as
-        ``cyphy solve`` names a vector's components, and ``<Root>_x`` …, ``<Root>_vx`` …,
-        ``<Root>_ax`` … for the floating base (which has no ``tau``: nothing touches it)."""
-        return tuple(n for j in self.joints for n in coordinate_names(j, variable))
-
-    @property
-    def prefixes(self) -> tuple[str, ...]:
-        return tuple(j.prefix for j in self.joints)
-
-    def __len__(self) -> int:
-        return len(self.joints)
-
-
-# ----------------------------------------------------------------------------- the tree
-
-def joint_kind(joint: Joint) -> str | None:
-    """``revolute``, ``prismatic``, ``universal``, ``spherical`` or ``fixed`` from the joint's
-    definition (or, when that is none of these, its annotation); None for the other families
-    (revolute2, screw, gearbox, …)."""
-    names = [joint.definition or ""]
-    if joint.annotation is not None:
-        names.append(joint.annotation.template[-1])
-    for name in names:
-        simple = name.split("::")[-1].lower()
-        if simple in ("revolute", "continuous", "hinge"):
-            return "revolute"
-        if simple in ("prismatic", "slider"):
-            return "prismatic"
-        if simple == "universal":
-            return "universal"
-        if simple in ("spherical", "ball"):
-            return "spherical"
-        if simple == "fixed":
-            return "fixed"
-    return None
-
-
-def coordinate_names(joint: TreeJoint, variable: str) -> tuple[str, ...]:
-    """The joint's scalar variables of ``variable`` (``theta``, ``v``, ``a``, ``tau``) in
-    coordinate order (see :meth:`KinematicTree.coordinates`)."""
-    if joint.kind == "floating":
-        if variable == "tau":
-            return ()
-        head = "" if variable == "theta" else variable
-        return tuple(f"{joint.prefix}_{head}{n}" for n in FLOATING)
-    if joint.dof == 1:
-        return (f"{joint.prefix}_{variable}",)
-    return tuple(f"{joint.prefix}_{variable}_{k}" for k in range(1, joint.dof + 1))
-
-
-def kinematic_tree(model: ElaboratedModel,
-                   gravity: Sequence[float] = STANDARD_GRAVITY,
-                   floating_base: bool = False) -> KinematicTree:
-    """The model's kinematic tree, joints in **tree order**: depth first from the root bodies
-    (those no joint moves, in the model's link order), a body's child joints in the order of
-    the elaborated model's joint list. This is the order of ``q``, ``M``'s rows and ``h``.
-
-    The root bodies are fixed to the world, or, with ``floating_base``, each moved by a
-    floating joint (six coordinates, first in its subtree) named after its first link.
-
-    Raises ``DynamicsError`` for a joint family the equations do not cover, a zero axis, a
-    loop (a body moved by two joints, or a cycle), or a link without mass properties in a
-    moving body."""
-    links = list(model.links)
-    group = {link.name: link.name for link in links}
-
-    def find(name: str) -> str:
-        while group[name] != name:
-            group[name] = group[group[name]]
-            name = group[name]
-        return name
-
-    moving: list[Joint] = []
-    for connection in [*model.fixed, *model.joints]:
-        if connection.parent is None or connection.child is None:
-            continue
-        if isinstance(connection, FixedJoint) or joint_kind(connection) == "fixed":
-            a, b = find(connection.parent.name), find(connection.child.name)
-            if a == b:
-                raise _loop(connection)
-            group[b] = a
-        else:
-            moving.append(connection)
-    incoming: dict[str, Joint] = {}
-    for joint in moving:
-        kind = joint_kind(joint)
-        if kind is None:
-            raise DynamicsError(
-                f"joint {joint.name} ({joint.definition}) has no equations of motion here",
-                joint.span, "the equations of motion support revolute, prismatic, universal, "
-                "spherical (ball) and fixed joints; model this joint as a chain of those")
-        child = find(joint.child.name)  # type: ignore[union-attr]
-        if child == find(joint.parent.name) or child in incoming:  # type: ignore[union-attr]
-            raise _loop(joint)
-        incoming[child] = joint
-    members: dict[str, list[Link]] = {}
-    for link in links:
-        members.setdefault(find(link.name), []).append(link)
-    children: dict[str, list[Joint]] = {}
-    for joint in moving:
-        children.setdefault(find(joint.parent.name), []).append(joint)  # type: ignore[union-attr]
-
-    ordered: list[TreeJoint] = []
-    body_index: dict[str, int] = {}
-    frame_of: dict[str, Pose] = {}
-
-    def visit(joint: Joint, parent: int) -> None:
-        child_link: Link = joint.child  # type: ignore[assignment]
-        key = find(child_link.name)
-        if key in body_index:
-            raise _loop(joint)
-        frame = child_link.pose or Pose.identity()
-        parent_frame = frame_of.get(find(joint.parent.name), Pose.identity())  # type: ignore
-        ordered.append(_tree_joint(joint, parent, parent_frame, frame, members[key]))
-        body_index[key] = len(ordered) - 1
-        frame_of[key] = frame
-        for sub in children.get(key, []):
-            visit(sub, body_index[key])
-
-    for link in links:
-        key = find(link.name)
-        if key in incoming or key in frame_of or key in body_index:
-            continue
-        parent = -1
-        if floating_base:  # the body's frame is its root link's (fixed connections' parent)
-            root = next(m for m in members[key] if m.name == key)
-            frame_of[key] = root.pose or Pose.identity()
-            ordered.append(_floating_joint(root, frame_of[key], members[key]))
-            parent = body_index[key] = len(ordered) - 1
-        else:
-            frame_of[key] = Pose.identity()  # fixed to the world: world coordinates
-        for joint in children.get(key, []):
-            visit(joint, parent)
-    for joint in moving:
-        if find(joint.child.name) not in body_index:  # type: ignore[union-attr]
-            raise _loop(joint)  # a cycle of joints that no world-fixed body reaches
-    return KinematicTree(tuple(ordered), np.asarray(gravity, dtype=float))
-
-
-def _loop(element: Joint | FixedJoint) -> DynamicsError:
-    return DynamicsError(
-        f"{element.name} closes a kinematic loop: {element.child.name} is already "  # type: ignore
-        f"connected to {element.parent.name}", element.span,  # type: ignore[union-attr]
-        "closed chains are not supported: remove one connection of the loop (each link may "
-        "have one parent)")
-
-
-def _vector3(value: object) -> np.ndarray | None:
-    try:
-        out = np.asarray(value, dtype=float).reshape(3)
-    except (TypeError, ValueError):
-        return None
-    return out if np.all(np.isfinite(out)) else None
-
-
-def _axis(joint: Joint, constant: str, annotation: str) -> np.ndarray:
-    """The joint's unit axis: its definition's ``constant`` (``AXIS``, ``AXIS1``, ``AXIS2``),
-    else the annotation's ``annotation`` field (``axis``, ``axis2``)."""
-    value: object = joint.axis if constant == "AXIS" else None
-    if value is None and joint.device is not None:
-        port = joint.device.port(constant)
-        value = port.value if port is not None else None
-    if value is None and joint.annotation is not None:
-        found = joint.annotation.get(annotation)
-        value = found.get("xyz") if hasattr(found, "get") else None  # type: ignore
-    axis = _vector3(value)
-    if axis is None:
-        raise DynamicsError(f"joint {joint.name} has no numeric {constant}", joint.span,
-                            f"give the joint `instantiation {constant} = (|0, 0, 1|)`")
-    length = float(np.linalg.norm(axis))
-    if not length > 1e-12:
-        raise DynamicsError(f"joint {joint.name} has an axis of zero length ({constant})",
-                            joint.span, "give the axis a direction, for example (|0, 0, 1|)")
-    return axis / length
-
-
-def _body_inertia(element: Joint | Link, what: str, frame: Pose,
-                  links: list[Link]) -> np.ndarray:
-    """The 6x6 spatial inertia of ``links`` (one body) about ``frame``, in its axes."""
-    parts: list[Inertial] = []
-    to_body = frame.inverse()
-    for link in links:
-        if link.inertial is None or link.inertial.mass is None:
-            raise DynamicsError(
-                f"link {link.name} has no mass properties but is moved by {what}",
-                link.span, "give the link an `inertial information` (mass and inertia) or "
-                "bodies with masses")
-        com = to_body.compose(link.pose or Pose.identity()).compose(link.inertial.com)
-        parts.append(Inertial(link.inertial.mass, com, link.inertial.inertia))
-    try:
-        body = combine(parts)
-    except ValueError:
-        raise DynamicsError(f"the body moved by {what} has no positive mass",
-                            element.span, "give its links positive masses") from None
-    return spatial_inertia(body.mass, np.array(body.com.position), tensor(body.inertia))
-
-
-def _tree_joint(joint: Joint, parent: int, parent_frame: Pose, frame: Pose,
-                links: list[Link]) -> TreeJoint:
-    kind = joint_kind(joint) or ""
-    placement = (joint.child.pose or Pose.identity()).compose(  # type: ignore[union-attr]
-        joint.pose) if joint.pose is not None else \
-        (joint.parent.pose or Pose.identity()).compose(  # type: ignore[union-attr]
-            joint.local_pose or Pose.identity())
-    in_child = frame.inverse().compose(placement)
-    rotation = np.array(in_child.rotation, dtype=float)
-    point = np.array(in_child.position, dtype=float)
-    axes: tuple[np.ndarray, ...] = ()
-    if kind in ("revolute", "prismatic"):
-        axis_c = rotation @ _axis(joint, "AXIS", "axis")
-    elif kind == "universal":
-        axes = (rotation @ _axis(joint, "AXIS1", "axis"), rotation @ _axis(joint, "AXIS2", "axis2"))
-        if not np.linalg.norm(np.cross(*axes)) > 1e-9:
-            raise DynamicsError(f"universal joint {joint.name} has parallel axes", joint.span,
-                                "give AXIS1 and AXIS2 different directions")
-        axis_c = axes[0]
-    else:  # spherical: the first angle (yaw) turns about the joint frame's z
-        axis_c = rotation[:, 2]
-    screw = np.concatenate([np.zeros(3), axis_c]) if kind == "prismatic" else \
-        np.concatenate([axis_c, np.cross(point, axis_c)])
-    inertia = _body_inertia(joint, f"joint {joint.name}", frame, links)
-    return TreeJoint(joint.name, joint.device.prefix if joint.device else joint.simple_name,
-                     kind, -1 if parent < 0 else parent,
-                     parent_frame.inverse().compose(frame).matrix(), axis_c, point, screw,
-                     inertia, tuple(link.name for link in links), joint, rotation, axes)
-
-
-def _floating_joint(root: Link, frame: Pose, links: list[Link]) -> TreeJoint:
-    """The floating base of the root body whose frame (at rest, in the world) is ``frame``:
-    its joint frame has the world's axes (in the body frame, ``R0ᵀ``) and the body's
-    origin."""
-    world_axes = np.array(frame.rotation, dtype=float).T
-    inertia = _body_inertia(root, "the floating base", frame, links)
-    screw = np.concatenate([np.zeros(3), world_axes[:, 0]])
-    return TreeJoint(root.name, root.qname[-1], "floating", -1, frame.matrix(),
-                     world_axes[:, 0], np.zeros(3), screw, inertia,
-                     tuple(link.name for link in links), root, world_axes)
-
-
-def spatial_inertia(mass: float, com: np.ndarray, inertia: np.ndarray) -> np.ndarray:
-    """The 6x6 spatial inertia about a frame's origin of a body with ``mass``, centre of mass
-    ``com`` and rotational ``inertia`` about the centre of mass, both in the frame's axes
-    (MR eq. 8.32 moved to the origin: ``[[I − m[c]², m[c]], [−m[c], m·E]]``)."""
-    c = skew(com)
-    top = np.hstack([inertia - mass * (c @ c), mass * c])
-    bottom = np.hstack([-mass * c, mass * np.eye(3)])
-    return np.vstack([top, bottom])
-
-
-# ----------------------------------------------------------------------------- spatial algebra
-
-def skew(v: Any) -> np.ndarray:
-    """``[v]``, the matrix of ``v ×``."""
-    return np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
-
-
-def adjoint(rotation: np.ndarray, position: Any) -> np.ndarray:
-    """``[Ad_T]`` of ``T = (R, p)``: twists in T's inner frame to its outer frame (MR 3.83)."""
-    zero = np.zeros((3, 3))
-    return np.vstack([np.hstack([rotation, zero]),
-                      np.hstack([skew(position) @ rotation, rotation])])
-
-
-def ad(twist: Any) -> np.ndarray:
-    """``[ad_V]`` of ``V = (ω, v)``: the Lie bracket ``[ad_V]·W = V × W`` (MR eq. 8.38)."""
-    w, v = skew(twist[:3]), skew(twist[3:])
-    return np.vstack([np.hstack([w, np.zeros((3, 3))]), np.hstack([v, w])])
-
-
-def _rotation(axis: np.ndarray, angle: Any, cos: Any, sin: Any) -> np.ndarray:
-    """Rodrigues' formula ``E + sin θ [a] + (1 − cos θ) [a]²`` (MR eq. 3.51)."""
-    k = skew(axis)  # a float array on the left keeps SymPy scalars element by element
-    return np.eye(3) + k * sin(angle) + (k @ k) * (1 - cos(angle))
-
-
-def parent_to_child(joint: TreeJoint, q: Any, cos: Any, sin: Any) -> np.ndarray:
-    """``[Ad_T]`` of the parent frame's pose in the child frame at joint value ``q``: it
-    carries twists from the parent body's frame to the child's (MR eq. 8.47)."""
-    base_r, base_p = joint.placement[:3, :3], joint.placement[:3, 3]
-    if joint.kind == "revolute":
-        r = _rotation(joint.axis, q, cos, sin)  # child frame turned about the axis
-        p = (np.eye(3) - r) @ joint.point
-    elif joint.kind == "prismatic":
-        r = np.eye(3)
-        p = joint.axis * q
-    else:
-        r, p = _joint_motion(joint, q, cos, sin)
-    # pose of the child frame in the parent frame: placement · (r, p)
-    rotation = base_r @ r
-    position = base_r @ p + base_p
-    inverse_r = rotation.T
-    return adjoint(inverse_r, -(inverse_r @ position))
-
-
-def _euler(q: Sequence[Any], cos: Any, sin: Any) -> tuple[np.ndarray, np.ndarray]:
-    """ZYX Euler angles ``(yaw, pitch, roll)``: the rotation ``Rz(yaw)·Ry(pitch)·Rx(roll)`` and
-    the matrix whose columns turn the angles' rates into the angular velocity in the turned
-    frame (singular where ``cos(pitch) = 0``)."""
-    cy, sy, cp, sp, cr, sr = cos(q[0]), sin(q[0]), cos(q[1]), sin(q[1]), cos(q[2]), sin(q[2])
-    rotation = np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                         [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                         [-sp, cp * sr, cp * cr]])
-    rates = np.array([[-sp, 0, 1], [cp * sr, cr, 0], [cp * cr, -sr, 0]])
-    return rotation, rates
-
-
-def _euler_rate(q: Sequence[Any], qd: Sequence[Any], cos: Any, sin: Any) -> np.ndarray:
-    """The time derivative of :func:`_euler`'s rate matrix (its entries as functions of the
-    angles) times the rates: ``Ṡ·q̇``."""
-    cp, sp, cr, sr = cos(q[1]), sin(q[1]), cos(q[2]), sin(q[2])
-    dy, dp, dr = qd
-    return np.array([-cp * dp * dy,
-                     (-sp * dp * sr + cp * cr * dr) * dy - sr * dr * dp,
-                     (-sp * dp * cr - cp * sr * dr) * dy - cr * dr * dp])
-
-
-def _joint_motion(joint: TreeJoint, q: Sequence[Any], cos: Any, sin: Any
-                  ) -> tuple[np.ndarray, np.ndarray]:
-    """``(r, p)``: where a joint of several coordinates takes its child body from its pose at
-    rest, in the child frame (the child frame at ``q`` is ``placement · (r, p)``)."""
-    if joint.kind == "universal":
-        r = _rotation(joint.axes[0], q[0], cos, sin) @ _rotation(joint.axes[1], q[1], cos, sin)
-        return r, joint.point - r @ joint.point
-    turn, _ = _euler(q[-3:], cos, sin)
-    r = joint.frame @ turn @ joint.frame.T
-    if joint.kind == "spherical":
-        return r, joint.point - r @ joint.point
-    return r, joint.frame @ np.array(list(q[:3]))  # floating: along the world axes
-
-
-def motion_subspace(joint: TreeJoint, q: Any, cos: Any, sin: Any) -> np.ndarray:
-    """``S(q)`` (6 × dof): the child body's twist relative to its parent, in the child frame,
-    per unit rate of each coordinate (Featherstone's motion subspace)."""
-    if joint.dof == 1:
-        return joint.screw.reshape(6, 1)
-    point = skew(joint.point)
-    if joint.kind == "universal":
-        first = _rotation(joint.axes[1], q[1], cos, sin).T @ joint.axes[0]
-        turns = np.stack([first, joint.axes[1]], axis=1)
-        return np.vstack([turns, point @ turns])
-    rotation, rates = _euler(q[-3:], cos, sin)
-    turns = joint.frame @ rates
-    if joint.kind == "spherical":
-        return np.vstack([turns, point @ turns])
-    zero = np.zeros((3, 3))
-    return np.vstack([np.hstack([zero, turns]), np.hstack([joint.frame @ rotation.T, zero])])
-
-
-def subspace_factors(joint: TreeJoint, q: Any, cos: Any, sin: Any, inverse_cos: Any
-                     ) -> tuple[np.ndarray, np.ndarray]:
-    """``(S0, B⁻¹)`` with ``S(q) = S0·B(q)`` for a joint of several coordinates: the motion
-    subspace in the rates ``w = B·q̇`` (a ball joint's angular velocity, a floating base's
-    linear and angular velocity), which has no singularity, and the map back to the
-    coordinates' rates. ``B`` is the ZYX Euler rate matrix of :func:`_euler` (a floating
-    base: the identity on the translations) and ``B⁻¹`` its inverse in closed form, with
-    ``inverse_cos`` the reciprocal of ``cos(pitch)``; a universal joint has ``B`` the identity.
-    Solving for ``w`` and then ``q̈ = B⁻¹·w`` keeps the articulated-body algorithm's ``D``
-    well conditioned up to the singularity (a factorisation of ``S``, not an inverse of
-    ``D = Bᵀ·D0·B`` by its determinant), the loss of accuracy being only the inherent
-    ``1/cos(pitch)`` of Euler-angle rates."""
-    if joint.kind not in EULER:
-        return motion_subspace(joint, q, cos, sin), np.eye(joint.dof)
-    _, sp, cr, sr = cos(q[-2]), sin(q[-2]), cos(q[-1]), sin(q[-1])
-    inverse = np.array([[0, sr * inverse_cos, cr * inverse_cos], [0, cr, -sr],
-                        [1, sp * sr * inverse_cos, sp * cr * inverse_cos]])
-    if joint.kind == "spherical":
-        return np.vstack([joint.frame, skew(joint.point) @ joint.frame]), inverse
-    rotation, _ = _euler(q[-3:], cos, sin)
-    zero = np.zeros((3, 3))
-    s0 = np.vstack([np.hstack([zero, joint.frame]), np.hstack([joint.frame @ rotation.T, zero])])
-    b_inverse = np.zeros((6, 6), dtype=inverse.dtype)
-    b_inverse[:3, :3] = np.eye(3)
-    b_inverse[3:, 3:] = inverse
-    return s0, b_inverse
-
-
-def motion_subspace_rate(joint: TreeJoint, q: Any, qd: Any, cos: Any, sin: Any) -> np.ndarray:
-    """``Ṡ(q)·q̇``: the change of the motion subspace's entries in the child frame times the
-    rates (zero for one coordinate; Featherstone's ``c_J``)."""
-    if joint.kind == "universal":
-        first = _rotation(joint.axes[1], q[1], cos, sin).T @ joint.axes[0]
-        turn = -(skew(joint.axes[1]) @ first) * (qd[0] * qd[1])
-        return np.concatenate([turn, skew(joint.point) @ turn])
-    turn = joint.frame @ _euler_rate(q[-3:], qd[-3:], cos, sin)
-    if joint.kind == "spherical":
-        return np.concatenate([turn, skew(joint.point) @ turn])
-    rotation, rates = _euler(q[-3:], cos, sin)
-    spin = rates @ np.array(list(qd[3:]))
-    linear = joint.frame @ (-(skew(spin) @ (rotation.T @ np.array(list(qd[:3])))))
-    return np.concatenate([turn, linear])
-
-
-def euler_singularity(tree: KinematicTree, q: Sequence[float]) -> None:
-    """Raise ``DynamicsError`` at the first ball joint or floating base whose pitch is within
-    1e-9 of ±π/2 in ``q``: there the ZYX Euler angles lose a degree of freedom (yaw and roll
-    turn about one axis) and the mass matrix is singular."""
-    for joint, start in zip(tree.joints, tree.offsets):
-        if joint.kind not in EULER:
-            continue
-        pitch = float(q[start + joint.dof - 2])
-        if abs(math.cos(pitch)) < 1e-9:
-            what = "floating base" if joint.kind == "floating" else "ball joint"
-            raise DynamicsError(
-                f"the {what} {joint.name} is at pitch {pitch:g} rad, where its ZYX Euler "
-                "angles are singular (the mass matrix loses rank at pitch ±π/2)",
-                joint.element.span, "start it away from pitch ±π/2, or turn the joint frame "
-                "(its pose) so that the motion stays away from it")
-
-
-_EYE3 = np.eye(3)
-
-
-def _numeric_parent_to_child(joint: TreeJoint, q: float) -> np.ndarray:
-    """``parent_to_child`` for a float ``q``, built entry by entry: the recursive algorithms
-    call it once per joint and step, where NumPy's per-call overhead dominates."""
-    base_r, base_p = joint.placement[:3, :3], joint.placement[:3, 3]
-    if joint.kind == "revolute":
-        k = joint.turn
-        r = _EYE3 + k * math.sin(q) + joint.turn2 * (1.0 - math.cos(q))
-        p = joint.point - r @ joint.point
-    else:
-        r = None
-        p = joint.axis * q
-    rotation = base_r @ r if r is not None else base_r
-    e = rotation.T
-    x, y, z = (-(e @ (base_r @ p + base_p))).tolist()
-    out = np.zeros((6, 6))
-    out[:3, :3] = e
-    out[3:, 3:] = e
-    out[3:, :3] = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]]) @ e
-    return out
-
-
-def _ad_numeric(twist: np.ndarray) -> np.ndarray:
-    """``ad(V)`` of a float twist in one array construction."""
-    a, b, c, d, e, f = twist.tolist()
-    return np.array([[0.0, -c, b, 0.0, 0.0, 0.0], [c, 0.0, -a, 0.0, 0.0, 0.0],
-                     [-b, a, 0.0, 0.0, 0.0, 0.0], [0.0, -f, e, 0.0, -c, b],
-                     [f, 0.0, -d, c, 0.0, -a], [-e, d, 0.0, -b, a, 0.0]])
-
-
-def _math(values: Sequence[Any]) -> tuple[Any, Any, bool]:
-    """``cos`` and ``sin`` for the scalars given, and whether they are symbolic."""
-    if any(not isinstance(v, (int, float, np.floating, np.integer)) for v in values):
-        import sympy
-
-        return sympy.cos, sympy.sin, True
-    return np.cos, np.sin, False
+from cyphy.semantics.dynamics.spatial import (ad, ad_numeric, euler_singularity, math_functions,
+                                              motion_subspace, motion_subspace_rate,
+                                              numeric_parent_to_child, parent_to_child,
+                                              subspace_factors)
+from cyphy.semantics.dynamics.tree import (EULER, STANDARD_GRAVITY, KinematicTree, TreeJoint,
+                                           coordinate_names, joint_kind, kinematic_tree)
 
 
 # ----------------------------------------------------------------------------- algorithms
@@ -609,7 +46,7 @@ def _coordinates(joint: TreeJoint, start: int, values: Sequence[Any]) -> Any:
 def inverse_dynamics(tree: KinematicTree, q: Sequence[Any], qd: Sequence[Any],
                      qdd: Sequence[Any], gravity: bool = True) -> np.ndarray:
     """RNEA: the joint efforts ``τ = M(q)·q̈ + h(q, q̇)`` (tree order), at linear cost."""
-    cos, sin, symbolic = _math([*q, *qd, *qdd])
+    cos, sin, symbolic = math_functions([*q, *qd, *qdd])
     base = np.concatenate([np.zeros(3), -tree.gravity]) if gravity else np.zeros(6)
     transforms, twists, forces, subspaces = [], [], [], []
     accelerations = []
@@ -650,7 +87,7 @@ def bias_forces(tree: KinematicTree, q: Sequence[Any], qd: Sequence[Any]) -> np.
 
 def mass_matrix(tree: KinematicTree, q: Sequence[Any]) -> np.ndarray:
     """CRBA: the joint-space mass matrix ``M(q)`` (symmetric, tree order)."""
-    cos, sin, symbolic = _math(list(q))
+    cos, sin, symbolic = math_functions(list(q))
     n = len(tree)
     offsets = tree.offsets
     parts = [_coordinates(j, k, q) for j, k in zip(tree.joints, offsets)]
@@ -696,7 +133,7 @@ def forward_dynamics(tree: KinematicTree, q: Sequence[float], qd: Sequence[float
     for i, joint in enumerate(tree.joints):
         k = offsets[i]
         if joint.dof == 1:
-            x = _numeric_parent_to_child(joint, float(q[k]))
+            x = numeric_parent_to_child(joint, float(q[k]))
             s = joint.screw
             v_joint = joint.screw * float(qd[k])
             c_joint = None
@@ -711,7 +148,7 @@ def forward_dynamics(tree: KinematicTree, q: Sequence[float], qd: Sequence[float
                 joint, qi, math.cos, math.sin, 1.0 / pitch))
             factors[i] = b_inverse
         v = x @ vs[joint.parent] + v_joint if joint.parent >= 0 else v_joint
-        cross = _ad_numeric(v)
+        cross = ad_numeric(v)
         xs.append(x)
         vs.append(v)
         cs.append(cross @ v_joint if c_joint is None else cross @ v_joint + c_joint)

@@ -164,7 +164,8 @@ class _Builder:
         return _Stop()
 
     def build(self) -> Problem:
-        from cyphy.semantics.dynamics.reduce import reduce_system, report_obstacles
+        from cyphy.semantics.dynamics.obstacles import report_obstacles
+        from cyphy.semantics.dynamics.reduce import reduce_system
         from cyphy.semantics.dynamics.equations import AssemblyError, assemble
 
         s = self.s

@@ -1,0 +1,389 @@
+"""The kinematic tree of an elaborated p-model, as data (issue 16; split from
+:mod:`cyphy.semantics.dynamics.rigid_body` for issue 31, as Pinocchio splits its model from
+the algorithms' data): its joints in tree order (:class:`TreeJoint`: kind, parent,
+placement, axis, screw, spatial inertia) and the names of their coordinates. The algorithms
+over it are functions elsewhere (:mod:`cyphy.semantics.dynamics.rigid_body`,
+:mod:`cyphy.semantics.dynamics.articulated`, :mod:`cyphy.backends.pinocchio_tree`); this
+module imports none of them.
+
+The tree comes from the elaborated model: links joined by fixed connections (and by joints of
+the ``Fixed`` family) are merged into one body; a body that no joint moves is fixed to the
+world (the model frame), or with ``floating_base`` free (six coordinates: translations along
+the world axes and ZYX Euler angles). Each moving body has the frame of the child link of the
+joint that moves it. The model's link poses are the configuration ``q = 0``. Gravity is
+``−9.81 m/s²`` along the model's z unless given. Joints have one coordinate (revolute,
+prismatic) or several (universal: two angles; ball: ZYX Euler angles, singular at pitch
+±π/2).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Sequence
+
+import numpy as np
+
+from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
+from cyphy.model.inertia import Inertial, combine, tensor
+from cyphy.model.poses import Pose
+from cyphy.semantics.dynamics.errors import DynamicsError
+
+STANDARD_GRAVITY = (0.0, 0.0, -9.81)
+
+@dataclass(frozen=True)
+class TreeJoint:
+    """One joint of the tree, with its ``dof`` coordinates (:data:`DOF`).
+
+    ``parent`` is the index of the parent joint's body in ``KinematicTree.joints`` (−1: a body
+    fixed to the world); ``placement`` is the child body's frame in the parent body's frame
+    (the world's for −1) at ``q = 0``; ``screw`` the joint's screw axis in the child body frame
+    (angular part first; for a joint of several coordinates its first column at ``q = 0``);
+    ``point`` the joint's origin (a point of a revolute axis) in the child frame; ``frame`` the
+    joint frame's axes in the child frame (the columns: a ball joint's and the floating base's
+    Euler angles turn about them); ``axes`` a universal joint's two unit axes in the child
+    frame. The floating base (``kind`` ``floating``, ``--floating-base``) is the joint of a
+    root body to the world: its frame has the world's axes and its origin is the body's."""
+
+    name: str  # the joint's qualified name (the root link's name for the floating base)
+    prefix: str  # the joint's device prefix (its variables are ``<prefix>_theta`` …)
+    kind: str  # revolute, prismatic, universal, spherical or floating
+    parent: int
+    placement: np.ndarray  # 4x4
+    axis: np.ndarray  # unit 3-vector, child body frame
+    point: np.ndarray  # 3-vector, child body frame
+    screw: np.ndarray  # 6-vector
+    inertia: np.ndarray  # 6x6 spatial inertia of the child body about its frame origin
+    body: tuple[str, ...]  # the links the joint moves as one body (child link first)
+    element: Joint | Link  # what a diagnostic points at (the root link: floating base)
+    frame: np.ndarray = field(default_factory=lambda: np.eye(3))  # 3x3, child body frame
+    axes: tuple[np.ndarray, ...] = ()  # universal: AXIS1, AXIS2 in the child body frame
+
+    @property
+    def dof(self) -> int:
+        """How many coordinates the joint has (:data:`DOF`)."""
+        return DOF[self.kind]
+
+    @property
+    def scale(self) -> float:
+        """The largest entry of the body's spatial inertia: what "zero" inertia along the axis
+        is measured against."""
+        cached = self.__dict__.get("_scale")
+        if cached is None:
+            cached = max(float(np.abs(self.inertia).max()), 1e-300)
+            object.__setattr__(self, "_scale", cached)
+        return cached
+
+    @property
+    def turn(self) -> np.ndarray:
+        """``[a]`` of the axis (Rodrigues' formula), computed once."""
+        cached = self.__dict__.get("_turn")
+        if cached is None:
+            cached = skew(self.axis).astype(float)
+            object.__setattr__(self, "_turn", cached)
+            object.__setattr__(self, "_turn2", cached @ cached)
+        return cached
+
+    @property
+    def turn2(self) -> np.ndarray:
+        """``[a]²``, computed once."""
+        self.turn  # noqa: B018 - fills the cache
+        return self.__dict__["_turn2"]
+
+
+#: Coordinates per joint kind. A universal joint turns about AXIS1 (fixed in the parent) then
+#: AXIS2 (fixed in the child); a ball joint (and the floating base's rotation) by ZYX Euler
+#: angles ``(yaw, pitch, roll)``, ``R = Rz(yaw)·Ry(pitch)·Rx(roll)`` about its frame's axes, the
+#: velocities being the angles' rates (singular at pitch ±π/2); the floating base first
+#: translates by ``(x, y, z)`` along the world axes.
+DOF = {"revolute": 1, "prismatic": 1, "universal": 2, "spherical": 3, "floating": 6}
+
+#: The joint kinds whose coordinates include ZYX Euler angles (singular at pitch ±π/2: a
+#: ``cyphy simulate`` start there is refused, :func:`euler_singularity`).
+EULER = frozenset({"spherical", "floating"})
+
+#: The floating base's coordinate names, after ``<Root>_``: positions, then ``v`` + name for the
+#: velocities and ``a`` + name for the accelerations (``Body_vyaw``, ``Body_az``).
+FLOATING = ("x", "y", "z", "yaw", "pitch", "roll")
+
+
+@dataclass(frozen=True)
+class KinematicTree:
+    """The joints in tree order (parents before children) and the gravity vector. ``q``,
+    ``q̇``, ``τ`` and the rows of ``M`` and ``h`` hold each joint's ``dof`` coordinates in
+    this order (``offsets``)."""
+
+    joints: tuple[TreeJoint, ...]
+    gravity: np.ndarray
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(j.name for j in self.joints)
+
+    @property
+    def dof(self) -> int:
+        """The number of coordinates (the size of ``q``)."""
+        return sum(j.dof for j in self.joints)
+
+    @property
+    def offsets(self) -> tuple[int, ...]:
+        """Where each joint's coordinates start in ``q``."""
+        out, k = [], 0
+        for joint in self.joints:
+            out.append(k)
+            k += joint.dof
+        return tuple(out)
+
+    def coordinates(self, variable: str = "theta") -> tuple[str, ...]:
+        """The scalar variable names of ``variable`` (``theta``, ``v``, ``a`` or ``tau``) in
+        the order of ``q``: ``<J>_theta`` for one coordinate, ``<J>_theta_1`` … as
+        ``cyphy solve`` names a vector's components, and ``<Root>_x`` …, ``<Root>_vx`` …,
+        ``<Root>_ax`` … for the floating base (which has no ``tau``: nothing touches it)."""
+        return tuple(n for j in self.joints for n in coordinate_names(j, variable))
+
+    @property
+    def prefixes(self) -> tuple[str, ...]:
+        return tuple(j.prefix for j in self.joints)
+
+    def __len__(self) -> int:
+        return len(self.joints)
+
+
+# ----------------------------------------------------------------------------- the tree
+
+def joint_kind(joint: Joint) -> str | None:
+    """``revolute``, ``prismatic``, ``universal``, ``spherical`` or ``fixed`` from the joint's
+    definition (or, when that is none of these, its annotation); None for the other families
+    (revolute2, screw, gearbox, …)."""
+    names = [joint.definition or ""]
+    if joint.annotation is not None:
+        names.append(joint.annotation.template[-1])
+    for name in names:
+        simple = name.split("::")[-1].lower()
+        if simple in ("revolute", "continuous", "hinge"):
+            return "revolute"
+        if simple in ("prismatic", "slider"):
+            return "prismatic"
+        if simple == "universal":
+            return "universal"
+        if simple in ("spherical", "ball"):
+            return "spherical"
+        if simple == "fixed":
+            return "fixed"
+    return None
+
+
+def coordinate_names(joint: TreeJoint, variable: str) -> tuple[str, ...]:
+    """The joint's scalar variables of ``variable`` (``theta``, ``v``, ``a``, ``tau``) in
+    coordinate order (see :meth:`KinematicTree.coordinates`)."""
+    if joint.kind == "floating":
+        if variable == "tau":
+            return ()
+        head = "" if variable == "theta" else variable
+        return tuple(f"{joint.prefix}_{head}{n}" for n in FLOATING)
+    if joint.dof == 1:
+        return (f"{joint.prefix}_{variable}",)
+    return tuple(f"{joint.prefix}_{variable}_{k}" for k in range(1, joint.dof + 1))
+
+
+def kinematic_tree(model: ElaboratedModel,
+                   gravity: Sequence[float] = STANDARD_GRAVITY,
+                   floating_base: bool = False) -> KinematicTree:
+    """The model's kinematic tree, joints in **tree order**: depth first from the root bodies
+    (those no joint moves, in the model's link order), a body's child joints in the order of
+    the elaborated model's joint list. This is the order of ``q``, ``M``'s rows and ``h``.
+
+    The root bodies are fixed to the world, or, with ``floating_base``, each moved by a
+    floating joint (six coordinates, first in its subtree) named after its first link.
+
+    Raises ``DynamicsError`` for a joint family the equations do not cover, a zero axis, a
+    loop (a body moved by two joints, or a cycle), or a link without mass properties in a
+    moving body."""
+    links = list(model.links)
+    group = {link.name: link.name for link in links}
+
+    def find(name: str) -> str:
+        while group[name] != name:
+            group[name] = group[group[name]]
+            name = group[name]
+        return name
+
+    moving: list[Joint] = []
+    for connection in [*model.fixed, *model.joints]:
+        if connection.parent is None or connection.child is None:
+            continue
+        if isinstance(connection, FixedJoint) or joint_kind(connection) == "fixed":
+            a, b = find(connection.parent.name), find(connection.child.name)
+            if a == b:
+                raise _loop(connection)
+            group[b] = a
+        else:
+            moving.append(connection)
+    incoming: dict[str, Joint] = {}
+    for joint in moving:
+        kind = joint_kind(joint)
+        if kind is None:
+            raise DynamicsError(
+                f"joint {joint.name} ({joint.definition}) has no equations of motion here",
+                joint.span, "the equations of motion support revolute, prismatic, universal, "
+                "spherical (ball) and fixed joints; model this joint as a chain of those")
+        child = find(joint.child.name)  # type: ignore[union-attr]
+        if child == find(joint.parent.name) or child in incoming:  # type: ignore[union-attr]
+            raise _loop(joint)
+        incoming[child] = joint
+    members: dict[str, list[Link]] = {}
+    for link in links:
+        members.setdefault(find(link.name), []).append(link)
+    children: dict[str, list[Joint]] = {}
+    for joint in moving:
+        children.setdefault(find(joint.parent.name), []).append(joint)  # type: ignore[union-attr]
+
+    ordered: list[TreeJoint] = []
+    body_index: dict[str, int] = {}
+    frame_of: dict[str, Pose] = {}
+
+    def visit(joint: Joint, parent: int) -> None:
+        child_link: Link = joint.child  # type: ignore[assignment]
+        key = find(child_link.name)
+        if key in body_index:
+            raise _loop(joint)
+        frame = child_link.pose or Pose.identity()
+        parent_frame = frame_of.get(find(joint.parent.name), Pose.identity())  # type: ignore
+        ordered.append(_tree_joint(joint, parent, parent_frame, frame, members[key]))
+        body_index[key] = len(ordered) - 1
+        frame_of[key] = frame
+        for sub in children.get(key, []):
+            visit(sub, body_index[key])
+
+    for link in links:
+        key = find(link.name)
+        if key in incoming or key in frame_of or key in body_index:
+            continue
+        parent = -1
+        if floating_base:  # the body's frame is its root link's (fixed connections' parent)
+            root = next(m for m in members[key] if m.name == key)
+            frame_of[key] = root.pose or Pose.identity()
+            ordered.append(_floating_joint(root, frame_of[key], members[key]))
+            parent = body_index[key] = len(ordered) - 1
+        else:
+            frame_of[key] = Pose.identity()  # fixed to the world: world coordinates
+        for joint in children.get(key, []):
+            visit(joint, parent)
+    for joint in moving:
+        if find(joint.child.name) not in body_index:  # type: ignore[union-attr]
+            raise _loop(joint)  # a cycle of joints that no world-fixed body reaches
+    return KinematicTree(tuple(ordered), np.asarray(gravity, dtype=float))
+
+
+def _loop(element: Joint | FixedJoint) -> DynamicsError:
+    return DynamicsError(
+        f"{element.name} closes a kinematic loop: {element.child.name} is already "  # type: ignore
+        f"connected to {element.parent.name}", element.span,  # type: ignore[union-attr]
+        "closed chains are not supported: remove one connection of the loop (each link may "
+        "have one parent)")
+
+
+def _vector3(value: object) -> np.ndarray | None:
+    try:
+        out = np.asarray(value, dtype=float).reshape(3)
+    except (TypeError, ValueError):
+        return None
+    return out if np.all(np.isfinite(out)) else None
+
+
+def _axis(joint: Joint, constant: str, annotation: str) -> np.ndarray:
+    """The joint's unit axis: its definition's ``constant`` (``AXIS``, ``AXIS1``, ``AXIS2``),
+    else the annotation's ``annotation`` field (``axis``, ``axis2``)."""
+    value: object = joint.axis if constant == "AXIS" else None
+    if value is None and joint.device is not None:
+        port = joint.device.port(constant)
+        value = port.value if port is not None else None
+    if value is None and joint.annotation is not None:
+        found = joint.annotation.get(annotation)
+        value = found.get("xyz") if hasattr(found, "get") else None  # type: ignore
+    axis = _vector3(value)
+    if axis is None:
+        raise DynamicsError(f"joint {joint.name} has no numeric {constant}", joint.span,
+                            f"give the joint `instantiation {constant} = (|0, 0, 1|)`")
+    length = float(np.linalg.norm(axis))
+    if not length > 1e-12:
+        raise DynamicsError(f"joint {joint.name} has an axis of zero length ({constant})",
+                            joint.span, "give the axis a direction, for example (|0, 0, 1|)")
+    return axis / length
+
+
+def _body_inertia(element: Joint | Link, what: str, frame: Pose,
+                  links: list[Link]) -> np.ndarray:
+    """The 6x6 spatial inertia of ``links`` (one body) about ``frame``, in its axes."""
+    parts: list[Inertial] = []
+    to_body = frame.inverse()
+    for link in links:
+        if link.inertial is None or link.inertial.mass is None:
+            raise DynamicsError(
+                f"link {link.name} has no mass properties but is moved by {what}",
+                link.span, "give the link an `inertial information` (mass and inertia) or "
+                "bodies with masses")
+        com = to_body.compose(link.pose or Pose.identity()).compose(link.inertial.com)
+        parts.append(Inertial(link.inertial.mass, com, link.inertial.inertia))
+    try:
+        body = combine(parts)
+    except ValueError:
+        raise DynamicsError(f"the body moved by {what} has no positive mass",
+                            element.span, "give its links positive masses") from None
+    return spatial_inertia(body.mass, np.array(body.com.position), tensor(body.inertia))
+
+
+def _tree_joint(joint: Joint, parent: int, parent_frame: Pose, frame: Pose,
+                links: list[Link]) -> TreeJoint:
+    kind = joint_kind(joint) or ""
+    placement = (joint.child.pose or Pose.identity()).compose(  # type: ignore[union-attr]
+        joint.pose) if joint.pose is not None else \
+        (joint.parent.pose or Pose.identity()).compose(  # type: ignore[union-attr]
+            joint.local_pose or Pose.identity())
+    in_child = frame.inverse().compose(placement)
+    rotation = np.array(in_child.rotation, dtype=float)
+    point = np.array(in_child.position, dtype=float)
+    axes: tuple[np.ndarray, ...] = ()
+    if kind in ("revolute", "prismatic"):
+        axis_c = rotation @ _axis(joint, "AXIS", "axis")
+    elif kind == "universal":
+        axes = (rotation @ _axis(joint, "AXIS1", "axis"), rotation @ _axis(joint, "AXIS2", "axis2"))
+        if not np.linalg.norm(np.cross(*axes)) > 1e-9:
+            raise DynamicsError(f"universal joint {joint.name} has parallel axes", joint.span,
+                                "give AXIS1 and AXIS2 different directions")
+        axis_c = axes[0]
+    else:  # spherical: the first angle (yaw) turns about the joint frame's z
+        axis_c = rotation[:, 2]
+    screw = np.concatenate([np.zeros(3), axis_c]) if kind == "prismatic" else \
+        np.concatenate([axis_c, np.cross(point, axis_c)])
+    inertia = _body_inertia(joint, f"joint {joint.name}", frame, links)
+    return TreeJoint(joint.name, joint.device.prefix if joint.device else joint.simple_name,
+                     kind, -1 if parent < 0 else parent,
+                     parent_frame.inverse().compose(frame).matrix(), axis_c, point, screw,
+                     inertia, tuple(link.name for link in links), joint, rotation, axes)
+
+
+def _floating_joint(root: Link, frame: Pose, links: list[Link]) -> TreeJoint:
+    """The floating base of the root body whose frame (at rest, in the world) is ``frame``:
+    its joint frame has the world's axes (in the body frame, ``R0ᵀ``) and the body's
+    origin."""
+    world_axes = np.array(frame.rotation, dtype=float).T
+    inertia = _body_inertia(root, "the floating base", frame, links)
+    screw = np.concatenate([np.zeros(3), world_axes[:, 0]])
+    return TreeJoint(root.name, root.qname[-1], "floating", -1, frame.matrix(),
+                     world_axes[:, 0], np.zeros(3), screw, inertia,
+                     tuple(link.name for link in links), root, world_axes)
+
+
+def spatial_inertia(mass: float, com: np.ndarray, inertia: np.ndarray) -> np.ndarray:
+    """The 6x6 spatial inertia about a frame's origin of a body with ``mass``, centre of mass
+    ``com`` and rotational ``inertia`` about the centre of mass, both in the frame's axes
+    (MR eq. 8.32 moved to the origin: ``[[I − m[c]², m[c]], [−m[c], m·E]]``)."""
+    c = skew(com)
+    top = np.hstack([inertia - mass * (c @ c), mass * c])
+    bottom = np.hstack([-mass * c, mass * np.eye(3)])
+    return np.vstack([top, bottom])
+
+
+def skew(v: Any) -> np.ndarray:
+    """``[v]``, the matrix of ``v ×``."""
+    return np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
