@@ -7,20 +7,21 @@ duplicates); properties give the members of one kind. Expressions are :mod:`cyph
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from enum import Enum
 from typing import Any, Iterator, TypeVar, Union
 
 from cyphy.diagnostics import Diagnostic, Span
 from cyphy.expr import Expr, fields_of
 from cyphy.pickling import FastPickle
+from cyphy.records import record
 
 _NO_SPAN = Span.unknown()
 QName = tuple[str, ...]
 T = TypeVar("T")
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Node(FastPickle):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False, kw_only=True)
 
@@ -62,35 +63,35 @@ def expressions_in(node: object) -> Iterator[Expr]:
 # --------------------------------------------------------------------------- types
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PrimitiveType(Node):
     name: str  # real, int, nat, boolean, string
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class VectorType(Node):
     element: TypeRef
     size: Expr | None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class MatrixType(Node):
     element: TypeRef
     rows: Expr
     cols: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SeqType(Node):
     element: TypeRef
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SetType(Node):
     element: TypeRef
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class NamedType(Node):
     name: QName
 
@@ -110,7 +111,7 @@ class DeclKind(str, Enum):
     LOCAL = "local"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class VarDecl(Node):
     """One declared name; comma lists (``const a: real, b: real``) become several."""
 
@@ -120,23 +121,23 @@ class VarDecl(Node):
     value: Expr | None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Param(Node):
     name: str
     type: TypeRef
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PackageDecl(Node):
     name: QName
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class EndPackage(Node):
     pass
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Import(Node):
     path: QName
     wildcard: bool
@@ -146,12 +147,12 @@ class Import(Node):
         return "::".join(self.path) + ("::*" if self.wildcard else "")
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class TypeDecl(Node):
     name: str
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class FunctionDecl(Node):
     name: str
     params: tuple[Param, ...]
@@ -160,20 +161,20 @@ class FunctionDecl(Node):
     postconditions: tuple[Expr, ...] = ()
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class DataType(Node):
     name: str
     fields: tuple[Param, ...]
     is_record: bool = False
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Enumeration(Node):
     name: str
     literals: tuple[str, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class UnitDecl(Node):
     """``primitive unit metre`` (no base) or ``derived unit newton { base … factor … }``."""
 
@@ -185,7 +186,7 @@ class UnitDecl(Node):
 # --------------------------------------------------------------------------- annotations
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class TemplateInstance(Node):
     """``Axis { xyz = (|0,1,0|) }``: a template applied to named arguments."""
 
@@ -199,20 +200,20 @@ class TemplateInstance(Node):
         return None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class AnnotationArg(Node):
     name: str
     value: Expr | TemplateInstance
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Annotation(Node):
     """``annotation Revolute { … }`` on a joint, sensor or actuator."""
 
     instance: TemplateInstance
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class TemplateParam(Node):
     """A parameter of an annotation template: a value (``xyz: vector(real,3)``) or a nested
     template (``limit: template Limit``), with an optional default."""
@@ -223,7 +224,7 @@ class TemplateParam(Node):
     default: Expr | TemplateInstance | None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class AnnotationTemplate(Node):
     name: str
     extends: QName | None
@@ -233,13 +234,13 @@ class AnnotationTemplate(Node):
 # --------------------------------------------------------------------------- block members
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PoseField(Node):
     key: str  # x y z roll pitch yaw
     value: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Pose(Node):
     fields: tuple[PoseField, ...]
 
@@ -250,7 +251,7 @@ class Pose(Node):
         return None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class IndexDecl(Node):
     """``index i : [a, b)`` (half-open) or ``[a, b]`` (closed)."""
 
@@ -260,7 +261,7 @@ class IndexDecl(Node):
     closed: bool
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class FixedConnection(Node):
     """``fixed to L`` or ``fixed to L in P`` (link L of part P)."""
 
@@ -268,13 +269,13 @@ class FixedConnection(Node):
     part: str | None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class FlexibleConnection(Node):
     target: str
     part: str | None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Relation(Node):
     """A containment label: ``relation e``, ``relation_flexi e`` or a bare comparison."""
 
@@ -283,29 +284,29 @@ class Relation(Node):
     bare: bool = False
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Equation(Node):
     expr: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Constraint(Node):
     expr: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Instantiation(Node):
     name: str
     value: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class GeomArg(Node):
     name: str
     value: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Shape(Node):
     """``box(length=…, width=…, height=…)``, ``cylinder(radius=…, length=…)``, ``sphere(…)``."""
 
@@ -319,19 +320,19 @@ class Shape(Node):
         return None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Mesh(Node):
     shape: str | None
     scaling: Expr | None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class InertiaEntry(Node):
     name: str  # ixx ixy ixz iyy iyz izz
     value: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Inertial(Node):
     """``inertial information { mass m inertia matrix {…} pose {…} }`` (in source order)."""
 
@@ -341,24 +342,24 @@ class Inertial(Node):
     order: tuple[str, ...] = ()  # the member keywords in source order, for the order check
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Bounce(Node):
     restitution: Expr | None
     threshold: Expr | None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class FrictionEntry(Node):
     name: str
     value: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Friction(Node):
     entries: tuple[FrictionEntry, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class LaserRetro(Node):
     value: Expr
 
@@ -385,14 +386,14 @@ REF_KINDS = {"lref": BlockKind.LINK, "bref": BlockKind.BODY, "jref": BlockKind.J
              "sref": BlockKind.SENSOR, "aref": BlockKind.ACTUATOR}
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class DefBlock(Node):
     """The ``def { … }`` of a local block: an anonymous definition."""
 
     members: tuple[DefMember, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Definition(Node):
     """A named package-level definition (``link Tip {}``, ``sensor IR {…}``)."""
 
@@ -463,7 +464,7 @@ class _Members:
         return self._view(Relation)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Block(_Members, Node):
     """A link, body, joint, sensor or actuator inside a p-model: local (``local link L {…}``)
     when ``ref`` is None, a reference (``jref LHinge = Revolute {…}``) otherwise."""
@@ -497,7 +498,7 @@ class Block(_Members, Node):
         return self._view(FlexibleConnection)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PartFixed(Node):
     """``link L fixed to T in P`` inside a part: link L of the part's p-model is fixed to T."""
 
@@ -506,7 +507,7 @@ class PartFixed(Node):
     part: str | None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PartFlexible(Node):
     """``joint J flexibly connected to T in P`` inside a part."""
 
@@ -515,7 +516,7 @@ class PartFlexible(Node):
     part: str | None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Part(_Members, Node):
     name: str
     pmodel: QName
@@ -532,13 +533,13 @@ class Part(_Members, Node):
         return self._view(PartFlexible)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SolutionInput(Node):
     name: str
     type: TypeRef
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Solution(Node):
     """A generated p-model+ solution block (order of members fixed by the notation)."""
 
@@ -551,7 +552,7 @@ class Solution(Node):
     constraints: tuple[Constraint, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PModel(_Members, Node):
     """``pmodel N {…}`` or, with ``fragment`` set, ``fragment N {…}``."""
 
@@ -569,28 +570,28 @@ class PModel(_Members, Node):
 # --------------------------------------------------------------------------- mappings
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Predicate(Node):
     expr: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Assign(Node):
     target: Expr
     value: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class CallStatement(Node):
     call: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SkipStatement(Node):
     pass
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SendStatement(Node):
     """``$e!v`` (or ``$e!``-less ``$e`` as a call statement): an output event."""
 
@@ -598,19 +599,19 @@ class SendStatement(Node):
     value: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ClockReset(Node):
     """``#C``: the clock ``C`` counts again from 0."""
 
     clock: str
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ExecStatement(Node):
     """``exec`` inside an action: the cycle ends here; the rest runs in the next cycle."""
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class WaitStatement(Node):
     """``wait(n)``: the machine lets ``n`` cycles pass."""
 
@@ -621,7 +622,7 @@ Statement = Union[Assign, CallStatement, SkipStatement, SendStatement, ClockRese
                   ExecStatement, WaitStatement]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Action(Node):
     statements: tuple[Statement, ...]
 
@@ -650,13 +651,13 @@ class _MappingMembers:
         return _of(self.members, Action)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class OperationMapping(_MappingMembers, Node):
     name: str
     members: tuple[MappingMember, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class EventMapping(_MappingMembers, Node):
     """``input event obstacle {…}`` or ``output event e ? p {…}``."""
 
@@ -667,13 +668,13 @@ class EventMapping(_MappingMembers, Node):
     param_span: Span | None = field(default=None, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class VariableMapping(_MappingMembers, Node):
     name: str
     members: tuple[MappingMember, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PlatformMapping(Node):
     """``map M dmodel Module to pmodel PModel {…}``."""
 
@@ -704,24 +705,24 @@ class PlatformMapping(Node):
 # --------------------------------------------------------------------------- d-models
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class EventDecl(Node):
     name: str
     type: TypeRef | None
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class OperationSig(Node):
     name: str
     params: tuple[Param, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ClockDecl(Node):
     name: str
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Interface(Node):
     name: str
     members: tuple[object, ...]
@@ -739,7 +740,7 @@ class Interface(Node):
         return _of(self.members, VarDecl)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class InterfaceUse(Node):
     """``uses I``, ``provides I`` or ``requires I`` in a robotic platform."""
 
@@ -747,7 +748,7 @@ class InterfaceUse(Node):
     interface: QName
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class RoboticPlatform(Node):
     name: str
     members: tuple[object, ...]
@@ -779,12 +780,12 @@ class RoboticPlatform(Node):
         return _of(self.members, VarDecl)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class CycleDef(Node):
     expr: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class NodeRef(Node):
     """``cref cm = Movement`` or ``rref rp = Platform`` inside a module."""
 
@@ -793,7 +794,7 @@ class NodeRef(Node):
     target: QName
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Connection(Node):
     source: str
     source_event: str
@@ -805,7 +806,7 @@ class Connection(Node):
 # --------------------------------------------------------------------------- behaviour
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class MachineRef(Node):
     """``sref sm = SMovement`` (or ``opref``) inside a controller."""
 
@@ -814,7 +815,7 @@ class MachineRef(Node):
     target: QName
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Context(Node):
     """``input context { uses I }`` or ``output context { requires I }``."""
 
@@ -822,12 +823,12 @@ class Context(Node):
     members: tuple[InterfaceUse, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Terminates(Node):
     """``terminates`` in an operation definition."""
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class MachineNode(Node):
     """``initial i0``, ``junction j`` or ``final f``: a node without actions."""
 
@@ -835,13 +836,13 @@ class MachineNode(Node):
     name: str
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StateAction(Node):
     kind: str  # entry, during, exit
     statements: tuple[Statement, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Transition(Node):
     name: str
     source: str | None
@@ -874,7 +875,7 @@ class _Behaviour:
         return _of(self.members, Transition)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class State(_Behaviour, Node):
     name: str
     members: tuple[object, ...]
@@ -885,7 +886,7 @@ class State(_Behaviour, Node):
                      for s in a.statements)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StateMachine(_Behaviour, Node):
     """``stm NAME { … }``; also an operation definition (``kind`` operation, with
     parameters)."""
@@ -918,7 +919,7 @@ class StateMachine(_Behaviour, Node):
         return direct + tuple(u for c in self.contexts for u in c.members)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Controller(Node):
     name: str
     members: tuple[object, ...]
@@ -932,7 +933,7 @@ class Controller(Node):
         return _of(self.members, StateMachine)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Module(Node):
     name: str
     members: tuple[object, ...]
@@ -957,7 +958,7 @@ TopLevel = Union[
 ]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SourceFile(Node):
     path: str
     items: tuple[TopLevel, ...]
@@ -980,7 +981,7 @@ class SourceFile(Node):
                 yield item
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ParseResult:
     """One file's text parsed: its syntax tree (None when it has syntax errors) and the
     diagnostics of parsing."""

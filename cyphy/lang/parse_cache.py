@@ -42,7 +42,7 @@ from cyphy.lang.ast import ParseResult
 
 _PACKAGE = Path(__file__).resolve().parent.parent
 _SOURCES = ("lang/robosim.lark", "lang/parser.py", "lang/ast.py", "expr.py", "diagnostics.py",
-            "codes.py", "pickling.py", "lang/parse_cache.py")
+            "codes.py", "pickling.py", "records.py", "lang/parse_cache.py")
 _STALE_AFTER_S = 7 * 24 * 3600
 #: The file that marks a folder as cyphy's (the Cache Directory Tagging format, which backup
 #: tools also honour); only folders holding it are ever cleaned.
