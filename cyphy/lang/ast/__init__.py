@@ -18,17 +18,6 @@ from cyphy.lang.ast.core import (
     PackageDecl, Param, PrimitiveType, QName, SeqType, SetType, TemplateInstance, TemplateParam,
     TypeDecl, TypeRef, UnitDecl, VarDecl, VectorType,
 )
-from cyphy.lang.ast.physical import (
-    Block, BlockKind, Bounce, Constraint, DefBlock, Definition, DefMember, Equation,
-    FixedConnection, FlexibleConnection, Friction, FrictionEntry, GeomArg, IndexDecl,
-    InertiaEntry, Inertial, Instantiation, LaserRetro, Mesh, Part, PartFixed, PartFlexible,
-    PModel, Pose, PoseField, REF_KINDS, Relation, Shape, Solution, SolutionInput,
-)
-from cyphy.lang.ast.mappings import (
-    Action, Assign, CallStatement, ClockReset, EventMapping, ExecStatement, MappingMember,
-    OperationMapping, PlatformMapping, Predicate, SendStatement, SkipStatement, Statement,
-    VariableMapping, WaitStatement,
-)
 from cyphy.lang.ast.dmodel import (
     ClockDecl, Connection, Context, Controller, CycleDef, EventDecl, Interface, InterfaceUse,
     MachineNode, MachineRef, Module, NodeRef, OperationSig, RoboticPlatform, State, StateAction,
@@ -36,6 +25,17 @@ from cyphy.lang.ast.dmodel import (
 )
 from cyphy.lang.ast.files import (
     ParseResult, SourceFile, TopLevel,
+)
+from cyphy.lang.ast.mappings import (
+    Action, Assign, CallStatement, ClockReset, EventMapping, ExecStatement, MappingMember,
+    OperationMapping, PlatformMapping, Predicate, SendStatement, SkipStatement, Statement,
+    VariableMapping, WaitStatement,
+)
+from cyphy.lang.ast.physical import (
+    Block, BlockKind, Bounce, Constraint, DefBlock, Definition, DefMember, Equation,
+    FixedConnection, FlexibleConnection, Friction, FrictionEntry, GeomArg, IndexDecl,
+    InertiaEntry, Inertial, Instantiation, LaserRetro, Mesh, Part, PartFixed, PartFlexible,
+    PModel, Pose, PoseField, REF_KINDS, Relation, Shape, Solution, SolutionInput,
 )
 
 __all__ = [
