@@ -19,6 +19,8 @@ of that instant and what it does sets inputs until the next cycle.
 
 from __future__ import annotations
 
+import io
+import json
 import math
 import sys
 import time
@@ -28,6 +30,12 @@ from typing import Any, Callable, Collection, Mapping, Protocol, Sequence
 import numpy as np
 
 from cyphy import codes
+from cyphy.backends.pinocchio_tree import pinocchio_model
+from cyphy.diagnostics import did_you_mean
+from cyphy.semantics.dynamics.joint_forces import axis_forces, passive_efforts, stop
+from cyphy.semantics.dynamics.rigid_body import (
+    EULER, coordinate_names, euler_singularity, forward_dynamics, mass_matrix,
+)
 
 SIMULATE = codes.code("E-SIMULATE", codes.E, "the model cannot be simulated as asked")
 
@@ -100,9 +108,12 @@ class OptionError(SimulationError):
 def input_expression(text: str) -> Any:
     """An input's value, ``10*sin(t)``, as a SymPy expression of ``t`` (read by cyphy's own
     parser, so it accepts what RoboSim expressions accept, and nothing is evaluated)."""
+    # lazy: SymPy takes about half a second to import; only an input given as an expression needs it
     import sympy
 
+    # lazy: imports SymPy (see above)
     from cyphy.translate.to_sympy import SympyPrinter, UnsupportedNode
+    # lazy: Lark and the grammar only when an input expression is parsed
     from cyphy.lang.parser import parse_text
 
     result = parse_text(f"const input_value: real = {text}", "<--input>")
@@ -129,7 +140,7 @@ def input_expression(text: str) -> Any:
 def _input_functions(names: Sequence[str], given: Mapping[str, str]
                      ) -> list[Callable[[float], float]]:
     """One function of t per input name; ``der_X`` is the derivative of ``X``'s expression."""
-    import sympy
+    import sympy  # lazy: SymPy (see input_expression)
 
     t = sympy.Symbol("t", real=True)
     out = []
@@ -166,7 +177,6 @@ def check_names(options: SimulationOptions, states: Sequence[str], inputs: Seque
     """Refuse ``--init`` and ``--input`` names that are not the model's states and inputs
     (an unknown one would be ignored and the run silently start from zero), each with the
     likely intent: a state given as an input, a misspelling. ``der_X`` inputs take ``X``."""
-    from cyphy.diagnostics import did_you_mean
 
     valid = set(inputs) | {n[4:] for n in inputs if n.startswith("der_")}
     for name in sorted(set(options.init) - set(states)):
@@ -215,7 +225,7 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     values that hold until the next cycle (they override ``options.inputs``); the output
     events named in ``observable`` have no effect and are recorded in the trajectory's
     ``events``."""
-    import sympy
+    import sympy  # lazy: SymPy only for the reduced equations, not for the kinematic-tree path
 
     states = list(reduced.states)
     inputs = list(reduced.inputs)
@@ -334,7 +344,6 @@ def _finite_trajectory(trajectory: Trajectory) -> Trajectory:
 def euler_pitches(tree: Any) -> dict[str, str]:
     """The coordinates that are pitches of ZYX Euler angles (a ball joint's second, a
     floating base's ``pitch``), with what they turn, for ``simulate``'s guard."""
-    from cyphy.semantics.dynamics.rigid_body import EULER, coordinate_names
 
     return {coordinate_names(j, "theta")[-2]:
             f"{'floating base' if j.kind == 'floating' else 'ball joint'} {j.name}"
@@ -348,8 +357,6 @@ PITCH_GUARD = 1e-9
 
 
 def _pitch_guard(what: str, pitch: float, t: float) -> None:
-    import math
-
     if abs(math.cos(pitch)) < PITCH_GUARD:
         raise SimulationError(
             f"the {what} reached pitch {pitch:.12g} rad at t = {t:g} s, where its ZYX Euler "
@@ -363,6 +370,7 @@ def _integrate(f: Callable[[float, np.ndarray], np.ndarray], x0: np.ndarray,
                offset: tuple[float, float] | None = None, method: str = "LSODA",
                jac: Callable[[float, np.ndarray], np.ndarray] | None = None
                ) -> tuple[np.ndarray, np.ndarray]:
+    # lazy: SciPy takes a quarter second to import; only integration needs it
     from scipy.integrate import solve_ivp
 
     if len(x0) == 0:
@@ -402,10 +410,9 @@ def compiled(args: Sequence[str], definitions: Sequence[tuple[str, Any]],
     returns those expressions. Generated as source, as ``lambdify`` does, with ``math`` for
     the functions (each cosine and sine of a joint angle computed once) and every name
     prefixed (``v_``), so that no model name can clash with Python's."""
-    import math
 
-    import sympy
-    from sympy.printing.pycode import PythonCodePrinter
+    import sympy  # lazy: SymPy only for the reduced equations (see simulate_reduced)
+    from sympy.printing.pycode import PythonCodePrinter  # lazy: SymPy (see above)
 
     printer = PythonCodePrinter({"fully_qualified_modules": True})
 
@@ -450,8 +457,6 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     against Pinocchio, MuJoCo and the symbolic path; a stiff method gets Pinocchio's analytic
     Jacobian when the tree has only revolute and prismatic joints (else the method's finite
     differences)."""
-    from cyphy.backends.pinocchio_tree import pinocchio_model
-    from cyphy.semantics.dynamics.rigid_body import EULER, euler_singularity, forward_dynamics
 
     n = tree.dof
     thetas, speeds = list(tree.coordinates("theta")), list(tree.coordinates("v"))
@@ -514,8 +519,6 @@ def _annotated_efforts(tree: Any) -> Callable[[np.ndarray, np.ndarray], np.ndarr
     """The efforts of the joints' annotated damping, springs and limit stops as a function
     of the coordinates and rates (:mod:`cyphy.semantics.dynamics.joint_forces`, as the
     symbolic path has them), or None when no joint has any."""
-    from cyphy.semantics.dynamics.joint_forces import axis_forces, passive_efforts, stop
-    from cyphy.semantics.dynamics.rigid_body import mass_matrix
 
     forces = [(k, f) for joint, start in zip(tree.joints, tree.offsets)
               for k, f in enumerate(axis_forces(joint.kind, joint.element), start=start)
@@ -546,8 +549,6 @@ def to_csv(trajectory: Trajectory) -> str:
 
 
 def to_json(trajectory: Trajectory) -> str:
-    import json
-
     return json.dumps({"t": [float(v) for v in trajectory.times],
                        "columns": {n: [float(v) for v in trajectory.column(n)]
                                    for n in trajectory.names},
@@ -560,12 +561,11 @@ def to_json(trajectory: Trajectory) -> str:
 def plot(trajectory: Trajectory, names: Sequence[str] = ()) -> bytes:
     """A PNG of the chosen columns over time (all states when none is chosen; at most 8), as
     bytes: the caller writes it atomically, where it checked it could before the run."""
-    import io
 
-    import matplotlib
+    import matplotlib  # lazy: matplotlib takes about 0.3 s to import; only a plot needs it
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # lazy: matplotlib (see above)
 
     chosen = list(names) or trajectory.names[:8]
     missing = [n for n in chosen if n not in trajectory.names]

@@ -139,7 +139,8 @@ def _trusted(stat: os.stat_result) -> bool:
 
 
 def _parse(text: str, path: str) -> ParseResult:
-    from cyphy.lang.parser import parse_text  # Lark is imported only when something is parsed
+    # lazy: the parser imports Lark (and builds the grammar): only a cache miss parses
+    from cyphy.lang.parser import parse_text
 
     return parse_text(text, path)
 

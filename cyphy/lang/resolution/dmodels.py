@@ -3,6 +3,7 @@ modules) and platform mappings, and the parts that contain their own p-model (S5
 
 from __future__ import annotations
 
+from graphlib import CycleError, TopologicalSorter
 from cyphy import codes
 from cyphy.diagnostics import did_you_mean
 from cyphy.lang import ast
@@ -97,7 +98,6 @@ class DModelChecks(CheckerBase):
     def _part_cycles(self) -> None:
         """S5: a part must not (transitively) contain its own p-model. ``graphlib`` finds a
         cycle; its first edge is reported and removed until no cycle is left."""
-        from graphlib import CycleError, TopologicalSorter
 
         edges: dict[tuple[int, int], ast.Part] = {}
         names: dict[int, str] = {}
