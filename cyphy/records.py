@@ -14,7 +14,10 @@ and :func:`dataclasses.is_dataclass` work unchanged). Only the four methods whos
 on the fields are generated late: each starts as a stub that compiles the method the
 dataclass would have written, puts it on the class in its own place, and calls it; later calls
 go straight to the compiled method. The frozen ``__setattr__``/``__delattr__`` and the
-pickling ``__getstate__``/``__setstate__`` are shared functions. A method the class defines itself is kept, as with a dataclass.
+pickling ``__getstate__``/``__setstate__`` are shared functions. One difference: the
+``__repr__`` has no guard against a record that contains itself (a dataclass prints ``...``
+there); the trees made of records hold tuples, which cannot. A method the class defines
+itself is kept, as with a dataclass.
 """
 
 from __future__ import annotations
