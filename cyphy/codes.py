@@ -23,6 +23,8 @@ E, W = Severity.ERROR, Severity.WARNING
 
 # The command line's values (exit status 2, as argparse's usage errors).
 OPTION = code("E-OPTION", E, "a command-line value does not fit the model")
+CONST_REPLACED = code("W-CONST-REPLACED", W, "a given constant value (--const, --consts, a "
+                      "scenario's [consts]) replaces a different declared value")
 
 # Reading files.
 IO = code("E-IO", E, "a file or folder cannot be read")

@@ -257,3 +257,31 @@ def test_require_constants_lists_every_missing_one(tmp_path: Path) -> None:
     (d,) = report.diagnostics
     assert d.code.id == "E-CONST" and "Bottom::H, Middle::K" in d.message
     assert "--const" in d.hint and len(d.notes) == 2
+
+
+REPLACED = """pmodel M {
+\tconst PI: real = 3.1415
+\tconst AXIS: vector(real, 3) = (|0, 0, 1|)
+\tconst K: real = 2*PI
+\tlocal link L { pose { x = K y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 } def { } }
+}
+"""
+
+
+def test_given_value_replacing_a_declared_one_is_a_warning(tmp_path: Path) -> None:
+    """W-CONST-REPLACED at the declaration (line:column of the name), with both values, once
+    per declaration; no warning when the given value equals the declared one (1 and 1.0 are
+    one value), and the given value still wins (the pose moves with it)."""
+    result = elaborate(tmp_path, {"m.rsm": REPLACED},
+                       consts={"PI": 3.141592653589793, "AXIS": [0, 0, 1.0]})
+    found = [d for d in result.report.diagnostics if d.code.id == "W-CONST-REPLACED"]
+    assert [(d.span.line, d.span.column) for d in found] == [(2, 8)]
+    assert "'M::PI' is declared 3.1415" in found[0].message
+    assert "3.141592653589793 replaces it" in found[0].message
+    assert found[0].code.severity.name == "WARNING"
+    assert result.model.element("M::L").pose.position[0] == 2 * 3.141592653589793
+    assert result.model.constants["M::K"] == 2 * 3.141592653589793  # evaluated from the given
+    same = elaborate(tmp_path, {"m.rsm": REPLACED}, consts={"PI": 3.1415, "K": 6.3})
+    assert [(d.span.line, d.message) for d in same.report.diagnostics
+            if d.code.id == "W-CONST-REPLACED"] == [
+        (4, "constant 'M::K' is declared 6.283; the given value 6.3 replaces it")]

@@ -13,9 +13,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from conftest import EXAMPLES
-from cyphy import api
+from cyphy import api, codes
 from cyphy.backends.isabelle.names import RESERVED, IsabelleNames, is_identifier
-from cyphy.backends.isabelle.theory import IsabelleOptions, calls, generate_session
+from cyphy.backends.isabelle.theory import calls, generate_session
 from cyphy.cli import main
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.build import build_semantics
@@ -231,11 +231,11 @@ def test_marxbot_terms_match_the_spec_form(marxbot_session) -> None:
 
 
 def test_marxbot_calls_persist_without_a_caveat() -> None:
-    """ReceiveFromDModel is a loop of sequential receptions, not the paper's lossy |||: no
-    W-INTERLEAVE, and the theory's header states the deviation (with the utp-main lines
-    that make the interleaving lossy)."""
+    """ReceiveFromDModel is a loop of sequential receptions, not the paper's lossy |||: the
+    theory's header states the deviation (with the utp-main lines that make the interleaving
+    lossy), and W-INTERLEAVE, which warned about it, is gone with --isabelle-namesets."""
     generated = api.generate_isabelle([MARXBOT])
-    assert not [d for d in generated.report.diagnostics if d.code.id == "W-INTERLEAVE"]
+    assert "W-INTERLEAVE" not in codes.REGISTRY
     assert not generated.report.has_errors
     text = generated.files["marXbotBase_CyPhyCircus.thy"]
     assert "|||" not in text.split("begin", 1)[1] and "Caveat" not in text
@@ -283,9 +283,18 @@ def test_cli_writes_the_session(tmp_path: Path, capsys) -> None:
         "CyPhyCircus_Prelude.thy", "README", "ROOT", "marXbotBase_CyPhyCircus.thy",
         "names.tsv"]
     assert '"(tscale = 0.01)"' in (out / "marXbotBase_CyPhyCircus.thy").read_text()
-    assert "W-INTERLEAVE" not in capsys.readouterr().err
+    assert "WARNING" not in capsys.readouterr().err
     readme = (out / "README").read_text()
     assert "isabelle build -o document=false -d <utp-main> -D <session>" in readme
+
+
+def test_removed_namesets_option_is_a_usage_error(capsys) -> None:
+    """--isabelle-namesets is gone (no generated interleaving updates state): argparse's exit
+    2, nothing written."""
+    with pytest.raises(SystemExit) as stop:
+        main(["gen", "--isabelle", str(MARXBOT), "--isabelle-namesets"])
+    assert stop.value.code == 2
+    assert "unrecognized arguments: --isabelle-namesets" in capsys.readouterr().err
 
 
 def test_cli_writes_nothing_for_a_broken_model(tmp_path: Path) -> None:
@@ -407,18 +416,18 @@ def write_model(folder: Path, software: str, mapping: str) -> list[Path]:
 
 @settings(max_examples=40, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
-@given(model=mappings(), namesets=st.booleans())
-def test_generated_mappings_pass_every_static_check(tmp_path_factory, model, namesets) -> None:
+@given(model=mappings())
+def test_generated_mappings_pass_every_static_check(tmp_path_factory, model) -> None:
     folder = tmp_path_factory.mktemp("mapping")
     sem = semantics(write_model(folder, *model))
-    session = generate_session(sem.program, sem.names, IsabelleOptions(namesets=namesets))
+    session = generate_session(sem.program, sem.names)
     check_session(session, sem.program)
 
 
-def test_disjoint_updates_persist_without_namesets(tmp_path: Path) -> None:
+def test_disjoint_updates_persist(tmp_path: Path) -> None:
     """An operation and an output event that write different variables: the receiving loop
-    keeps both updates without a name-set partition, so --isabelle-namesets (which the
-    paper's ||| needed) finds no interleaving to repair and changes nothing."""
+    keeps both updates without a name-set partition (which the paper's ||| needed: the
+    option that wrote one, --isabelle-namesets, is gone)."""
     software = SOFTWARE.format(ops="move(lv: real)", events="event bump",
                                outputs=" event lamp: boolean")
     mapping = ("import robot::*\nmap M dmodel soft::Soft to pmodel Robot {\n"
@@ -431,12 +440,8 @@ def test_disjoint_updates_persist_without_namesets(tmp_path: Path) -> None:
     text = paper.files["Robot_CyPhyCircus.thy"]
     assert ('"ReceiveFromDModel = (MuC (\\<lambda> Y. ((MoveFromDModel ;; Y) \\<box> '
             '((LampFromDModel ;; Y) \\<box> (tock \\<^bold>\\<rightarrow> Skip)))))"') in text
-    chosen = api.generate_isabelle(paths, api.SemanticsGenOptions(namesets=True))
-    assert chosen.report.diagnostics == []
-    assert chosen.files["Robot_CyPhyCircus.thy"] == text
     sem = semantics(paths)
-    check_session(generate_session(sem.program, sem.names, IsabelleOptions(namesets=True)),
-                  sem.program)
+    check_session(generate_session(sem.program, sem.names), sem.program)
 
 
 def test_isar_tools_finds_nothing_in_the_marxbot_session(marxbot_session, tmp_path) -> None:
@@ -551,8 +556,7 @@ def test_system_name_that_is_no_identifier_is_refused_by_the_api() -> None:
         generated = api.generate_isabelle([MARXBOT], api.SemanticsGenOptions(
             system_name="N *) theory", dialect=dialect, elements=elements))
         assert generated.files == {}
-        assert [d.code.id for d in generated.report.diagnostics
-                if d.code.id != "W-INTERLEAVE"] == ["E-ISABELLE"]
+        assert [d.code.id for d in generated.report.diagnostics] == ["E-ISABELLE"]
 
 
 def test_vector_local_of_a_mapping_is_bound_per_component(tmp_path: Path) -> None:

@@ -106,7 +106,7 @@ def test_state_variable_outside_a_lifted_position_is_rejected(dcmotor: str) -> N
 
 
 def test_boolean_rate_is_rejected(dcmotor: str) -> None:
-    errors = seeded(dcmotor, "Range_range` = 0", "Range_range` = True")
+    errors = seeded(dcmotor, "Range_range` = Range_distance_rate", "Range_range` = True")
     assert len(errors) == 1 and errors[0].startswith("definition Evolve_v: cannot unify")
 
 
@@ -138,8 +138,7 @@ def test_name_sets_only_as_svids_in_the_parallel_notation() -> None:
 
 
 def test_parallel_with_name_sets_type_checks(tmp_path: Path) -> None:
-    """--isabelle-namesets has no interleaving to partition since ReceiveFromDModel is a
-    loop; the checker still reads the partitioned interleaving in both forms the printer
+    """ReceiveFromDModel is a loop, so nothing generated has name sets; the checker still reads the partitioned interleaving in both forms the printer
     writes for an Interleave node with name sets (seeded in place of the loop)."""
     from test_isabelle import SOFTWARE, write_model
 
@@ -149,7 +148,7 @@ def test_parallel_with_name_sets_type_checks(tmp_path: Path) -> None:
                "  output event lamp ? on { action Base::Lamp.on = on }\n}\n")
     paths = write_model(tmp_path, software, mapping)
     generated = api.generate_isabelle(paths, api.SemanticsGenOptions(
-        dialect="axiomatic", elements=("Robot::Base::J::M",), namesets=True))
+        dialect="axiomatic", elements=("Robot::Base::J::M",)))
     loop = generated.files["Robot_AxCyPhyCircus.thy"]
     assert "\\<lbrakk>" not in loop and check_ax_theory(loop) == []
     body = re.search(r'"ReceiveFromDModel = (.*)"', loop)

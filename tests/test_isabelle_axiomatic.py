@@ -12,7 +12,6 @@ from pathlib import Path
 import pytest
 import sympy
 from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
 
 from conftest import EXAMPLES
 
@@ -93,9 +92,9 @@ def check_static(files: dict[str, str], theory: str) -> str:
     assert session_findings(files) == []  # cyphy check-theory accepts the session
     # define before use: every action a body mentions is defined above it (or is WaitT)
     defined = {"WaitT"} if "\nprimrec WaitT ::" in text else set()
-    actions = {n for n, _, _ in definitions(text)}
+    actions = {n for n, typ, _ in definitions(text) if typ.endswith(") cyphyaction")}
     for n, typ, body in definitions(text):
-        assert typ.endswith(") cyphyaction"), typ
+        assert typ.endswith(") cyphyaction") or typ.endswith("_chan set"), typ
         used = set(re.findall(r"(?<![\w`])[A-Za-z]\w*", re.sub(r"\\<[^>]*>", " ", body)))
         assert (used & actions) - {n} <= defined, (n, (used & actions) - defined)
         defined.add(n)
@@ -114,10 +113,15 @@ def test_marxbot_passes_the_static_checks(marxbot) -> None:
     names = dict(line.split("\t")[1:] for line in marxbot.files["names.tsv"].splitlines()[1:]
                  if line.count("\t") == 2)
     expected = [{"Evolve": "Evolve_v"}.get(a, a) for a in MARXBOT_ACTIONS]
-    # then the d-model process D (from the machine SMovement), over its own state
+    # then the d-model process D (from the machine SMovement) and the composition N, all
+    # over the system's one state (Ax_CyPhyCircus hides no state)
     expected += [f"marXbotSoftware{a}" for a in ("Init", "Read", "Step", "Write", "Main")]
+    expected += ["M_channels", "M_v"]  # M is a word of the grammar
     assert [n for n, _, _ in definitions(text)] == expected
-    assert '"(marXbotBase_chan, marXbotSoftwareState) cyphyaction"' in text
+    assert "alphabet MState = marXbotBaseState +\n  marXbotSoftware_mode :: nat\n" in text
+    assert {t for _, t, _ in definitions(text)} == {
+        "(marXbotBase_chan, MState) cyphyaction", "marXbotBase_chan set",
+        "real \\<Rightarrow> real \\<Rightarrow> (marXbotBase_chan, MState) cyphyaction"}
     assert "chantype marXbotBase_chan =\n  tock :: unit\n  registerRead_obstacle :: bool\n" \
         "  registerWrite_move :: \"real \\<times> real\"\n  registerWrite_stop :: unit\n" in text
     assert names.get("LMotor_das") == "LMotor_das"
@@ -150,11 +154,13 @@ def test_marxbot_terms_use_the_axiomatic_notation(marxbot) -> None:
     assert bodies["ReceiveFromDModel"] == (
         "ReceiveFromDModel = (\\<mu> Y. ((MoveFromDModel ;; Y) \\<box> ((StopFromDModel ;; Y) "
         "\\<box> (tock \\<rightarrow> Skip))))")
-    # the timer's reset also puts the outputs on their definitions (values: the test below)
+    # the timer's reset also puts the outputs on their definitions (values: the test below),
+    # after the world's input chooses its rate for the evolution
     main = re.fullmatch(
         r"MainAction = \(Init ;; \(\\<mu> X\. \(SendToDModel ;; \(ReceiveFromDModel ;; "
-        r"\(\(WaitT \(cycle - 1\)\) ;; \(\(\(timer, LMotor_T, Proximity1_voltage, RMotor_T\) := "
-        r"\(0, .*\)\) ;; \(\(Evolve_v \\<triangle>\\<\^sub>p \(timer \\<ge> \(\(real cycle\) \* "
+        r"\(\(WaitT \(cycle - 1\)\) ;; \(\(\(cSpec Proximity1_distance_rate \(True\)\\<\^sub>e "
+        r"\(True\)\\<\^sub>e\) ;; \(\(timer, LMotor_T, Proximity1_voltage, RMotor_T\) := "
+        r"\(0, .*\)\)\) ;; \(\(Evolve_v \\<triangle>\\<\^sub>p \(timer \\<ge> \(\(real cycle\) \* "
         r"tscale\)\)\) ;; X\)\)\)\)\)\)\)", bodies["MainAction"])
     assert main is not None, bodies["MainAction"]
     assert '"WaitT 0 = Skip" |\n  "WaitT (Suc n) = (tock \\<rightarrow> WaitT n)"' in text
@@ -173,17 +179,24 @@ def test_marxbot_evolve_is_the_reduction_of_cyphy_solve(marxbot) -> None:
                               - reduced.rhs[state].xreplace(zero)) == 0, state
     assert set(reduced.states) == {"LMotor_av", "LMotor_i", "LMotor_int1", "LMotor_theta",
                                    "RMotor_av", "RMotor_i", "RMotor_int2", "RMotor_theta"}
-    # the outputs that are state fields follow the states (chain rule), timer' = 1
+    # the outputs that are state fields follow the states and the world's input, the
+    # distance, which moves at its rate (chain rule), timer' = 1
     sym = {s: sympy.Symbol(s, real=True) for s in reduced.states}
+    distance = sympy.Symbol("Proximity1_distance", real=True)
+    rate = sympy.Symbol("Proximity1_distance_rate", real=True)
     for output in ("LMotor_T", "RMotor_T", "Proximity1_voltage"):
         g = reduced.outputs[output]
         expected = sum(sympy.diff(g, sym[s]) * reduced.rhs[s].xreplace(zero)
-                       for s in reduced.states)
+                       for s in reduced.states) + sympy.diff(g, distance) * rate
         assert sympy.simplify(hol_to_sympy(printed[output]) - expected) == 0, output
-    assert printed["Proximity1_voltage"] == "0"  # its input, the distance, is held
-    # before each evolution the outputs are set to their values over the states and inputs
-    # (the reduction's solutions): the IR law ties the voltage to the distance again
-    main = re.search(r'"MainAction = .*?\(\(timer, ([\w, ]+)\) := \(0, (.*)\)\) ;; '
+    assert printed["Proximity1_distance"] == "Proximity1_distance_rate"  # not frozen
+    assert hol_to_sympy(printed["Proximity1_voltage"]).has(rate)
+    # before each evolution the rate is chosen afresh, then the outputs are set to their
+    # values over the states and inputs (the reduction's solutions): the IR law ties the
+    # voltage to the distance again
+    main = re.search(r'"MainAction = .*?\(cSpec Proximity1_distance_rate \(True\)\\<\^sub>e '
+                     r'\(True\)\\<\^sub>e\) ;; '
+                     r'\(\(timer, ([\w, ]+)\) := \(0, (.*)\)\)\) ;; '
                      r'\(\(Evolve_v', marxbot.files[THEORY])
     assert main is not None
     tied = main.group(1).split(", ")
@@ -194,7 +207,7 @@ def test_marxbot_evolve_is_the_reduction_of_cyphy_solve(marxbot) -> None:
         assert sympy.simplify(hol_to_sympy(value) - expected) == 0, output
     assert printed["timer"] == "1"
     assert set(printed) == set(reduced.states) | {"LMotor_T", "RMotor_T", "Proximity1_voltage",
-                                                  "timer"}
+                                                  "Proximity1_distance", "timer"}
     # the locals and integrals that evolve are state fields now
     text = marxbot.files[THEORY]
     private = text[text.index("alphabet marXbotBaseState"):text.index("section \\<open>Actions")]
@@ -319,6 +332,37 @@ def test_whole_model_theory_type_checks(whole) -> None:
     assert check_ax_theory(generated.files[f"{WHOLE[name][0]}_AxCyPhyCircus.thy"]) == []
 
 
+def test_whole_model_states_the_composition(whole) -> None:
+    """N = ((DMain ⟦dvars | cs | pvars⟧ MainAction) \\<Zhide> cs) over the one alphabet that
+    extends P's with D's: the name sets, read against the alphabets the theory declares,
+    partition the state (D's variables to D, every other to P), cs is every register
+    channel and tock; the checker rejects a name set with a name that is no variable."""
+    _, generated = whole
+    [theory] = [n for n in generated.files if n.endswith(".thy")]
+    text = generated.files[theory]
+    alphabets = {m.group(1): (m.group(2), re.findall(r"  (\w+) :: ", m.group(3)))
+                 for m in re.finditer(r"^alphabet (\w+) =(?: (\w+) \+)?\n((?:  .*\n)*)",
+                                      text, re.M)}
+    [(system, (parent, d_fields))] = [(k, v) for k, v in alphabets.items()
+                                      if k.endswith("State") and v[0] and v[0].endswith("State")
+                                      and v[0] in alphabets]
+    p_fields = []
+    while parent is not None:
+        parent, fields = alphabets[parent]
+        p_fields = fields + p_fields
+    chan, declared = re.search(r"^chantype (\w+) =\n((?:  .*\n)*)", text, re.M).groups()
+    m = re.search(r'"(\w+) = \(\((\w+)Main \\<lbrakk>\(([^)]*)\) \| (\w+) \| \(([^)]*)\)'
+                  r'\\<rbrakk> MainAction\) \\<Zhide> (\w+)\)"', text)
+    assert m is not None
+    n, _, d_set, cs, p_set, hidden = m.groups()
+    assert cs == hidden and f'definition {n} :: "({chan}, {system}) cyphyaction"' in text
+    assert d_set.split(", ") == d_fields and sorted(p_set.split(", ")) == sorted(p_fields)
+    chans = re.search(rf'"{cs} = \\<lbrace>(.*)\\<rbrace>"', text).group(1).split(", ")
+    assert sorted(chans) == sorted(re.findall(r"  (\w+) :: ", declared))
+    assert check_ax_theory(text) == []
+    assert check_ax_theory(text.replace(f"| {cs} | (timer, ", f"| {cs} | (timer_x, ", 1))
+
+
 def test_whole_model_generation_is_deterministic(whole) -> None:
     example, generated = whole
     again = axiomatic([EXAMPLES / example], elements=())
@@ -366,11 +410,11 @@ ROBOT_ELEMENTS = ("Robot::Base::J::M", "Robot::Arm::S")
 
 @settings(max_examples=25, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
-@given(model=mappings(), namesets=st.booleans())
-def test_generated_mappings_lex_and_type_check(tmp_path_factory, model, namesets) -> None:
+@given(model=mappings())
+def test_generated_mappings_lex_and_type_check(tmp_path_factory, model) -> None:
     folder = tmp_path_factory.mktemp("mapping")
     paths = write_model(folder, *model)
-    generated = axiomatic(paths, elements=ROBOT_ELEMENTS, namesets=namesets)
+    generated = axiomatic(paths, elements=ROBOT_ELEMENTS)
     assert not generated.report.has_errors, generated.report.diagnostics
     text = check_static(generated.files, "Robot_AxCyPhyCircus.thy")
     assert check_ax_theory(text) == []

@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from cyphy.cli.options import GEN_INERTIAL, const_values, default_inertial_option
+from cyphy.cli.options import (GEN_INERTIAL, const_values, default_inertial_option,
+                               gen_scenario_option)
 from cyphy.cli.target import Target
 
 if TYPE_CHECKING:
@@ -21,9 +22,7 @@ def _flowstar_gen(args: argparse.Namespace) -> "Generated":
 
 
 def _scenario_option(parser: argparse.ArgumentParser) -> None:
-    if not any("--scenario" in a.option_strings for a in parser._actions):
-        parser.add_argument("--scenario", metavar="FILE",
-                            help="(--flowstar) the controller scenario, a TOML file")
+    gen_scenario_option(parser)
     if not any("--machine" in a.option_strings for a in parser._actions):
         parser.add_argument("--machine", metavar="NAME",
                             help="the d-model's state machine: the process D of the "

@@ -8,7 +8,8 @@ import sys
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from cyphy.cli.options import GEN_INERTIAL, const_values, default_inertial_option, positive_float
+from cyphy.cli.options import (GEN_INERTIAL, const_values, default_inertial_option,
+                               gen_scenario_option, positive_float)
 from cyphy.cli.target import Target
 
 if TYPE_CHECKING:
@@ -24,6 +25,7 @@ def _semantics_options(parser: argparse.ArgumentParser) -> None:
                             "(--cyphycircus, --latex, --isabelle) is written from it, and "
                             "(--flowstar) it is the controller when the scenario has no "
                             "[controller]")
+    gen_scenario_option(parser)
     if "--tscale" in parser._option_string_actions:
         return
     parser.add_argument("--tscale", type=positive_float, metavar="X",
@@ -50,9 +52,6 @@ def _system_name(text: str) -> str:
 
 def _isabelle_options(parser: argparse.ArgumentParser) -> None:
     _semantics_options(parser)
-    parser.add_argument("--isabelle-namesets", action="store_true",
-                        help="write interleavings whose branches update disjoint variables "
-                        "with that name-set partition, so their updates are kept")
     parser.add_argument("--isabelle-dialect", choices=("utp", "axiomatic"), default="utp",
                         help="utp: utp-main's 2020 Circus with closure lemmas (default); "
                         "axiomatic: Ax_CyPhyCircus, Evolve as explicit ODEs (SymPy), into "
@@ -82,15 +81,15 @@ def _isabelle(args: argparse.Namespace) -> "Generated":
 
 def _semantics_gen_options(args: argparse.Namespace) -> "SemanticsGenOptions":
     """The options of every generator built on the semantics, from the parsed arguments
-    (``--pdf`` and ``--isabelle-namesets`` are each added by their own target)."""
+    (``--pdf`` is added by its own target)."""
     # lazy: --help imports every command module; these pull in the model (NumPy)
     from cyphy.api import SemanticsGenOptions
 
     return SemanticsGenOptions(args.model, args.name, args.tscale, const_values(args),
                                tuple(args.path), pdf=getattr(args, "pdf", False),
-                               namesets=getattr(args, "isabelle_namesets", False),
                                default_inertial=args.default_inertial,
-                               machine=getattr(args, "machine", None))
+                               machine=getattr(args, "machine", None),
+                               scenario=getattr(args, "scenario", None))
 
 
 def _latex_options(parser: argparse.ArgumentParser) -> None:

@@ -101,6 +101,17 @@ def gravity_option(parser: argparse.ArgumentParser) -> None:
                         "_pitch, _roll, no contact) instead of fixing it to the world")
 
 
+def gen_scenario_option(parser: argparse.ArgumentParser) -> None:
+    """``gen --scenario``, shared by Flow* and the semantic generators (added once)."""
+    if any("--scenario" in a.option_strings for a in parser._actions):
+        return
+    parser.add_argument("--scenario", metavar="FILE",
+                        help="a scenario, the TOML file simulate and reach read: "
+                        "(--flowstar) the controller scenario; (--cyphycircus, --latex, "
+                        "--isabelle) Init starts the state at its [init] values, and its "
+                        "[consts], tscale, machine and model apply unless given as options")
+
+
 GEN_INERTIAL = "(--flowstar, --cyphycircus, --latex, --isabelle: Evolve's equations of motion) "
 
 

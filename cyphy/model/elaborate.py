@@ -33,6 +33,7 @@ from cyphy.model.elements import (
 from cyphy.model.evaluate import (
     EvalError, UnboundName, Value, coerce, evaluate_fast, free_names, literal_value,
 )
+from cyphy.model.value_text import format_value, same_value
 from cyphy.model.poses import Pose
 
 MODEL = codes.code("E-MODEL", codes.E, "the p-model to elaborate cannot be chosen")
@@ -153,6 +154,7 @@ class _Context:
         self.scopes = Scopes(ws)
         self.consts = dict(consts)
         self.used_consts: set[str] = set()
+        self.replaced: set[Span] = set()  # declarations already reported W-CONST-REPLACED
         self.declared: set[tuple[str, str, str]] = set()  # (qualified, definition, name)
         self.missing: dict[str, list[Span]] = {}
         self.constants: dict[str, Value] = {}
@@ -211,6 +213,8 @@ class _Context:
         given = self._user_value(b) if b.expr is None or b.expr is b.decl.value else None
         if given is not None:  # --const wins over the declaration's own value
             value = given
+            if b.expr is not None:
+                self._warn_replaced(b, given)
         elif b.expr is None:
             if value is None:
                 b.state = "missing"
@@ -230,6 +234,26 @@ class _Context:
         if value is not None:
             self.constants[b.qualified] = value
         return value
+
+    def _warn_replaced(self, b: _Binding, given: Value) -> None:
+        """W-CONST-REPLACED, once per declaration, when the given value differs from the
+        declared one: a bare ``PI`` in a scenario silently replacing common.pm's ``PI =
+        3.1415`` moves every pose that uses it. A declared value that cannot be evaluated
+        alone (it needs another constant's value) is not compared: no new error for it."""
+        if b.decl.span in self.replaced:
+            return
+        try:
+            declared = evaluate_fast(b.expr, b.env or {})  # type: ignore[arg-type]
+        except (EvalError, UnboundName, ValueError, TypeError):
+            return
+        if same_value(declared, given):
+            return
+        self.replaced.add(b.decl.span)
+        self.report.report(codes.CONST_REPLACED,
+                           f"constant '{b.qualified}' is declared {format_value(declared)}; "
+                           f"the given value {format_value(given)} replaces it",
+                           b.decl.span, "give the declared value, or leave the constant "
+                           "out of --const/--consts/[consts] to keep it")
 
     def _user_value(self, b: _Binding) -> Value | None:
         """The ``--const`` value for a constant, the most specific key winning: the instance

@@ -27,6 +27,7 @@ from typing import Callable
 from cyphy import expr as ex
 from cyphy.lang import ast
 from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.values import within
 
 Shape = tuple[int, ...]
 SCALAR: Shape = ()
@@ -604,7 +605,7 @@ def scalar_process(pm: c.BasicProcess, evolving_as_state: bool = True) -> Scalar
             return replace(a, args=tuple(sc.whole(x) for x in a.args))
         return None
 
-    from cyphy.semantics.circus.namesets import action_nodes, map_action
+    from cyphy.semantics.circus.walk import action_nodes, map_action
 
     actions = tuple(replace(d, body=map_action(d.body, rewrite)) for d in pm.actions)
     main = map_action(pm.main, rewrite)
@@ -629,14 +630,15 @@ def scalar_process(pm: c.BasicProcess, evolving_as_state: bool = True) -> Scalar
         promoted = [f.name for f in local if f.name in derived] + integrals
         state += [c.SchemaField(n, c.REAL) for n in promoted]
         local = [f for f in local if f.name not in derived]
-        actions = tuple(initialised(d, _continuous_states(evolutions, promoted), pm.initial)
-                        for d in actions)
+        actions = tuple(initialised(d, _continuous_states(evolutions, promoted), pm.initial,
+                                    pm.ranges) for d in actions)
     written = {t for d in (*actions, c.ActionDef("", (), main)) for n in action_nodes(d.body)
                for t in (n.targets if isinstance(n, c.Assign) else
                          n.frame if isinstance(n, c.Spec) else ())}
-    # only numbers have a rate to hold at 0; a Boolean set-point is left to the equations
+    # only numbers have a rate to hold at 0; a Boolean set-point is left to the equations;
+    # a visible variable is the world's (a scenario's Init may start it, nothing holds it)
     held = tuple(f.name for f in state if f.name in written and f.name not in derived
-                 and f.type in (c.REAL, c.INT, c.NAT) and evolving_as_state)
+                 and f.type in (c.REAL, c.INT, c.NAT) and not f.visible and evolving_as_state)
     if held:
         hold = tuple(ex.BinOp("==", ex.Derivative(ex.Name((h,))), ex.Num("0")) for h in held)
 
@@ -675,14 +677,23 @@ def _continuous_states(evolutions: list[c.Evolution], promoted: list[str]) -> li
     return [n for n in promoted if n in on_left]
 
 
-def initialised(d: c.ActionDef, states: list[str],
-                 initial: tuple[tuple[str, ex.Expr], ...]) -> c.ActionDef:
-    """``Init`` with every continuous state assigned too: its declared initial value, else
-    0 (spec Rule 2: private variables start at 0; a running integral is the integral from
-    0). Without it the ODEs' states, once they are state, would start anywhere."""
-    if d.name != "Init" or not isinstance(d.body, c.Assign) or not states:
+def initialised(d: c.ActionDef, states: list[str], initial: tuple[tuple[str, ex.Expr], ...],
+                 ranges: tuple[tuple[str, ex.Expr, ex.Expr], ...] = ()) -> c.ActionDef:
+    """``Init`` with every continuous state assigned too: a scenario's value or its declared
+    initial value, else 0 (spec Rule 2: private variables start at 0; a running integral is
+    the integral from 0), or, for a scenario's interval, a specification that starts it in
+    the interval. Without it the ODEs' states, once they are state, would start anywhere.
+    ``Init`` is an assignment, followed by the scenario's specification when it has one."""
+    parts = d.body.items if isinstance(d.body, c.Seq) else (d.body,)
+    if d.name != "Init" or not isinstance(parts[0], c.Assign) or not states:
         return d
-    values = dict(initial)
-    missing = [n for n in states if n not in d.body.targets]
-    return replace(d, body=c.Assign(d.body.targets + tuple(missing), d.body.values + tuple(
-        values.get(n, ex.Num("0")) for n in missing)))
+    assign, rest = parts[0], parts[1:]
+    values, boxes = dict(initial), {n: (lo, hi) for n, lo, hi in ranges}
+    framed = {n for p in rest if isinstance(p, c.Spec) for n in p.frame}
+    missing = [n for n in states if n not in assign.targets and n not in framed]
+    points = [n for n in missing if n not in boxes]
+    boxed = [(n, *boxes[n]) for n in missing if n in boxes]
+    assign = c.Assign(assign.targets + tuple(points), assign.values + tuple(
+        values.get(n, ex.Num("0")) for n in points))
+    parts = (assign, *rest, *((within(boxed),) if boxed else ()))
+    return replace(d, body=parts[0] if len(parts) == 1 else c.Seq(parts))

@@ -35,7 +35,8 @@ from cyphy.semantics.circus import ast as c
 #: update; Prisms.thy:14-20: match, build, matches), Z_Toolkit (Function_Toolkit.thy:67:
 #: partitions) and Shallow-Expressions (Local_State.thy:20: localstate);
 #: and the constants the printed notation denotes (Shallow-Expressions' SEXP, subst_id,
-#: subst_upd, var_pair; Optics' zero_lens; Channels_Events' chinst1; HOL's powr, arctan,
+#: subst_upd, var_pair; Optics' zero_lens; Channels_Events' chinst1, csbasic, csinsert (the
+#: channel set \<lbrace>…\<rbrace>, lines 74-105); HOL's powr, arctan,
 #: uminus, Ex), which a definition of the same name would shadow.
 AX_RESERVED = frozenset("""
 cyphyaction cyphyprocess cSpec cAssigns cSeq cCond cAlternList cVarBlock cStop cChaos cGuard
@@ -48,7 +49,7 @@ recursive actions expr_constructor expr_function edefinition expression over zst
 alphabet_scene_space dataspace constants variables channels statespace def_consts enumtype
 zfun precondition postcondition record_default tabulate
 get put lset pget src create update match build matches partitions localstate
-SEXP subst_upd var_pair zero_lens chinst1 powr arctan uminus Ex
+SEXP subst_upd var_pair zero_lens chinst1 csbasic csinsert powr arctan uminus Ex
 """.split())
 
 

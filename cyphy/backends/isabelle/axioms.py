@@ -12,7 +12,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from cyphy import codes, expr as ex
+from cyphy import codes
+from cyphy import expr as ex
 from cyphy.lang.notation import to_notation
 from cyphy.semantics.circus import ast as c
 

@@ -1,6 +1,5 @@
 """The Isabelle session of a platform mapping's semantics, and what it reports: inconsistent
-axioms, what Isabelle's scalar state cannot hold, constructs not yet translatable, and
-interleavings whose updates are lost. The policy of ``cyphy gen --isabelle``, kept with the
+axioms, what Isabelle's scalar state cannot hold, and constructs not yet translatable. The policy of ``cyphy gen --isabelle``, kept with the
 printer that knows it so the API only composes."""
 
 from __future__ import annotations
@@ -9,18 +8,18 @@ from typing import Any
 
 from cyphy import codes
 from cyphy.backends.isabelle.axioms import INCONSISTENT_AXIOMS, unsatisfiable_axioms
-from cyphy.backends.isabelle.theory import (LOSSY_INTERLEAVING, UNTRANSLATABLE, IsabelleError,
-                                            IsabelleOptions, generate_session)
+from cyphy.backends.isabelle.theory import UNTRANSLATABLE, IsabelleError, generate_session
 from cyphy.diagnostics import Report
 from cyphy.semantics.circus import ast as c
-from cyphy.semantics.circus.namesets import action_nodes
+from cyphy.semantics.circus.walk import action_nodes
 
 
-def session_files(built: Any, options: Any, report: Report) -> dict[str, str] | None:
+def session_files(built: Any, options: Any, report: Report
+                  ) -> tuple[dict[str, str], c.ActionDef] | None:
     """The session's files (``ROOT``, the prelude, the theory, a README, the names table)
     for ``built`` (a :class:`cyphy.semantics.circus.build.Semantics`) under ``options``
-    (its ``dialect``, ``namesets``, ``system_name``, ``elements``); None when an error was
-    reported. Interleavings that discard state updates are warnings (W-INTERLEAVE)."""
+    (its ``dialect``, ``system_name``, ``elements``), with the theory's ``Init`` as printed
+    (what it starts differs between the dialects); None when an error was reported."""
     span = built.mapping.span
     why = unsatisfiable_axioms(built.program.globals)
     if why is not None:
@@ -34,9 +33,7 @@ def session_files(built: Any, options: Any, report: Report) -> dict[str, str] | 
             if session is None:
                 return None
         else:
-            session = generate_session(built.program, built.names,
-                                       IsabelleOptions(options.namesets),
-                                       options.system_name)
+            session = generate_session(built.program, built.names, options.system_name)
     except IsabelleError as err:
         where = err.span if err.span is not None and err.span.line > 0 else span
         if err.shapes:
@@ -49,22 +46,8 @@ def session_files(built: Any, options: Any, report: Report) -> dict[str, str] | 
                           "this construct cannot be written in Isabelle/UTP yet; the text and "
                           "LaTeX printers (--cyphycircus, --latex) show it")
         return None
-    for found in session.lossy:
-        if session.namesets_applied and found.partition:
-            continue
-        branches = " ||| ".join(found.branches)
-        updated = ", ".join(sorted(found.updated))
-        if found.partition:  # (not applied: --isabelle-namesets was not given)
-            hint = ("this follows the paper; --isabelle-namesets writes the interleaving with "
-                    "a name-set partition, as the branches update disjoint variables")
-        else:  # offer no option that cannot help
-            hint = ("this follows the paper; no name-set partition keeps the updates: the "
-                    f"branches all may update {', '.join(sorted(found.overlap))}")
-        report.report(LOSSY_INTERLEAVING,
-                      f"{found.action} ≙ {branches} interleaves with empty name sets: the "
-                      f"updates of {updated} are discarded when it ends", span, hint)
     files: dict[str, str] = session.files
-    return files
+    return files, session.actions["Init"]
 
 
 def _axiomatic_session(built: Any, options: Any, report: Report) -> Any:
@@ -80,9 +63,9 @@ def _axiomatic_session(built: Any, options: Any, report: Report) -> Any:
         from cyphy.semantics.dynamics.evolve_odes import explicit_odes  # lazy: SymPy
 
         odes = explicit_odes(built.model, evolutions[0], {f.name for f in pm.state.fields},
-                             options.elements, report, built.mapping.span)
+                             options.elements, report, built.mapping.span,
+                             frozenset(f.name for f in pm.state.fields if f.visible))
         if odes is None:
             return None
     return generate_ax_session(built.program, built.names, odes,
-                               IsabelleOptions(options.namesets), options.system_name,
-                               options.elements)
+                               options.system_name, options.elements)

@@ -24,22 +24,14 @@ from cyphy.backends.isabelle.terms import (HOL_FUNCTIONS, IsabellePrinter, Symbo
                                      bound_identifier)
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, identifier
-from cyphy.semantics.circus.namesets import (LossyInterleaving, action_nodes, find_lossy_interleavings,
-                                      with_namesets)
 from cyphy.semantics.circus.rules import DEVIATIONS, REGISTER_CHANNELS, functions
+from cyphy.semantics.circus.walk import action_nodes
 from cyphy.semantics.scalarise import ScalariseError, scalar_process
 
 UNTRANSLATABLE = codes.code("E-ISABELLE", codes.E,
                             "the CyPhyCircus program has no Isabelle/UTP counterpart")
-LOSSY_INTERLEAVING = codes.code("W-INTERLEAVE", codes.W,
-                                "an interleaving with empty name sets discards state updates")
 
 PRELUDE = "CyPhyCircus_Prelude"
-
-
-@dataclass(frozen=True)
-class IsabelleOptions:
-    namesets: bool = False  # keep updates of interleavings through a name-set partition
 
 
 @dataclass
@@ -65,8 +57,6 @@ class IsabelleSession:
     actions: dict[str, c.ActionDef]
     names: IsabelleNames
     symbols: Symbols
-    lossy: list[LossyInterleaving]
-    namesets_applied: bool
 
 
 class IsabelleError(Exception):
@@ -276,22 +266,7 @@ def evolution_note(scalar: ScalarProgram, names: IsabelleNames) -> str:
                    "have no rate to hold).")
 
 
-def _caveat(finding: LossyInterleaving, applied: bool) -> str:
-    updated = ", ".join(sorted(finding.updated))
-    branches = " ||| ".join(finding.branches)
-    if applied:
-        return (f"{branches}: the branches update disjoint variables, so the interleaving "
-                f"is written with the name-set partition that keeps their updates "
-                f"({updated}) instead of the paper's empty name sets.")
-    overlap = ", ".join(sorted(finding.overlap))
-    why = (f"no name-set partition exists: the branches all may update {overlap}"
-           if overlap else "the paper's empty name sets are kept (see --isabelle-namesets)")
-    return (f"{branches} interleaves with empty name sets, as in the paper: the updates of "
-            f"{updated} are discarded when it ends; {why}.")
-
-
 def generate_session(program: c.Program, table: NameTable,
-                     options: IsabelleOptions = IsabelleOptions(),
                      system_name: str | None = None) -> IsabelleSession:
     """The session folder's files for ``program``; raises :class:`IsabelleError` when a
     construct has no Isabelle/UTP counterpart."""
@@ -300,18 +275,14 @@ def generate_session(program: c.Program, table: NameTable,
                             "word of Isabelle/UTP's grammar")
     scalar = scalar_program(program)
     program = scalar.program
-    lossy = find_lossy_interleavings(program.pmodel)
     pm = program.pmodel
-    applied = options.namesets and any(f.partition for f in lossy)
-    if options.namesets:
-        pm = with_namesets(pm)
     symbols = symbols_of(program)
     printer = IsabellePrinter(symbols)
     names = symbols.names
     theory = f"{identifier(pm.name)}_CyPhyCircus"
     prefix = identifier(pm.name)
     try:
-        context = _theory_context(program, pm, printer, lossy, options, applied)
+        context = _theory_context(program, pm, printer)
     except UnsupportedNode as err:
         raise IsabelleError(str(err)) from None
     context.update(evolution_note=evolution_note(scalar, names),
@@ -335,7 +306,7 @@ def generate_session(program: c.Program, table: NameTable,
     defs = {d.name: d for d in pm.actions}
     defs["MainAction"] = c.ActionDef("MainAction", (), pm.main)
     defs.update(_dprocess_actions(program))
-    return IsabelleSession(files, theory, defs, names, symbols, lossy, applied)
+    return IsabelleSession(files, theory, defs, names, symbols)
 
 
 def _dprocess_actions(program: c.Program) -> dict[str, c.ActionDef]:
@@ -349,8 +320,7 @@ def _dprocess_actions(program: c.Program) -> dict[str, c.ActionDef]:
 
 
 def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePrinter,
-                    lossy: list[LossyInterleaving], options: IsabelleOptions,
-                    applied: bool, action_type: str | None = None) -> dict[str, Any]:
+                    action_type: str | None = None) -> dict[str, Any]:
     """What the theory templates lay out; ``action_type`` is the type of an action
     (default: the session's type synonym)."""
     names = printer.symbols.names
@@ -382,18 +352,16 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
                for f in pm.state.fields if f.visible]
     private = [{"name": names[f.name], "type": _quoted(printer.type(f.type))}
                for f in pm.state.fields if not f.visible]
-    caveats = {f.action: _caveat(f, applied and f.partition) for f in lossy}
     definitions = []
     utp = action_type is None
     action_type = action_type or names[f"{identifier(pm.name)}_action"]
     for d in [*definition_order(pm.actions), c.ActionDef("MainAction", (), pm.main)]:
-        definitions.append(replace(_definition(printer, d, action_type),
-                                   caveat=caveats.get(d.name, "")))
+        definitions.append(_definition(printer, d, action_type))
     dprocess = None
     if isinstance(program.dmodel, c.BasicProcess):
         dm = program.dmodel
-        d_type = names[f"{identifier(dm.name)}_action"] if utp else \
-            f"({names[f'{identifier(pm.name)}_chan']}, {names[dm.state.name]}) cyphyaction"
+        # the axiomatic dialect types D's actions over the system's one state, as P's
+        d_type = names[f"{identifier(dm.name)}_action"] if utp else action_type
         dprocess = _dprocess_context(program, dm, printer, d_type)
     return {
         "dprocess": dprocess,
@@ -404,7 +372,7 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
         "constructors": constructors, "channels": channels, "visible": visible,
         "private": private,
         "visible_name": names[f"{identifier(pm.name)}Visible"], "state_name": names[pm.state.name],
-        "definitions": definitions, "namesets": options.namesets,
+        "definitions": definitions,
         "deviations": DEVIATIONS,
     }
 

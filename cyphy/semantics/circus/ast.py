@@ -336,6 +336,8 @@ class BasicProcess:
     # the declared initial values of locals (name, value): a local that becomes state (an
     # ODE's, in the Isabelle dialects) starts there, else at 0; not printed as such
     initial: tuple[tuple[str, ex.Expr], ...] = field(default=(), compare=False)
+    # a scenario's intervals for such locals (name, low, high): Init's specification
+    ranges: tuple[tuple[str, ex.Expr, ex.Expr], ...] = field(default=(), compare=False)
 
 
 @record
@@ -402,8 +404,12 @@ def children(node: object) -> Iterator[object]:
     """The direct sub-nodes of a node (CyPhyCircus nodes and expressions), in field order."""
     for f in fields(node):  # type: ignore[arg-type]
         value = getattr(node, f.name)
-        if isinstance(value, tuple):
-            yield from (v for v in value if not isinstance(v, str))
+        if isinstance(value, tuple):  # of nodes, or of (name, value…) pairs (``initial``)
+            for v in value:
+                if isinstance(v, tuple):
+                    yield from (w for w in v if not isinstance(w, str))
+                elif not isinstance(v, str):
+                    yield v
         elif value is not None and not isinstance(value, (str, bool, int, float)):
             yield value
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from cyphy import codes, expr as ex
+from cyphy import codes
+from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
@@ -20,6 +21,7 @@ from cyphy.semantics.circus.dmodel import dmodel_process
 from cyphy.semantics.circus.names import NameTable
 from cyphy.semantics.circus.rules import Context, DModel, SemanticsError, Service, rule1_program
 from cyphy.semantics.circus.values import type_of
+from cyphy.semantics.circus.walk import action_nodes
 from cyphy.semantics.dynamics.equations import fixed_root_twists, motion, port_index
 from cyphy.semantics.dynamics.rigid_body import DynamicsError
 from cyphy.semantics.machines.automaton import compile_machine
@@ -36,6 +38,19 @@ OPAQUE_DMODEL = codes.code("W-SEMANTICS-DMODEL", codes.W,
                            "the d-model's state machine cannot be written as the process D")
 NO_MOTION = codes.code("W-SEMANTICS-MOTION", codes.W,
                        "Evolve leaves out the equations of motion of the kinematic tree")
+UNASSIGNED_INIT = codes.code("W-SCENARIO-INIT", codes.W,
+                             "a scenario's initial value names no state that Init can start")
+
+
+def started_by_init(actions: "tuple[c.ActionDef, ...] | list[c.ActionDef]") -> set[str]:
+    """The variables ``Init`` assigns or starts in a specification's box."""
+    out: set[str] = set()
+    for d in actions:
+        if d.name == "Init":
+            for n in action_nodes(d.body):
+                out.update(n.targets if isinstance(n, c.Assign) else
+                           n.frame if isinstance(n, c.Spec) else ())
+    return out
 
 
 @dataclass(frozen=True)
@@ -46,6 +61,8 @@ class SemanticsOptions:
     consts: dict[str, object] | None = None
     default_inertial: str | None = None  # "sdf": massless links get SDF's defaults (a warning)
     machine: str | None = None  # the d-model's machine D is written from (default: as simulate)
+    # a scenario's [init]: name → (low, high), a point when low == high; Init starts there
+    initial: dict[str, tuple[float, float]] | None = None
 
 
 @dataclass
@@ -54,6 +71,7 @@ class Semantics:
     names: NameTable
     mapping: ast.PlatformMapping
     model: ElaboratedModel | None = None  # what Evolve's equations come from (for solving)
+    scenario: object | None = None  # the scenario whose [init] Init starts (api.semantics)
 
 
 def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
@@ -84,7 +102,7 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
 
     ctx = Context(model, mapping, dmodel, NameTable(),
                   options.system_name or mapping.name, options.tscale,
-                  port_index(model), _motion(model, report))
+                  port_index(model), _motion(model, report), dict(options.initial or {}))
     try:
         program = rule1_program(ctx)
     except SemanticsError as err:

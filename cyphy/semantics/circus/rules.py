@@ -19,7 +19,8 @@ from cyphy.lang import ast
 from cyphy.model.elements import ElaboratedModel, Sensor
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, capitalised
-from cyphy.semantics.circus.values import constant_type, si_units, type_of, value_expr
+from cyphy.semantics.circus.values import (constant_type, literal, si_units, type_of,
+                                          value_expr, within)
 from cyphy.semantics.dynamics.equations import mapping_renamer
 
 TIME = "t"  # the time variable of equations; CyPhyCircus's own, not declared
@@ -37,6 +38,17 @@ DEVIATIONS = (
     "interleaving with empty name sets discards the calls' updates (utp-main c9122f14, "
     "utp_circus_parallel.thy:846-847, the merge at :18-26), and the first tock cuts it off "
     "without a final state, so no call would reach the p-model's state.",
+    "Evolve also states the kinematic tree's equations of motion (one joint effort "
+    "J_tau = M(q) a + h(q, v) per joint) and, for each joint whose parent is a fixed root, "
+    "a zero parent twist and twist rate (J_pV = J_pA = 0): the paper's rules leave the "
+    "joints' efforts and a fixed root's motion unconstrained.",
+    "Init assigns, besides the timer and the private inputs no equation determines (the "
+    "spec's Rule 2: declared initial value, else 0), what a scenario starts (gen "
+    "--scenario: any state variable its [init] names, a number assigned, an interval "
+    "[lo, hi] as the specification statement x : [true, lo <= x' <= hi]); the Isabelle "
+    "dialects, which hold the ODEs' states and running integrals as state where the paper "
+    "quantifies them afresh in each Evolve (exists PLocal), start them at 0, their declared "
+    "or the scenario's values.",
 )
 
 
@@ -80,6 +92,7 @@ class Context:
     tscale: float | None = None
     ports: dict[tuple[str, ...], str] = field(default_factory=dict)
     motion: tuple[ex.Expr, ...] = ()  # the kinematic tree's equations of motion (build.py)
+    given: dict[str, tuple[float, float]] = field(default_factory=dict)  # a scenario's [init]
 
 
 # --------------------------------------------------------------------------- Rule 1
@@ -168,9 +181,15 @@ def rule2_pmodel_process(ctx: Context) -> c.BasicProcess:
         c.Assign((TIMER,), (ex.Num("0"),)),
         c.InterruptCond(c.Call("Evolve"), ex.BinOp(">=", timer, cycle_length)),
         c.Call("X"))))))
-    initial = tuple((p.mangled, si_units(p.initial)) for _, device in _device_elements(ctx.model)
-                    for p in device.of_kind(ast.DeclKind.LOCAL) if p.initial is not None)
-    return c.BasicProcess(name, consts, state, local, tuple(actions), main, initial)
+    declared = {p.mangled: si_units(p.initial) for _, device in _device_elements(ctx.model)
+                for p in device.of_kind(ast.DeclKind.LOCAL) if p.initial is not None}
+    fields = {f.name for f in state.fields}
+    given = {n: v for n, v in ctx.given.items() if n not in fields}  # locals, integrals
+    initial = {**declared, **{n: literal(lo) for n, (lo, hi) in given.items() if lo == hi}}
+    ranges = tuple((n, literal(lo), literal(hi)) for n, (lo, hi) in sorted(given.items())
+                   if lo != hi)
+    return c.BasicProcess(name, consts, state, local, tuple(actions), main,
+                          tuple(sorted(initial.items())), ranges)
 
 
 def constants(ctx: Context) -> tuple[c.Constant, ...]:
@@ -234,7 +253,11 @@ def init_action(ctx: Context, state: c.Schema) -> c.ActionDef:
     """Rule 2's ``Init`` (ours where the paper is silent): ``timer := 0`` and every private
     input that no equation or relation of the model determines (the actuator inputs the
     software sets) gets its declared initial value, or 0 if it is a scalar (a vector
-    input without a declared initial value is left to the first ``Evolve``)."""
+    input without a declared initial value is left to the first ``Evolve``). A scenario's
+    ``[init]`` (``ctx.given``) wins for every scalar state field it names, visible ones
+    too (a sensor's reading of the world): a number is assigned, an interval ``[lo, hi]``
+    is the specification statement ``x : [true, lo ≤ x' ≤ hi]`` after the assignment
+    (any start in the box, as Flow* reads it)."""
     determined = _determined_by_relations(ctx.model)
     private = {f.name for f in state.fields if not f.visible}
     targets, values = [TIMER], [ex.Num("0")]
@@ -249,7 +272,22 @@ def init_action(ctx: Context, state: c.Schema) -> c.ActionDef:
             elif not isinstance(typ, c.TSeq):
                 targets.append(p.mangled)
                 values.append(ex.Bool(False) if typ == c.BOOL else ex.Num("0"))
-    return c.ActionDef("Init", (), c.Assign(tuple(targets), tuple(values)))
+    scalar = {f.name for f in state.fields if f.type == c.REAL}
+    ranges: list[tuple[str, ex.Expr, ex.Expr]] = []
+    for name, (lo, hi) in sorted(ctx.given.items()):
+        if name not in scalar:
+            continue  # a local (the process's ``initial``) or no state: reported by the caller
+        if lo != hi:
+            ranges.append((name, literal(lo), literal(hi)))
+        elif name in targets:
+            values[targets.index(name)] = literal(lo)
+        else:
+            targets.append(name)
+            values.append(literal(lo))
+    body: c.Action = c.Assign(tuple(targets), tuple(values))
+    if ranges:
+        body = c.Seq((body, within(ranges)))
+    return c.ActionDef("Init", (), body)
 
 
 def evolve(ctx: Context, state: c.Schema, local: c.Schema) -> c.ActionDef:

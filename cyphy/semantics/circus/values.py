@@ -7,7 +7,7 @@ semantics says. Quantities (``0.06m``) become their SI values, so no printer see
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -112,3 +112,22 @@ def si_units(e: ex.Expr) -> ex.Expr:
         return ex.BinOp("*", node.value, _number(factor), span=node.span)
 
     return ex.transform(e, swap)
+
+
+def literal(value: float) -> ex.Expr:
+    """A given number (a scenario's) as a literal: an integral value without a point (``3``:
+    the theories' numerals), any other positional (``1e-7`` → ``0.0000001``)."""
+    if float(value).is_integer():
+        text = ex.Num(str(abs(int(value))))
+        return text if value >= 0 else ex.UnaryOp("-", text)
+    return _number(float(value))
+
+
+def within(ranges: Sequence[tuple[str, ex.Expr, ex.Expr]]) -> c.Spec:
+    """``x, y : [true, lo ≤ x ≤ hi ∧ …]``: the frame starts anywhere in its boxes (a frame
+    name in a specification's postcondition is its after-state value)."""
+    bounds: list[ex.Expr] = []
+    for name, lo, hi in ranges:
+        x = ex.Name((name,))
+        bounds.extend((ex.BinOp("<=", lo, x), ex.BinOp("<=", x, hi)))
+    return c.Spec(tuple(n for n, _, _ in ranges), ex.Bool(True), c.Exists((), tuple(bounds)))

@@ -49,8 +49,8 @@ HINT = ("use the default dialect (--isabelle-dialect utp), which keeps the equat
 @dataclass(frozen=True)
 class ExplicitOde:
     """``variable' = rhs``; ``kind`` says where it comes from: ``state`` (a reduced state),
-    ``output`` (the chain rule on an output's solution) or ``given`` (the semantics' own
-    equation, ``timer' = 1``)."""
+    ``output`` (the chain rule on an output's solution), ``input`` (a world input, at its
+    rate) or ``given`` (the semantics' own equation, ``timer' = 1``)."""
 
     variable: str
     rhs: ex.Expr
@@ -62,12 +62,19 @@ class ExplicitOde:
 class EvolveOdes:
     odes: list[ExplicitOde] = field(default_factory=list)
     added: list[str] = field(default_factory=list)  # evolving variables no schema field holds
+    # the rate of each world input that varies (``u' = u_rate``): constant during one
+    # evolution, chosen afresh before each (no schema field holds it either)
+    rates: list[str] = field(default_factory=list)
 
 
 def explicit_odes(model: ElaboratedModel, evolution: c.Evolution, state_fields: set[str],
-                  elements: tuple[str, ...], report: Report, where: Span) -> EvolveOdes | None:
+                  elements: tuple[str, ...], report: Report, where: Span,
+                  world: frozenset[str] = frozenset()) -> EvolveOdes | None:
     """The explicit ODEs of ``evolution``, or None with every reason reported (``where`` is
-    the span for what no equation locates: the mapping's)."""
+    the span for what no equation locates: the mapping's). The inputs of the equations
+    among ``world`` (the visible fields: what the world sets) vary: ``u' = u_rate``, the
+    outputs' chain rule through them too, so an explicit ODE, which has no free variable,
+    does not freeze them (the utp dialect leaves them free)."""
     if not _check_elements(model, elements, report, where):
         return None
     try:
@@ -88,7 +95,7 @@ def explicit_odes(model: ElaboratedModel, evolution: c.Evolution, state_fields: 
                           obstacle_hint(o) if structural else HINT, notes)
         return None
     ports = {p.mangled for d in model.devices for p in d.ports}
-    return _build(system, reduced, evolution, fields, ports, report, where)
+    return _build(system, reduced, evolution, fields, ports, report, where, world)
 
 
 def _check_elements(model: ElaboratedModel, elements: tuple[str, ...], report: Report,
@@ -106,7 +113,8 @@ def _check_elements(model: ElaboratedModel, elements: tuple[str, ...], report: R
 
 
 def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_fields: set[str],
-           ports: set[str], report: Report, where: Span) -> EvolveOdes | None:
+           ports: set[str], report: Report, where: Span,
+           world: frozenset[str] = frozenset()) -> EvolveOdes | None:
     zero = {s: 0 for name, s in reduced.symbols.items() if name.startswith("der_")}
     symbol = {name: reduced.symbols.get(name, sympy.Symbol(name, real=True))
               for name in [*reduced.states, *reduced.outputs]}
@@ -125,6 +133,13 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
     known = {symbol[s] for s in rhs} | {sympy.Symbol(k, real=True) for u in system.variables
                                         for k in _components(system, u)}
     known |= {sympy.Symbol(p, real=True) for p in system.parameters}
+    determined = set(reduced.states) | set(reduced.outputs)
+    inputs = sorted(k for u in system.variables for k in _components(system, u)
+                    if (k in world or u in world) and k not in determined)
+    rate = {u: sympy.Symbol(f"{u}_rate", real=True) for u in inputs}
+    for u in inputs:
+        if f"{u}_rate" in state_fields or f"{u}_rate" in symbol:
+            fail(f"{u}_rate, the rate of the world input {u}, is already a variable", u)
     for s, f in rhs.items():
         if f.has(T):
             fail(f"the ODE of {s} depends on time itself", s)
@@ -139,6 +154,8 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
             fail(f"{name} depends on time itself", name)
             continue
         rhs_y = sum((sympy.diff(g, symbol[s]) * rhs[s] for s in rhs), sympy.Integer(0))
+        rhs_y += sum((sympy.diff(g, sympy.Symbol(u, real=True)) * rate[u] for u in inputs),
+                     sympy.Integer(0))
         rhs[name] = sympy.expand(rhs_y)
         values[name] = g
     printed: dict[str, ex.Expr] = {}
@@ -158,6 +175,9 @@ def _build(system: System, reduced: Reduced, evolution: c.Evolution, state_field
             out.added.append(s)
     for name in sorted(set(rhs) - set(reduced.states)):
         out.odes.append(ExplicitOde(name, printed[name], "output", solutions[name]))
+    for u in inputs:
+        out.odes.append(ExplicitOde(u, ex.Name((f"{u}_rate",)), "input"))
+        out.rates.append(f"{u}_rate")
     for eq in evolution.equations:  # the semantics' own equations (timer' = 1): no port's
         if isinstance(eq, ex.BinOp) and eq.op == "==" and isinstance(eq.left, ex.Derivative) \
                 and isinstance(eq.left.operand, ex.Name) \

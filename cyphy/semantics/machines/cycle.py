@@ -53,7 +53,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from cyphy import codes, expr as ex
+from cyphy import codes
+from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.model.evaluate import MATH_FUNCTIONS, EvalError, evaluate

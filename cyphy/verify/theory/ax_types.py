@@ -71,6 +71,13 @@ AX_SIGNATURES: dict[str, tuple[str, str]] = {
                      f"{R} 'e set {R} {A} {R} {A} {R} {A}",
                      AX + "Ax_CyPhyCircus.thy:52 (adhoc ParallelAct, line 81; "
                      "P \\<lbrakk>ns1|A|ns2\\<rbrakk> Q: " + CT + "IsaCircus_Syntax.thy:80, 100)"),
+    "cHide": (f"{A} {R} 'e set {R} {A}",
+              AX + "Ax_CyPhyCircus.thy:51 (adhoc Hide, line 79; P \\<Zhide> A is Hide P A: "
+              + CT + "IsaCircus_Syntax.thy:81, 101)"),
+    "csbasic": ("('a, 'e) prism \\<Rightarrow> 'e set",
+                CT + "Channels_Events.thy:74 (\\<lbrace>c\\<rbrace>: _ch_enum, lines 92, 102)"),
+    "csinsert": ("('a, 'e) prism \\<Rightarrow> 'e set \\<Rightarrow> 'e set",
+                 CT + "Channels_Events.thy:80 (\\<lbrace>c, cs\\<rbrace>: _chans, lines 91, 105)"),
     "cCond": (f"{A} {R} ('s {R} bool) {R} {A} {R} {A}",
               AX + "Ax_CyPhyCircus.thy:38 (adhoc ucond, line 67; P \\<lhd> b \\<rhd> Q is "
               "ucond P (b)\\<^sub>e Q: " + APS + "Abstract_Prog_Syntax.thy:36, 48)"),
@@ -319,10 +326,36 @@ def read_theory(text: str) -> AxTheory:
             continue
         if lhs != name:
             th.errors.append(f"definition {name} defines {lhs}")
+        if body.startswith(_LBRACE) and body.endswith(_RBRACE) and not params:
+            _channel_set(th, name, _t(typ), body[len(_LBRACE):-len(_RBRACE)])
+            declare(name)
+            continue
         th.definitions.append((name, params.split(), _t(typ), body))
         th.constants[name] = _t(typ)
         declare(name)
     return th
+
+
+_LBRACE, _RBRACE = "\\<lbrace>", "\\<rbrace>"
+
+
+def _channel_set(th: AxTheory, name: str, declared: Type, body: str) -> None:
+    """``X = \\<lbrace>c1, …, cn\\<rbrace>``: ``csinsert c1 (… (csbasic cn))``, every
+    event of each channel (Circus_Toolkit Channels_Events.thy:74-105), of the declared set
+    type."""
+    try:
+        chans = [c.strip() for c in body.split(",")]
+        result = instance("csbasic")
+        unify(prune(result).args[0], th.channels.get(chans[-1]) or _undeclared(chans[-1]))
+        result = prune(result).args[1]
+        for chan in reversed(chans[:-1]):
+            step = instance("csinsert")
+            unify(step, fun(th.channels.get(chan) or _undeclared(chan), fun(result, TVar())))
+            result = prune(step).args[1].args[1]
+        unify(result, declared)
+        th.constants[name] = declared
+    except TypeError_ as err:
+        th.errors.append(f"definition {name}: {err}")
 
 
 def _undeclared(name: str) -> Type:
@@ -520,6 +553,16 @@ class AxChecker:
         left, ns1, ns2, right = ch
         return self.sig("cParallelAct", self.lens_term(ns1), self.lens_term(ns2),
                         instance("{}"), self.action(left, env), self.action(right, env))
+
+    def a_parallel_cs(self, ch, env):  # type: ignore[no-untyped-def]
+        left, ns1, cs, ns2, right = ch
+        return self.sig("cParallelAct", self.lens_term(ns1), self.lens_term(ns2),
+                        self.name(str(cs), env, lifted=False), self.action(left, env),
+                        self.action(right, env))
+
+    def a_hide(self, ch, env):  # type: ignore[no-untyped-def]
+        body, cs = ch
+        return self.sig("cHide", self.action(body, env), self.name(str(cs), env, lifted=False))
 
     def a_parallel_act(self, ch, env):  # type: ignore[no-untyped-def]
         ns1, ns2, left, right = ch
