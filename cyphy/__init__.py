@@ -17,6 +17,7 @@ def __getattr__(name: str) -> str:
     otherwise."""
     if name != "__version__":
         raise AttributeError(f"module 'cyphy' has no attribute {name!r}")
+    # lazy: importlib.metadata costs milliseconds at every start; only __version__ reads it
     from importlib.metadata import PackageNotFoundError, version
 
     try:

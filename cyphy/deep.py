@@ -15,6 +15,8 @@ import functools
 import sys
 import threading
 from typing import Callable, ParamSpec, TypeVar
+from cyphy import interrupts
+from cyphy.diagnostics import Span
 
 T = TypeVar("T")
 P = ParamSpec("P")
@@ -61,7 +63,6 @@ def run_deep(fn: Callable[[], T], tick: Callable[[], None] | None = None) -> T:
     except KeyboardInterrupt:
         # Kill the external runs (Flow*) the thread waits on; it then unwinds, removing
         # its scratch folders, which is worth a short wait.
-        from cyphy import interrupts
 
         if interrupts.stop_all():  # (not thread.join: an interrupted join marks the
             done.wait(INTERRUPT_GRACE)  # thread stopped while it runs, bpo-45274)
@@ -92,8 +93,7 @@ def where_too_deep(err: RecursionError) -> str:
     outermost expression (else syntax node) that the frames of the failed walk were visiting (the top of the
     runaway nesting), or ``""`` when no frame holds one. Found after the fact from the
     traceback, so that no walk pays for tracking it."""
-    from cyphy.diagnostics import Span
-    from cyphy.expr import Expr
+    from cyphy.expr import Expr  # lazy: `cyphy --help` imports this module, not the expressions
 
     fallback = ""
     frame_tb = err.__traceback__

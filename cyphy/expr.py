@@ -7,16 +7,17 @@ new trees instead of mutating. Printers dispatch on the class name (``_print_Bin
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import field, fields, replace
 from typing import Any, Callable, Iterator
 
 from cyphy.diagnostics import Span
 from cyphy.pickling import FastPickle
+from cyphy.records import record
 
 _NO_SPAN = Span.unknown()
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Expr(FastPickle):
     """Base class of expressions; never instantiated itself."""
 
@@ -42,7 +43,7 @@ class Expr(FastPickle):
             stack.extend(reversed(list(node.children())))
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Num(Expr):
     """A numeric literal, kept as written (``0.05``, ``1e+16``) so integers stay integers."""
 
@@ -54,7 +55,7 @@ class Num(Expr):
         return self.text.isdigit()
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Quantity(Expr):
     """A value with a unit suffix: ``0.03m``, ``(0.085*cos(i))m``, ``1.0 metre``."""
 
@@ -63,19 +64,19 @@ class Quantity(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Str(Expr):
     value: str
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Bool(Expr):
     value: bool
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Name(Expr):
     """A possibly qualified name: ``PI``, ``Core::LHinge::LMotor`` (parts split at ``::``)."""
 
@@ -87,7 +88,7 @@ class Name(Expr):
         return "::".join(self.parts)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class BinOp(Expr):
     """A binary operation; ``op`` is the notation's operator (``+``, ``/\\``, ``==``, ``^``…)."""
 
@@ -97,7 +98,7 @@ class BinOp(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class UnaryOp(Expr):
     """``-e`` or ``not e``."""
 
@@ -106,7 +107,7 @@ class UnaryOp(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Call(Expr):
     """An application ``f(a, b)``; also curried calls ``submatrix(M)(0,0,3,3)``."""
 
@@ -115,7 +116,7 @@ class Call(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Index(Expr):
     """``x[i]``, ``x[i, j]``; an index whose single argument is ``t == e`` is an IBCondition."""
 
@@ -124,7 +125,7 @@ class Index(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Member(Expr):
     """Field or port access ``base.name`` (``LMotor.T``, ``su.shoulderAngle``)."""
 
@@ -133,7 +134,7 @@ class Member(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Derivative(Expr):
     """``derivative(e)``: the time derivative, classified from a call after parsing."""
 
@@ -141,7 +142,7 @@ class Derivative(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Integral(Expr):
     """``integral(e)`` (running integral from 0) or ``integral(e, lo, hi)``."""
 
@@ -151,7 +152,7 @@ class Integral(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Vector(Expr):
     """``(| a, b, c |)``: a vector or tuple; rows separated by ``;`` make it a matrix."""
 
@@ -159,7 +160,7 @@ class Vector(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Matrix(Expr):
     """``[| a, b; c, d |]``: a matrix (a single row is also used for vectors)."""
 
@@ -167,7 +168,7 @@ class Matrix(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Seq(Expr):
     """``< a, b >``: a sequence."""
 
@@ -175,7 +176,7 @@ class Seq(Expr):
     span: Span = field(default=_NO_SPAN, compare=False, repr=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Record(Expr):
     """``Geom (| geomType = "box", geomVal = [|…|] |)``: a record constructor."""
 
@@ -188,7 +189,7 @@ class Record(Expr):
             yield value
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PlatformRef(Expr):
     """RoboSim's ``$e`` (an event, operation or variable of the robotic platform, read or
     called by a state machine) and ``$e?x`` (the event's value bound to ``x`` when it
@@ -203,7 +204,7 @@ class PlatformRef(Expr):
         return "::".join(self.name)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class IfExpr(Expr):
     cond: Expr
     then: Expr

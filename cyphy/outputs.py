@@ -16,6 +16,7 @@ import shutil
 import tempfile
 from pathlib import Path
 from typing import Mapping
+from cyphy import progress
 
 #: The default output folder of each generator, beside the model, in RoboTool's names.
 DEFAULT_FOLDERS = {
@@ -87,7 +88,6 @@ def write_all(files: Mapping[str, str | bytes], out_dir: Path) -> list[Path]:
         staging = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-", dir=out_dir))
     except OSError as err:
         raise OutputError(f"cannot create {out_dir}: {err.strerror or err}") from None
-    from cyphy import progress
 
     progress.stage(f"writing {len(files)} file{'s' if len(files) != 1 else ''} into {out_dir}")
     try:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import os
 import sys
 import time
+from cyphy.diagnostics import RENDERING
 
 AFTER_S = 1.0
 
@@ -35,8 +36,6 @@ def start() -> None:
 
 
 def _enabled() -> bool:
-    from cyphy.diagnostics import RENDERING
-
     if RENDERING.quiet:
         return False
     forced = os.environ.get("CYPHY_PROGRESS")

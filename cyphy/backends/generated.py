@@ -12,6 +12,7 @@ about 1,200 non-zero entries among 62,500.
 
 from __future__ import annotations
 
+import math
 from typing import Any, Callable, Collection, Sequence
 
 import numpy as np
@@ -51,11 +52,9 @@ def compiled(args: Sequence[str], definitions: Sequence[tuple[str, Any]],
     returns those expressions. Generated as source, as ``lambdify`` does, with ``math`` for
     the functions (each cosine and sine of a joint angle computed once) and every name
     prefixed (``v_``), so that no model name can clash with Python's."""
-    import math
-
     # lazy: SymPy is not needed by `cyphy check`
     import sympy
-    from sympy.printing.pycode import PythonCodePrinter
+    from sympy.printing.pycode import PythonCodePrinter  # lazy: SymPy (see above)
 
     printer = PythonCodePrinter({"fully_qualified_modules": True})
 

@@ -44,6 +44,7 @@ class CompiledTree:
 
     def forward_dynamics(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """``q̈ = M(q)⁻¹(τ − h(q, q̇))`` (Pinocchio's ABA), coordinates in tree order."""
+        # lazy: Pinocchio is optional and slow to import (C++ bindings); only the tree path uses it
         import pinocchio
 
         return pinocchio.aba(self.model, self.data, q, qd, tau)
@@ -51,7 +52,7 @@ class CompiledTree:
     def jacobian(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """``∂(q̇, q̈)/∂(q, q̇)``, the state Jacobian a stiff method needs, from Pinocchio's
         analytic ABA derivatives (no finite differences)."""
-        import pinocchio
+        import pinocchio  # lazy: Pinocchio is optional and slow to import (see forward_dynamics)
 
         n = self.model.nv
         pinocchio.computeABADerivatives(self.model, self.data, q, qd, tau)
@@ -65,7 +66,7 @@ class CompiledTree:
 def available() -> bool:
     """Whether Pinocchio (the ``pin`` package) can be imported."""
     try:
-        import pinocchio  # noqa: F401
+        import pinocchio  # lazy: probes whether the optional Pinocchio is installed
     except ImportError:
         return False
     return True
@@ -76,7 +77,7 @@ def pinocchio_model(tree: KinematicTree) -> CompiledTree | None:
     is absent or the tree is empty."""
     if not tree.joints or not available():
         return None
-    import pinocchio
+    import pinocchio  # lazy: Pinocchio is optional and slow to import (see forward_dynamics)
 
     model = pinocchio.Model()
     model.gravity = pinocchio.Motion(np.asarray(tree.gravity, dtype=float), np.zeros(3))
@@ -110,7 +111,7 @@ def _offset(joint: TreeJoint) -> np.ndarray:
 
 
 def _joint_model(joint: TreeJoint) -> Any:
-    import pinocchio
+    import pinocchio  # lazy: Pinocchio is optional and slow to import (see forward_dynamics)
 
     axis = np.asarray(joint.axis, dtype=float)
     if joint.kind == "revolute":
@@ -124,7 +125,7 @@ def _joint_model(joint: TreeJoint) -> Any:
 
 
 def _se3(matrix: np.ndarray) -> Any:
-    import pinocchio
+    import pinocchio  # lazy: Pinocchio is optional and slow to import (see forward_dynamics)
 
     return pinocchio.SE3(np.asarray(matrix[:3, :3], float), np.asarray(matrix[:3, 3], float))
 
@@ -133,7 +134,7 @@ def _inertia(joint: TreeJoint) -> Any:
     """The body's inertia for Pinocchio (mass, centre of mass, rotational inertia about the
     centre of mass), read back from the tree's 6x6 spatial inertia about the body frame's
     origin ``[[I_c − m[c]², m[c]], [−m[c], m·E]]`` (angular part first)."""
-    import pinocchio
+    import pinocchio  # lazy: Pinocchio is optional and slow to import (see forward_dynamics)
 
     g = np.asarray(joint.inertia, dtype=float)
     mass = float(g[3, 3])

@@ -19,6 +19,8 @@ of that instant and what it does sets inputs until the next cycle.
 
 from __future__ import annotations
 
+import io
+import json
 import math
 import sys
 import time
@@ -29,7 +31,12 @@ import numpy as np
 
 from cyphy import codes
 from cyphy.backends.generated import definition_names
+from cyphy.backends.pinocchio_tree import pinocchio_model
 from cyphy.backends.stiffness import choose, finite_difference
+from cyphy.backends.whole_model import annotated_efforts, system_dynamics
+from cyphy.semantics.dynamics.rigid_body import forward_dynamics
+from cyphy.semantics.dynamics.spatial import euler_singularity
+from cyphy.semantics.dynamics.tree import EULER, coordinate_names
 
 SIMULATE = codes.code("E-SIMULATE", codes.E, "the model cannot be simulated as asked")
 
@@ -103,9 +110,12 @@ class OptionError(SimulationError):
 def input_expression(text: str) -> Any:
     """An input's value, ``10*sin(t)``, as a SymPy expression of ``t`` (read by cyphy's own
     parser, so it accepts what RoboSim expressions accept, and nothing is evaluated)."""
+    # lazy: SymPy takes about half a second to import; only an input given as an expression needs it
     import sympy
 
+    # lazy: imports SymPy (see above)
     from cyphy.translate.to_sympy import SympyPrinter, UnsupportedNode
+    # lazy: Lark and the grammar only when an input expression is parsed
     from cyphy.lang.parser import parse_text
 
     result = parse_text(f"const input_value: real = {text}", "<--input>")
@@ -183,7 +193,6 @@ def check_names(options: SimulationOptions, states: Sequence[str], inputs: Seque
     """Refuse ``--init`` and ``--input`` names that are not the model's states and inputs
     (an unknown one would be ignored and the run silently start from zero), each with the
     likely intent: a state given as an input, a misspelling. ``der_X`` inputs take ``X``."""
-    from cyphy.diagnostics import did_you_mean
 
     valid = set(inputs) | {n[4:] for n in inputs if n.startswith("der_")}
     for name in sorted(set(options.init) - set(states)):
@@ -235,7 +244,7 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
     values that hold until the next cycle (they override ``options.inputs``); the output
     events named in ``observable`` have no effect and are recorded in the trajectory's
     ``events``."""
-    import sympy
+    import sympy  # lazy: SymPy only for the reduced equations, not for the kinematic-tree path
 
     states = list(reduced.states)
     inputs = list(reduced.inputs)
@@ -258,8 +267,6 @@ def simulate_reduced(reduced: Any, options: SimulationOptions,
               for e in out_exprs]
     outputs = [o for o, ok in zip(outputs, out_ok) if ok]
     out_exprs = [e for e, ok in zip(out_exprs, out_ok) if ok]
-    # lazy: SymPy and Pinocchio: only a simulation compiles
-    from cyphy.backends.whole_model import system_dynamics
 
     dynamics = system_dynamics(states, inputs, rhs_expr, out_exprs, definitions, tree)
     rhs, out_fn = dynamics.rhs, dynamics.outputs
@@ -373,7 +380,6 @@ def _finite_trajectory(trajectory: Trajectory) -> Trajectory:
 def euler_pitches(tree: Any) -> dict[str, str]:
     """The coordinates that are pitches of ZYX Euler angles (a ball joint's second, a
     floating base's ``pitch``), with what they turn, for ``simulate``'s guard."""
-    from cyphy.semantics.dynamics.tree import EULER, coordinate_names
 
     return {coordinate_names(j, "theta")[-2]:
             f"{'floating base' if j.kind == 'floating' else 'ball joint'} {j.name}"
@@ -387,8 +393,6 @@ PITCH_GUARD = 1e-9
 
 
 def _pitch_guard(what: str, pitch: float, t: float) -> None:
-    import math
-
     if abs(math.cos(pitch)) < PITCH_GUARD:
         raise SimulationError(
             f"the {what} reached pitch {pitch:.12g} rad at t = {t:g} s, where its ZYX Euler "
@@ -402,6 +406,7 @@ def _integrate(f: Callable[[float, np.ndarray], np.ndarray], x0: np.ndarray,
                offset: tuple[float, float] | None = None, method: str = "LSODA",
                jac: Callable[[float, np.ndarray], np.ndarray] | None = None
                ) -> tuple[np.ndarray, np.ndarray]:
+    # lazy: SciPy takes a quarter second to import; only integration needs it
     from scipy.integrate import solve_ivp
 
     if len(x0) == 0:
@@ -438,11 +443,6 @@ def simulate_tree(tree: Any, options: SimulationOptions) -> Trajectory:
     against Pinocchio, MuJoCo and the symbolic path; a stiff method gets Pinocchio's analytic
     Jacobian when the tree has only revolute and prismatic joints (else the method's finite
     differences)."""
-    from cyphy.backends.pinocchio_tree import pinocchio_model
-    from cyphy.backends.whole_model import annotated_efforts
-    from cyphy.semantics.dynamics.rigid_body import forward_dynamics
-    from cyphy.semantics.dynamics.spatial import euler_singularity
-    from cyphy.semantics.dynamics.tree import EULER
 
     n = tree.dof
     thetas, speeds = list(tree.coordinates("theta")), list(tree.coordinates("v"))
@@ -515,8 +515,6 @@ def to_csv(trajectory: Trajectory) -> str:
 
 
 def to_json(trajectory: Trajectory) -> str:
-    import json
-
     return json.dumps({"t": [float(v) for v in trajectory.times],
                        "columns": {n: [float(v) for v in trajectory.column(n)]
                                    for n in trajectory.names},

@@ -28,6 +28,11 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from cyphy.backends.generated import compiled, lambdified, needed, sparse_jacobian, uses
+from cyphy.backends.pinocchio_tree import pinocchio_model
+from cyphy.semantics.dynamics.joint_forces import axis_forces, passive_efforts, stop
+from cyphy.semantics.dynamics.rigid_body import mass_matrix
+from cyphy.semantics.dynamics.spatial import euler_singularity
+from cyphy.semantics.dynamics.tree import EULER
 
 
 @dataclass(frozen=True)
@@ -75,12 +80,8 @@ def _with_pinocchio(states: Sequence[str], inputs: Sequence[str], rhs_expr: Sequ
                     tree: Any) -> SystemDynamics | None:
     """The dynamics with the tree's accelerations from Pinocchio, or None when Pinocchio is
     absent or the model does not have the shape this needs."""
-    # lazy: NumPy, SymPy, Pinocchio are not needed by `cyphy check`
+    # lazy: SymPy is not needed by `cyphy check`
     import sympy
-
-    from cyphy.backends.pinocchio_tree import pinocchio_model
-    from cyphy.semantics.dynamics.spatial import euler_singularity
-    from cyphy.semantics.dynamics.tree import EULER
 
     args = [*states, *inputs, "t"]
     known = set(args)
@@ -154,7 +155,7 @@ def _jacobian(args: Sequence[str], states: Sequence[str], qdd: Sequence[str],
     """``∂f/∂x`` by the chain rule of the module's docstring."""
     # lazy: SymPy and Pinocchio are not needed by `cyphy check`
     import pinocchio
-    import sympy
+    import sympy  # lazy: SymPy (see above)
 
     written: dict[Any, Any] = {}  # the efforts written out in the arguments (SymPy only)
     for name, value in effort_defs:
@@ -186,9 +187,6 @@ def annotated_efforts(tree: Any) -> Callable[[np.ndarray, np.ndarray], np.ndarra
     """The efforts of the joints' annotated damping, springs and limit stops as a function
     of the coordinates and rates (:mod:`cyphy.semantics.dynamics.joint_forces`, as the
     symbolic path has them), or None when no joint has any."""
-    # lazy: the semantics' modules pull in the model
-    from cyphy.semantics.dynamics.joint_forces import axis_forces, passive_efforts, stop
-    from cyphy.semantics.dynamics.rigid_body import mass_matrix
 
     forces = [(k, f) for joint, start in zip(tree.joints, tree.offsets)
               for k, f in enumerate(axis_forces(joint.kind, joint.element), start=start)

@@ -41,8 +41,9 @@ from pathlib import Path
 from cyphy.lang.ast import ParseResult
 
 _PACKAGE = Path(__file__).resolve().parent.parent
-_SOURCES = ("lang/robosim.lark", "lang/parser.py", "lang/ast.py", "expr.py", "diagnostics.py",
-            "codes.py", "pickling.py", "lang/parse_cache.py")
+_SOURCES = ("lang/robosim.lark", "lang/parser.py", "lang/syntax_errors.py", "lang/builder/*.py",
+            "lang/ast/*.py", "expr.py", "diagnostics.py", "codes.py", "pickling.py", "records.py",
+            "lang/parse_cache.py")
 _STALE_AFTER_S = 7 * 24 * 3600
 #: The file that marks a folder as cyphy's (the Cache Directory Tagging format, which backup
 #: tools also honour); only folders holding it are ever cleaned.
@@ -58,8 +59,9 @@ _sizes: dict[Path, int] = {}  # bytes in each folder written to by this process
 def fingerprint() -> str:
     """A hash of the sources that decide what a parse returns (and of the pickle protocol)."""
     h = hashlib.sha256(str(pickle.HIGHEST_PROTOCOL).encode())
-    for name in _SOURCES:
-        h.update((_PACKAGE / name).read_bytes())
+    for pattern in _SOURCES:  # a folder's modules in name order
+        for source in sorted(_PACKAGE.glob(pattern)):
+            h.update(source.read_bytes())
     return h.hexdigest()[:20]
 
 
@@ -137,7 +139,8 @@ def _trusted(stat: os.stat_result) -> bool:
 
 
 def _parse(text: str, path: str) -> ParseResult:
-    from cyphy.lang.parser import parse_text  # Lark is imported only when something is parsed
+    # lazy: the parser imports Lark (and builds the grammar): only a cache miss parses
+    from cyphy.lang.parser import parse_text
 
     return parse_text(text, path)
 

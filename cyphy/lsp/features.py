@@ -18,6 +18,8 @@ from cyphy.diagnostics import Diagnostic, Span
 from cyphy.lang import ast
 from cyphy.lang.workspace import LIBRARY_ROOT
 from cyphy.lsp.index import Index, build_index, offset
+from cyphy.model.elaborate import elaborate_pmodel
+from cyphy.model.evaluate import EvalError, evaluate
 from cyphy.pipeline.check import CheckOptions, CheckResult, check
 
 
@@ -130,7 +132,6 @@ def _constant_value(analysis: Analysis, decl: ast.VarDecl) -> str:
     resolved), in SI units; or why it has none."""
     # lazy: the evaluator pulls in NumPy, which a server that only reports diagnostics
     # need not load
-    from cyphy.model.evaluate import EvalError, evaluate
 
     if decl.value is None:
         return "no value: each p-model or part that uses it must give one"
@@ -176,7 +177,6 @@ def _pose_of(analysis: Analysis, block: ast.Block) -> str:
 def _elaborated_poses(analysis: Analysis) -> dict[int, str]:
     # lazy: elaboration pulls in NumPy and the model
     from cyphy.diagnostics import Report
-    from cyphy.model.elaborate import elaborate_pmodel
 
     result = analysis.result
     if result.resolution is None:

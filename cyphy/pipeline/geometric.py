@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Sequence
 
 from cyphy.pipeline.check import CheckOptions, CheckResult, check
 from cyphy.pipeline.generated import Generated
+from cyphy.semantics.sdf.rules import unvalued
 
 if TYPE_CHECKING:  # the model needs NumPy and SciPy: `cyphy check` must not import them
     from cyphy.model.elements import ElaboratedModel
@@ -21,7 +22,6 @@ def geometric_model(paths: Sequence[str | Path], name: str | None,
     needs has no value (constants only the equations use may stay without one)."""
     # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.model.elaborate import choose_pmodel, elaborate_pmodel, require_constants
-    from cyphy.semantics.sdf.rules import unvalued
 
     checked = check(paths, CheckOptions(search_paths=search_paths, consts=dict(consts),
                                         find_in_folder="pmodel"))

@@ -13,9 +13,10 @@ from typing import TYPE_CHECKING, Any, Callable, Union
 from cyphy import expr as ex
 from cyphy.diagnostics import Code, Report, Severity, Span
 from cyphy.lang import ast
-from cyphy.limits import max_copies
 from cyphy.lang.scopes import is_constant, is_value
 from cyphy.lang.typing import Kind, TypeChecker, Ty, same_shape, type_of_declared
+from cyphy.limits import max_copies
+from cyphy.model.evaluate import EvalError, UnboundName, coerce, describe, evaluate
 from cyphy.wellformed.registry import BlockSite, WFContext, rule
 
 if TYPE_CHECKING:
@@ -154,8 +155,6 @@ def type_problem(value: ex.Expr, declared: ast.TypeRef | None, lookup: Lookup) -
 
 
 def _describe_value(value: object) -> str:
-    from cyphy.model.evaluate import describe  # NumPy only when a value was computed
-
     return describe(value)
 
 
@@ -201,8 +200,6 @@ class ConstantEnv(Mapping[str, Any]):
         return value
 
     def _compute(self, decl: ast.VarDecl, env: ConstantEnv) -> object:
-        from cyphy.model.evaluate import EvalError, coerce, evaluate
-
         if decl.value is None:
             value: object = self._given(decl.name)
             if value is None:
@@ -244,7 +241,6 @@ def evaluate_in(ctx: WFContext, file: ast.SourceFile, names: Names, value: ex.Ex
                 ) -> tuple[Value | None, str | None]:
     """``(value, None)``, or ``(None, why)`` when ``value`` has no value that can be computed
     here: ``why`` is None when a constant lacks a value (nothing to report), else the error."""
-    from cyphy.model.evaluate import EvalError, UnboundName, evaluate
 
     try:
         return evaluate(value, ConstantEnv(ctx, file, names)), None

@@ -342,9 +342,9 @@ def check_STM7_junction_conditions(ctx: WFContext) -> None:
 
 
 def _junction(ctx: WFContext, m: Machine, j: Any, out: list[Any]) -> None:
-    import z3
+    import z3  # lazy: Z3 takes about 0.1 s to import; only a junction's or a guard's check needs it
 
-    from cyphy.translate.to_z3 import UnsupportedNode
+    from cyphy.translate.to_z3 import UnsupportedNode  # lazy: imports Z3 (see above)
 
     try:
         guards, assumptions = _guard_terms(ctx, m, [t.decl for t in out])
@@ -380,9 +380,9 @@ def _guard_terms(ctx: WFContext, m: Machine, transitions: list[ast.Transition]
     unknowns (clocks are non-negative, natural numbers too, divisors are not zero).
     Constants with a literal value are that value; everything else is an unknown of its
     declared type: events and booleans are Booleans, ``int``/``nat`` integers."""
-    import z3
+    import z3  # lazy: Z3 (see _junction)
 
-    from cyphy.translate.to_z3 import Z3Printer, rational
+    from cyphy.translate.to_z3 import Z3Printer, rational  # lazy: imports Z3 (see _junction)
 
     symbols: dict[str, Any] = {}
     assumptions: list[Any] = []

@@ -12,9 +12,14 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from cyphy import progress
 from cyphy.diagnostics import Code, Report, Severity
 from cyphy.lang import ast
+from cyphy.model.elaborate import EVAL, INDEX, elaborate_pmodel, top_level_pmodels
+from cyphy.model.inertia import is_physical
+from cyphy.model.mesh_paths import outside_model_folder
 from cyphy.wellformed.registry import WFContext, rule
 
 GEOMETRY_TOL = 1e-9
@@ -29,7 +34,6 @@ def _models(ctx: WFContext) -> list[Any]:
     chosen, constants without values) concern generation only. Evaluation errors are reported
     when the model has no other errors, as ``gen`` reports them."""
     if "elaborated" not in ctx.cache:
-        from cyphy.model.elaborate import EVAL, INDEX, elaborate_pmodel, top_level_pmodels
 
         models = []
         for pm, f in top_level_pmodels(ctx.workspace):
@@ -59,7 +63,6 @@ def check_V1_physical_inertia(ctx: WFContext) -> None:
     """Every mass given (link or body) is positive, and every inertia matrix given is
     symmetric positive definite with ixx + iyy >= izz and its permutations: simulators
     invert the tensor and reject or explode on anything else."""
-    from cyphy.model.inertia import is_physical
 
     for m in _models(ctx):
         for element, inertial, what in _given_inertials(m):
@@ -97,7 +100,6 @@ def check_V2_geometry(ctx: WFContext) -> None:
     relative to the model's folder; a mesh outside that folder (an absolute path, ``..``, a
     URL) is a warning, and whether it exists is not looked at, so that no diagnostic tells
     which files exist elsewhere on this machine."""
-    from cyphy.model.mesh_paths import outside_model_folder
 
     for m in _models(ctx):
         for body in m.bodies:
@@ -224,7 +226,6 @@ def _annotation_xyz(annotation: Any) -> Any:
 def _vector(v: Any) -> tuple[float, float, float] | None:
     """``v`` as three floats, or None when it is not a 3-vector. Plain floats, not an array:
     the check does a few operations per joint, where NumPy's per-call cost dominates."""
-    import numpy as np
 
     if v is None or isinstance(v, (bool, str, tuple)):
         return None

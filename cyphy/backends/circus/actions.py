@@ -9,6 +9,7 @@ is here, one method per action node, with the expressions printed by the target'
 
 from __future__ import annotations
 
+import textwrap
 from typing import Callable
 
 from cyphy import expr as ex
@@ -151,7 +152,6 @@ def deviation_comments(marker: str, width: int = 92) -> list[str]:
     """Where the program departs from the paper (:data:`~cyphy.semantics.circus.rules.
     DEVIATIONS`), as comment lines that start with ``marker``, for the top of a printed
     program."""
-    import textwrap
 
     return [marker + line for d in DEVIATIONS
             for line in textwrap.wrap("Deviation from the paper: " + d, width - len(marker))]

@@ -24,9 +24,10 @@ INCONSISTENT_AXIOMS = codes.code("E-ISABELLE-AXIOMS", codes.E,
 def unsatisfiable_axioms(axdef: c.AxDef, timeout_ms: int = 5000) -> str | None:
     """None when Z3 finds values for the constants that satisfy every axiom of ``axdef``;
     otherwise why the axioms cannot be written (unsatisfiable, or not shown satisfiable)."""
+    # lazy: Z3 takes about 0.1 s to import; only the axioms' satisfiability check needs it
     import z3
 
-    from cyphy.translate.to_z3 import UnsupportedNode, to_z3
+    from cyphy.translate.to_z3 import UnsupportedNode, to_z3  # lazy: imports Z3 (see above)
 
     kinds = {b.name: b.type for b in axdef.constants}
     made: dict[str, Any] = {}

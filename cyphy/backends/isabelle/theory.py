@@ -15,17 +15,17 @@ import re
 
 from dataclasses import dataclass, replace
 from functools import lru_cache
+from importlib.resources import files
 from typing import Any
 
 from cyphy import codes
+from cyphy.backends.isabelle.names import RESERVED, IsabelleNames, is_identifier
 from cyphy.backends.isabelle.terms import (HOL_FUNCTIONS, IsabellePrinter, Symbols, UnsupportedNode,
                                      bound_identifier)
-from cyphy.backends.isabelle.names import RESERVED, IsabelleNames, is_identifier
-from cyphy.semantics.circus.names import identifier
 from cyphy.semantics.circus import ast as c
-from cyphy.semantics.circus.names import NameTable
-from cyphy.semantics.circus.walk import action_nodes
+from cyphy.semantics.circus.names import NameTable, identifier
 from cyphy.semantics.circus.rules import DEVIATIONS, REGISTER_CHANNELS, functions
+from cyphy.semantics.circus.walk import action_nodes
 from cyphy.semantics.scalarise import ScalariseError, scalar_process
 
 UNTRANSLATABLE = codes.code("E-ISABELLE", codes.E,
@@ -71,6 +71,7 @@ class IsabelleError(Exception):
 
 @lru_cache(maxsize=1)
 def _environment() -> Any:
+    # lazy: Jinja is needed only when a theory is rendered, not to import the printer
     from jinja2 import Environment, PackageLoader, StrictUndefined
 
     return Environment(loader=PackageLoader("cyphy.backends.isabelle", "templates"),
@@ -81,7 +82,6 @@ def _environment() -> Any:
 @lru_cache(maxsize=1)
 def _prelude() -> str:
     """The prelude theory: fixed text, shipped as is (no template)."""
-    from importlib.resources import files
 
     return (files("cyphy.backends.isabelle") / "templates" / f"{PRELUDE}.thy").read_text("utf-8")
 

@@ -27,6 +27,8 @@ from cyphy.model.elements import (
     AnnotationValue, Body, Device, ElaboratedModel, Joint, Link, Sensor,
 )
 from cyphy.model.poses import Pose, clean
+from cyphy.semantics.dynamics import rigid_body as dynamics
+from cyphy.semantics.dynamics.link_equations import link_equations
 
 
 def _number(v: float) -> float | int:
@@ -130,9 +132,6 @@ def _motion(m: ElaboratedModel) -> list[dict[str, Any]] | dict[str, str]:
     wrench ``F`` the joint transmits, the joint effort), printed in the notation. ``cyphy
     solve`` solves them for the accelerations by the articulated-body algorithm, whose twist
     and acceleration definitions are the components of ``V`` and ``dV``."""
-    from cyphy.lang.notation import to_notation
-    from cyphy.semantics.dynamics import rigid_body as dynamics
-    from cyphy.semantics.dynamics.link_equations import link_equations
 
     try:
         tree = dynamics.kinematic_tree(m)

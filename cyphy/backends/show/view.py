@@ -54,10 +54,11 @@ def render(robot: Robot, positions: dict[str, float], highlighted: set[str],
            options: ViewOptions = ViewOptions()) -> Picture:
     """Draw ``robot`` with the joints at ``positions``; ``highlighted`` holds the qualified
     names of the links and bodies to draw in red."""
+    # lazy: matplotlib takes about 0.3 s to import; only a rendered view needs it
     from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    from mpl_toolkits.mplot3d import proj3d
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    from matplotlib.figure import Figure  # lazy: matplotlib (see above)
+    from mpl_toolkits.mplot3d import proj3d  # lazy: matplotlib (see above)
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # lazy: matplotlib (see above)
 
     motion = moved(robot, positions)
     links = robot.links()

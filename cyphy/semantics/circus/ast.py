@@ -13,22 +13,23 @@ top (Isabelle reserved words, ``\\_`` in LaTeX).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import field, fields
 from typing import Iterator, Union
 
 from cyphy import expr as ex
+from cyphy.records import record
 
 # --------------------------------------------------------------------------- types
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class TBasic:
     """A basic type: ``real``, ``nat``, ``int``, ``bool`` or a given set such as ``RSName``."""
 
     name: str
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class TSeq:
     """``seq T``: vectors and matrices (a matrix is a sequence of rows). ``size``: the
     number of items where the declaration fixes it (``vector(real, 6)``), so that printers
@@ -39,7 +40,7 @@ class TSeq:
     size: int | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class TProduct:
     """``T1 × T2 × …``: the values an operation call carries."""
 
@@ -52,7 +53,7 @@ REAL, NAT, INT, BOOL = TBasic("real"), TBasic("nat"), TBasic("int"), TBasic("boo
 # --------------------------------------------------------------------------- predicates
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Binding:
     """A typed name: a schema field, a quantified or a bound variable, a parameter."""
 
@@ -60,7 +61,7 @@ class Binding:
     type: Type
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Exists:
     """``∃ x1 : T1; … • P1 ∧ … ∧ Pn``; with no bound names, just the conjunction."""
 
@@ -73,31 +74,31 @@ Predicate = Union[ex.Expr, Exists]
 # --------------------------------------------------------------------------- actions
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Skip:
     pass
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Stop:
     pass
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Dot:
     """``c.e``: a value that selects the channel's component (the mapped name)."""
 
     value: ex.Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Out:
     """``c!e``."""
 
     value: ex.Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class In:
     """``c?x``: binds ``x`` in the rest of the prefix."""
 
@@ -107,7 +108,7 @@ class In:
 Field = Union[Dot, Out, In]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Comm:
     """A communication ``channel.tag!v?x``: ``tag`` is the mapped name that selects one
     variant of a register channel (``registerRead.obstacle``), None for plain channels."""
@@ -117,25 +118,25 @@ class Comm:
     fields: tuple[Field, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Prefix:
     comm: Comm
     then: "Action"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Seq:
     """``A1 ; A2 ; …`` (two or more)."""
 
     items: tuple["Action", ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ExtChoice:
     items: tuple["Action", ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class IndexedExtChoice:
     """``□ v : {v : T | P} • A``: one branch per value of ``v`` satisfying ``where``."""
 
@@ -144,14 +145,14 @@ class IndexedExtChoice:
     body: "Action"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Interleave:
     """``A1 ||| A2 ||| …`` (two or more), with empty name sets as in the paper."""
 
     items: tuple["Action", ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Parallel:
     """``A ⟦ ns1 | cs | ns2 ⟧ B``."""
 
@@ -162,13 +163,13 @@ class Parallel:
     right: "Action"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Hide:
     action: "Action"
     channels: tuple[str, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Cond:
     """``if c then A else B`` (the paper's Rule 4 form)."""
 
@@ -177,13 +178,13 @@ class Cond:
     orelse: "Action"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Guard:
     cond: Predicate
     action: "Action"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Mu:
     """``μ X • A``, where ``A`` mentions ``X`` as ``Call(X)``."""
 
@@ -191,7 +192,7 @@ class Mu:
     body: "Action"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Call:
     """A use of a named action (or of the recursion variable), with arguments."""
 
@@ -199,7 +200,7 @@ class Call:
     args: tuple[ex.Expr, ...] = ()
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Interrupt:
     """``A △ B``."""
 
@@ -207,7 +208,7 @@ class Interrupt:
     right: "Action"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class InterruptCond:
     """``A △ (c)``: ``A`` runs until the condition ``c`` holds."""
 
@@ -215,14 +216,14 @@ class InterruptCond:
     cond: Predicate
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Wait:
     """``Wait(n)``: ``n`` tock events, then termination."""
 
     count: ex.Expr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Assign:
     """``x1, …, xn := e1, …, en``."""
 
@@ -230,7 +231,7 @@ class Assign:
     values: tuple[ex.Expr, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Spec:
     """``w : [pre, post]``: ``post`` relates the before-state to the after-state of the
     frame ``w``; a frame name in ``post`` means its after-state value (printed primed)."""
@@ -240,7 +241,7 @@ class Spec:
     post: Predicate
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Evolution:
     """``[Λ S | ∃ L • P]``: the state schema ``S`` evolves over time as the equations ``P``
     say, with the fields of the local schema ``L`` existentially quantified (None: no
@@ -251,7 +252,7 @@ class Evolution:
     equations: tuple[ex.Expr, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class VarBlock:
     """``var x : T • A``."""
 
@@ -266,7 +267,7 @@ Action = Union[Skip, Stop, Prefix, Seq, ExtChoice, IndexedExtChoice, Interleave,
 # --------------------------------------------------------------------------- declarations
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Constant:
     """A constant with its value (an expression) or open (None): a parameter of the model.
     ``origin`` is the qualified RoboSim name it comes from."""
@@ -277,7 +278,7 @@ class Constant:
     origin: str = field(default="", compare=False)  # not printed: the names table has it
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class AxDef:
     """Global constants constrained by predicates (Rule 1: ``cycle``, ``tscale``)."""
 
@@ -285,7 +286,7 @@ class AxDef:
     where: tuple[ex.Expr, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ChannelVariant:
     """One variant of a channel: its tag (the mapped name, or None) and payload types."""
 
@@ -293,26 +294,26 @@ class ChannelVariant:
     types: tuple[Type, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ChannelDecl:
     name: str
     variants: tuple[ChannelVariant, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SchemaField:
     name: str
     type: Type
     visible: bool = False
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Schema:
     name: str
     fields: tuple[SchemaField, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ActionDef:
     """A named action, possibly parametrised (``MoveCall(lv, av)``)."""
 
@@ -321,7 +322,7 @@ class ActionDef:
     body: Action
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class BasicProcess:
     """``process P ≙ begin … end``: constants, the state and local schemas, the named
     actions in define-before-use order and the main action."""
@@ -339,26 +340,26 @@ class BasicProcess:
     ranges: tuple[tuple[str, ex.Expr, ex.Expr], ...] = field(default=(), compare=False)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class OpaqueProcess:
     """A process declared by name only (the d-model, whose semantics is out of scope)."""
 
     name: str
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PRef:
     name: str
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PParallel:
     left: "ProcessExpr"
     channels: tuple[str, ...]
     right: "ProcessExpr"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PHide:
     process: "ProcessExpr"
     channels: tuple[str, ...]
@@ -367,13 +368,13 @@ class PHide:
 ProcessExpr = Union[PRef, PParallel, PHide]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ProcessDef:
     name: str
     body: ProcessExpr
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class FunctionDecl:
     """An uninterpreted function the equations apply (``ScrewAxis``), with its arity."""
 
@@ -381,7 +382,7 @@ class FunctionDecl:
     arity: int
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Program:
     """Rule 1: the global constants, the channels and the three processes; ``functions``
     lists the uninterpreted functions so that printers can declare them."""

@@ -10,14 +10,22 @@ from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
-from cyphy.lang.scopes import is_pmodel
+from cyphy.lang.scopes import Scopes, is_pmodel
 from cyphy.lang.workspace import Workspace
+from cyphy.model.default_inertial import apply_default_inertial
 from cyphy.model.elaborate import elaborate_pmodel
 from cyphy.model.elements import ElaboratedModel
+from cyphy.model.machines import select_machine
 from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.dmodel import dmodel_process
 from cyphy.semantics.circus.names import NameTable
 from cyphy.semantics.circus.rules import Context, DModel, SemanticsError, Service, rule1_program
 from cyphy.semantics.circus.values import type_of
+from cyphy.semantics.circus.walk import action_nodes
+from cyphy.semantics.dynamics.equations import fixed_root_twists, motion, port_index
+from cyphy.semantics.dynamics.errors import DynamicsError
+from cyphy.semantics.machines.automaton import compile_machine
+from cyphy.semantics.machines.cycle import MACHINE, MachineError, interpreter_for
 from cyphy.wellformed.mappings import Platform, platform_of
 from cyphy.wellformed.registry import WFContext
 
@@ -36,8 +44,6 @@ UNASSIGNED_INIT = codes.code("W-SCENARIO-INIT", codes.W,
 
 def started_by_init(actions: "tuple[c.ActionDef, ...] | list[c.ActionDef]") -> set[str]:
     """The variables ``Init`` assigns or starts in a specification's box."""
-    from cyphy.semantics.circus.walk import action_nodes
-
     out: set[str] = set()
     for d in actions:
         if d.name == "Init":
@@ -87,14 +93,12 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
         return None
     model = elaborate_pmodel(ws, resolution, report, pm, pm_file, options.consts or {})
     if model is not None and options.default_inertial is not None:
-        from cyphy.model.default_inertial import apply_default_inertial
 
         apply_default_inertial(model, report, options.default_inertial)
     if report.has_errors:
         return None
     platform = platform_of(wf, mapping)
     dmodel = _dmodel(mapping, platform)
-    from cyphy.semantics.dynamics.equations import port_index
 
     ctx = Context(model, mapping, dmodel, NameTable(),
                   options.system_name or mapping.name, options.tscale,
@@ -120,11 +124,6 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
     it; None, the d-model left opaque, when the files have no machine (said in every
     output) or, with a warning at the machine, when it cannot be written yet; None with an
     error when the machine asked for by ``name`` is not among the files."""
-    from cyphy.lang.scopes import Scopes
-    from cyphy.model.machines import select_machine
-    from cyphy.semantics.circus.dmodel import dmodel_process
-    from cyphy.semantics.machines.automaton import compile_machine
-    from cyphy.semantics.machines.cycle import MACHINE, MachineError, interpreter_for
 
     files = list(ws.user_files())
     machine, (message, hint) = select_machine(files, resolution, mapping.pmodel[-1], name)
@@ -165,8 +164,6 @@ def _motion(model: ElaboratedModel, report: Report) -> tuple[ex.Expr, ...]:
     root link (:func:`~cyphy.semantics.dynamics.equations.fixed_root_twists`). A tree that has none (a link without mass, a loop, more
     joints than the symbolic limit) leaves them out with a warning: the rest of the semantics
     does not depend on them."""
-    from cyphy.semantics.dynamics.errors import DynamicsError
-    from cyphy.semantics.dynamics.equations import fixed_root_twists, motion
 
     twists = tuple(e.expr for e in fixed_root_twists(model))  # the root is fixed: pV = pA = 0
     try:

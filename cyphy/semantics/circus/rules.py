@@ -21,6 +21,7 @@ from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, capitalised
 from cyphy.semantics.circus.values import (constant_type, literal, si_units, type_of,
                                           value_expr, within)
+from cyphy.semantics.dynamics.equations import mapping_renamer
 
 TIME = "t"  # the time variable of equations; CyPhyCircus's own, not declared
 TIMER = "timer"
@@ -483,7 +484,6 @@ def translate(ctx: Context, owner: ast.OperationMapping | ast.EventMapping
     """A mapping expression in CyPhyCircus names: element paths become the ports they
     name (``Core::LHinge::LMotor.das`` → ``LMotor_das``), locals and constants of the
     element get their mangled names, quantities their SI values; parameters stay."""
-    from cyphy.semantics.dynamics.equations import mapping_renamer
 
     names = {d.name: f"{ctx.mapping.name}::{d.name}" for d in ctx.mapping.declarations}
     names.update({d.name: f"{ctx.mapping.name}::{owner.name}::{d.name}"

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from typing import Any, Sequence
 
+import numpy as np
+
 from cyphy import expr as ex
 from cyphy.lang import ast
 from cyphy.model.evaluate import UNIT_FACTORS
@@ -82,7 +84,6 @@ def _number(value: float) -> ex.Expr:
         raise ValueError(f"{value} has no literal")
     if value == 0:
         value = 0.0  # no -0.0
-    import numpy as np
 
     # Positional, shortest round-trip digits: no exponent (Flow* and CZT reject `1e-5`).
     text = np.format_float_positional(abs(value), unique=True, trim="0")

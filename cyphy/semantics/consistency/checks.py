@@ -10,19 +10,23 @@ function) is reported as ``C-UNKNOWN``: never as a pass.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from itertools import combinations
 from typing import Any, Iterable, Mapping
 
 import z3
 
 from cyphy import codes
-from cyphy.translate.to_z3 import value_text
 from cyphy.diagnostics import Report, Span
 from cyphy.lang import ast
-from cyphy.lang.resolve import Resolution
-from cyphy.lang.workspace import Workspace
+from cyphy.lang.ast import Controller, StateMachine
+from cyphy.lang.resolve import Resolution, check_scopes
+from cyphy.lang.workspace import LIBRARY_ROOT, Workspace
+from cyphy.model.elaborate import elaborate_pmodel
 from cyphy.semantics.consistency.encode import Encoder, Encoding, Fact
+from cyphy.translate.to_z3 import value_text
+from cyphy.wellformed import WFContext
+from cyphy.wellformed.mappings import mapped_services
 
 E, W = codes.E, codes.W
 C1 = codes.code("C1", E, "an equation mapping has a solution for every argument")
@@ -280,14 +284,10 @@ def check_consistency(ws: Workspace, resolution: Resolution, report: Report,
                       consts: Mapping[str, object] | None = None,
                       timeout_ms: int = DEFAULT_TIMEOUT_MS) -> None:
     """Run C1-C5 on every platform mapping of the user's files."""
-    from cyphy.model.elaborate import elaborate_pmodel
-    from cyphy.wellformed import WFContext
-    from cyphy.wellformed.mappings import mapped_services
 
     ctx = WFContext(ws, resolution, Report(), dict(consts or {}))
     mappings = list(ctx.mappings())
     if not mappings:
-        from cyphy.lang.ast import Controller, StateMachine
 
         if any(isinstance(i, (StateMachine, Controller)) for f in ctx.files()
                for i in f.items):
@@ -343,10 +343,7 @@ def check_consistency(ws: Workspace, resolution: Resolution, report: Report,
 def _resolve_all(ws: Workspace) -> Resolution:
     """Name resolution of every model file beside the user's (``cyphy check Mapping.rsm``
     names only the mapping, but its p-model's references must resolve to elaborate it)."""
-    from dataclasses import replace
 
-    from cyphy.lang.resolve import check_scopes
-    from cyphy.lang.workspace import LIBRARY_ROOT
 
     library = str(LIBRARY_ROOT)
     others = [p for p in ws.files if not p.startswith(library)]

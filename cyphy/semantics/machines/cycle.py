@@ -58,7 +58,7 @@ from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.model.evaluate import MATH_FUNCTIONS, EvalError, evaluate
-from cyphy.model.machines import Machine, MachineTransition
+from cyphy.model.machines import Machine, MachineTransition, global_constants, operation_definitions
 
 MACHINE = codes.code("E-MACHINE", codes.E, "the state machine cannot be run")
 
@@ -533,7 +533,6 @@ def interpreter_for(machine: Machine, files: list[ast.SourceFile], resolution: A
     it calls, the values of the outside constants they name (``PI``) overridden by
     ``consts``, and, when the machine controls ``pmodel``, its observable output events
     (:func:`observable_events`)."""
-    from cyphy.model.machines import global_constants, operation_definitions
 
     operations = operation_definitions(machine, files, resolution, scopes)
     known: dict[str, object] = {}

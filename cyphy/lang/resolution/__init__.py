@@ -1,0 +1,1 @@
+"""Name resolution, in parts; :mod:`cyphy.lang.resolve` is its entry point."""
