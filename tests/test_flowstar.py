@@ -16,7 +16,8 @@ from hypothesis import given, settings, strategies as st
 
 from cyphy.cli import main
 from cyphy.diagnostics import Report
-from cyphy.verify.flowstar.export import build_problem, output_name, render
+from cyphy.verify.flowstar.build import build_problem
+from cyphy.verify.flowstar.export import output_name, render
 from cyphy.verify.flowstar.printer import NotExpressible, flowstar_text, number
 from cyphy.verify.flowstar.scenario import load_scenario
 from cyphy.verify.flowstar.syntax import FlowstarSyntaxError, parse_model

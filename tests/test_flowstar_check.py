@@ -17,7 +17,8 @@ import pytest
 from cyphy.cli import main
 from cyphy.diagnostics import Report
 from cyphy.verify.flowstar.check import check, joint, parts, split
-from cyphy.verify.flowstar.export import build_problem, render
+from cyphy.verify.flowstar.build import build_problem
+from cyphy.verify.flowstar.export import render
 from cyphy.verify.flowstar.scenario import load_scenario
 from cyphy.verify.flowstar.simulate import BUDGET, Automaton, _Search, find_witness, unsafe_paths
 from cyphy.verify.flowstar.syntax import parse_model

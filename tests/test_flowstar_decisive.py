@@ -14,7 +14,8 @@ import pytest
 
 from conftest import EXAMPLES, flowstar_binary, needs_flowstar
 from cyphy.diagnostics import Report
-from cyphy.verify.flowstar.export import build_problem, render
+from cyphy.verify.flowstar.build import build_problem
+from cyphy.verify.flowstar.export import render
 from cyphy.verify.flowstar.guards import targets
 from cyphy.verify.flowstar.scenario import load_scenario
 from cyphy.verify.flowstar.syntax import parse_model

@@ -13,7 +13,8 @@ from conftest import CORPUS, EXAMPLES, flowstar_binary, needs_corpus, needs_flow
 from cyphy import api
 from cyphy.cli import main
 from cyphy.diagnostics import Report
-from cyphy.verify.flowstar.export import build_problem, render
+from cyphy.verify.flowstar.build import build_problem
+from cyphy.verify.flowstar.export import render
 from cyphy.verify.flowstar.scenario import load_scenario
 from cyphy.lang.scopes import Scopes
 from cyphy.model.machines import global_constants, machines_of
