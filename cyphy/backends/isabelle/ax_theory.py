@@ -26,7 +26,7 @@ from cyphy.semantics.circus.names import NameTable, identifier
 from cyphy.semantics.circus.namesets import (action_nodes, find_lossy_interleavings, map_action,
                                              with_namesets)
 from cyphy.semantics.circus.rules import TIMER
-from cyphy.semantics.scalarise import initialised
+from cyphy.semantics.scalarise.process import initialised
 
 PARENT = "Axiomatic_CyPhyCircus"
 PARENT_IMPORT = '"Axiomatic_CyPhyCircus.Ax_CyPhyCircus"'

@@ -27,7 +27,8 @@ from cyphy.semantics.circus.names import NameTable
 from cyphy.semantics.circus.namesets import (LossyInterleaving, action_nodes, find_lossy_interleavings,
                                       with_namesets)
 from cyphy.semantics.circus.rules import DEVIATIONS, REGISTER_CHANNELS, functions
-from cyphy.semantics.scalarise import ScalariseError, scalar_process
+from cyphy.semantics.scalarise.process import scalar_process
+from cyphy.semantics.scalarise.shapes import ScalariseError
 
 UNTRANSLATABLE = codes.code("E-ISABELLE", codes.E,
                             "the CyPhyCircus program has no Isabelle/UTP counterpart")

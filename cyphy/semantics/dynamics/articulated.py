@@ -57,7 +57,7 @@ from cyphy.semantics.dynamics.rigid_body import (EULER, STANDARD_GRAVITY, Dynami
                                       forward_dynamics, joint_kind, kinematic_tree,
                                       motion_subspace, motion_subspace_rate, parent_to_child,
                                       port_size, subspace_factors)
-from cyphy.semantics.scalarise import component_name
+from cyphy.semantics.scalarise.shapes import component_name
 
 
 @dataclass(frozen=True)

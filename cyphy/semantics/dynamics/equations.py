@@ -190,7 +190,7 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
     keep the equations they had before."""
     from cyphy.semantics.dynamics.articulated import model_motion
     from cyphy.semantics.dynamics.rigid_body import STANDARD_GRAVITY, DynamicsError, coordinate_names
-    from cyphy.semantics.scalarise import component_name
+    from cyphy.semantics.scalarise.shapes import component_name
 
     if known is not None and not any(j.device is not None and
                                      any(p.mangled in known for p in j.device.ports)
@@ -212,7 +212,7 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
         for atom in d.value.atoms():
             names |= uses.get(atom, {atom})
         uses[d.name] = names
-    from cyphy.semantics.scalarise import components, type_shape
+    from cyphy.semantics.scalarise.shapes import components, type_shape
 
     taken = set(system.variables) | set(system.parameters) | {  # and their components
         c for n, t in system.variables.items() for c in components(n, type_shape(t) or ())}

@@ -37,7 +37,8 @@ from cyphy.semantics.dynamics.equations import (OBSTACLE, OVERDETERMINED, UNDERD
                                                 Equation, System)
 from cyphy.semantics.dynamics.structure import (Competition, Row, overdetermined,
                                                underdetermined)
-from cyphy.semantics.scalarise import ScalariseError, Scalariser, components, type_shape
+from cyphy.semantics.scalarise.scalariser import Scalariser
+from cyphy.semantics.scalarise.shapes import ScalariseError, components, type_shape
 
 
 @dataclass(frozen=True)
