@@ -30,7 +30,6 @@ KNOWN_LONG = {
     "cyphy.model.evaluate",
     "cyphy.semantics.dynamics.reduce",
     "cyphy.semantics.dynamics.rigid_body",
-    "cyphy.semantics.sdf.rules",
     "cyphy.wellformed.mappings",
     # The Isabelle checkers moved from tests/ into check-theory (issue 25): over half of each is
     # its cited signature table; the table belongs in its own module.
