@@ -27,24 +27,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))
+from flowstar_scenarios import CRUISE_COAST  # noqa: E402
 
 EXAMPLE = ROOT / "examples" / "dcmotor"
-PERIODIC = """
-[controller]
-initial = "cruise"
-[controller.states.cruise]
-calls = ["drive(8)"]
-[controller.states.coast]
-calls = ["drive(6)"]
-[[controller.transitions]]
-from = "cruise"
-to = "coast"
-when = "near"
-[[controller.transitions]]
-from = "coast"
-to = "cruise"
-when = "not near"
-"""
 
 
 def scenario(kind: str, horizon: float, folder: Path) -> Path:
@@ -53,7 +38,7 @@ def scenario(kind: str, horizon: float, folder: Path) -> Path:
     text = text.replace("horizon = 2.0", f"horizon = {horizon}")
     if kind == "periodic":
         text = text.replace('Range_distance = "-2"', 'Range_distance = "0"')
-        text = text.replace("[unsafe]", PERIODIC.strip() + "\n\n[unsafe]")
+        text = text.replace("[unsafe]", CRUISE_COAST.strip() + "\n\n[unsafe]")
     path = folder / f"{kind}_{horizon:g}.toml"
     path.write_text(text)
     return path

@@ -20,7 +20,6 @@ Run: ``python benchmarks/bench_sim_scaling.py [--sizes 5 10 20 50 100] [--runs 1
 from __future__ import annotations
 
 import argparse
-import statistics
 import sys
 import tempfile
 import time
@@ -30,6 +29,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import numpy as np  # noqa: E402
+from timing import median_time  # noqa: E402
 
 _AXES = ("0,0,1", "0,1,0", "1,0,0")
 
@@ -61,15 +61,6 @@ def chain_text(n: int) -> str:
 """)
     parts.append("}\n")
     return "".join(parts)
-
-
-def _median(fn, runs: int) -> float:
-    times = []
-    for _ in range(runs):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def _mujoco(mjcf: Path, dof: int) -> tuple[float, np.ndarray]:
@@ -104,11 +95,11 @@ def measure(n: int, runs: int) -> dict[str, float]:
         (folder / "chain.pm").write_text(chain_text(n))
         settings = sim.SimulationOptions(t_end=1.0)
         options = api.SimulateOptions(simulation=settings, numeric=True)
-        whole = _median(lambda: api.simulate([folder], options), runs)
+        whole = median_time(lambda: api.simulate([folder], options), runs)
         elaborated = api.elaborate([folder], api.ElaborateOptions())
         tree = rb.kinematic_tree(elaborated.model, rb.STANDARD_GRAVITY)
         result: list[sim.Trajectory] = []
-        integration = _median(lambda: result.append(sim.simulate_tree(tree, settings)), runs)
+        integration = median_time(lambda: result.append(sim.simulate_tree(tree, settings)), runs)
         trajectory = result[-1]
         compiled = pinocchio_model(tree)
         assert compiled is not None

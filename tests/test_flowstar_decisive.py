@@ -13,6 +13,8 @@ from pathlib import Path
 import pytest
 
 from conftest import EXAMPLES, flowstar_binary, needs_flowstar
+from flowstar_scenarios import (CRUISE_COAST, CRUISE_COAST_STOP, MOTOR_HEAD, controller,
+                                scenario_problem)
 from cyphy.diagnostics import Report
 from cyphy.verify.flowstar.build import build_problem
 from cyphy.verify.flowstar.export import render
@@ -22,41 +24,11 @@ from cyphy.verify.flowstar.syntax import parse_model
 
 DCMOTOR = EXAMPLES / "dcmotor"
 
-HEAD = """model = "DCMotorBase"
-elements = ["DCMotorBase::Bench::Shaft::Motor", "DCMotorBase::Bench::Range"]
-horizon = {horizon}
-tscale = 0.1
-[init]
-Motor_av = {av}
-Motor_i = 0
-Motor_int1 = 0
-Motor_theta = 0
-Range_distance = {distance}
-[environment]
-Range_distance = "{env}"
-"""
-
 # Re-issue drive(8) while near; the transition to slow on the same event comes second, so
 # it is never taken (the first `when` that holds wins): every cycle stays in fast.
-SELF = HEAD + """[controller]
-initial = "fast"
-[controller.states.fast]
-calls = ["drive(8)"]
-[controller.states.slow]
-calls = ["drive(2)"]
-[[controller.transitions]]
-from = "fast"
-to = "fast"
-when = "near"
-[[controller.transitions]]
-from = "fast"
-to = "slow"
-when = "near"
-[[controller.transitions]]
-from = "slow"
-to = "fast"
-when = "near"
-[unsafe]
+SELF = MOTOR_HEAD + controller("fast", {"fast": ["drive(8)"], "slow": ["drive(2)"]},
+                         [("fast", "fast", "near"), ("fast", "slow", "near"),
+                          ("slow", "fast", "near")]) + """[unsafe]
 constraints = ["Motor_av >= 20"]
 """
 
@@ -64,12 +36,7 @@ constraints = ["Motor_av >= 20"]
 def _problem(tmp_path: Path, text: str, name: str = "s"):
     path = tmp_path / f"{name}.toml"
     path.write_text(text)
-    report = Report()
-    scenario = load_scenario(path, report)
-    assert scenario is not None, report.diagnostics
-    problem, _ = build_problem([DCMOTOR], scenario, report)
-    assert problem is not None and not report.has_errors, report.diagnostics
-    return problem
+    return scenario_problem(DCMOTOR, path)
 
 
 def _flowpipes(text: str, cwd: Path) -> int:
@@ -231,7 +198,7 @@ def test_the_output_folder_holds_the_models_flowstar_ran(tmp_path, capsys):
 
 # --------------------------------------------------------------------------- 2. precision
 
-DECAY = HEAD.format(horizon=5.0, av="[9.5, 10]", distance=0, env="0").replace(
+DECAY = MOTOR_HEAD.format(horizon=5.0, av="[9.5, 10]", distance=0, env="0").replace(
     "Motor_i = 0", "Motor_i = [0, 0.5]") + """[controller]
 initial = "stopped"
 [controller.states.stopped]
@@ -275,25 +242,9 @@ def test_a_decaying_motor_over_five_seconds_is_safe_with_lti_ode(tmp_path):
     assert poly.verdict != "SAFE"
 
 
-WAVE = HEAD.format(horizon=1.0, av=0, distance="[1.4, 1.5]",
+WAVE = MOTOR_HEAD.format(horizon=1.0, av=0, distance="[1.4, 1.5]",
                    env="-0.5 + 0.3*cos(3*t)").replace("tscale = 0.1", "tscale = 0.05\ncycle = 2") \
-    + """[controller]
-initial = "cruise"
-[controller.states.cruise]
-calls = ["drive(8)"]
-[controller.states.coast]
-calls = []
-[controller.states.stopped]
-calls = ["stop()"]
-[[controller.transitions]]
-from = "cruise"
-to = "coast"
-when = "near"
-[[controller.transitions]]
-from = "coast"
-to = "stopped"
-when = "not near"
-[unsafe]
+    + CRUISE_COAST_STOP + """[unsafe]
 constraints = ["Motor_av >= 12"]
 """
 
@@ -344,23 +295,9 @@ def test_the_ladder_halves_a_step_too_large_before_splitting(tmp_path):
 # cruise (drive(8)) and coast (drive(6)) on the range finder's event; the obstacle stays far,
 # so every cycle of 0.5 s (cycle = 5) jumps from cruise to cruise. The motor's equilibrium
 # under drive(8) is w = 8, i = 1.6, z = 0.4; the box around it below is invariant.
-PERIODIC = HEAD.format(horizon=2.0, av="[7.8, 8.2]", distance="[3, 3.1]", env="0").replace(
+PERIODIC = MOTOR_HEAD.format(horizon=2.0, av="[7.8, 8.2]", distance="[3, 3.1]", env="0").replace(
     "Motor_i = 0", "Motor_i = [1.38, 1.82]").replace("Motor_int1 = 0", "Motor_int1 = [0.36, 0.44]"
-    ).replace("tscale = 0.1", "tscale = 0.1\ncycle = 5") + """[controller]
-initial = "cruise"
-[controller.states.cruise]
-calls = ["drive(8)"]
-[controller.states.coast]
-calls = ["drive(6)"]
-[[controller.transitions]]
-from = "cruise"
-to = "coast"
-when = "near"
-[[controller.transitions]]
-from = "coast"
-to = "cruise"
-when = "not near"
-[unsafe]
+    ).replace("tscale = 0.1", "tscale = 0.1\ncycle = 5") + CRUISE_COAST + """[unsafe]
 constraints = ["Motor_av >= 20"]
 """
 
