@@ -8,6 +8,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+#: ``examples/dcmotor``'s scenario: the motor stops when the range finder sees the obstacle.
+SAMPLED_STOP = Path(__file__).resolve().parent.parent / "examples" / "dcmotor" / "sampled_stop.toml"
 #: The motor and the range finder of the bench; ``str.format`` fills the horizon, the motor's
 #: initial speed, the obstacle's initial distance and how that distance evolves.
 MOTOR_HEAD = """model = "DCMotorBase"
@@ -23,6 +25,18 @@ Range_distance = {distance}
 [environment]
 Range_distance = "{env}"
 """
+
+
+def sampled_stop(folder: Path, name: str, *edits: tuple[str, str]) -> Path:
+    """:data:`SAMPLED_STOP` without its ``max_jumps`` (the horizon decides how many jumps),
+    with each (old, new) edit made (``old`` must be there), written as ``folder/NAME.toml``."""
+    text = SAMPLED_STOP.read_text().replace("max_jumps = 25\n", "")
+    for old, new in edits:
+        assert old in text, old
+        text = text.replace(old, new)
+    path = folder / f"{name}.toml"
+    path.write_text(text)
+    return path
 
 
 def controller(initial: str, states: dict[str, list[str]],

@@ -14,7 +14,7 @@ import pytest
 
 from conftest import EXAMPLES, flowstar_binary, needs_flowstar
 from flowstar_scenarios import (CRUISE_COAST, CRUISE_COAST_STOP, MOTOR_HEAD, controller,
-                                scenario_problem)
+                                sampled_stop, scenario_problem)
 from cyphy.diagnostics import Report
 from cyphy.verify.flowstar.build import build_problem
 from cyphy.verify.flowstar.export import render
@@ -92,19 +92,6 @@ def test_flowstar_computes_one_path_on_a_machine_with_a_self_transition(tmp_path
 
 # --------------------------------------------------------------------------- 3. falsification
 
-EXAMPLE = (DCMOTOR / "sampled_stop.toml").read_text().replace("max_jumps = 25\n", "")
-
-
-def _example(tmp_path: Path, name: str, *edits: tuple[str, str]) -> Path:
-    text = EXAMPLE
-    for old, new in edits:
-        assert old in text, old
-        text = text.replace(old, new)
-    path = tmp_path / f"{name}.toml"
-    path.write_text(text)
-    return path
-
-
 # The obstacle approaches at 2 m/s whatever the controller does: d(t) = d0 - 2 t. It comes
 # within 0.02 m by t = 1 exactly when d0 <= 2.02: the lowest 5% of [2.0, 2.4].
 CORNER = [("Range_distance = [3, 3.1]", "Range_distance = [2.0, 2.4]"),
@@ -118,7 +105,7 @@ def test_a_violation_from_a_five_percent_corner_is_unsafe_with_its_witness(tmp_p
     from cyphy.verify.flowstar.check import check
 
     report = Report()
-    scenario = load_scenario(_example(tmp_path, "corner", *CORNER), report)
+    scenario = load_scenario(sampled_stop(tmp_path, "corner", *CORNER), report)
     problem, _ = build_problem([DCMOTOR], scenario, report)
     result = check(problem, "corner", str(flowstar_binary()), jobs=1)
     assert result.verdict == "UNSAFE", result.reason
@@ -133,8 +120,8 @@ def test_a_violation_from_a_five_percent_corner_is_unsafe_with_its_witness(tmp_p
 def test_without_the_corner_the_same_property_is_not_unsafe(tmp_path, capsys):
     from cyphy.cli import main
 
-    path = _example(tmp_path, "clear", ("Range_distance = [3, 3.1]",
-                                        "Range_distance = [2.03, 2.4]"), *CORNER[1:])
+    path = sampled_stop(tmp_path, "clear", ("Range_distance = [3, 3.1]",
+                                            "Range_distance = [2.03, 2.4]"), *CORNER[1:])
     rc = main(["reach", str(DCMOTOR), "--scenario", str(path), "-o", str(tmp_path / "o"),
                "--flowstar-bin", str(flowstar_binary())])
     out = capsys.readouterr().out
@@ -156,7 +143,7 @@ def test_settings_that_would_overflow_or_run_for_days_are_refused(tmp_path, caps
                                                                   message):
     from cyphy.cli import main
 
-    path = _example(tmp_path, "bad", edit)
+    path = sampled_stop(tmp_path, "bad", edit)
     rc = main(["gen", "--flowstar", str(DCMOTOR), "--scenario", str(path), "-o",
                str(tmp_path / "o")])
     err = capsys.readouterr().err
@@ -185,7 +172,7 @@ def test_the_output_folder_holds_the_models_flowstar_ran(tmp_path, capsys):
     from cyphy.verify.flowstar.verdict import run_text
 
     out = tmp_path / "o"
-    path = _example(tmp_path, "two", ("horizon = 2.0", "horizon = 1.3"))
+    path = sampled_stop(tmp_path, "two", ("horizon = 2.0", "horizon = 1.3"))
     rc = main(["reach", str(DCMOTOR), "--scenario", str(path), "-o", str(out), "--split", "2",
                "--flowstar-bin", str(flowstar_binary())])
     assert rc == 0, capsys.readouterr()
@@ -279,8 +266,8 @@ def test_the_ladder_halves_a_step_too_large_before_splitting(tmp_path):
     from cyphy.verify.flowstar.check import check
 
     report = Report()
-    scenario = load_scenario(_example(tmp_path, "coarse", ("step = 0.01", "step = 0.05"),
-                                      ("horizon = 2.0", "horizon = 1.3")), report)
+    scenario = load_scenario(sampled_stop(tmp_path, "coarse", ("step = 0.01", "step = 0.05"),
+                                          ("horizon = 2.0", "horizon = 1.3")), report)
     problem, _ = build_problem([DCMOTOR], scenario, report)
     result = check(problem, "coarse", str(flowstar_binary()), jobs=1)
     assert result.verdict == "SAFE", result.reason
