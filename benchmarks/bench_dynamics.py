@@ -43,19 +43,11 @@ from cyphy import api  # noqa: E402
 from cyphy.backends.simulate import SimulationOptions  # noqa: E402
 from cyphy.semantics.dynamics import rigid_body as dynamics  # noqa: E402
 from synthetic import chain_model, write_model  # noqa: E402
+from timing import median_time  # noqa: E402
 
 #: The motors' constants (the library leaves them open): a small DC motor, P control.
 MOTOR = {f"SpeedControlMotor::{k}": v for k, v in dict(
     J=0.01, b=0.001, Ke=0.01, Kt=0.01, R=1.0, L=0.5, Kp=1.0, Ki=0.0, Kd=0.0).items()}
-
-
-def _median(fn, runs: int) -> float:
-    times = []
-    for _ in range(runs):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def main() -> int:
@@ -79,7 +71,7 @@ def main() -> int:
     solved = {}
     for n in (7, 10, 30, 100):
         api.elaborate([folders[n]])  # parsed and elaborated once (cyphy caches the parse)
-        solved[n] = _median(lambda: solve(n), args.runs if n < 100 else 1)
+        solved[n] = median_time(lambda: solve(n), args.runs if n < 100 else 1)
         print(f"solve (derive + reduce), {n}-link arm: {solved[n]:.3f} s"
               + (" (target <= 1 s)" if n == 10 else ""))
     ratio = solved[100] / solved[10]
@@ -97,7 +89,7 @@ def main() -> int:
             dynamics.forward_dynamics(tree, q, qd, tau)
         return time.perf_counter() - start
 
-    whole = _median(lambda: numeric(100), args.runs)
+    whole = median_time(lambda: numeric(100), args.runs)
     aba = {n: statistics.median(numeric(n) for _ in range(args.runs)) for n in (10, 100)}
     ratio = aba[100] / aba[10]
     ok &= whole <= 10.0 and ratio <= 15.0
@@ -111,10 +103,10 @@ def main() -> int:
             simulation=SimulationOptions(t_end=1.0, init={"J0_v": 1.0})))
         assert result.trajectory is not None and result.numeric == tree_only
 
-    t = _median(lambda: simulate(False), args.runs)
+    t = median_time(lambda: simulate(False), args.runs)
     ok &= t <= 1.0
     print(f"simulate 1 s of a 10-link arm, whole model: {t:.3f} s (target <= 1 s)")
-    t = _median(lambda: simulate(True), args.runs)
+    t = median_time(lambda: simulate(True), args.runs)
     print(f"simulate 1 s of a 10-link arm, tree alone (--numeric): {t:.3f} s")
     return 0 if ok else 1
 

@@ -24,7 +24,6 @@ Run: ``python benchmarks/bench_sim_scaling.py [--quick] [--sizes 5 10 20 50 100]
 from __future__ import annotations
 
 import argparse
-import statistics
 import sys
 import tempfile
 import time
@@ -35,6 +34,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import numpy as np  # noqa: E402
+from timing import median_time  # noqa: E402
 
 _AXES = ("0,0,1", "0,1,0", "1,0,0")
 
@@ -85,15 +85,6 @@ def motor_chain_text(n: int, inductance: float = 0.1) -> str:
     return text
 
 
-def _median(fn, runs: int) -> float:
-    times = []
-    for _ in range(runs):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
-
-
 def _mujoco(mjcf: Path, dof: int) -> tuple[float, np.ndarray]:
     """1 s of MuJoCo, RK4 at 1 ms, contacts off (cyphy's tree has none): time and q(1)."""
     import mujoco
@@ -133,7 +124,7 @@ def measure_motors(n: int, runs: int) -> float:
             assert "Pinocchio" in out.trajectory.engine, out.trajectory.engine
             result.append(out)
 
-        return _median(run, runs)
+        return median_time(run, runs)
 
 
 def measure(n: int, runs: int, motors: bool = True) -> dict[str, float]:
@@ -149,11 +140,11 @@ def measure(n: int, runs: int, motors: bool = True) -> dict[str, float]:
         (folder / "chain.pm").write_text(chain_text(n))
         settings = sim.SimulationOptions(t_end=1.0)
         options = api.SimulateOptions(simulation=settings, numeric=True)
-        whole = _median(lambda: api.simulate([folder], options), runs)
+        whole = median_time(lambda: api.simulate([folder], options), runs)
         elaborated = api.elaborate([folder], api.ElaborateOptions())
         tree = rb.kinematic_tree(elaborated.model, rb.STANDARD_GRAVITY)
         result: list[sim.Trajectory] = []
-        integration = _median(lambda: result.append(sim.simulate_tree(tree, settings)), runs)
+        integration = median_time(lambda: result.append(sim.simulate_tree(tree, settings)), runs)
         trajectory = result[-1]
         compiled = pinocchio_model(tree)
         assert compiled is not None

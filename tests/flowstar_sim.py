@@ -49,7 +49,7 @@ def interpret(text: str, point: dict[str, float], samples: np.ndarray) -> dict[s
 def simulate_direct(problem: Any, point: dict[str, float], samples: np.ndarray
                     ) -> dict[str, np.ndarray]:
     """The scenario run straight from the reduced equations (``problem`` is the exporter's
-    :class:`~cyphy.verify.flowstar.export.Problem`: its ODEs, call effects and event predicates in
+    :class:`~cyphy.verify.flowstar.problem.Problem`: its ODEs, call effects and event predicates in
     SymPy), one cycle at a time."""
     s = problem.scenario
     states, inputs = problem.states, problem.inputs

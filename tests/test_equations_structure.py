@@ -205,7 +205,7 @@ def test_reach_refuses_the_speed_relation_on_the_dc_motor_bench(tmp_path: Path) 
     from conftest import EXAMPLES
 
     from cyphy.diagnostics import Report
-    from cyphy.verify.flowstar.export import build_problem
+    from cyphy.verify.flowstar.build import build_problem
     from cyphy.verify.flowstar.scenario import load_scenario
 
     for source in (EXAMPLES / "dcmotor").glob("*.rsm"):

@@ -16,7 +16,8 @@ from hypothesis import given, settings, strategies as st
 
 from cyphy.cli import main
 from cyphy.diagnostics import Report
-from cyphy.verify.flowstar.export import build_problem, output_name, render
+from cyphy.verify.flowstar.build import build_problem
+from cyphy.verify.flowstar.export import output_name, render
 from cyphy.verify.flowstar.printer import NotExpressible, flowstar_text, number
 from cyphy.verify.flowstar.scenario import load_scenario
 from cyphy.verify.flowstar.syntax import FlowstarSyntaxError, parse_model
@@ -26,6 +27,7 @@ from conftest import EXAMPLES, ROOT
 
 sys.path.insert(0, str(Path(__file__).parent))
 from flowstar_sim import interpret, simulate_direct  # noqa: E402
+from flowstar_scenarios import CRUISE_COAST_STOP, MOTOR_HEAD, scenario_problem  # noqa: E402
 from motors import SSPEED_TABLE  # noqa: E402
 
 SPEC = ROOT.parent / "shared" / "spec" / "flowstar-examples"
@@ -33,23 +35,14 @@ DCMOTOR = (EXAMPLES / "dcmotor", EXAMPLES / "dcmotor" / "sampled_stop.toml")
 MARXBOT = (EXAMPLES / "marxbot", EXAMPLES / "marxbot" / "obstacle_stop.toml")
 
 
-def _problem(folder: Path, scenario_path: Path):
-    report = Report()
-    scenario = load_scenario(scenario_path, report)
-    assert scenario is not None, report.diagnostics
-    problem, _ = build_problem([folder], scenario, report)
-    assert problem is not None and not report.has_errors, report.diagnostics
-    return problem
-
-
 @pytest.fixture(scope="module")
 def dcmotor():
-    return _problem(*DCMOTOR)
+    return scenario_problem(*DCMOTOR)
 
 
 @pytest.fixture(scope="module")
 def marxbot():
-    return _problem(*MARXBOT)
+    return scenario_problem(*MARXBOT)
 
 
 # --------------------------------------------------------------------------- grammar
@@ -253,37 +246,9 @@ def test_marxbot_automaton_agrees_with_direct_simulation(marxbot):
     assert abs(direct["LMotor_av"][-1]) < 0.01
 
 
-HELD = """
-model = "DCMotorBase"
-elements = ["DCMotorBase::Bench::Shaft::Motor", "DCMotorBase::Bench::Range"]
-horizon = 1.5
-tscale = 0.05
-cycle = 2
-[init]
-Motor_av = 0
-Motor_i = 0
-Motor_int1 = 0
-Motor_theta = 0
-Range_distance = [1.4, 1.5]
-[environment]
-Range_distance = "-0.05*Motor_av"
-[controller]
-initial = "cruise"
-[controller.states.cruise]
-calls = ["drive(8)"]
-[controller.states.coast]
-calls = []
-[controller.states.stopped]
-calls = ["stop()"]
-[[controller.transitions]]
-from = "cruise"
-to = "coast"
-when = "near"
-[[controller.transitions]]
-from = "coast"
-to = "stopped"
-when = "not near"
-[unsafe]
+HELD = "\n" + MOTOR_HEAD.format(
+    horizon=1.5, av=0, distance="[1.4, 1.5]", env="-0.05*Motor_av").replace(
+    "tscale = 0.1", "tscale = 0.05\ncycle = 2") + CRUISE_COAST_STOP + """[unsafe]
 constraints = ["Motor_av >= 20", "t >= 0.5"]
 """
 
@@ -292,7 +257,7 @@ def test_held_inputs_agree_with_direct_simulation(tmp_path):
     """A state without calls keeps the inputs: they become held state variables."""
     path = tmp_path / "held.toml"
     path.write_text(HELD)
-    problem = _problem(EXAMPLES / "dcmotor", path)
+    problem = scenario_problem(EXAMPLES / "dcmotor", path)
     assert problem.held_inputs == ["Motor_das"]
     model = parse_model(render(problem, "held"))
     assert "Motor_das" in model.variables
@@ -508,7 +473,7 @@ def test_unsafe_sets_may_name_actuator_inputs_and_what_derives_from_them(tmp_pat
     """``Motor_das`` is a constant of each mode: each mode's unsafe set has its value."""
     path = tmp_path / "u.toml"
     path.write_text(BASE.replace('"Motor_av >= 20"', f'"{name} >= 5"'))
-    text = render(_problem(EXAMPLES / "dcmotor", path), "u")
+    text = render(scenario_problem(EXAMPLES / "dcmotor", path), "u")
     model = parse_model(text)
     assert set(model.unsafe) == {"cruise", "stopped"}
     if name == "Motor_das":  # 10 in cruise: everything; 0 once stopped: nothing
@@ -525,7 +490,7 @@ def test_environment_functions_of_time_become_linear_auxiliary_states(tmp_path):
     before the stop at d <= 1)."""
     path = tmp_path / "sin.toml"
     path.write_text(BASE.replace('Range_distance = "-2"', 'Range_distance = "-2 - sin(5*t)"'))
-    text = render(_problem(EXAMPLES / "dcmotor", path), output_name(str(path)))
+    text = render(scenario_problem(EXAMPLES / "dcmotor", path), output_name(str(path)))
     model = parse_model(text)
     assert all(m.ode == "lti ode" for m in model.modes.values())
     assert model.init["cyphy_sin1"] == ("0", "0") and model.init["cyphy_cos1"] == ("1", "1")
@@ -540,7 +505,8 @@ def test_environment_functions_of_states_make_a_nonpoly_mode(tmp_path):
     path = tmp_path / "sin.toml"
     path.write_text(BASE.replace('Range_distance = "-2"',
                                  'Range_distance = "-2 - sin(Range_distance)"'))
-    model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), output_name(str(path))))
+    problem = scenario_problem(EXAMPLES / "dcmotor", path)
+    model = parse_model(render(problem, output_name(str(path))))
     assert all(m.ode == "nonpoly ode" for m in model.modes.values())
     from cyphy.translate.to_sympy import to_sympy
     d = sympy.Symbol("Range_distance", real=True)
@@ -556,7 +522,7 @@ def test_a_held_input_needs_a_value_at_time_0(tmp_path):
                for _, m, _, h in errors), errors
     path = tmp_path / "given.toml"
     path.write_text(text.replace("[init]\n", "[init]\nMotor_das = 3\n"))
-    model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), "given"))
+    model = parse_model(render(scenario_problem(EXAMPLES / "dcmotor", path), "given"))
     assert model.init["Motor_das"] == ("3", "3")
 
 
@@ -610,7 +576,7 @@ def test_a_timeout_kills_the_whole_process_group(tmp_path):
 def test_a_final_state_keeps_its_cycles_when_the_unsafe_set_reads_the_timer(tmp_path):
     path = tmp_path / "timer.toml"
     path.write_text(BASE.replace('"Motor_av >= 20"', '"Motor_av >= 20", "timer >= 0.05"'))
-    model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), "timer"))
+    model = parse_model(render(scenario_problem(EXAMPLES / "dcmotor", path), "timer"))
     assert ("stopped", "stopped") in [(j.source, j.target) for j in model.jumps]
     assert model.modes["stopped"].invariant
 
@@ -632,10 +598,10 @@ def test_a_disjunctive_unsafe_set_is_one_model_per_disjunct(tmp_path, capsys):
 def test_adaptive_steps_and_orders_are_passed_through(tmp_path):
     path = tmp_path / "adaptive.toml"
     path.write_text(BASE.replace("step = 0.01", "step = [0.002, 0.01]"))
-    model = parse_model(render(_problem(EXAMPLES / "dcmotor", path), "adaptive"))
+    model = parse_model(render(scenario_problem(EXAMPLES / "dcmotor", path), "adaptive"))
     assert model.settings["adaptive steps"] == ("0.002", "0.01")
     path.write_text(BASE.replace("order = 6", "order = [4, 8]"))
-    text = render(_problem(EXAMPLES / "dcmotor", path), "adaptive")
+    text = render(scenario_problem(EXAMPLES / "dcmotor", path), "adaptive")
     assert "adaptive orders { min 4 , max 8 }" in text and parse_model(text)
     errors = _diagnose(tmp_path, BASE.replace("step = 0.01", "step = [0.002, 0.01]")
                        .replace("order = 6", "order = [4, 8]"))

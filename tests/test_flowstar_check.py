@@ -15,10 +15,8 @@ import numpy as np
 import pytest
 
 from cyphy.cli import main
-from cyphy.diagnostics import Report
 from cyphy.verify.flowstar.check import check, joint, parts, split
-from cyphy.verify.flowstar.export import build_problem, render
-from cyphy.verify.flowstar.scenario import load_scenario
+from cyphy.verify.flowstar.export import render
 from cyphy.verify.flowstar.simulate import BUDGET, Automaton, _Search, find_witness, unsafe_paths
 from cyphy.verify.flowstar.syntax import parse_model
 from cyphy.verify.flowstar.verdict import decide, model_problems, run_text
@@ -28,31 +26,10 @@ from conftest import EXAMPLES, ROOT, flowstar_binary, needs_flowstar
 sys.path.insert(0, str(Path(__file__).parent))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 from flowstar_sim import interpret, simulate_direct  # noqa: E402
+from flowstar_scenarios import sampled_stop, scenario_problem  # noqa: E402
 from motors import write_motors  # noqa: E402
 
 DCMOTOR = EXAMPLES / "dcmotor"
-BASE = (DCMOTOR / "sampled_stop.toml").read_text()
-
-
-def _problem(folder: Path, path: Path):
-    report = Report()
-    scenario = load_scenario(path, report)
-    assert scenario is not None, report.diagnostics
-    problem, _ = build_problem([folder], scenario, report)
-    assert problem is not None and not report.has_errors, report.diagnostics
-    return problem
-
-
-def _scenario(tmp_path: Path, name: str, *edits: tuple[str, str]) -> Path:
-    text = BASE.replace("max_jumps = 25\n", "")
-    for old, new in edits:
-        assert old in text, old
-        text = text.replace(old, new)
-    path = tmp_path / f"{name}.toml"
-    path.write_text(text)
-    return path
-
-
 UNSAFE = ('constraints = ["Motor_av >= 20"]',
           'constraints = ["Motor_av >= 5", "t >= 0.3", "t <= 0.5"]')
 BORDER = [("Range_distance = [3, 3.1]", "Range_distance = [3.00001, 3.1]"),
@@ -78,7 +55,7 @@ def motors(tmp_path_factory):
 
 def test_each_disjunct_needs_only_its_motor_and_the_range_finder(motors):
     folder, either, _ = motors
-    problem = _problem(folder / "either", either)
+    problem = scenario_problem(folder / "either", either)
     disjuncts = problem.disjuncts()
     assert len(disjuncts) == 2
     pieces = [parts(d) for d in disjuncts]
@@ -89,7 +66,7 @@ def test_each_disjunct_needs_only_its_motor_and_the_range_finder(motors):
 
 def test_a_conjunction_over_independent_motors_has_one_part_per_motor(motors):
     folder, _, every = motors
-    pieces = parts(_problem(folder / "every", every))
+    pieces = parts(scenario_problem(folder / "every", every))
     assert [p.states for p in pieces] == [
         ["Motor1_av", "Motor1_i", "Motor1_int1", "Range_distance"],
         ["Motor2_av", "Motor2_i", "Motor2_int2", "Range_distance"]]
@@ -97,7 +74,7 @@ def test_a_conjunction_over_independent_motors_has_one_part_per_motor(motors):
 
 def test_the_joint_problem_keeps_the_whole_conjunction_on_every_part_s_states(motors):
     folder, _, every = motors
-    problem = _problem(folder / "every", every)
+    problem = scenario_problem(folder / "every", every)
     together = joint(problem)
     assert together.states == sorted({x for p in parts(problem) for x in p.states},
                                      key=problem.states.index)
@@ -132,7 +109,7 @@ def test_parts_then_boxes_then_the_joint_run(motors, tmp_path, answers, verdict,
     are not proved leave the verdict open until the joint run proves it; the joint run
     split into boxes too when it is open, and without any SAFE the verdict is UNKNOWN."""
     folder, _, every = motors
-    problem = _problem(folder / "every", every)
+    problem = scenario_problem(folder / "every", every)
     result = check(problem, "every", _scripted_flowstar(tmp_path, *answers), jobs=1)
     assert result.verdict == verdict, result.reason
     assert len((tmp_path / "runs").read_text().splitlines()) == runs
@@ -146,7 +123,7 @@ def test_parts_then_boxes_then_the_joint_run(motors, tmp_path, answers, verdict,
 def test_a_part_is_the_projection_of_the_whole_automaton(motors):
     """Simulated from the same point, a part's states follow the whole automaton's."""
     folder, either, _ = motors
-    problem = _problem(folder / "either", either)
+    problem = scenario_problem(folder / "either", either)
     whole, part = problem.disjuncts()[1], parts(problem.disjuncts()[1])[0]
     start = {v: 0.0 for v in [*problem.states, "timer", "t"]}
     start["Range_distance"] = 3.03
@@ -160,16 +137,16 @@ def test_a_part_is_the_projection_of_the_whole_automaton(motors):
 
 def test_mode_independent_states_keep_one_mode(tmp_path):
     """An atom on the range finder only (its flow is the same in every mode)."""
-    path = _scenario(tmp_path, "range", ('constraints = ["Motor_av >= 20"]',
-                                         'constraints = ["Range_distance <= 0.5"]'))
-    (part,) = parts(_problem(DCMOTOR, path))
+    path = sampled_stop(tmp_path, "range", ('constraints = ["Motor_av >= 20"]',
+                                            'constraints = ["Range_distance <= 0.5"]'))
+    (part,) = parts(scenario_problem(DCMOTOR, path))
     assert part.states == ["Range_distance"]
     model = parse_model(render(part, "range"))
     assert list(model.modes) == ["Cruise"] and model.jumps == []
 
 
 def test_split_boxes_cover_the_initial_interval(tmp_path):
-    problem = _problem(DCMOTOR, DCMOTOR / "sampled_stop.toml")
+    problem = scenario_problem(DCMOTOR, DCMOTOR / "sampled_stop.toml")
     (part,) = parts(problem)
     boxes = split(part, 4)
     intervals = [parse_model(render(p, "b")).init["Range_distance"] for _, p in boxes]
@@ -182,7 +159,7 @@ def test_split_boxes_cover_the_initial_interval(tmp_path):
 # --------------------------------------------------------------------------- witnesses
 
 def test_a_witness_is_a_trajectory_that_really_enters_the_unsafe_set(tmp_path):
-    problem = _problem(DCMOTOR, _scenario(tmp_path, "u", UNSAFE, SHORT))
+    problem = scenario_problem(DCMOTOR, sampled_stop(tmp_path, "u", UNSAFE, SHORT))
     witness = find_witness(render(problem, "u"))
     assert witness is not None
     entry = dict(witness.entry.values)
@@ -197,7 +174,7 @@ def test_a_witness_is_a_trajectory_that_really_enters_the_unsafe_set(tmp_path):
 def test_no_witness_on_the_borderline_scenario(tmp_path):
     """The distance starts 1e-5 above the stopping threshold at t = 1.0: no trajectory
     stops then, and by t = 1.15 the motor stopped at t = 1.1 still turns above 5 rad/s."""
-    problem = _problem(DCMOTOR, _scenario(tmp_path, "b", *BORDER, SHORT))
+    problem = scenario_problem(DCMOTOR, sampled_stop(tmp_path, "b", *BORDER, SHORT))
     assert find_witness(render(problem, "b")) is None
     times = np.arange(0.005, 1.3, 0.01)  # every cycle sampled
     window = (times >= 1.15) & (times <= 1.2)
@@ -210,7 +187,7 @@ def test_no_witness_on_the_borderline_scenario(tmp_path):
 def test_the_search_finds_a_violation_from_a_narrow_region_of_the_initial_set(tmp_path):
     """41 evenly spaced starts all miss the region (checked by the direct simulation); the
     search, deterministic, finds a start in it within its budget, twice the same."""
-    problem = _problem(DCMOTOR, _scenario(tmp_path, "narrow", *NARROW, SHORT))
+    problem = scenario_problem(DCMOTOR, sampled_stop(tmp_path, "narrow", *NARROW, SHORT))
     times = np.append(np.arange(0.005, 1.3, 0.01), np.linspace(1.15, 1.2, 11))
     window = (times >= 1.15 - 1e-12) & (times <= 1.2 + 1e-12)
 
@@ -237,8 +214,8 @@ def test_the_search_finds_a_violation_from_a_narrow_region_of_the_initial_set(tm
 def test_the_search_is_drawn_to_the_path_flow_star_flagged(tmp_path):
     """The guided score: a trajectory that follows Flow*'s unsafe path is scored on that
     path's last flow; one that departs from it scores worse than any that follows it."""
-    automaton = Automaton(render(_problem(DCMOTOR, _scenario(tmp_path, "g", *NARROW, SHORT)),
-                                 "g"))
+    problem = scenario_problem(DCMOTOR, sampled_stop(tmp_path, "g", *NARROW, SHORT))
+    automaton = Automaton(render(problem, "g"))
     path = ["Cruise"] * 10 + ["Stopped"]  # the stop at t = 1.0
     start = {v: 0.0 for v in automaton.variables}
     on, off = dict(start, Range_distance=2.9), dict(start, Range_distance=10.0)
@@ -251,7 +228,7 @@ def test_the_search_is_drawn_to_the_path_flow_star_flagged(tmp_path):
 def test_a_decision_on_a_guard_boundary_is_no_witness(tmp_path):
     """From exactly 3.0 the distance reaches the threshold 1 m exactly at t = 1.0: the
     stop there is on the guard's boundary, so that trajectory proves nothing."""
-    problem = _problem(DCMOTOR, _scenario(
+    problem = scenario_problem(DCMOTOR, sampled_stop(
         tmp_path, "edge", ("Range_distance = [3, 3.1]", "Range_distance = 3"),
         ('constraints = ["Motor_av >= 20"]', 'constraints = ["Motor_av <= 5", "t >= 1.15"]'),
         SHORT))
@@ -294,7 +271,7 @@ def test_real_flowstar_proves_the_marxbot_example(tmp_path, capsys):
 
 @needs_flowstar
 def test_real_flowstar_unsafe_is_confirmed_and_printed(tmp_path, capsys):
-    rc, out, err = _reach(capsys, DCMOTOR, _scenario(tmp_path, "u", UNSAFE, SHORT), tmp_path)
+    rc, out, err = _reach(capsys, DCMOTOR, sampled_stop(tmp_path, "u", UNSAFE, SHORT), tmp_path)
     assert rc == 1, out + err
     lines = out.splitlines()
     assert lines[0].startswith("UNSAFE: a simulated trajectory from the initial set enters")
@@ -307,7 +284,7 @@ def test_real_flowstar_unsafe_is_confirmed_and_printed(tmp_path, capsys):
 @needs_flowstar
 def test_real_flowstar_unsafe_from_a_narrow_region_is_confirmed(tmp_path, capsys):
     """Flow* flags the box; the search finds the trajectory that stops at t = 1.0."""
-    rc, out, err = _reach(capsys, DCMOTOR, _scenario(tmp_path, "narrow", *NARROW, SHORT),
+    rc, out, err = _reach(capsys, DCMOTOR, sampled_stop(tmp_path, "narrow", *NARROW, SHORT),
                           tmp_path)
     assert rc == 1, out + err
     lines = out.splitlines()
@@ -341,7 +318,7 @@ def test_real_flowstar_proves_a_conjunction_jointly_when_no_part_does(tmp_path, 
     assert ": UNSAFE (" in runs[0] and ": UNSAFE (" in runs[1] and ": SAFE (" in runs[2]
     # the parts' UNSAFE is real for their own atoms: a trajectory of each part enters them
     for k, atom in ((1, "Motor1_av >= 8"), (2, "Motor2_av <= 2")):
-        problem = _problem(folder, path)
+        problem = scenario_problem(folder, path)
         (part,) = [p for p in parts(problem) if f"Motor{k}_av" in p.states]
         assert find_witness(render(part, f"p{k}")) is not None, atom
 
@@ -349,7 +326,7 @@ def test_real_flowstar_proves_a_conjunction_jointly_when_no_part_does(tmp_path, 
 @needs_flowstar
 def test_real_flowstar_borderline_unsafe_is_unknown(tmp_path, capsys):
     """Flow* says UNSAFE (a spurious stop at t = 1.0); the system is safe."""
-    rc, out, err = _reach(capsys, DCMOTOR, _scenario(tmp_path, "b", *BORDER, SHORT), tmp_path)
+    rc, out, err = _reach(capsys, DCMOTOR, sampled_stop(tmp_path, "b", *BORDER, SHORT), tmp_path)
     assert rc == 3, out + err
     assert out.startswith("UNKNOWN: Flow* found a flowpipe inside the unsafe set")
     assert "spurious branch" in out and "Cruise ×10 -> Stopped" in out
@@ -360,7 +337,7 @@ def test_real_flowstar_borderline_unsafe_is_unknown(tmp_path, capsys):
 def test_real_flowstar_incomplete_computation_is_unknown(tmp_path, capsys):
     # a quadratic environment makes the modes poly ode 2 (an affine mode is lti ode, whose
     # integrator completes at this step), and Picard's iteration fails at step 0.05
-    rc, out, err = _reach(capsys, DCMOTOR, _scenario(
+    rc, out, err = _reach(capsys, DCMOTOR, sampled_stop(
         tmp_path, "big", SHORT, ("step = 0.01", "step = 0.05"),
         ('Range_distance = "-2"', 'Range_distance = "-0.5*Range_distance*Range_distance"')),
         tmp_path, "--no-auto-split")
@@ -371,7 +348,7 @@ def test_real_flowstar_incomplete_computation_is_unknown(tmp_path, capsys):
 def test_real_flowstar_too_few_jumps_is_not_safe(tmp_path):
     """With max jumps 5 Flow* covers t <= 0.6 only and prints SAFE, although the motor is
     at rest (below 5 rad/s) after t = 1.5 on every trajectory."""
-    problem = _problem(DCMOTOR, _scenario(
+    problem = scenario_problem(DCMOTOR, sampled_stop(
         tmp_path, "few", ('constraints = ["Motor_av >= 20"]',
                           'constraints = ["Motor_av <= 5", "t >= 1.5"]'), ("horizon = 2.0",
                                                                             "horizon = 1.6")))
@@ -390,12 +367,12 @@ def test_real_flowstar_too_few_jumps_is_not_safe(tmp_path):
 def test_real_flowstar_checks_actuator_inputs_and_environment_functions(tmp_path, capsys):
     """Unsafe: the desired speed is still 10 rad/s after t = 1.2 (the stop comes at 1.0 or
     1.1: SAFE); the obstacle's approach speed varies with sin (a nonpoly mode)."""
-    rc, out, err = _reach(capsys, DCMOTOR, _scenario(
+    rc, out, err = _reach(capsys, DCMOTOR, sampled_stop(
         tmp_path, "das", ('constraints = ["Motor_av >= 20"]',
                           'constraints = ["Motor_das >= 5", "t >= 1.2"]'),
         ("horizon = 2.0", "horizon = 1.3")), tmp_path)
     assert rc == 0, out + err
-    rc, out, err = _reach(capsys, DCMOTOR, _scenario(
+    rc, out, err = _reach(capsys, DCMOTOR, sampled_stop(
         tmp_path, "wave", ('Range_distance = "-2"', 'Range_distance = "-2 - sin(5*t)"'),
         ("horizon = 2.0", "horizon = 0.3")), tmp_path, "--no-auto-split")
     assert rc in (0, 3) and not out.startswith("ERROR"), out + err
@@ -403,7 +380,7 @@ def test_real_flowstar_checks_actuator_inputs_and_environment_functions(tmp_path
 
 @needs_flowstar
 def test_real_flowstar_split_and_disjunctions(tmp_path, capsys):
-    rc, out, err = _reach(capsys, DCMOTOR, _scenario(
+    rc, out, err = _reach(capsys, DCMOTOR, sampled_stop(
         tmp_path, "either", SHORT, ('constraints = ["Motor_av >= 20"]',
                                     'constraints = ["Motor_av >= 20 \\\\/ Motor_i >= 30"]')),
         tmp_path, "--split", "2")
@@ -414,8 +391,8 @@ def test_real_flowstar_split_and_disjunctions(tmp_path, capsys):
 
 @needs_flowstar
 def test_real_flowstar_accepts_adaptive_orders(tmp_path, capsys):
-    rc, out, err = _reach(capsys, DCMOTOR, _scenario(tmp_path, "adaptive", SHORT,
-                                                     ("order = 6", "order = [4, 8]")),
+    rc, out, err = _reach(capsys, DCMOTOR, sampled_stop(tmp_path, "adaptive", SHORT,
+                                                        ("order = 6", "order = [4, 8]")),
                           tmp_path, "--no-auto-split")
     assert rc == 0 and "adaptive orders { min 4 , max 8 }" in (
         tmp_path / "out" / "adaptive.model").read_text(), out + err

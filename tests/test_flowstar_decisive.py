@@ -13,49 +13,22 @@ from pathlib import Path
 import pytest
 
 from conftest import EXAMPLES, flowstar_binary, needs_flowstar
+from flowstar_scenarios import (CRUISE_COAST, CRUISE_COAST_STOP, MOTOR_HEAD, controller,
+                                sampled_stop, scenario_problem)
 from cyphy.diagnostics import Report
-from cyphy.verify.flowstar.export import build_problem, render
+from cyphy.verify.flowstar.build import build_problem
+from cyphy.verify.flowstar.export import render
 from cyphy.verify.flowstar.guards import targets
 from cyphy.verify.flowstar.scenario import load_scenario
 from cyphy.verify.flowstar.syntax import parse_model
 
 DCMOTOR = EXAMPLES / "dcmotor"
 
-HEAD = """model = "DCMotorBase"
-elements = ["DCMotorBase::Bench::Shaft::Motor", "DCMotorBase::Bench::Range"]
-horizon = {horizon}
-tscale = 0.1
-[init]
-Motor_av = {av}
-Motor_i = 0
-Motor_int1 = 0
-Motor_theta = 0
-Range_distance = {distance}
-[environment]
-Range_distance = "{env}"
-"""
-
 # Re-issue drive(8) while near; the transition to slow on the same event comes second, so
 # it is never taken (the first `when` that holds wins): every cycle stays in fast.
-SELF = HEAD + """[controller]
-initial = "fast"
-[controller.states.fast]
-calls = ["drive(8)"]
-[controller.states.slow]
-calls = ["drive(2)"]
-[[controller.transitions]]
-from = "fast"
-to = "fast"
-when = "near"
-[[controller.transitions]]
-from = "fast"
-to = "slow"
-when = "near"
-[[controller.transitions]]
-from = "slow"
-to = "fast"
-when = "near"
-[unsafe]
+SELF = MOTOR_HEAD + controller("fast", {"fast": ["drive(8)"], "slow": ["drive(2)"]},
+                         [("fast", "fast", "near"), ("fast", "slow", "near"),
+                          ("slow", "fast", "near")]) + """[unsafe]
 constraints = ["Motor_av >= 20"]
 """
 
@@ -63,12 +36,7 @@ constraints = ["Motor_av >= 20"]
 def _problem(tmp_path: Path, text: str, name: str = "s"):
     path = tmp_path / f"{name}.toml"
     path.write_text(text)
-    report = Report()
-    scenario = load_scenario(path, report)
-    assert scenario is not None, report.diagnostics
-    problem, _ = build_problem([DCMOTOR], scenario, report)
-    assert problem is not None and not report.has_errors, report.diagnostics
-    return problem
+    return scenario_problem(DCMOTOR, path)
 
 
 def _flowpipes(text: str, cwd: Path) -> int:
@@ -124,19 +92,6 @@ def test_flowstar_computes_one_path_on_a_machine_with_a_self_transition(tmp_path
 
 # --------------------------------------------------------------------------- 3. falsification
 
-EXAMPLE = (DCMOTOR / "sampled_stop.toml").read_text().replace("max_jumps = 25\n", "")
-
-
-def _example(tmp_path: Path, name: str, *edits: tuple[str, str]) -> Path:
-    text = EXAMPLE
-    for old, new in edits:
-        assert old in text, old
-        text = text.replace(old, new)
-    path = tmp_path / f"{name}.toml"
-    path.write_text(text)
-    return path
-
-
 # The obstacle approaches at 2 m/s whatever the controller does: d(t) = d0 - 2 t. It comes
 # within 0.02 m by t = 1 exactly when d0 <= 2.02: the lowest 5% of [2.0, 2.4].
 CORNER = [("Range_distance = [3, 3.1]", "Range_distance = [2.0, 2.4]"),
@@ -150,7 +105,7 @@ def test_a_violation_from_a_five_percent_corner_is_unsafe_with_its_witness(tmp_p
     from cyphy.verify.flowstar.check import check
 
     report = Report()
-    scenario = load_scenario(_example(tmp_path, "corner", *CORNER), report)
+    scenario = load_scenario(sampled_stop(tmp_path, "corner", *CORNER), report)
     problem, _ = build_problem([DCMOTOR], scenario, report)
     result = check(problem, "corner", str(flowstar_binary()), jobs=1)
     assert result.verdict == "UNSAFE", result.reason
@@ -165,8 +120,8 @@ def test_a_violation_from_a_five_percent_corner_is_unsafe_with_its_witness(tmp_p
 def test_without_the_corner_the_same_property_is_not_unsafe(tmp_path, capsys):
     from cyphy.cli import main
 
-    path = _example(tmp_path, "clear", ("Range_distance = [3, 3.1]",
-                                        "Range_distance = [2.03, 2.4]"), *CORNER[1:])
+    path = sampled_stop(tmp_path, "clear", ("Range_distance = [3, 3.1]",
+                                            "Range_distance = [2.03, 2.4]"), *CORNER[1:])
     rc = main(["reach", str(DCMOTOR), "--scenario", str(path), "-o", str(tmp_path / "o"),
                "--flowstar-bin", str(flowstar_binary())])
     out = capsys.readouterr().out
@@ -188,7 +143,7 @@ def test_settings_that_would_overflow_or_run_for_days_are_refused(tmp_path, caps
                                                                   message):
     from cyphy.cli import main
 
-    path = _example(tmp_path, "bad", edit)
+    path = sampled_stop(tmp_path, "bad", edit)
     rc = main(["gen", "--flowstar", str(DCMOTOR), "--scenario", str(path), "-o",
                str(tmp_path / "o")])
     err = capsys.readouterr().err
@@ -217,7 +172,7 @@ def test_the_output_folder_holds_the_models_flowstar_ran(tmp_path, capsys):
     from cyphy.verify.flowstar.verdict import run_text
 
     out = tmp_path / "o"
-    path = _example(tmp_path, "two", ("horizon = 2.0", "horizon = 1.3"))
+    path = sampled_stop(tmp_path, "two", ("horizon = 2.0", "horizon = 1.3"))
     rc = main(["reach", str(DCMOTOR), "--scenario", str(path), "-o", str(out), "--split", "2",
                "--flowstar-bin", str(flowstar_binary())])
     assert rc == 0, capsys.readouterr()
@@ -230,7 +185,7 @@ def test_the_output_folder_holds_the_models_flowstar_ran(tmp_path, capsys):
 
 # --------------------------------------------------------------------------- 2. precision
 
-DECAY = HEAD.format(horizon=5.0, av="[9.5, 10]", distance=0, env="0").replace(
+DECAY = MOTOR_HEAD.format(horizon=5.0, av="[9.5, 10]", distance=0, env="0").replace(
     "Motor_i = 0", "Motor_i = [0, 0.5]") + """[controller]
 initial = "stopped"
 [controller.states.stopped]
@@ -274,25 +229,9 @@ def test_a_decaying_motor_over_five_seconds_is_safe_with_lti_ode(tmp_path):
     assert poly.verdict != "SAFE"
 
 
-WAVE = HEAD.format(horizon=1.0, av=0, distance="[1.4, 1.5]",
+WAVE = MOTOR_HEAD.format(horizon=1.0, av=0, distance="[1.4, 1.5]",
                    env="-0.5 + 0.3*cos(3*t)").replace("tscale = 0.1", "tscale = 0.05\ncycle = 2") \
-    + """[controller]
-initial = "cruise"
-[controller.states.cruise]
-calls = ["drive(8)"]
-[controller.states.coast]
-calls = []
-[controller.states.stopped]
-calls = ["stop()"]
-[[controller.transitions]]
-from = "cruise"
-to = "coast"
-when = "near"
-[[controller.transitions]]
-from = "coast"
-to = "stopped"
-when = "not near"
-[unsafe]
+    + CRUISE_COAST_STOP + """[unsafe]
 constraints = ["Motor_av >= 12"]
 """
 
@@ -327,8 +266,8 @@ def test_the_ladder_halves_a_step_too_large_before_splitting(tmp_path):
     from cyphy.verify.flowstar.check import check
 
     report = Report()
-    scenario = load_scenario(_example(tmp_path, "coarse", ("step = 0.01", "step = 0.05"),
-                                      ("horizon = 2.0", "horizon = 1.3")), report)
+    scenario = load_scenario(sampled_stop(tmp_path, "coarse", ("step = 0.01", "step = 0.05"),
+                                          ("horizon = 2.0", "horizon = 1.3")), report)
     problem, _ = build_problem([DCMOTOR], scenario, report)
     result = check(problem, "coarse", str(flowstar_binary()), jobs=1)
     assert result.verdict == "SAFE", result.reason
@@ -343,23 +282,9 @@ def test_the_ladder_halves_a_step_too_large_before_splitting(tmp_path):
 # cruise (drive(8)) and coast (drive(6)) on the range finder's event; the obstacle stays far,
 # so every cycle of 0.5 s (cycle = 5) jumps from cruise to cruise. The motor's equilibrium
 # under drive(8) is w = 8, i = 1.6, z = 0.4; the box around it below is invariant.
-PERIODIC = HEAD.format(horizon=2.0, av="[7.8, 8.2]", distance="[3, 3.1]", env="0").replace(
+PERIODIC = MOTOR_HEAD.format(horizon=2.0, av="[7.8, 8.2]", distance="[3, 3.1]", env="0").replace(
     "Motor_i = 0", "Motor_i = [1.38, 1.82]").replace("Motor_int1 = 0", "Motor_int1 = [0.36, 0.44]"
-    ).replace("tscale = 0.1", "tscale = 0.1\ncycle = 5") + """[controller]
-initial = "cruise"
-[controller.states.cruise]
-calls = ["drive(8)"]
-[controller.states.coast]
-calls = ["drive(6)"]
-[[controller.transitions]]
-from = "cruise"
-to = "coast"
-when = "near"
-[[controller.transitions]]
-from = "coast"
-to = "cruise"
-when = "not near"
-[unsafe]
+    ).replace("tscale = 0.1", "tscale = 0.1\ncycle = 5") + CRUISE_COAST + """[unsafe]
 constraints = ["Motor_av >= 20"]
 """
 

@@ -10,10 +10,12 @@ from pathlib import Path
 import pytest
 
 from conftest import CORPUS, EXAMPLES, flowstar_binary, needs_corpus, needs_flowstar
+from flowstar_scenarios import controller
 from cyphy import api
 from cyphy.cli import main
 from cyphy.diagnostics import Report
-from cyphy.verify.flowstar.export import build_problem, render
+from cyphy.verify.flowstar.build import build_problem
+from cyphy.verify.flowstar.export import render
 from cyphy.verify.flowstar.scenario import load_scenario
 from cyphy.lang.scopes import Scopes
 from cyphy.model.machines import global_constants, machines_of
@@ -220,18 +222,9 @@ def test_obstacle_stop_under_sstop_exports_its_former_hand_written_table(tmp_pat
     assert "[controller]\ninitial" not in text and 'machine = "SStop"' in text
     table = tmp_path / "obstacle_stop.toml"
     table.write_text(text.replace('machine = "SStop"', "").replace(
-        "[consts]\n", "[consts]\nlv = 0.1\n").replace("[unsafe]", """[controller]
-initial = "Cruising"
-[controller.states.Cruising]
-calls = ["move(lv, 0)"]
-[controller.states.Stopped]
-calls = ["stop()"]
-[[controller.transitions]]
-from = "Cruising"
-to = "Stopped"
-when = "obstacle"
-
-[unsafe]"""))
+        "[consts]\n", "[consts]\nlv = 0.1\n").replace("[unsafe]", controller(
+            "Cruising", {"Cruising": ["move(lv, 0)"], "Stopped": ["stop()"]},
+            [("Cruising", "Stopped", "obstacle")]) + "\n[unsafe]"))
     models = []
     for path, out in ((scenario, tmp_path / "machine"), (table, tmp_path / "table")):
         assert main(["gen", str(EXAMPLES / "marxbot"), "--flowstar", "--scenario", str(path),

@@ -25,9 +25,6 @@ DATA_TABLES = {
 KNOWN_LONG = {
     "cyphy.model.elaborate",
     "cyphy.model.evaluate",
-    "cyphy.semantics.scalarise",
-    "cyphy.semantics.sdf.rules",
-    "cyphy.verify.flowstar.export",
     "cyphy.wellformed.mappings",
     # The axiomatic checker moved from tests/ into check-theory (issue 25): its cited signature
     # table belongs in a module of its own (utp_types' is in utp_signatures.py).

@@ -11,7 +11,9 @@ from cyphy import api
 from cyphy import expr as ex
 from cyphy.lang.notation import to_notation
 from cyphy.semantics.circus import ast as c
-from cyphy.semantics.scalarise import ScalariseError, Scalariser, scalar_process
+from cyphy.semantics.scalarise.process import scalar_process
+from cyphy.semantics.scalarise.scalariser import Scalariser
+from cyphy.semantics.scalarise.shapes import ScalariseError
 
 
 def N(text: str) -> ex.Name:

@@ -102,7 +102,7 @@ def test_operation_effects_hold_for_any_arguments() -> None:
     0.06 m axis, lv = r(dsl + dsr)/2, av = r(dsl - dsr)/0.06 (computed here by hand)."""
     from cyphy.diagnostics import Report
     from cyphy.verify.flowstar.controller import CallEffects
-    from cyphy.verify.flowstar.export import build_problem
+    from cyphy.verify.flowstar.build import build_problem
     from cyphy.verify.flowstar.scenario import load_scenario
 
     report = Report()
@@ -209,7 +209,8 @@ def test_marxbot_dynamics_scenario_exports_the_hinges_motion() -> None:
     import sympy
 
     from cyphy.diagnostics import Report
-    from cyphy.verify.flowstar.export import build_problem, render
+    from cyphy.verify.flowstar.build import build_problem
+    from cyphy.verify.flowstar.export import render
     from cyphy.verify.flowstar.scenario import load_scenario
 
     report = Report()

@@ -18,7 +18,8 @@ HEAVY = ("sympy", "scipy", "matplotlib")
 UNNEEDED = ("cyphy.api.semantics", "cyphy.api.simulate", "cyphy.api.solve", "cyphy.api.view",
             "cyphy.api.machines", "cyphy.semantics.circus", "cyphy.semantics.dynamics",
             "cyphy.semantics.machines", "cyphy.backends.isabelle", "cyphy.backends.circus",
-            "cyphy.verify.flowstar.export", "cyphy.verify.flowstar.scenario",
+            "cyphy.verify.flowstar.build", "cyphy.verify.flowstar.export",
+            "cyphy.verify.flowstar.problem", "cyphy.verify.flowstar.scenario",
             "cyphy.verify.flowstar.controller")
 
 #: Runs the command in this process, then prints the modules it imported.

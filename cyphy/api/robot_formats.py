@@ -36,7 +36,8 @@ def generate_sdf(paths: Sequence[str | Path], options: SdfGenOptions = SdfGenOpt
     and the table. No files when the model has errors or constants without values."""
     # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.backends.robot_formats.sdf_xml import model_config, names_json, to_xml
-    from cyphy.semantics.sdf.rules import SdfOptions, translate
+    from cyphy.semantics.sdf.rules import translate
+    from cyphy.semantics.sdf.translation import SdfOptions
 
     checked, generated, model = geometric_model(paths, options.model, options.consts,
                                                  options.search_paths, "SDF generation")

@@ -132,7 +132,7 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
     its interpreter (:mod:`cyphy.semantics.machines.cycle`) when the scenario has none."""
     # lazy: NumPy, SciPy, SymPy: `cyphy check` must not pay for it
     from cyphy.backends import simulate as sim
-    from cyphy.verify.flowstar.export import build_problem
+    from cyphy.verify.flowstar.build import build_problem
 
     report = Report()
     empty = ElaborateResult(CheckResult(None, report), None)  # type: ignore[arg-type]

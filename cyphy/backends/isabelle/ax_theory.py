@@ -26,7 +26,7 @@ from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, identifier
 from cyphy.semantics.circus.walk import action_nodes, map_action
 from cyphy.semantics.circus.rules import REGISTER_CHANNELS, TIMER
-from cyphy.semantics.scalarise import initialised
+from cyphy.semantics.scalarise.process import initialised
 
 PARENT = "Axiomatic_CyPhyCircus"
 PARENT_IMPORT = '"Axiomatic_CyPhyCircus.Ax_CyPhyCircus"'

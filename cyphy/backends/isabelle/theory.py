@@ -26,7 +26,8 @@ from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, identifier
 from cyphy.semantics.circus.rules import DEVIATIONS, REGISTER_CHANNELS, functions
 from cyphy.semantics.circus.walk import action_nodes
-from cyphy.semantics.scalarise import ScalariseError, scalar_process
+from cyphy.semantics.scalarise.process import scalar_process
+from cyphy.semantics.scalarise.shapes import ScalariseError
 
 UNTRANSLATABLE = codes.code("E-ISABELLE", codes.E,
                             "the CyPhyCircus program has no Isabelle/UTP counterpart")

@@ -38,8 +38,9 @@ from cyphy.lang.notation import to_notation, type_to_notation
 from cyphy.lang.scopes import Scopes, is_constant
 from cyphy.model.elements import Device, ElaboratedModel, Port
 from cyphy.semantics.dynamics.equations import member_equations
-from cyphy.semantics.scalarise import ScalariseError, Scalariser, shape_of_type
-from cyphy.semantics.scalarise import components as scalar_names
+from cyphy.semantics.scalarise.scalariser import Scalariser
+from cyphy.semantics.scalarise.shapes import ScalariseError, shape_of_type
+from cyphy.semantics.scalarise.shapes import components as scalar_names
 from cyphy.semantics.circus.values import type_of
 
 Member = ast.OperationMapping | ast.EventMapping | ast.VariableMapping

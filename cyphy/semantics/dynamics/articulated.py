@@ -58,7 +58,7 @@ from cyphy.semantics.dynamics.spatial import (motion_subspace, motion_subspace_r
                                               parent_to_child, subspace_factors)
 from cyphy.semantics.dynamics.tree import (EULER, STANDARD_GRAVITY, KinematicTree, TreeJoint,
                                            coordinate_names, joint_kind, kinematic_tree)
-from cyphy.semantics.scalarise import component_name
+from cyphy.semantics.scalarise.shapes import component_name
 
 
 @dataclass(frozen=True)

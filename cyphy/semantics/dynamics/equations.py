@@ -191,7 +191,7 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
     from cyphy.semantics.dynamics.articulated import model_motion
     from cyphy.semantics.dynamics.errors import DynamicsError
     from cyphy.semantics.dynamics.tree import STANDARD_GRAVITY, coordinate_names
-    from cyphy.semantics.scalarise import component_name
+    from cyphy.semantics.scalarise.shapes import component_name
 
     if known is not None and not any(j.device is not None and
                                      any(p.mangled in known for p in j.device.ports)
@@ -213,7 +213,7 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
         for atom in d.value.atoms():
             names |= uses.get(atom, {atom})
         uses[d.name] = names
-    from cyphy.semantics.scalarise import components, type_shape
+    from cyphy.semantics.scalarise.shapes import components, type_shape
 
     taken = set(system.variables) | set(system.parameters) | {  # and their components
         c for n, t in system.variables.items() for c in components(n, type_shape(t) or ())}

@@ -37,7 +37,7 @@ from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.dynamics.equations import ASSEMBLY, AssemblyError, System, assemble
-from cyphy.semantics.scalarise import components, type_shape
+from cyphy.semantics.scalarise.shapes import components, type_shape
 
 NOT_EXPLICIT = codes.code("E-ISABELLE-ODE", codes.E,
                           "Evolve cannot be written as the explicit ODE of the axiomatic "

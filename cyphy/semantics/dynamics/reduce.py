@@ -36,7 +36,8 @@ from cyphy.semantics.dynamics.obstacles import Obstacle, competition, in_library
 from cyphy.semantics.dynamics.solving import (blocks_in_order, cancel_sums, match_unknowns,
                                               solve_linear)
 from cyphy.semantics.dynamics.structure import Row, overdetermined, underdetermined
-from cyphy.semantics.scalarise import ScalariseError, Scalariser, components, type_shape
+from cyphy.semantics.scalarise.scalariser import Scalariser
+from cyphy.semantics.scalarise.shapes import ScalariseError, components, type_shape
 
 
 @dataclass

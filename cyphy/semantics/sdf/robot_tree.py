@@ -1,7 +1,7 @@
 """The robot as tree-based formats see it: links in trees, joints from parent to child, and
 the connections cut to make trees. Shared by the URDF and MJCF exports and by ``cyphy view``.
 
-Built from the SDF translation with a tree target (:data:`cyphy.semantics.sdf.rules.TREE_TARGETS`),
+Built from the SDF translation with a tree target (:data:`cyphy.semantics.sdf.translation.TREE_TARGETS`),
 so that the three exports agree with ``gen --sdf --target pybullet`` on everything the paper's
 rules decide: names, inertials (Rule 4), geometry (Rule 3), joint types, axes, limits and
 dynamics with the annotation templates' defaults (Rule 5), which connections close loops
@@ -22,7 +22,9 @@ from cyphy.diagnostics import Report
 from cyphy.lang.workspace import Workspace
 from cyphy.model.elements import ElaboratedModel, FixedJoint
 from cyphy.model.poses import Pose
-from cyphy.semantics.sdf.rules import SdfOptions, _loop_cuts, translate
+from cyphy.semantics.sdf.rules import translate
+from cyphy.semantics.sdf.topology import loop_cuts
+from cyphy.semantics.sdf.translation import SdfOptions
 from cyphy.semantics.sdf.tree import Node
 
 #: Warnings of the SDF translation about what only SDF holds (sensors, actuators).
@@ -136,7 +138,7 @@ def build_robot(model: ElaboratedModel, ws: Workspace, report: Report, target: s
     trees = [_tree(m, qualified, driven) for m in models]
     sdf_name = {q: n for n, q in qualified.items()}
     cuts = []
-    for c in _loop_cuts(model):
+    for c in loop_cuts(model):
         assert c.parent is not None and c.child is not None
         if isinstance(c, FixedJoint):
             name, kind, frame = f"{c.parent.name}::fixedJoint::{c.child.name}", "fixed", \

@@ -48,7 +48,8 @@ from typing import Any
 import sympy
 
 from cyphy.verify.flowstar.constraints import dnf
-from cyphy.verify.flowstar.export import CLOCK, TIMER, Problem, render, symbol
+from cyphy.verify.flowstar.export import render
+from cyphy.verify.flowstar.problem import CLOCK, TIMER, Problem, symbol
 from cyphy.verify.flowstar.limits import MAX_ORDER
 from cyphy.verify.flowstar.simulate import BUDGET, Witness, find_witness, unsafe_paths
 from cyphy.verify.flowstar.verdict import Outcome, run_text
@@ -170,7 +171,7 @@ def _restrict(p: Problem, need: set[str], unsafe: Any) -> Problem:
 
 
 def _box(p: Problem, name: str) -> tuple[float, float]:
-    from cyphy.verify.flowstar.export import initial_interval
+    from cyphy.verify.flowstar.problem import initial_interval
 
     lo, hi = initial_interval(p, name)
     return float(lo), float(hi)

@@ -8,10 +8,10 @@ from typing import TYPE_CHECKING, Sequence
 
 from cyphy.pipeline.generated import Generated
 from cyphy.diagnostics import Report, Span
-from cyphy.verify.flowstar.scenario import SCENARIO, load_scenario
+from cyphy.verify.flowstar.scenario import EXPORT, SCENARIO, load_scenario
 
 if TYPE_CHECKING:
-    from cyphy.verify.flowstar.export import Problem
+    from cyphy.verify.flowstar.problem import Problem
 
 
 def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str | None = None,
@@ -23,7 +23,8 @@ def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str 
     :func:`cyphy.verify.flowstar.check.check` decomposes, splits and runs. ``machine`` names the
     d-model's state machine that is the controller when the scenario has no ``[controller]``;
     ``default_inertial`` (``"sdf"``) wins over the scenario's ``default_inertial``."""
-    from cyphy.verify.flowstar.export import EXPORT, build_problem, output_name, render
+    from cyphy.verify.flowstar.build import build_problem
+    from cyphy.verify.flowstar.export import output_name, render
     from cyphy.verify.flowstar.printer import NotExpressible
 
     report = Report()

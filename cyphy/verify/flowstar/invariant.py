@@ -27,9 +27,11 @@ from typing import Any
 import sympy
 
 from cyphy.verify.flowstar.constraints import dnf
-from cyphy.verify.flowstar.export import (CLOCK, TIMER, Problem, _jumps, _mode_values, _ode,
-                                          _orders, _steps, _value, initial_interval, symbol)
+from cyphy.verify.flowstar.export import (mode_jumps, ode_form, orders_setting, signed_number,
+                                          steps_setting)
 from cyphy.verify.flowstar.printer import number
+from cyphy.verify.flowstar.problem import (CLOCK, TIMER, Problem, initial_interval, mode_values,
+                                           symbol)
 
 
 def invariant_model(p: Problem, name: str) -> str | None:
@@ -45,12 +47,12 @@ def invariant_model(p: Problem, name: str) -> str | None:
     variables = [*p.states, *held, TIMER, CLOCK]
     var_syms = {symbol(v) for v in variables}
     mode = s.initial
-    values = _mode_values(p, mode)
+    values = mode_values(p, mode)
     rhs = {x: sympy.expand(p.rhs[x].xreplace(values)) for x in p.states}
     rhs.update({u: sympy.Integer(0) for u in held})
     rhs.update({TIMER: sympy.Integer(1), CLOCK: sympy.Integer(1)})
     jumps = [(target, guard, _resets(p, target)) for source, target, guard in
-             _jumps(p, var_syms, set()) if source == mode]
+             mode_jumps(p, var_syms, set()) if source == mode]
     faces = []
     for v in [*p.states, *held]:
         lo, hi = (sympy.nsimplify(b) for b in initial_interval(p, v))
@@ -64,17 +66,17 @@ def invariant_model(p: Problem, name: str) -> str | None:
         return None  # one conjunction per run: the caller checks Problem.disjuncts()
     period = sympy.Rational(repr(s.period))
     step = s.settings.step[1] if isinstance(s.settings.step, tuple) else s.settings.step
-    form, texts = _ode(rhs, [symbol(v) for v in variables])
-    still, _ = _ode({v: sympy.Integer(0) for v in variables}, [symbol(v) for v in variables])
+    form, texts = ode_form(rhs, [symbol(v) for v in variables])
+    still, _ = ode_form({v: sympy.Integer(0) for v in variables}, [symbol(v) for v in variables])
     sinks = [f"cyphy_face{k + 1}" for k in range(len(faces))] + ["cyphy_elsewhere"]
     lines = [f"# cyphy: is the initial box of {mode} invariant over one cycle of "
              f"{number(period)} s? (SAFE: yes, and the cycle avoids the unsafe set)",
              "hybrid reachability", "{", f" state var {', '.join(variables)}", "",
-             " setting", " {", _steps(s.settings.step),
+             " setting", " {", steps_setting(s.settings.step),
              f"  time {number(period + sympy.Rational(repr(float(step))))}",
              f"  remainder estimation {number(s.settings.remainder)}",
              "  identity precondition", f"  gnuplot octagon {CLOCK}, {TIMER}",
-             _orders(s.settings.order), f"  cutoff {number(s.settings.cutoff)}",
+             orders_setting(s.settings.order), f"  cutoff {number(s.settings.cutoff)}",
              f"  precision {s.settings.precision}", f"  tm output {name}", "  max jumps 1",
              "  print off", " }", "", " modes", " {", f"  {mode}", "  {", f"   {form}", "   {"]
     lines += [f"    {x}' = {texts[x]}" for x in variables]
@@ -86,20 +88,20 @@ def invariant_model(p: Problem, name: str) -> str | None:
     lines += [" }", "", " jumps", " {"]
     for target, guard, resets in jumps:
         atoms = [f"{TIMER} = {number(period)}"] + [a.text() for a in guard]
-        reset = [f"{TIMER}' := 0"] + [f"{u}' := {_value(v)}" for u, v in resets.items()]
+        reset = [f"{TIMER}' := 0"] + [f"{u}' := {signed_number(v)}" for u, v in resets.items()]
         for sink in (sinks[:-1] if target == mode else sinks[-1:]):
             lines += [f"  {mode} -> {sink}", f"  guard {{ {'  '.join(atoms)} }}",
                       f"  reset {{ {'  '.join(reset)} }}", "  parallelotope aggregation { }"]
     lines += [" }", "", " init", " {", f"  {mode}", "  {"]
     for v in [*p.states, *held]:
         lo, hi = initial_interval(p, v)
-        lines.append(f"   {v} in [{_value(lo)}, {_value(hi)}]")
+        lines.append(f"   {v} in [{signed_number(lo)}, {signed_number(hi)}]")
     lines += [f"   {TIMER} in [0, 0]", f"   {CLOCK} in [0, 0]", "  }", " }", "}", "",
               "unsafe", "{", f" {mode}", " {"]
     lines += [f"  {a.text()}" for a in unsafe[0]] if unsafe else [f"  {CLOCK} <= -1"]
     lines.append(" }")
     for sink, (v, rel, bound) in zip(sinks, faces):
-        lines += [f" {sink}", " {", f"  {v} {rel} {_value(bound)}", " }"]
+        lines += [f" {sink}", " {", f"  {v} {rel} {signed_number(bound)}", " }"]
     lines += [f" {sinks[-1]}", " {", f"  {CLOCK} >= 0", " }", "}"]
     return "\n".join(lines) + "\n"
 
