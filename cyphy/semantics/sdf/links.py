@@ -5,6 +5,8 @@ its bodies) and the order of declarations (a container's parts before its own li
 
 from __future__ import annotations
 
+from cyphy.lang import ast
+from cyphy.model.elaborate import _distribute  # the same spreading as a mass-only link
 from cyphy.model.elements import Body, ElaboratedModel, Link
 from cyphy.model.inertia import Inertial
 from cyphy.model.poses import Pose
@@ -76,8 +78,6 @@ def inertial_rule(t: Translation, link: Link) -> Node:
 
 
 def _default_inertial(link: Link) -> Inertial:
-    from cyphy.model.elaborate import _distribute  # the same spreading as a mass-only link
-
     unit = Inertial(DEFAULT_MASS, Pose.identity(), (0.0,) * 6)
     spread = _distribute(unit, link.bodies) if link.bodies else None
     return spread or Inertial(DEFAULT_MASS, Pose.identity(), (1.0, 0.0, 0.0, 1.0, 0.0, 1.0))
@@ -117,8 +117,6 @@ def _optional(node: Node, tag: str, value: object) -> None:
 
 
 def _geometry(body: Body) -> Node:
-    from cyphy.lang import ast
-
     geometry = Node("geometry")
     g, size = body.geometry, body.size
     if isinstance(g, ast.Shape) and g.kind == "box":

@@ -18,7 +18,7 @@ Connection = Union[Joint, FixedJoint]
 def link_trees(model: ElaboratedModel, cut: dict[int, Connection]) -> list[list[Link]]:
     """The links in connected groups (the kinematic graph without the ``cut`` connections,
     edges in either direction), each in Rule 6 order, groups ordered by their first link."""
-    import networkx as nx  # only when splitting: NetworkX takes a quarter second to import
+    import networkx as nx  # lazy: only when splitting; NetworkX takes a quarter second to import
 
     order = {id(link): i for i, link in enumerate(parts_rule(model))}
     graph = model.kinematic_graph()
