@@ -26,8 +26,6 @@ KNOWN_LONG = {
     "cyphy.lang.ast",
     "cyphy.lang.parser",
     "cyphy.lang.resolve",
-    "cyphy.model.elaborate",
-    "cyphy.model.evaluate",
     "cyphy.semantics.dynamics.reduce",
     "cyphy.semantics.dynamics.rigid_body",
     "cyphy.semantics.scalarise",

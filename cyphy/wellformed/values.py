@@ -29,7 +29,9 @@ def _models(ctx: WFContext) -> list[Any]:
     chosen, constants without values) concern generation only. Evaluation errors are reported
     when the model has no other errors, as ``gen`` reports them."""
     if "elaborated" not in ctx.cache:
-        from cyphy.model.elaborate import EVAL, INDEX, elaborate_pmodel, top_level_pmodels
+        from cyphy.model.choose import top_level_pmodels
+        from cyphy.model.elaborate import INDEX, elaborate_pmodel
+        from cyphy.model.environment import EVAL
 
         models = []
         for pm, f in top_level_pmodels(ctx.workspace):

@@ -442,10 +442,10 @@ def inertial_rule(t: _Translation, link: Link) -> Node:
 
 
 def _default_inertial(link: Link) -> Inertial:
-    from cyphy.model.elaborate import _distribute  # the same spreading as a mass-only link
+    from cyphy.model.body_inertia import distribute_mass  # as for a mass-only link
 
     unit = Inertial(DEFAULT_MASS, Pose.identity(), (0.0,) * 6)
-    spread = _distribute(unit, link.bodies) if link.bodies else None
+    spread = distribute_mass(unit, link.bodies) if link.bodies else None
     return spread or Inertial(DEFAULT_MASS, Pose.identity(), (1.0, 0.0, 0.0, 1.0, 0.0, 1.0))
 
 
