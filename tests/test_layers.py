@@ -31,7 +31,6 @@ KNOWN_LONG = {
     "cyphy.semantics.scalarise",
     "cyphy.semantics.sdf.rules",
     "cyphy.verify.flowstar.export",
-    "cyphy.wellformed.mappings",
     # The Isabelle checkers moved from tests/ into check-theory (issue 25): over half of each is
     # its cited signature table; the table belongs in its own module.
     "cyphy.verify.theory.ax_types",

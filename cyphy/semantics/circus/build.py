@@ -18,7 +18,7 @@ from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable
 from cyphy.semantics.circus.rules import Context, DModel, SemanticsError, Service, rule1_program
 from cyphy.semantics.circus.values import type_of
-from cyphy.wellformed.mappings import Platform, platform_of
+from cyphy.wellformed.platform_services import Platform, platform_of
 from cyphy.wellformed.registry import WFContext
 
 NO_MAPPING = codes.code("E-MAPPING", codes.E,

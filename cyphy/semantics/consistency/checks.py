@@ -282,7 +282,7 @@ def check_consistency(ws: Workspace, resolution: Resolution, report: Report,
     """Run C1-C5 on every platform mapping of the user's files."""
     from cyphy.model.elaborate import elaborate_pmodel
     from cyphy.wellformed import WFContext
-    from cyphy.wellformed.mappings import mapped_services
+    from cyphy.wellformed.platform_services import mapped_services
 
     ctx = WFContext(ws, resolution, Report(), dict(consts or {}))
     mappings = list(ctx.mappings())
