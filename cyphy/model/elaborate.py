@@ -17,7 +17,7 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from cyphy import codes, collector
+from cyphy import codes, collector, progress
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span
 from cyphy.lang import ast
@@ -128,8 +128,10 @@ class _Elaborator:
     def run(self, pm: ast.PModel, file: ast.SourceFile) -> ElaboratedModel:
         self.model = ElaboratedModel(pm.name, pm)
         top = self._instance((pm.name,), pm, file, Pose.identity(), None, {})
+        progress.step(f"{len(self.model.links)} links: connecting the joints")
         self._connect(top)
         if self.devices:
+            progress.step(f"{len(self.model.links)} links: naming the devices")
             name_devices(self.model, self.device_names, self.index_values,
                          self.relation_queue)
         self.model.constants = dict(sorted(self.ctx.constants.items()))
@@ -278,6 +280,7 @@ class _Elaborator:
         link.pose = inst.frame.compose(local) if inst.frame and local else None
         inst.links.setdefault(block.name, []).append(link)
         self.model.links.append(link)
+        progress.step(f"{len(self.model.links)} links")  # a 90,000-link model takes a while
         for child in block.blocks:
             for cvalues, cenv in self._copies(child, env):
                 if child.kind is ast.BlockKind.BODY:
