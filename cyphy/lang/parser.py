@@ -16,7 +16,7 @@ from typing import Any, Iterable
 from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
-from cyphy import codes
+from cyphy import codes, progress
 from cyphy import expr as ex
 from cyphy.diagnostics import Diagnostic, Span, did_you_mean
 from cyphy.lang import ast
@@ -40,7 +40,13 @@ def grammar(strict: bool = False) -> Lark:
         # Lark stores the LALR tables in a temporary file keyed by the grammar's hash: the
         # analysis takes 0.7 s, loading the cache a few milliseconds.
         cache=not strict,
+        lexer_callbacks={"LBRACE": _reached},  # progress through a long file, block by block
     )
+
+
+def _reached(token: Token) -> Token:
+    progress.step(f"line {token.line}")
+    return token
 
 
 def parse_text(text: str, path: str = "<string>") -> ParseResult:
@@ -52,6 +58,7 @@ def parse_text(text: str, path: str = "<string>") -> ParseResult:
     except UnexpectedInput as err:
         return ParseResult(None, (_syntax_diagnostic(err, text, path),))
     builder = _Builder(text, path)
+    progress.step("building the syntax tree")
     result = builder.transform(tree)
     return ParseResult(result, tuple(builder.diagnostics))
 

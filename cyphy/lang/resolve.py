@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Iterable, Iterator, Union
 
-from cyphy import codes
+from cyphy import codes, progress
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.lang import ast
@@ -388,7 +388,8 @@ class _Checker:
             self._type(d.type)
             self._expr(d.value, scope)
             self.declared(d, scope)
-        for m in pm.members:
+        for i, m in enumerate(pm.members):
+            progress.step(f"{pm.name}: {i + 1} of {len(pm.members)} elements")
             if isinstance(m, ast.Part):
                 self._part(m, pm, scope)
             elif isinstance(m, ast.Block):
