@@ -19,7 +19,7 @@ def test_the_turntable_of_the_docs_settles_at_the_demanded_speed(tmp_path: Path,
                                                                   capsys) -> None:
     text = DOC.read_text()
     (model,) = re.findall(r"```robosim\n(.*?)```", text, re.S)
-    (command,) = re.findall(r"python3 -m cyphy simulate turntable.rsm (.*?)\n```", text, re.S)
+    (command,) = re.findall(r"^\$ cyphy simulate turntable.rsm (.*?)$", text, re.M)
     (tmp_path / "turntable.rsm").write_text(model)
     args = command.replace("\\\n", " ").split()
     assert main(["simulate", str(tmp_path / "turntable.rsm"), *args, "--samples", "6"]) == 0

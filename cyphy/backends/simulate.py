@@ -19,7 +19,6 @@ of that instant and what it does sets inputs until the next cycle.
 
 from __future__ import annotations
 
-import io
 import json
 import math
 import sys
@@ -30,6 +29,7 @@ from typing import Any, Callable, Collection, Mapping, Protocol, Sequence
 import numpy as np
 
 from cyphy import codes
+from cyphy.diagnostics import did_you_mean
 from cyphy.backends.generated import definition_names
 from cyphy.backends.pinocchio_tree import pinocchio_model
 from cyphy.backends.stiffness import choose, finite_difference
