@@ -32,10 +32,16 @@ class Animation:
 class _Constants:
     """The theory's constants, ``--const`` winning, then the axioms ``name = value``."""
 
-    def __init__(self, model: TheoryModel, given: dict[str, float]) -> None:
+    def __init__(self, model: TheoryModel, given: dict[str, float],
+                 scenario: dict[str, float] | None = None) -> None:
         self.model = model
         self.values = dict(model.values)
         known = sorted(set(model.values) | set(model.open_constants))
+        # a scenario's values set the constants the theory has (tscale only when open); its
+        # other keys (call arguments, another model's names) are not the theory's business
+        for name, value in (scenario or {}).items():
+            if name in model.open_constants or (name in model.values and name != "tscale"):
+                self.values[name] = value
         for name, value in given.items():
             if name not in known:
                 raise AnimateError("E-ANIMATE-OPTION", f"--const {name}: the theory has no "
@@ -78,15 +84,18 @@ class _Constants:
 
 
 def animate(folder: str | Path, t_end: float, inputs: dict[str, str] | None = None,
-            consts: dict[str, float] | None = None, samples: int = 201) -> Animation:
-    """Run the session in ``folder`` for ``t_end`` seconds (see the module docstring)."""
+            consts: dict[str, float] | None = None, samples: int = 201,
+            scenario_consts: dict[str, float] | None = None) -> Animation:
+    """Run the session in ``folder`` for ``t_end`` seconds (see the module docstring);
+    ``scenario_consts`` (a scenario's [consts], theory names) yield to ``consts``."""
     if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
         raise AnimateError("E-ANIMATE-OPTION", f"--t-end {t_end}: the time must be a finite "
                            "number above 0", status=2)
     if samples < 2:
         raise AnimateError("E-ANIMATE-OPTION", "--samples must be at least 2", status=2)
     model = read_model(Path(folder))
-    animator = _Animator(model, t_end, inputs or {}, consts or {}, samples)
+    animator = _Animator(model, t_end, inputs or {}, consts or {}, samples,
+                         scenario_consts or {})
     try:
         return animator.run()
     except (ZeroDivisionError, OverflowError, ValueError) as err:  # math on the values
@@ -98,11 +107,12 @@ def animate(folder: str | Path, t_end: float, inputs: dict[str, str] | None = No
 
 class _Animator:
     def __init__(self, model: TheoryModel, t_end: float, inputs: dict[str, str],
-                 consts: dict[str, float], samples: int) -> None:
+                 consts: dict[str, float], samples: int,
+                 scenario_consts: dict[str, float]) -> None:
         import sympy  # lazy: the inputs and Evolve are symbolic
         self.model = model
         self.t_end = t_end
-        self.constants = _Constants(model, consts)
+        self.constants = _Constants(model, consts, scenario_consts)
         d, p = model.processes
         self.d = Proc(d.name, dict.fromkeys(d.fields), [(model.definitions[d.main].tree, {})])
         self.p = Proc(p.name, dict.fromkeys(p.fields), [(model.definitions[p.main].tree, {})])
