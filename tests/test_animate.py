@@ -280,7 +280,8 @@ def test_the_animator_reads_the_theory_not_the_model() -> None:
     import ast
     folder = Path(__file__).resolve().parent.parent / "cyphy" / "verify" / "animate"
     allowed = ("cyphy.verify.animate", "cyphy.verify.theory", "cyphy.diagnostics",
-               "cyphy.backends.plotting")
+               "cyphy.backends.plotting",
+               "cyphy.verify.flowstar.scenario")  # --scenario's TOML reader: values only
     used = set()
     for path in folder.glob("*.py"):
         for node in ast.walk(ast.parse(path.read_text())):
@@ -290,3 +291,66 @@ def test_the_animator_reads_the_theory_not_the_model() -> None:
                 used.update(a.name for a in node.names)
     ours = {m for m in used if m.startswith("cyphy")}
     assert ours and all(m.startswith(allowed) for m in ours), sorted(ours)
+
+
+# --scenario: the scenario's values, never its model ------------------------------------------
+
+def _animate_cli(capsys: Capsys, *argv: str) -> Animation:
+    """The CLI's JSON output as an :class:`Animation` (what the scenario gave went through it)."""
+    code, stdout, err = _cli(capsys, *argv, "--format", "json")
+    assert code == 0, err
+    doc = json.loads(stdout)
+    return Animation(doc["columns"], doc["rows"], [], doc["composition"])
+
+
+def test_the_dcmotor_scenario_gives_simulates_trajectories(sessions: dict[str, Path],
+                                                           dc_simulated: Series,
+                                                           capsys: Capsys) -> None:
+    """whole_bench.toml alone: its horizon (2 s), tscale (0.1) and the obstacle from its
+    [init] interval's midpoint at its [environment] rate; no option."""
+    animation = _animate_cli(capsys, str(sessions["dcmotor"]), "--scenario",
+                             str(DCMOTOR / "whole_bench.toml"), "--samples", "41")
+    assert _column(animation, "t")[-1] == pytest.approx(2.0)
+    assert _within_one_percent(animation, dc_simulated,
+                               ["Motor_av", "Motor_i", "Shaft_v"]) == []
+
+
+def test_the_marxbot_scenario_gives_its_constants(sessions: dict[str, Path],
+                                                  mx_simulated: Series,
+                                                  capsys: Capsys) -> None:
+    """avoid_obstacle.toml's 12 [consts] (per block: both motors take SpeedControlMotor's)
+    and tscale; the distance, whose rate depends on the state, from --input."""
+    animation = _animate_cli(capsys, str(sessions["marxbot"]), "--scenario",
+                             str(MARXBOT / "avoid_obstacle.toml"), "--t-end", "9", "--input",
+                             "Proximity1_distance=" + MX_INPUTS["Proximity1_distance"],
+                             "--samples", "181")
+    assert _within_one_percent(animation, mx_simulated, ["LMotor_av", "RMotor_av"]) == []
+
+
+def test_options_win_over_the_scenario(sessions: dict[str, Path], capsys: Capsys) -> None:
+    """--t-end over the horizon; --input over [environment]: an obstacle already near stops
+    the motor in the first cycle, where the scenario's drives it for a second."""
+    argv = [str(sessions["dcmotor"]), "--scenario", str(DCMOTOR / "whole_bench.toml"),
+            "--t-end", "0.5", "--samples", "6"]
+    driven = _animate_cli(capsys, *argv)
+    stopped = _animate_cli(capsys, *argv, "--input", "Range_distance=0.5")
+    assert _column(driven, "t")[-1] == pytest.approx(0.5)
+    assert _column(driven, "Motor_av")[-1] > 1.0
+    assert abs(_column(stopped, "Motor_av")[-1]) < 0.5 * _column(driven, "Motor_av")[-1]
+    code, _out, _err = _cli(capsys, *argv, "--const", "tscale=0.2", "--samples", "2",
+                            "--format", "json")
+    assert code == 0
+
+
+@pytest.mark.parametrize("scenario, status, words", [
+    ("horizon = [1", 2, "E-ANIMATE-SCENARIO"),
+    ('model = "M"\nhorizon = 1\ntscale = 0.1\n[init]\nRange_distance = 3\n'
+     '[environment]\nRange_distance = "-Motor_av"\n', 2, "--input Range_distance=EXPR"),
+])
+def test_a_scenario_it_cannot_use_is_a_clear_error(sessions: dict[str, Path], tmp_path: Path,
+                                                   capsys: Capsys, scenario: str, status: int,
+                                                   words: str) -> None:
+    toml = tmp_path / "s.toml"
+    toml.write_text(scenario)
+    code, stdout, err = _cli(capsys, str(sessions["dcmotor"]), "--scenario", str(toml))
+    assert (code, stdout) == (status, "") and words in err and "Traceback" not in err
