@@ -139,4 +139,11 @@ def run(args: argparse.Namespace) -> int:
                          f"{'s' if len(names) != 1 else ''} that no equation determines "
                          f"left out (world inputs not given with --input, forces the "
                          f"equations leave open): {shown}\n")
+    if animation.held:
+        names = animation.held
+        shown = ", ".join(names[:6]) + (", …" if len(names) > 6 else "")
+        sys.stderr.write(f"cyphy animate: {len(names)} world input"
+                         f"{'s' if len(names) != 1 else ''} not given with --input held at 0 "
+                         f"(the axiomatic theory lets them start anywhere and move at any "
+                         f"rate): {shown}\n")
     return 0

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from cyphy.diagnostics import did_you_mean
+from cyphy.verify.animate import ax_evolve
 from cyphy.verify.animate.errors import AnimateError
 from cyphy.verify.animate.evolve import OdeSystem, build
 from cyphy.verify.animate.executor import (MAX_EVENTS_PER_INSTANT, Evolving, Proc, Runner,
@@ -27,6 +28,7 @@ class Animation:
     composition: str
     undetermined: list[str] = field(default_factory=list)
     differential: list[str] = field(default_factory=list)  # the states Evolve integrates
+    held: list[str] = field(default_factory=list)  # axiomatic world inputs kept at 0
 
 
 class _Constants:
@@ -118,7 +120,9 @@ class _Animator:
         self.p = Proc(p.name, dict.fromkeys(p.fields), [(model.definitions[p.main].tree, {})])
         self.t_sym = sympy.Symbol("t")
         self.inputs = self._inputs(inputs)
-        self.runner = Runner(model, self.constants.need, self._settle)
+        self.runner = Runner(model, self.constants.need, self._settle, self._choose)
+        p_defs = [df for df in model.definitions.values() if df.name != d.main]
+        self.ties = ax_evolve.ties(p_defs) if model.dialect == "axiomatic" else {}
         self.systems: dict[frozenset[str], OdeSystem] = {}
         self.evolve_tree = next((df.tree.children[0] for df in model.definitions.values()
                                  if df.tree.data == "evolution"), None)
@@ -127,6 +131,7 @@ class _Animator:
         self.rows: dict[int, dict[str, float]] = {}
         self.events: list[tuple[float, str, Any]] = []
         self.undetermined: set[str] = set()
+        self.held: set[str] = set()  # axiomatic world inputs without --input: at 0, still
 
     def _inputs(self, given: dict[str, str]) -> dict[str, Any]:
         import sympy  # lazy: as above
@@ -166,6 +171,8 @@ class _Animator:
         if self.evolve_tree is None:
             raise AnimateError("E-ANIMATE-EVOLVE", "the p-model has no Evolve", status=1,
                                path=self.model.path)
+        if self.model.dialect == "axiomatic":
+            return self._explicit()
         primed = {str(n.children[0]) for n in self.evolve_tree.iter_subtrees()
                   if n.data == "state_derivative"}
         differential = [f for f in self.p.state if f in primed and f in self.p.assigned]
@@ -188,6 +195,67 @@ class _Animator:
             self.undetermined |= set(self.systems[key].undetermined)
         return self.systems[key]
 
+    def _explicit(self) -> OdeSystem:
+        """The axiomatic dialect's explicit ODE under the values given so far."""
+        key = frozenset(x for x, v in self.p.state.items() if v is not None)
+        if key not in self.systems:
+            where = next(df for df in self.model.definitions.values()
+                         if df.tree.data == "evolution")
+            self.systems[key] = ax_evolve.explicit(self.evolve_tree, self.p.state,
+                                                   self.constants.get, self.t_sym, where)
+            self.undetermined |= set(self.systems[key].undetermined)
+        return self.systems[key]
+
+    def _choose(self, frame: list[str], proc: Proc) -> list[float]:
+        """The axiomatic dialect's world rates (any values): an input's rate from its
+        ``--input`` expression now; an input not given keeps still (rate 0). The frame
+        holds 0 while its rates are computed (the chain rule reads no rate of a rate)."""
+        out = []
+        for x in frame:
+            if self.p.state.get(x) is None:
+                self.p.state[x] = 0.0
+        for x in frame:
+            base = x[:-len("_rate")] if x.endswith("_rate") else None
+            if base is None or proc is not self.p:
+                raise AnimateError("E-ANIMATE-UNSUPPORTED", f"a choice of {x}, which is not "
+                                   "a world input's rate", path=self.model.path, status=2)
+            if base not in self.inputs:
+                self.held.add(base)
+                out.append(0.0)
+                continue
+            if self.p.state.get(base) is None:
+                self._settle(base, proc)
+            system = self._system()
+            out.append(ax_evolve.input_rate(self.inputs[base], self.t_sym, self.t,
+                                            self.p.state, system, self._y(system)))
+        return out
+
+    def _ax_settle(self, name: str) -> Any:
+        """An axiomatic p-model value read before any action gives it: a world input's
+        ``--input`` value now (from then on it moves at its chosen rate), or the value the
+        main action re-establishes it to (an output's definition, ``Range_range :=
+        Range_distance``)."""
+        import sympy  # lazy: as above
+        if name in self.inputs:
+            subs = {sympy.Symbol(k): v for k, v in self.p.state.items() if v is not None}
+            subs[self.t_sym] = self.t
+            value = sympy.sympify(self.inputs[name]).subs(subs)
+            if value.free_symbols:
+                raise AnimateError("E-ANIMATE-OPEN", f"--input {name}: reads "
+                                   f"{sorted(map(str, value.free_symbols))[0]}, which has no "
+                                   "value yet", status=1)
+            self.p.state[name] = float(value)
+            return self.p.state[name]
+        if name in self.ties:
+            return self.runner.value(self.ties[name], self.p, {})
+        if name + "_rate" in self.p.state:  # a world input the theory leaves arbitrary
+            self.held.add(name)
+            self.p.state[name] = 0.0
+            return 0.0
+        raise AnimateError("E-ANIMATE-OPEN", f"{self.p.name} reads {name} before anything "
+                           "gives it a value", status=1, path=self.model.path,
+                           hint="a world input is given with --input NAME=EXPR")
+
     def _y(self, system: OdeSystem) -> list[float]:
         return [float(self.p.state[x]) for x in system.states]
 
@@ -195,6 +263,8 @@ class _Animator:
         """An unset p-model state read by an action: Evolve's value for it now (the theory
         leaves it free until the first Evolve; this is the one of its values consistent with
         the equations). The d-model's state has no equations: reading it unset is an error."""
+        if proc is self.p and self.model.dialect == "axiomatic":
+            return self._ax_settle(name)
         if proc is self.p:
             system = self._system()
             if name in system.algebraic:
@@ -209,6 +279,12 @@ class _Animator:
         y0 = self._y(system)
         guard = self._condition(ev, system)
         if guard(self.t, y0) >= 0:
+            return
+        if self.t_end - self.t <= 1e-12 * max(1.0, self.t_end):  # rounding: LSODA refuses
+            for k, tk in enumerate(self.grid):
+                if k not in self.rows and tk >= self.t - 1e-12:
+                    self.rows[k] = self._sample(system, tk, y0)
+            self.t = self.t_end
             return
         guard.terminal = True  # type: ignore[attr-defined]
         guard.direction = 1  # type: ignore[attr-defined]
@@ -320,5 +396,7 @@ class _Animator:
                 raise AnimateError("E-ANIMATE-VALUE", f"a value is not finite at t = "
                                    f"{row[0]:.6g}", status=1)
         differential = [x for x in names if any(x in s.states for s in self.systems.values())]
+        if self.model.dialect == "axiomatic":  # left out: what never got a value
+            self.undetermined = {x for x in self.undetermined if self.p.state.get(x) is None}
         return Animation(["t"] + names, rows, self.events, self.model.composition,
-                         sorted(self.undetermined), differential)
+                         sorted(self.undetermined), differential, sorted(self.held))
