@@ -14,7 +14,8 @@ from cyphy.verify.animate.errors import AnimateError
 from cyphy.verify.animate.evolve import OdeSystem, build
 from cyphy.verify.animate.executor import (MAX_EVENTS_PER_INSTANT, Evolving, Proc, Runner,
                                            synchronise)
-from cyphy.verify.animate.reader import TheoryModel, read_model
+from cyphy.verify.animate.model import TheoryModel
+from cyphy.verify.animate.reader import read_model
 from cyphy.verify.animate.terms import Unsupported, evaluate, evaluate_hol, op_name
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from cyphy.verify.animate.errors import AnimateError
-from cyphy.verify.animate.reader import Definition, Process, TheoryModel, line_of
+from cyphy.verify.animate.model import Definition, Process, TheoryModel, line_of
 from cyphy.verify.animate.terms import evaluate_hol
 
 _WAIT = re.compile(r'^primrec (\w+) :: "nat \\<Rightarrow> [^"]*" where\n'

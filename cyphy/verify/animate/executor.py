@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable
 
 from cyphy.verify.animate.errors import AnimateError
-from cyphy.verify.animate.reader import Definition, TheoryModel
+from cyphy.verify.animate.model import Definition, TheoryModel
 from cyphy.verify.animate.terms import Unsupported, evaluate, op_name, place
 
 #: Events at one instant before the run is called a livelock (no time passes).

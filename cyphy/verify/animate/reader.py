@@ -9,58 +9,17 @@ each process's state fields, and the composition ``N = (D [| cs |] P) \\ cs``.""
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from cyphy.verify.animate.errors import AnimateError
+from cyphy.verify.animate.model import Definition, Process, TheoryModel, line_of
 from cyphy.verify.animate.terms import evaluate_hol
 from cyphy.verify.theory.session import SessionError, read_session
 from cyphy.verify.theory.utp_types import TypeError_, parser, read_theory
 
 #: The import that marks the axiomatic dialect (Ax_CyPhyCircus), read by ``ax_reader``.
 _AXIOMATIC = "Ax_CyPhyCircus"
-
-
-@dataclass
-class Definition:
-    """One ``definition NAME :: type where "NAME params = body"``, parsed."""
-
-    name: str
-    params: list[str]
-    tree: Any  # a lark Tree of utp_terms.lark's ``action``
-    path: Path
-    line: int
-
-
-@dataclass
-class Process:
-    """A process of the composition: its main action and its state's fields (name → type)."""
-
-    name: str
-    main: str
-    fields: dict[str, str]
-
-
-@dataclass
-class TheoryModel:
-    """What a generated theory states, as far as running it needs."""
-
-    path: Path
-    definitions: dict[str, Definition]
-    values: dict[str, Any]          # constants with values: floats, ints, lists, tuples
-    open_constants: dict[str, int]  # declared without a value → line
-    channels: set[str]              # the synchronisation set cs
-    processes: list[Process]        # [D, P], in the composition's order
-    composition: str
-    axioms: list[tuple[Any, int]] = field(default_factory=list)  # parsed hol terms, line
-    dialect: str = "utp"  # or "axiomatic" (ax_reader.py)
-
-
-def line_of(text: str, pattern: str) -> int:
-    """The 1-based line where ``pattern`` first matches (0: nowhere)."""
-    m = re.search(pattern, text, re.M)
-    return text.count("\n", 0, m.start()) + 1 if m else 0
 
 
 def _main_theory(folder: Path) -> tuple[Path, str, bool]:
