@@ -21,8 +21,8 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
         description="Read a session that cyphy gen --isabelle wrote (ROOT and theories, "
         "never the model), run its composition N = (D [| cs |] P) \\ cs from Init, "
         "integrating Evolve's equations with SciPy between the cycle's tocks, and write "
-        "every state variable's trajectory and the events D and P exchanged. The utp "
-        "dialect only.")
+        "every state variable's trajectory and the events D and P exchanged. Both "
+        "dialects (utp, axiomatic).")
     animate.add_argument("session", metavar="SESSION_DIR", help="the session's folder")
     animate.add_argument("--t-end", type=finite_float, default=None, metavar="T",
                          help="simulated time in seconds (default the scenario's horizon, "

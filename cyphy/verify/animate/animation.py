@@ -399,5 +399,6 @@ class _Animator:
         differential = [x for x in names if any(x in s.states for s in self.systems.values())]
         if self.model.dialect == "axiomatic":  # left out: what never got a value
             self.undetermined = {x for x in self.undetermined if self.p.state.get(x) is None}
+            self.held = {x for x in self.held if self.p.state.get(x) is not None}
         return Animation(["t"] + names, rows, self.events, self.model.composition,
                          sorted(self.undetermined), differential, sorted(self.held))
