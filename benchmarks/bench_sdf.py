@@ -32,7 +32,8 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from cyphy import api  # noqa: E402
 from cyphy.backends.robot_formats.sdf_xml import to_xml  # noqa: E402
 from cyphy.diagnostics import Report  # noqa: E402
-from cyphy.model.elaborate import choose_pmodel, elaborate_pmodel  # noqa: E402
+from cyphy.model.choose import choose_pmodel  # noqa: E402
+from cyphy.model.elaborate import elaborate_pmodel  # noqa: E402
 from cyphy.semantics.sdf.rules import translate  # noqa: E402
 from synthetic import chain_model, write_model  # noqa: E402
 

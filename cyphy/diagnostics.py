@@ -197,7 +197,8 @@ def render_text(diagnostics: Iterable[Diagnostic], sources: dict[str, str] | Non
     """Render like rustc or mypy: location, severity and code, the source line with a caret.
     What comes from the model is escaped and cut (``printable``, :data:`EXCERPT_WIDTH`)."""
     sources = sources if sources is not None else {}
-    out: list[str] = []
+    split: dict[str, list[str]] = {}  # each file's lines, split once: a large model warns
+    out: list[str] = []               # thousands of times about the same file
     for d in diagnostics:
         if d.severity is Severity.WARNING:
             RENDERING.warnings_seen += 1
@@ -215,7 +216,9 @@ def render_text(diagnostics: Iterable[Diagnostic], sources: dict[str, str] | Non
             except OSError:
                 text = None
         if text is not None and d.span.line > 0:
-            lines = text.splitlines()
+            lines = split.get(d.span.file)
+            if lines is None:
+                lines = split[d.span.file] = text.splitlines()
             if d.span.line <= len(lines):
                 width = 1
                 if d.span.end_line == d.span.line and d.span.end_column > d.span.column:

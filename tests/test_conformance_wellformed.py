@@ -90,7 +90,8 @@ def test_l4_fires_on_exactly_the_links_without_inertials() -> None:
     definition or its bodies: RoboTool invents mass 1 and an identity inertia for them
     (sdf-robotool.md 1.3); sdf.md decision 7 asks for L4."""
     from cyphy.diagnostics import Report
-    from cyphy.model.elaborate import elaborate_pmodel, top_level_pmodels
+    from cyphy.model.choose import top_level_pmodels
+    from cyphy.model.elaborate import elaborate_pmodel
     from cyphy.wellformed import WFContext, check_wellformed
 
     warned = 0

@@ -10,6 +10,10 @@ out.
 A fenced block just after ``<!-- file: PATH -->`` is a file the page asks the reader to
 write: it is written before the page's commands run, in a scratch folder holding a copy of
 ``examples/``.
+
+Every other block that holds a command (a shell block, or a plain one whose line starts like
+one) must be a ``console`` block, or be listed in :data:`NOT_RUN` with the reason it cannot
+run here: a command shown is a command tested, unless the test says why not.
 """
 
 from __future__ import annotations
@@ -62,6 +66,32 @@ def read_page(path: Path) -> Page:
                 else:
                     page.examples[-1].shown.append(line)
     return page
+
+
+#: Shell-like blocks that hold commands the tests cannot run, by (page, first line), with why.
+_SYNOPSIS = "a synopsis: PATH and the [options] are placeholders (a console block runs an instance)"
+_SETUP = "installs system packages and builds Flow* (minutes, as root): CI runs it"
+_SUITE = "the test suite itself"
+NOT_RUN: dict[tuple[str, str], str] = {
+    ("README.md", "bash .ci/install"): _SETUP,
+    ("docs/install.md", "bash .ci/install"): _SETUP,
+    ("README.md", "python3 -m pytest -q"): _SUITE,
+    ("docs/development.md", "python3 -m pytest"): _SUITE,
+    ("docs/development.md", "python3 benchmarks/bench_startup.py"):
+        "the benchmarks: minutes each on purpose, run by hand, not part of the suite",
+    ("docs/editors.md", "pip install 'cyphy[lsp]'"):
+        "installs a package; `cyphy lsp` then waits for an editor on its standard input",
+    ("docs/commands/reach.md", "cyphy simulate ../shared/corpus/pmodel-examples/marXbot"):
+        "reads RoboTool's corpus in ../shared, which a clone has not; the reach takes minutes "
+        "(benchmarks/bench_marxbot_reach.py runs it)",
+    ("docs/commands/gen-cyphycircus.md", "cyphy gen MAPPING --cyphycircus|--latex"): _SYNOPSIS,
+    ("docs/commands/gen-sdf.md", "cyphy gen PATH... --sdf"): _SYNOPSIS,
+    ("docs/commands/gen-urdf-mjcf.md", "cyphy gen PATH... --urdf"): _SYNOPSIS,
+    ("docs/commands/view.md", "cyphy view PATH..."): _SYNOPSIS,
+    ("docs/commands/reach.md", "cyphy gen examples/marxbot --flowstar"): _SYNOPSIS,
+}
+SHELL_LANGS = ("", "sh", "bash", "shell", "text")
+COMMAND = re.compile(r"\s*(\$ |(cyphy|python3?|bash|pip|ls|mkdocs|isabelle|git) )")
 
 
 def pages() -> list[Path]:
@@ -120,6 +150,26 @@ def test_the_docs_have_runnable_examples() -> None:
 def test_every_shown_command_prints_what_is_shown(path: Path, tmp_path: Path) -> None:
     problems = run_page(read_page(path), _scratch(tmp_path), ROOT)
     assert not problems, "\n".join(problems)
+
+
+def test_every_command_shown_is_run_or_says_why_not() -> None:
+    """A block that shows a command is a ``console`` block (run above), or :data:`NOT_RUN`
+    says why it cannot run here; an entry of :data:`NOT_RUN` that matches no block is stale."""
+    unexplained, matched = [], set()
+    for path in pages():
+        name = path.relative_to(ROOT).as_posix()
+        for m in FENCE.finditer(path.read_text(encoding="utf-8")):
+            lines = m["body"].splitlines()
+            if m["file"] or m["lang"] not in SHELL_LANGS or \
+                    not any(COMMAND.match(line) for line in lines):
+                continue
+            keys = [k for k in NOT_RUN if k[0] == name and lines[0].startswith(k[1])]
+            matched.update(keys)
+            if not keys:
+                unexplained.append(f"{name}: {lines[0]}")
+    assert not unexplained, "make these console blocks, or say in NOT_RUN why they cannot " \
+        "run:\n" + "\n".join(unexplained)
+    assert set(NOT_RUN) <= matched, sorted(set(NOT_RUN) - matched)
 
 
 def test_the_site_quick_start_is_the_readme_s() -> None:

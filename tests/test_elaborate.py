@@ -247,7 +247,7 @@ pmodel Robot { local link Base { def { } } part kit = Kit { } }
 
 def test_require_constants_lists_every_missing_one(tmp_path: Path) -> None:
     from cyphy.diagnostics import Report
-    from cyphy.model.elaborate import require_constants
+    from cyphy.model.choose import require_constants
 
     m = model_of(tmp_path, {"n.rsm": NESTED.replace("instantiation H = 3*K", "")
                             .replace("const K: int = 2", "const K: int local link M { "

@@ -15,7 +15,8 @@ from hypothesis import strategies as st
 
 from cyphy import api
 from cyphy.diagnostics import Report
-from cyphy.model.elaborate import elaborate_pmodel, top_level_pmodels
+from cyphy.model.choose import top_level_pmodels
+from cyphy.model.elaborate import elaborate_pmodel
 from cyphy.model.elements import AnnotationValue, ElaboratedModel
 from conftest import EXAMPLES, ROOT, corpus_project_folders
 

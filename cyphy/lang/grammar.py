@@ -5,7 +5,9 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from lark import Lark
+from lark import Lark, Token
+
+from cyphy import progress
 
 GRAMMAR = "robosim.lark"
 
@@ -24,4 +26,10 @@ def grammar(strict: bool = False) -> Lark:
         # Lark stores the LALR tables in a temporary file keyed by the grammar's hash: the
         # analysis takes 0.7 s, loading the cache a few milliseconds.
         cache=not strict,
+        lexer_callbacks={"LBRACE": _reached},  # progress through a long file, block by block
     )
+
+
+def _reached(token: Token) -> Token:
+    progress.step(f"line {token.line}")
+    return token

@@ -38,6 +38,7 @@ import time
 from functools import lru_cache
 from pathlib import Path
 
+from cyphy import progress
 from cyphy.lang.ast import ParseResult
 
 _PACKAGE = Path(__file__).resolve().parent.parent
@@ -125,6 +126,7 @@ def _parse_cached(root: Path, text: str, path: str, store: bool) -> ParseResult:
         pass
     parsed = _parse(text, path)
     if store and parsed.file is not None:
+        progress.step("writing the parse cache")
         _store(folder, entry, digest, parsed)
     return parsed
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 from lark import Token, Tree
 from lark.exceptions import UnexpectedInput
 
+from cyphy import progress
 from cyphy.lang.ast import ParseResult
 from cyphy.lang.builder import Builder
 from cyphy.lang.grammar import grammar
@@ -28,6 +29,7 @@ def parse_text(text: str, path: str = "<string>") -> ParseResult:
     except UnexpectedInput as err:
         return ParseResult(None, (syntax_diagnostic(err, text, path),))
     builder = Builder(text, path)
+    progress.step("building the syntax tree")
     result = builder.transform(tree)
     return ParseResult(result, tuple(builder.diagnostics))
 

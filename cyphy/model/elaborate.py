@@ -17,107 +17,30 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from cyphy import codes, collector
+from cyphy import codes, collector, progress
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
-from cyphy.lang.scopes import Scopes, is_constant, is_template
 from cyphy.lang.workspace import Workspace
 from cyphy.limits import max_copies
 from cyphy.model import inertia as inertia_math
+from cyphy.model.body_inertia import distribute_mass, solid_inertia
+from cyphy.model.choose import choose_pmodel
+from cyphy.model.device_names import name_devices
 from cyphy.model.elements import (
     Actuator, AnnotationValue, Body, Device, ElaboratedModel, FixedJoint, Joint, Link, Port,
-    Sensor, glued,
+    Sensor,
 )
-from cyphy.model.evaluate import (
-    EvalError, UnboundName, Value, coerce, evaluate_fast, free_names, literal_value,
-)
-from cyphy.model.value_text import format_value, same_value
+from cyphy.model.environment import EVAL, Binding, Context, Env
+from cyphy.model.evaluate import Value
 from cyphy.model.poses import Pose
 
-MODEL = codes.code("E-MODEL", codes.E, "the p-model to elaborate cannot be chosen")
-EVAL = codes.code("E-EVAL", codes.E, "a constant expression cannot be evaluated")
-MISSING = codes.code("E-CONST", codes.E, "constants without values that a generator needs")
 INDEX = codes.code("E-INDEX", codes.E, "an index range that is not a range of integers")
-CONST_NAME = codes.code("E-CONST-NAME", codes.E,
-                        "a --const or --consts name that names no constant of the model")
 
 DEVICE_KINDS = (ast.DeclKind.INPUT, ast.DeclKind.OUTPUT, ast.DeclKind.INOUT,
                 ast.DeclKind.LOCAL, ast.DeclKind.CONST)
 POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
-
-
-# --------------------------------------------------------------------------- constants
-
-
-@dataclass(eq=False)
-class _Binding:
-    """A constant: its value expression, the scope to evaluate it in, and its names."""
-
-    decl: ast.VarDecl
-    expr: ex.Expr | None
-    env: Env | None
-    qualified: str  # instance-qualified: marXbotBase::LTreel::HEIGHT
-    definition: str  # definition-qualified: Treel::HEIGHT
-    value: Value | None = None
-    state: str = "new"  # new, busy, done, missing
-
-
-class Env(Mapping[str, Value]):
-    """Names in scope for evaluation, innermost first; constants are evaluated on demand and
-    cached. A constant with no value is recorded as missing and is not ``in`` the env, so
-    evaluation raises :class:`UnboundName` for it."""
-
-    def __init__(self, ctx: _Context, file: ast.SourceFile, parent: Env | None = None,
-                 names: dict[str, _Binding | Value] | None = None) -> None:
-        self.ctx = ctx
-        self.file = file
-        self.parent = parent
-        self.names: dict[str, _Binding | Value] = names or {}
-
-    def child(self, names: dict[str, _Binding | Value]) -> Env:
-        return Env(self.ctx, self.file, self, names)
-
-    def _find(self, name: str) -> _Binding | Value | None:
-        env: Env | None = self
-        while env is not None:
-            if name in env.names:
-                return env.names[name]
-            env = env.parent
-        return self.ctx.global_binding(self.file, name)
-
-    def __contains__(self, name: object) -> bool:
-        if not isinstance(name, str):
-            return False
-        found = self._find(name)
-        if isinstance(found, _Binding):
-            return self.ctx.value_of(found) is not None
-        return found is not None
-
-    def __getitem__(self, name: str) -> Value:
-        found = self._find(name)
-        if isinstance(found, _Binding):
-            value = self.ctx.value_of(found)
-            if value is None:
-                raise KeyError(name)
-            return value
-        if found is None:
-            raise KeyError(name)
-        return found
-
-    def __iter__(self) -> Iterator[str]:
-        seen: set[str] = set()
-        env: Env | None = self
-        while env is not None:
-            for n in env.names:
-                if n not in seen:
-                    seen.add(n)
-                    yield n
-            env = env.parent
-
-    def __len__(self) -> int:
-        return sum(1 for _ in self)
 
 
 @dataclass
@@ -145,288 +68,8 @@ class _PendingJoint:
     instance: _Instance  # where the target is looked up
 
 
-class _Context:
-    def __init__(self, ws: Workspace, resolution: Resolution, report: Report,
-                 consts: Mapping[str, Value]) -> None:
-        self.ws = ws
-        self.resolution = resolution
-        self.report = report
-        self.scopes = Scopes(ws)
-        self.consts = dict(consts)
-        self.used_consts: set[str] = set()
-        self.replaced: set[Span] = set()  # declarations already reported W-CONST-REPLACED
-        self.declared: set[tuple[str, str, str]] = set()  # (qualified, definition, name)
-        self.missing: dict[str, list[Span]] = {}
-        self.constants: dict[str, Value] = {}
-        self.literals: dict[ex.Expr, Value] = {}
-        self._templates: dict[tuple[str, ast.QName], str] = {}
-        self._globals: dict[tuple[str, str], _Binding | None] = {}
-        self.file_of: dict[int, ast.SourceFile] = {}
-        for f in ws.files.values():
-            for item in f.items:
-                self.file_of[id(item)] = f
-
-    # ----- constants
-    def binding(self, decl: ast.VarDecl, env: Env | None, qualified: str, definition: str,
-                override: ex.Expr | None = None, override_env: Env | None = None) -> _Binding:
-        self.declared.add((qualified, definition, decl.name))
-        if override is not None:
-            return _Binding(decl, override, override_env, qualified, definition)
-        return _Binding(decl, decl.value, env, qualified, definition)
-
-    def global_binding(self, file: ast.SourceFile, name: str) -> _Binding | None:
-        key = (file.path, name)
-        if key not in self._globals:
-            found = self.scopes.lookup(file, tuple(name.split("::")), is_constant)
-            binding = None
-            if found and isinstance(found[0], ast.VarDecl):
-                decl = found[0]
-                decl_file = self.file_of.get(id(decl), file)
-                package = "::".join(decl_file.package)
-                qualified = f"{package}::{decl.name}" if package else decl.name
-                env = Env(self, decl_file)
-                binding = _Binding(decl, decl.value, env, qualified, qualified)
-                self.declared.add((qualified, qualified, decl.name))
-            self._globals[key] = binding
-        return self._globals[key]
-
-    def template_name(self, file: ast.SourceFile, name: ast.QName) -> str:
-        """The name of the template ``name`` denotes from ``file`` (looked up once: every
-        joint of a model names the same few templates)."""
-        key = (file.path, name)
-        if key not in self._templates:
-            found = self.scopes.lookup(file, name, is_template)
-            self._templates[key] = found[0].name if found else name[-1]  # type: ignore[union-attr]
-        return self._templates[key]
-
-    def value_of(self, b: _Binding) -> Value | None:
-        if b.state == "done":
-            return b.value
-        if b.state in ("missing", "busy"):
-            if b.state == "busy":
-                self.report.report(EVAL, f"constant '{b.qualified}' is defined in terms of "
-                                   "itself", b.decl.span, "break the cycle")
-                b.state = "missing"
-            return None
-        b.state = "busy"
-        value: Value | None = None
-        given = self._user_value(b) if b.expr is None or b.expr is b.decl.value else None
-        if given is not None:  # --const wins over the declaration's own value
-            value = given
-            if b.expr is not None:
-                self._warn_replaced(b, given)
-        elif b.expr is None:
-            if value is None:
-                b.state = "missing"
-                self.missing.setdefault(b.definition, []).append(b.decl.span)
-                return None
-        else:
-            assert b.env is not None
-            value = self.evaluate(b.expr, b.env)
-        if value is not None and isinstance(b.decl.type, ast.PrimitiveType):
-            try:
-                value = coerce(value, b.decl.type.name, b.decl.span)
-            except EvalError as err:
-                self.report.report(EVAL, f"constant '{b.qualified}': {err.message}", err.span,
-                                   err.hint)
-                value = None
-        b.value, b.state = value, ("done" if value is not None else "missing")
-        if value is not None:
-            self.constants[b.qualified] = value
-        return value
-
-    def _warn_replaced(self, b: _Binding, given: Value) -> None:
-        """W-CONST-REPLACED, once per declaration, when the given value differs from the
-        declared one: a bare ``PI`` in a scenario silently replacing common.pm's ``PI =
-        3.1415`` moves every pose that uses it. A declared value that cannot be evaluated
-        alone (it needs another constant's value) is not compared: no new error for it."""
-        if b.decl.span in self.replaced:
-            return
-        try:
-            declared = evaluate_fast(b.expr, b.env or {})  # type: ignore[arg-type]
-        except (EvalError, UnboundName, ValueError, TypeError):
-            return
-        if same_value(declared, given):
-            return
-        self.replaced.add(b.decl.span)
-        self.report.report(codes.CONST_REPLACED,
-                           f"constant '{b.qualified}' is declared {format_value(declared)}; "
-                           f"the given value {format_value(given)} replaces it",
-                           b.decl.span, "give the declared value, or leave the constant "
-                           "out of --const/--consts/[consts] to keep it")
-
-    def _user_value(self, b: _Binding) -> Value | None:
-        """The ``--const`` value for a constant, the most specific key winning: the instance
-        name, the definition name, a ``::`` suffix of either, or the bare name."""
-        best: tuple[int, str] | None = None
-        for key in self.consts:
-            if _names(key, b.qualified, b.definition, b.decl.name):
-                if best is None or len(key) > best[0]:
-                    best = (len(key), key)
-        if best is None:
-            return None
-        self.used_consts.add(best[1])
-        return self.consts[best[1]]
-
-    def report_unknown_consts(self, span: Span, reported: frozenset[str] = frozenset()
-                              ) -> None:
-        """Report (``E-CONST-NAME``) each ``--const``/``--consts`` name that names none of
-        the constants the model declares (a typo would otherwise be silently ignored);
-        the commands that elaborate stop on it as on any error."""
-        from cyphy.diagnostics import did_you_mean
-
-        candidates = {n for names in self.declared for n in names}
-        unknown = [key for key in sorted(self.consts) if key not in self.used_consts and
-                   key not in reported and
-                   not any(_names(key, *names) for names in self.declared)]
-        if unknown:  # a constant of another part of the files (a d-model's) is no typo
-            elsewhere = _declared_constants(self.ws)
-            candidates |= elsewhere
-            unknown = [key for key in unknown if key.split("::")[-1] not in elsewhere]
-        for key in unknown:
-            self.report.report(CONST_NAME, f"--const {key}: the model has no constant named "
-                               f"{key}", span, did_you_mean(key, candidates) or
-                               "name a constant the model declares (its bare name, or "
-                               "qualified: Model::Link::NAME)")
-
-    def evaluate(self, e: ex.Expr | None, env: Env) -> Value | None:
-        """The value of ``e``, or None when it needs a constant without a value (recorded)
-        or cannot be evaluated (reported)."""
-        if e is None:
-            return None
-        if isinstance(e, ex.Num):  # most values are literals: skip the evaluator
-            try:
-                return literal_value(e.text)
-            except ValueError as err:
-                self.report.report(EVAL, str(err), e.span, "write a smaller number")
-                return None
-        if isinstance(e, (ex.Vector, ex.Matrix)) and _numbers_only(e):
-            # A literal axis or matrix is written once per joint of a model, thousands of
-            # times over: one value (read-only) per distinct literal.
-            known = self.literals.get(e)
-            if known is None:
-                known = self._evaluate(e, env)
-                if known is not None:
-                    self.literals[e] = known
-            return known
-        return self._evaluate(e, env)
-
-    def _evaluate(self, e: ex.Expr, env: Env) -> Value | None:
-        try:
-            return evaluate_fast(e, env)
-        except UnboundName as err:
-            if self._known_missing(err.name, env):
-                self._look_up_all(e, env)
-                return None
-            self.report.report(EVAL, err.message, err.span, err.hint)
-        except EvalError as err:
-            self.report.report(EVAL, err.message, err.span, err.hint)
-        return None
-
-    def _look_up_all(self, e: ex.Expr, env: Env) -> None:
-        """Evaluation stops at the first constant without a value; the other constants ``e``
-        names are looked up too, so that they are recorded as missing now and a generator
-        lists every constant it needs at once, not one more per run (issue 27)."""
-        for name in sorted(free_names(e)):
-            found = env._find(name)
-            if isinstance(found, _Binding):
-                self.value_of(found)
-
-    def _known_missing(self, name: str, env: Env) -> bool:
-        found = env._find(name)
-        return isinstance(found, _Binding) and found.state == "missing"
-
 
 # --------------------------------------------------------------------------- elaboration
-
-
-def _declared_constants(ws: Workspace) -> set[str]:
-    """The names of every constant the files declare, wherever (a d-model's, an operation's,
-    a library device's): ``--const`` may give them values for the commands that read them,
-    and one set of values may serve several models."""
-    import dataclasses
-
-    out: set[str] = set()
-    todo: list[object] = [item for f in ws.files.values() for item in f.items]
-    while todo:
-        node = todo.pop()
-        if isinstance(node, ast.VarDecl):
-            if node.kind is ast.DeclKind.CONST:
-                out.add(node.name)
-            continue
-        if isinstance(node, (list, tuple)):
-            todo.extend(node)
-        elif dataclasses.is_dataclass(node) and not isinstance(node, ex.Expr):
-            todo.extend(getattr(node, f.name) for f in dataclasses.fields(node))
-    return out
-
-
-def _names(key: str, qualified: str, definition: str, name: str) -> bool:
-    """Whether a ``--const`` key names the constant: its instance-qualified or definition
-    name, a ``::`` suffix of either, or its bare name."""
-    return key == name or any(full == key or full.endswith("::" + key)
-                              for full in (qualified, definition))
-
-
-def require_constants(model: ElaboratedModel, report: Report, what: str) -> bool:
-    """For a generator: report every constant without a value at once (``E-CONST``) and
-    say whether the model can be generated."""
-    if not model.missing:
-        return True
-    names = ", ".join(model.missing)
-    first = next(iter(model.missing.values()))[0]
-    report.report(MISSING, f"{what} needs values for {len(model.missing)} constant"
-                  f"{'s' if len(model.missing) != 1 else ''} without one: {names}", first,
-                  "give them with --const NAME=VALUE (repeatable) or --consts FILE",
-                  [f"{n} is declared at {spans[0]}" for n, spans in model.missing.items()])
-    return False
-
-
-def _pmodels(ws: Workspace) -> list[tuple[ast.PModel, ast.SourceFile]]:
-    return [(item, f) for f in ws.user_files() for item in f.items
-            if isinstance(item, ast.PModel) and not item.fragment]
-
-
-def top_level_pmodels(ws: Workspace) -> list[tuple[ast.PModel, ast.SourceFile]]:
-    """The p-models of the user's files that no other of them uses as a part."""
-    candidates = _pmodels(ws)
-    used = {p.pmodel[-1] for pm, _ in candidates for p in pm.parts}
-    return [c for c in candidates if c[0].name not in used]
-
-
-def choose_pmodel(ws: Workspace, name: str | None, report: Report
-                  ) -> tuple[ast.PModel, ast.SourceFile] | None:
-    """The p-model to elaborate: the one named, else the only one of the user's files that
-    no other p-model uses as a part."""
-    candidates = _pmodels(ws)
-    if name is not None:
-        chosen = [c for c in candidates if c[0].name == name or
-                  "::".join(c[1].package + (c[0].name,)) == name]
-        if not chosen:
-            names = ", ".join(sorted(c[0].name for c in candidates)) or "(none)"
-            report.report(MODEL, f"no p-model named '{name}'", _files_span(ws),
-                          f"the p-models are: {names}")
-            return None
-        return chosen[0]
-    top = top_level_pmodels(ws)
-    if len(top) == 1:
-        return top[0]
-    if not candidates:
-        report.report(MODEL, "no p-model in the given files", _files_span(ws),
-                      "name a file or folder that declares a pmodel")
-        return None
-    meant = sorted(top or candidates, key=lambda c: (c[0].span.file, c[0].span.line))
-    names = ", ".join(sorted(c[0].name for c in meant))
-    report.report(MODEL, "several p-models could be meant", meant[0][0].span,
-                  f"choose one with --model: {names}",
-                  [f"p-model {pm.name} is declared at {pm.span}" for pm, _ in meant[1:]])
-    return None
-
-
-def _files_span(ws: Workspace) -> Span:
-    """Where a problem with the whole selection of files is reported: the first file given
-    (no line), or nowhere when there is none."""
-    return Span.unknown(str(ws.targets[0])) if ws.targets else Span.unknown()
 
 
 def elaborate(ws: Workspace, resolution: Resolution, report: Report, model: str | None = None,
@@ -448,7 +91,7 @@ def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: 
     their values, but no sensors, actuators, devices, equations or relations: the value
     checks need geometry, not behaviour, and devices are most of the work on a large
     model."""
-    ctx = _Context(ws, resolution, report, consts or {})
+    ctx = Context(ws, resolution, report, consts or {})
     reported: set[str] = set()
     if consts:  # a misspelt --const would be ignored, and the constant stay without a value
         from cyphy.model.constants import declared_constants, unknown_constants
@@ -466,7 +109,7 @@ def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: 
 
 
 class _Elaborator:
-    def __init__(self, ctx: _Context, devices: bool = True) -> None:
+    def __init__(self, ctx: Context, devices: bool = True) -> None:
         self.ctx = ctx
         self.devices = devices
         self.model: ElaboratedModel
@@ -485,9 +128,12 @@ class _Elaborator:
     def run(self, pm: ast.PModel, file: ast.SourceFile) -> ElaboratedModel:
         self.model = ElaboratedModel(pm.name, pm)
         top = self._instance((pm.name,), pm, file, Pose.identity(), None, {})
+        progress.step(f"{len(self.model.links)} links: connecting the joints")
         self._connect(top)
         if self.devices:
-            self._name_devices()
+            progress.step(f"{len(self.model.links)} links: naming the devices")
+            name_devices(self.model, self.device_names, self.index_values,
+                         self.relation_queue)
         self.model.constants = dict(sorted(self.ctx.constants.items()))
         self.model.missing = dict(sorted(self.ctx.missing.items()))
         return self.model
@@ -496,7 +142,7 @@ class _Elaborator:
     def _pmodel_env(self, pm: ast.PModel, file: ast.SourceFile,
                     prefix: tuple[str, ...], overrides: dict[str, tuple[ex.Expr, Env]]) -> Env:
         env = Env(self.ctx, file)  # a part sees its own package's constants, not the container's
-        names: dict[str, _Binding | Value] = {}
+        names: dict[str, Binding | Value] = {}
         for d in pm.declarations:
             if d.kind is ast.DeclKind.CONST:
                 expr, oenv = overrides.get(d.name, (None, None))
@@ -504,7 +150,7 @@ class _Elaborator:
                                                  f"{pm.name}::{d.name}", expr, oenv)
         pm_env = env.child(names)
         for b in names.values():
-            if isinstance(b, _Binding) and b.env is None and b.expr is not None:
+            if isinstance(b, Binding) and b.env is None and b.expr is not None:
                 b.env = pm_env
         return pm_env
 
@@ -613,7 +259,7 @@ class _Elaborator:
         definition = self._definition(block)
         def_name = definition.name if definition is not None else block.name
         overrides = {i.name: i.value for i in block.instantiations}
-        names: dict[str, _Binding | Value] = {}
+        names: dict[str, Binding | Value] = {}
         for m in self._members(block) + list(block.declarations):
             if isinstance(m, ast.VarDecl) and m.kind is ast.DeclKind.CONST:
                 names[m.name] = self.ctx.binding(
@@ -621,7 +267,7 @@ class _Elaborator:
                     overrides.get(m.name), env if m.name in overrides else None)
         block_env = env.child(names)
         for b in names.values():
-            if isinstance(b, _Binding) and b.env is None:
+            if isinstance(b, Binding) and b.env is None:
                 b.env = block_env
         return block_env
 
@@ -634,6 +280,7 @@ class _Elaborator:
         link.pose = inst.frame.compose(local) if inst.frame and local else None
         inst.links.setdefault(block.name, []).append(link)
         self.model.links.append(link)
+        progress.step(f"{len(self.model.links)} links")  # a 90,000-link model takes a while
         for child in block.blocks:
             for cvalues, cenv in self._copies(child, env):
                 if child.kind is ast.BlockKind.BODY:
@@ -687,7 +334,7 @@ class _Elaborator:
             if any(not isinstance(v, (int, float)) for v in values):
                 return None
             return inertia_math.Inertial(float(mass), com, tuple(float(v) for v in values))
-        solid = _solid(body, float(mass)) if body is not None else None
+        solid = solid_inertia(body, float(mass)) if body is not None else None
         if solid is None:
             return inertia_math.Inertial(float(mass), com, (0.0,) * 6)
         if not all(math.isfinite(v) for v in solid):
@@ -704,7 +351,7 @@ class _Elaborator:
             inertial = self._inertial(own[0], env, None)
             if inertial is not None and inertial.inertia == (0.0,) * 6 and link.bodies \
                     and inertial.mass > 0:
-                inertial = _distribute(inertial, link.bodies) or inertial
+                inertial = distribute_mass(inertial, link.bodies) or inertial
             link.inertial, link.inertial_source = inertial, "link"
             return
         parts = []
@@ -845,7 +492,7 @@ class _Elaborator:
             if isinstance(a.value, ast.TemplateInstance):
                 args.append((a.name, self._evaluate_template(a.value, env)))
             elif isinstance(a.value, ex.Name) and a.value.text not in env \
-                    and not isinstance(env._find(a.value.text), _Binding):
+                    and not isinstance(env._find(a.value.text), Binding):
                 # An element path (Rod::my_body); a constant without a value is not one:
                 # evaluating it records it as missing (E-CONST when SDF needs it).
                 args.append((a.name, a.value.parts))
@@ -932,155 +579,3 @@ class _Elaborator:
         if part is None:
             return list(inst.links.get(link, []))
         return [l for sub in inst.parts.get(part, []) for l in sub.links.get(link, [])]
-
-    def _name_devices(self) -> None:
-        """Mangled prefixes: the block name with its index values (``Proximity1``); where two
-        collide, the enclosing part or link names are prepended until they are unique."""
-        tokens = {id(d): glued(q[1:]) for d, q in self.device_names}  # model left out
-        depth = {id(d): 1 for d, _ in self.device_names}
-        while True:
-            names: dict[str, list[int]] = {}
-            for d, _ in self.device_names:
-                t = tokens[id(d)]
-                names.setdefault("_".join(t[-depth[id(d)]:]), []).append(id(d))
-            clashes = [ids for ids in names.values() if len(ids) > 1]
-            grew = False
-            for ids in clashes:
-                for i in ids:
-                    if depth[i] < len(tokens[i]):
-                        depth[i] += 1
-                        grew = True
-            if not clashes or not grew:
-                break
-        renamed: dict[int, Device] = {}
-        for device, _ in self.device_names:
-            t = tokens[id(device)]
-            prefix = "_".join(t[-depth[id(device)]:])
-            renamed[id(device)] = _renamed(device, prefix,
-                                           self.index_values.get(id(device), {}))
-        for e in [*self.model.joints, *self.model.unconnected, *self.model.sensors,
-                  *self.model.actuators]:
-            if e.device is not None and id(e.device) in renamed:
-                e.device = renamed[id(e.device)]
-        for j in self.model.links:
-            for child in j.joints:
-                if child.device is not None and id(child.device) in renamed:
-                    child.device = renamed[id(child.device)]
-        self._rename_relations(renamed)
-
-    def _rename_relations(self, renamed: dict[int, Device]) -> None:
-        mangled = {p.mangled for d in renamed.values() for p in d.ports}
-        by_name: dict[str, list[Device]] = {}
-        for e in [*self.model.joints, *self.model.unconnected, *self.model.sensors,
-                  *self.model.actuators]:
-            if e.device is not None:
-                by_name.setdefault(e.simple_name, []).append(e.device)
-        for expr, block, device, values in self.relation_queue:
-            own = renamed.get(id(device)) if device is not None else None
-
-            def paths(node: ex.Expr, own: Device | None = own) -> ex.Expr | None:
-                """``Block.port`` first, so that a block named like a port of this device
-                (joint ``J``, motor constant ``J``) is still read as the block."""
-                if isinstance(node, ex.Member) and isinstance(node.base, ex.Name) \
-                        and len(node.base.parts) == 1:
-                    candidates = by_name.get(node.base.parts[0], [])
-                    if own is not None and own in candidates:
-                        target: Device | None = own
-                    else:
-                        target = candidates[0] if len(candidates) == 1 else None
-                    port = target.port(node.name) if target is not None else None
-                    if port is not None:
-                        return ex.Name((port.mangled,), span=node.span)
-                return None
-
-            def names(node: ex.Expr, own: Device | None = own) -> ex.Expr | None:
-                if isinstance(node, ex.Name) and len(node.parts) == 1 and own is not None:
-                    port = own.port(node.parts[0])
-                    if port is not None:
-                        return ex.Name((port.mangled,), span=node.span)
-                    if node.parts[0] in values:
-                        return ex.Num(str(values[node.parts[0]]), span=node.span)
-                return None
-
-            def own_names(node: ex.Expr) -> ex.Expr | None:
-                if isinstance(node, ex.Name) and node.text in mangled:
-                    return None  # already a mangled port from the first pass
-                return names(node)
-
-            expr = ex.transform(ex.transform(expr, paths), own_names)
-            self.model.relations.append(expr)
-
-
-def _numbers_only(e: ex.Vector | ex.Matrix) -> bool:
-    return all(isinstance(item, ex.Num) for row in e.rows for item in row)
-
-
-def _renamed(device: Device, prefix: str, values: dict[str, int]) -> Device:
-    ports = tuple(replace(p, mangled=f"{prefix}_{p.name}") for p in device.ports)
-    names = {p.name: p.mangled for p in ports}
-
-    def swap(node: ex.Expr) -> ex.Expr | None:
-        if isinstance(node, ex.Name) and len(node.parts) == 1:
-            n = node.parts[0]
-            if n in names:
-                return ex.Name((names[n],), span=node.span)
-            if n in values:
-                return ex.Num(str(values[n]), span=node.span)
-        return None
-
-    return Device(prefix, ports, device.equations, device.constraints,
-                  rename=lambda e: ex.transform(e, swap))
-
-
-def _solid(body: Body, mass: float) -> inertia_math.InertiaEntries | None:
-    """The solid inertia of a body's geometry, for a body that gives a mass and no matrix."""
-    size = body.size
-    shape = body.geometry.kind if isinstance(body.geometry, ast.Shape) else None
-    try:
-        if shape == "box":
-            return inertia_math.solid_box(mass, float(size["length"]), float(size["width"]),
-                                          float(size["height"]))
-        if shape == "cylinder":
-            return inertia_math.solid_cylinder(mass, float(size["radius"]),
-                                               float(size["length"]))
-        if shape == "sphere":
-            return inertia_math.solid_sphere(mass, float(size["radius"]))
-    except (KeyError, TypeError, ValueError):
-        return None
-    except OverflowError:  # a size near 1e155 squared: the caller reports it
-        return (math.inf,) * 6
-    return None
-
-
-def _volume(body: Body) -> float | None:
-    size, shape = body.size, body.geometry.kind if isinstance(body.geometry, ast.Shape) else None
-    try:
-        if shape == "box":
-            return float(size["length"]) * float(size["width"]) * float(size["height"])
-        if shape == "cylinder":
-            return 3.141592653589793 * float(size["radius"]) ** 2 * float(size["length"])
-        if shape == "sphere":
-            return 4 / 3 * 3.141592653589793 * float(size["radius"]) ** 3
-    except (KeyError, TypeError, ValueError):
-        return None
-    return None
-
-
-def _distribute(own: inertia_math.Inertial, bodies: list[Body]
-                ) -> inertia_math.Inertial | None:
-    """A link that gives only a mass: spread it over its bodies by volume and combine their
-    solid inertias (the centre of mass follows the geometry)."""
-    volumes = [(_volume(b), b) for b in bodies]
-    total = sum(v for v, _ in volumes if v)
-    if own.mass <= 0 or total <= 0 or any(v is None or v <= 0 or b.pose is None
-                                           for v, b in volumes):
-        return None
-    parts = []
-    for v, b in volumes:
-        mass = own.mass * (v or 0.0) / total
-        solid = _solid(b, mass)
-        if solid is None or b.pose is None:
-            return None
-        parts.append(inertia_math.Inertial(mass, b.pose, solid))
-    return inertia_math.combine(parts) if parts else None
-

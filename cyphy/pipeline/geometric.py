@@ -21,7 +21,8 @@ def geometric_model(paths: Sequence[str | Path], name: str | None,
     pictures): the model is None when the files have errors or a constant that geometry
     needs has no value (constants only the equations use may stay without one)."""
     # lazy: NumPy: `cyphy check` must not pay for it
-    from cyphy.model.elaborate import choose_pmodel, elaborate_pmodel, require_constants
+    from cyphy.model.choose import choose_pmodel, require_constants
+    from cyphy.model.elaborate import elaborate_pmodel  # lazy: NumPy (see above)
 
     checked = check(paths, CheckOptions(search_paths=search_paths, consts=dict(consts),
                                         find_in_folder="pmodel"))

@@ -24,7 +24,7 @@ from cyphy.lang.scopes import is_constant, is_function, is_machine
 from cyphy.model.evaluate import MATH_FUNCTIONS
 from cyphy.model.machines import (Machine, called_operation, expressions, machines_of,
                                   statements)
-from cyphy.wellformed.mappings import Platform, module_platform
+from cyphy.wellformed.platform_services import Platform, module_platform
 from cyphy.wellformed.registry import WFContext, rule
 
 SINCE = "since"

@@ -17,7 +17,9 @@ import numpy as np
 from cyphy import progress
 from cyphy.diagnostics import Code, Report, Severity
 from cyphy.lang import ast
-from cyphy.model.elaborate import EVAL, INDEX, elaborate_pmodel, top_level_pmodels
+from cyphy.model.choose import top_level_pmodels
+from cyphy.model.elaborate import INDEX, elaborate_pmodel
+from cyphy.model.environment import EVAL
 from cyphy.model.inertia import is_physical
 from cyphy.model.mesh_paths import outside_model_folder
 from cyphy.wellformed.registry import WFContext, rule

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any, Iterable
 
-from cyphy import codes
+from cyphy import codes, progress
 from cyphy import expr as ex
 from cyphy.diagnostics import Span, did_you_mean
 from cyphy.lang import ast
@@ -33,7 +33,8 @@ class PModelChecks(CheckerBase):
             self._type(d.type)
             self._expr(d.value, scope)
             self.declared(d, scope)
-        for m in pm.members:
+        for i, m in enumerate(pm.members):
+            progress.step(f"{pm.name}: {i + 1} of {len(pm.members)} elements")
             if isinstance(m, ast.Part):
                 self._part(m, pm, scope)
             elif isinstance(m, ast.Block):

@@ -26,7 +26,7 @@ from cyphy.semantics.dynamics.equations import fixed_root_twists, motion, port_i
 from cyphy.semantics.dynamics.errors import DynamicsError
 from cyphy.semantics.machines.automaton import compile_machine
 from cyphy.semantics.machines.cycle import MACHINE, MachineError, interpreter_for
-from cyphy.wellformed.mappings import Platform, platform_of
+from cyphy.wellformed.platform_services import Platform, platform_of
 from cyphy.wellformed.registry import WFContext
 
 NO_MAPPING = codes.code("E-MAPPING", codes.E,

@@ -26,7 +26,7 @@ from cyphy.model.elaborate import elaborate_pmodel
 from cyphy.semantics.consistency.encode import Encoder, Encoding, Fact
 from cyphy.translate.to_z3 import value_text
 from cyphy.wellformed import WFContext
-from cyphy.wellformed.mappings import mapped_services
+from cyphy.wellformed.platform_services import mapped_services
 
 E, W = codes.E, codes.W
 C1 = codes.code("C1", E, "an equation mapping has a solution for every argument")

@@ -6,7 +6,7 @@ its bodies) and the order of declarations (a container's parts before its own li
 from __future__ import annotations
 
 from cyphy.lang import ast
-from cyphy.model.elaborate import _distribute  # the same spreading as a mass-only link
+from cyphy.model.body_inertia import distribute_mass  # the same spreading as a mass-only link
 from cyphy.model.elements import Body, ElaboratedModel, Link
 from cyphy.model.inertia import Inertial
 from cyphy.model.poses import Pose
@@ -79,7 +79,7 @@ def inertial_rule(t: Translation, link: Link) -> Node:
 
 def _default_inertial(link: Link) -> Inertial:
     unit = Inertial(DEFAULT_MASS, Pose.identity(), (0.0,) * 6)
-    spread = _distribute(unit, link.bodies) if link.bodies else None
+    spread = distribute_mass(unit, link.bodies) if link.bodies else None
     return spread or Inertial(DEFAULT_MASS, Pose.identity(), (1.0, 0.0, 0.0, 1.0, 0.0, 1.0))
 
 
