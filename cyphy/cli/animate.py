@@ -60,6 +60,14 @@ def _report(err: "AnimateError") -> int:
     return err.status
 
 
+def _note(names: list[str], noun: str, what: str) -> None:
+    """One stderr line naming what the output leaves out or holds (the first six)."""
+    if names:
+        shown = ", ".join(names[:6]) + (", …" if len(names) > 6 else "")
+        sys.stderr.write(f"cyphy animate: {len(names)} {noun}{'s' if len(names) != 1 else ''}"
+                         f" {what}: {shown}\n")
+
+
 def _pairs(items: list[str], option: str) -> dict[str, str] | str:
     out: dict[str, str] = {}
     for item in items:
@@ -132,18 +140,8 @@ def run(args: argparse.Namespace) -> int:
     except OutputError as err:
         sys.stderr.write(f"cyphy animate: error: {err}\n")
         return 1
-    if animation.undetermined:
-        names = animation.undetermined
-        shown = ", ".join(names[:6]) + (", …" if len(names) > 6 else "")
-        sys.stderr.write(f"cyphy animate: {len(names)} state variable"
-                         f"{'s' if len(names) != 1 else ''} that no equation determines "
-                         f"left out (world inputs not given with --input, forces the "
-                         f"equations leave open): {shown}\n")
-    if animation.held:
-        names = animation.held
-        shown = ", ".join(names[:6]) + (", …" if len(names) > 6 else "")
-        sys.stderr.write(f"cyphy animate: {len(names)} world input"
-                         f"{'s' if len(names) != 1 else ''} not given with --input held at 0 "
-                         f"(the axiomatic theory lets them start anywhere and move at any "
-                         f"rate): {shown}\n")
+    _note(animation.undetermined, "state variable", "that no equation determines left out "
+          "(world inputs not given with --input, forces the equations leave open)")
+    _note(animation.held, "world input", "not given with --input held at 0 (the axiomatic "
+          "theory lets them start anywhere and move at any rate)")
     return 0
