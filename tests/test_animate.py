@@ -378,7 +378,7 @@ def test_the_axiomatic_marxbot_gives_simulates_trajectories(ax_sessions: dict[st
     animation = animate(ax_sessions["marxbot"], 9.0, MX_INPUTS, MX_CONSTS, samples=181)
     assert _within_one_percent(animation, mx_simulated, ["LMotor_av", "RMotor_av"]) == []
     # the world inputs no --input gives start at 0 and keep still (named on stderr)
-    assert "GroundRing0_distance" in animation.held
+    assert "Acc_acceleration_1" in animation.held
     assert "Proximity1_distance" not in animation.held
 
 
