@@ -401,3 +401,10 @@ def test_an_axiomatic_construct_it_cannot_run_is_reported_with_its_line(
     # the line is the definition last entered (DriveFromDModel's, run by the choice)
     assert f"{thy}:" in err and ": ERROR E-ANIMATE-UNSUPPORTED" in err
     assert "the action interleave" in err and "Traceback" not in err
+
+
+def test_an_axiomatic_input_must_be_a_world_input(ax_sessions: dict[str, Path],
+                                                  capsys: Capsys) -> None:
+    code, stdout, err = _cli(capsys, str(ax_sessions["dcmotor"]), "--input", "Motor_av=1",
+                             "--const", "tscale=0.1")
+    assert (code, stdout) == (2, "") and "not a world input" in err

@@ -121,6 +121,12 @@ class _Animator:
         self.p = Proc(p.name, dict.fromkeys(p.fields), [(model.definitions[p.main].tree, {})])
         self.t_sym = sympy.Symbol("t")
         self.inputs = self._inputs(inputs)
+        if model.dialect == "axiomatic":  # a world input is what the theory gives a rate
+            clash = sorted(x for x in self.inputs if x + "_rate" not in self.p.state)
+            if clash:
+                raise AnimateError("E-ANIMATE-OPTION", f"--input {clash[0]}: the theory "
+                                   "evolves it from the value its actions give (a state, not "
+                                   "a world input)", status=2)
         self.runner = Runner(model, self.constants.need, self._settle, self._choose)
         p_defs = [df for df in model.definitions.values() if df.name != d.main]
         self.ties = ax_evolve.ties(p_defs) if model.dialect == "axiomatic" else {}
