@@ -408,3 +408,14 @@ def test_an_axiomatic_input_must_be_a_world_input(ax_sessions: dict[str, Path],
     code, stdout, err = _cli(capsys, str(ax_sessions["dcmotor"]), "--input", "Motor_av=1",
                              "--const", "tscale=0.1")
     assert (code, stdout) == (2, "") and "not a world input" in err
+
+
+def test_the_axiomatic_marxbot_runs_from_its_scenario_alone(ax_sessions: dict[str, Path],
+                                                           mx_simulated: Series,
+                                                           capsys: Capsys) -> None:
+    """The axiomatic theory moves the distance at a rate it chooses before each Evolve: the
+    scenario's rate over the state (the wheels' speeds) is that rate, no --input needed."""
+    animation = _animate_cli(capsys, str(ax_sessions["marxbot"]), "--scenario",
+                             str(MARXBOT / "avoid_obstacle.toml"), "--t-end", "9",
+                             "--samples", "181")
+    assert _within_one_percent(animation, mx_simulated, ["LMotor_av", "RMotor_av"]) == []

@@ -99,18 +99,14 @@ def run(args: argparse.Namespace) -> int:
         if not math.isfinite(values[name]):
             return _error(f"--const {name}={text}: not a finite number")
     scenario_consts: dict[str, float] = {}
+    rates: dict[str, tuple[str, float]] = {}
     if args.scenario:
         from cyphy.verify.animate import scenario as scenario_file  # lazy: with --scenario
         try:
             given = scenario_file.read(Path(args.scenario), Path(args.session))
         except AnimateError as err:
             return _report(err)
-        open_inputs = sorted(set(given.state_dependent) - set(inputs))
-        if open_inputs:
-            name = open_inputs[0]
-            return _error(f"the scenario's {name}' = {given.state_dependent[name]} depends on "
-                          f"the state: give {name} as a function of t and the state with "
-                          f"--input {name}=EXPR")
+        rates = {k: v for k, v in given.state_dependent.items() if k not in inputs}
         inputs = {**given.inputs, **inputs}
         scenario_consts = dict(given.consts)
         if given.tscale is not None:
@@ -125,7 +121,7 @@ def run(args: argparse.Namespace) -> int:
         return _error("--samples must be at least 2")
     try:
         animation = animate(Path(args.session), args.t_end, inputs, values, args.samples,
-                            scenario_consts)
+                            scenario_consts, rates)
         text = (to_json if args.format == "json" else to_csv)(animation)
         png = plot(animation, args.plot_var) if args.plot else None
     except AnimateError as err:

@@ -88,7 +88,8 @@ class _Constants:
 
 def animate(folder: str | Path, t_end: float, inputs: dict[str, str] | None = None,
             consts: dict[str, float] | None = None, samples: int = 201,
-            scenario_consts: dict[str, float] | None = None) -> Animation:
+            scenario_consts: dict[str, float] | None = None,
+            scenario_rates: dict[str, tuple[str, float]] | None = None) -> Animation:
     """Run the session in ``folder`` for ``t_end`` seconds (see the module docstring);
     ``scenario_consts`` (a scenario's [consts], theory names) yield to ``consts``."""
     if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
@@ -97,8 +98,13 @@ def animate(folder: str | Path, t_end: float, inputs: dict[str, str] | None = No
     if samples < 2:
         raise AnimateError("E-ANIMATE-OPTION", "--samples must be at least 2", status=2)
     model = read_model(Path(folder))
+    for name, (rate, _start) in sorted((scenario_rates or {}).items()):
+        if model.dialect != "axiomatic":  # the utp dialect takes an input's value, not rate
+            raise AnimateError("E-ANIMATE-SCENARIO", f"the scenario's {name}' = {rate} "
+                               "depends on the state: give " + name + " as a function of t "
+                               f"and the state with --input {name}=EXPR", status=2)
     animator = _Animator(model, t_end, inputs or {}, consts or {}, samples,
-                         scenario_consts or {})
+                         scenario_consts or {}, scenario_rates or {})
     try:
         return animator.run()
     except (ZeroDivisionError, OverflowError, ValueError) as err:  # math on the values
@@ -111,7 +117,8 @@ def animate(folder: str | Path, t_end: float, inputs: dict[str, str] | None = No
 class _Animator:
     def __init__(self, model: TheoryModel, t_end: float, inputs: dict[str, str],
                  consts: dict[str, float], samples: int,
-                 scenario_consts: dict[str, float]) -> None:
+                 scenario_consts: dict[str, float],
+                 scenario_rates: dict[str, tuple[str, float]]) -> None:
         import sympy  # lazy: the inputs and Evolve are symbolic
         self.model = model
         self.t_end = t_end
@@ -121,8 +128,12 @@ class _Animator:
         self.p = Proc(p.name, dict.fromkeys(p.fields), [(model.definitions[p.main].tree, {})])
         self.t_sym = sympy.Symbol("t")
         self.inputs = self._inputs(inputs)
+        # the axiomatic dialect's world rates a scenario gives over the state: (rate, start)
+        exprs = self._inputs({k: rate for k, (rate, _start) in scenario_rates.items()})
+        self.rates = {k: (e, scenario_rates[k][1]) for k, e in exprs.items()}
         if model.dialect == "axiomatic":  # a world input is what the theory gives a rate
-            clash = sorted(x for x in self.inputs if x + "_rate" not in self.p.state)
+            clash = sorted(x for x in {**self.inputs, **self.rates}
+                           if x + "_rate" not in self.p.state)
             if clash:
                 raise AnimateError("E-ANIMATE-OPTION", f"--input {clash[0]}: the theory "
                                    "evolves it from the value its actions give (a state, not "
@@ -226,6 +237,9 @@ class _Animator:
             if base is None or proc is not self.p:
                 raise AnimateError("E-ANIMATE-UNSUPPORTED", f"a choice of {x}, which is not "
                                    "a world input's rate", path=self.model.path, status=2)
+            if base in self.rates and base not in self.inputs:
+                out.append(self._now(self.rates[base][0]))
+                continue
             if base not in self.inputs:
                 self.held.add(base)
                 out.append(0.0)
@@ -236,6 +250,18 @@ class _Animator:
             out.append(ax_evolve.input_rate(self.inputs[base], self.t_sym, self.t,
                                             self.p.state, system, self._y(system)))
         return out
+
+    def _now(self, expr: Any) -> float:
+        """A scenario's rate over the state, at the current state."""
+        import sympy  # lazy: as above
+        subs = {sympy.Symbol(k): v for k, v in self.p.state.items() if v is not None}
+        subs[self.t_sym] = self.t
+        value = sympy.sympify(expr).subs(subs)
+        if value.free_symbols:
+            raise AnimateError("E-ANIMATE-OPEN", f"a scenario rate reads "
+                               f"{sorted(map(str, value.free_symbols))[0]}, which has no "
+                               "value yet", status=1)
+        return float(value)
 
     def _ax_settle(self, name: str) -> Any:
         """An axiomatic p-model value read before any action gives it: a world input's
@@ -252,6 +278,9 @@ class _Animator:
                                    f"{sorted(map(str, value.free_symbols))[0]}, which has no "
                                    "value yet", status=1)
             self.p.state[name] = float(value)
+            return self.p.state[name]
+        if name in self.rates:
+            self.p.state[name] = float(self.rates[name][1])
             return self.p.state[name]
         if name in self.ties:
             return self.runner.value(self.ties[name], self.p, {})

@@ -24,7 +24,8 @@ class ScenarioValues:
     horizon: float | None = None
     tscale: float | None = None
     unused: list[str] = field(default_factory=list)
-    state_dependent: dict[str, str] = field(default_factory=dict)  # input → its derivative
+    # an input whose rate reads the state → (that rate, its start): no closed form
+    state_dependent: dict[str, tuple[str, float]] = field(default_factory=dict)
 
 
 def _names(folder: Path) -> dict[str, str]:
@@ -95,7 +96,7 @@ def read(path: Path, folder: Path) -> ScenarioValues:
             continue
         rate = sympy.sympify(env.derivative, locals={"t": t})
         if rate.free_symbols - {t}:
-            out.state_dependent[name] = str(env.derivative)
+            out.state_dependent[name] = (str(env.derivative), start)
             continue
         out.inputs[name] = str(sympy.nsimplify(start) + sympy.integrate(rate, (t, 0, t)))
     return out
