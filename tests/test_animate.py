@@ -264,23 +264,14 @@ def test_a_theory_it_cannot_read_is_reported_with_its_line(sessions: dict[str, P
     assert f"{thy}:{line}: ERROR E-ANIMATE-READ" in err
 
 
-def test_the_axiomatic_dialect_is_refused_with_a_diagnostic(tmp_path: Path,
-                                                            capsys: Capsys) -> None:
-    generated = api.generate_isabelle([DCMOTOR], api.SemanticsGenOptions(dialect="axiomatic"))
-    for name, text in generated.files.items():
-        (tmp_path / name).write_text(text)
-    code, stdout, err = _cli(capsys, str(tmp_path))
-    assert (code, stdout) == (2, "")
-    assert "E-ANIMATE-DIALECT" in err and "utp dialect only" in err
-
-
 def test_the_animator_reads_the_theory_not_the_model() -> None:
     """``cyphy/verify/animate`` imports no part of cyphy that reads or elaborates models: its
     only inputs are the theory's text (read with check-theory's reader) and the options."""
     import ast
     folder = Path(__file__).resolve().parent.parent / "cyphy" / "verify" / "animate"
     allowed = ("cyphy.verify.animate", "cyphy.verify.theory", "cyphy.diagnostics",
-               "cyphy.backends.plotting")
+               "cyphy.backends.plotting",
+               "cyphy.verify.flowstar.scenario")  # --scenario's TOML reader: values only
     used = set()
     for path in folder.glob("*.py"):
         for node in ast.walk(ast.parse(path.read_text())):
@@ -290,3 +281,141 @@ def test_the_animator_reads_the_theory_not_the_model() -> None:
                 used.update(a.name for a in node.names)
     ours = {m for m in used if m.startswith("cyphy")}
     assert ours and all(m.startswith(allowed) for m in ours), sorted(ours)
+
+
+# --scenario: the scenario's values, never its model ------------------------------------------
+
+def _animate_cli(capsys: Capsys, *argv: str) -> Animation:
+    """The CLI's JSON output as an :class:`Animation` (what the scenario gave went through it)."""
+    code, stdout, err = _cli(capsys, *argv, "--format", "json")
+    assert code == 0, err
+    doc = json.loads(stdout)
+    return Animation(doc["columns"], doc["rows"], [], doc["composition"])
+
+
+def test_the_dcmotor_scenario_gives_simulates_trajectories(sessions: dict[str, Path],
+                                                           dc_simulated: Series,
+                                                           capsys: Capsys) -> None:
+    """whole_bench.toml alone: its horizon (2 s), tscale (0.1) and the obstacle from its
+    [init] interval's midpoint at its [environment] rate; no option."""
+    animation = _animate_cli(capsys, str(sessions["dcmotor"]), "--scenario",
+                             str(DCMOTOR / "whole_bench.toml"), "--samples", "41")
+    assert _column(animation, "t")[-1] == pytest.approx(2.0)
+    assert _within_one_percent(animation, dc_simulated,
+                               ["Motor_av", "Motor_i", "Shaft_v"]) == []
+
+
+def test_the_marxbot_scenario_gives_its_constants(sessions: dict[str, Path],
+                                                  mx_simulated: Series,
+                                                  capsys: Capsys) -> None:
+    """avoid_obstacle.toml's 12 [consts] (per block: both motors take SpeedControlMotor's)
+    and tscale; the distance, whose rate depends on the state, from --input."""
+    animation = _animate_cli(capsys, str(sessions["marxbot"]), "--scenario",
+                             str(MARXBOT / "avoid_obstacle.toml"), "--t-end", "9", "--input",
+                             "Proximity1_distance=" + MX_INPUTS["Proximity1_distance"],
+                             "--samples", "181")
+    assert _within_one_percent(animation, mx_simulated, ["LMotor_av", "RMotor_av"]) == []
+
+
+def test_options_win_over_the_scenario(sessions: dict[str, Path], capsys: Capsys) -> None:
+    """--t-end over the horizon; --input over [environment]: an obstacle already near stops
+    the motor in the first cycle, where the scenario's drives it for a second."""
+    argv = [str(sessions["dcmotor"]), "--scenario", str(DCMOTOR / "whole_bench.toml"),
+            "--t-end", "0.5", "--samples", "6"]
+    driven = _animate_cli(capsys, *argv)
+    stopped = _animate_cli(capsys, *argv, "--input", "Range_distance=0.5")
+    assert _column(driven, "t")[-1] == pytest.approx(0.5)
+    assert _column(driven, "Motor_av")[-1] > 1.0
+    assert abs(_column(stopped, "Motor_av")[-1]) < 0.5 * _column(driven, "Motor_av")[-1]
+    code, _out, _err = _cli(capsys, *argv, "--const", "tscale=0.2", "--samples", "2",
+                            "--format", "json")
+    assert code == 0
+
+
+@pytest.mark.parametrize("scenario, status, words", [
+    ("horizon = [1", 2, "E-ANIMATE-SCENARIO"),
+    ('model = "M"\nhorizon = 1\ntscale = 0.1\n[init]\nRange_distance = 3\n'
+     '[environment]\nRange_distance = "-Motor_av"\n', 2, "--input Range_distance=EXPR"),
+])
+def test_a_scenario_it_cannot_use_is_a_clear_error(sessions: dict[str, Path], tmp_path: Path,
+                                                   capsys: Capsys, scenario: str, status: int,
+                                                   words: str) -> None:
+    toml = tmp_path / "s.toml"
+    toml.write_text(scenario)
+    code, stdout, err = _cli(capsys, str(sessions["dcmotor"]), "--scenario", str(toml))
+    assert (code, stdout) == (status, "") and words in err and "Traceback" not in err
+
+
+# the axiomatic dialect: the same executor, the axiomatic checker's reader ------------------
+
+@pytest.fixture(scope="module")
+def ax_sessions(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    root = tmp_path_factory.mktemp("animate_ax")
+    out = {}
+    for key, paths in (("dcmotor", [DCMOTOR]), ("marxbot", [MARXBOT / "Mapping.rsm"])):
+        generated = api.generate_isabelle(paths, api.SemanticsGenOptions(dialect="axiomatic"))
+        assert not generated.report.has_errors, generated.report.diagnostics
+        (root / key).mkdir()
+        for name, text in generated.files.items():
+            (root / key / name).write_text(text)
+        out[key] = root / key
+    return out
+
+
+def test_the_axiomatic_dcmotor_gives_simulates_trajectories(ax_sessions: dict[str, Path],
+                                                           dc_simulated: Series) -> None:
+    """Range_distance from --input: its value at the start, then its rate (d/dt of the
+    expression) chosen before each Evolve, as the theory's cSpec of the rates allows."""
+    animation = animate(ax_sessions["dcmotor"], 2.0, DC_INPUTS, DC_CONSTS, samples=41)
+    assert _within_one_percent(animation, dc_simulated,
+                               ["Motor_av", "Motor_i", "Shaft_v"]) == []
+    stops = [t for t, c, _v in animation.events if c == "registerWrite_stop"]
+    assert stops and 0.9 <= stops[0] <= 1.2  # near once the obstacle is within 1 m
+
+
+def test_the_axiomatic_marxbot_gives_simulates_trajectories(ax_sessions: dict[str, Path],
+                                                           mx_simulated: Series) -> None:
+    animation = animate(ax_sessions["marxbot"], 9.0, MX_INPUTS, MX_CONSTS, samples=181)
+    assert _within_one_percent(animation, mx_simulated, ["LMotor_av", "RMotor_av"]) == []
+    # the world inputs no --input gives start at 0 and keep still (named on stderr)
+    assert "Acc_acceleration_1" in animation.held
+    assert "Proximity1_distance" not in animation.held
+
+
+def test_an_axiomatic_call_without_its_effect_fails_the_comparison(
+        ax_sessions: dict[str, Path], dc_simulated: Series, tmp_path: Path) -> None:
+    mutant = _mutant(ax_sessions["dcmotor"], tmp_path, "(((Motor_das = 0)))",
+                     "(((Motor_das = 10.0)))")  # stop() leaves the cruise set-point
+    animation = animate(mutant, 2.0, DC_INPUTS, DC_CONSTS, samples=41)
+    assert "Motor_av" in _within_one_percent(animation, dc_simulated, ["Motor_av"])
+
+
+def test_an_axiomatic_construct_it_cannot_run_is_reported_with_its_line(
+        ax_sessions: dict[str, Path], tmp_path: Path, capsys: Capsys) -> None:
+    mutant = _mutant(ax_sessions["dcmotor"], tmp_path, "((StopFromDModel ;; Y)",
+                     "((StopFromDModel \\<interleave> Y)")
+    thy = next(mutant.glob("*.thy"))
+    code, stdout, err = _cli(capsys, str(mutant), "--const", "tscale=0.1", "--input",
+                             "Range_distance=3-2*t")
+    assert (code, stdout) == (2, ""), err
+    # the line is the definition last entered (DriveFromDModel's, run by the choice)
+    assert f"{thy}:" in err and ": ERROR E-ANIMATE-UNSUPPORTED" in err
+    assert "the action interleave" in err and "Traceback" not in err
+
+
+def test_an_axiomatic_input_must_be_a_world_input(ax_sessions: dict[str, Path],
+                                                  capsys: Capsys) -> None:
+    code, stdout, err = _cli(capsys, str(ax_sessions["dcmotor"]), "--input", "Motor_av=1",
+                             "--const", "tscale=0.1")
+    assert (code, stdout) == (2, "") and "not a world input" in err
+
+
+def test_the_axiomatic_marxbot_runs_from_its_scenario_alone(ax_sessions: dict[str, Path],
+                                                           mx_simulated: Series,
+                                                           capsys: Capsys) -> None:
+    """The axiomatic theory moves the distance at a rate it chooses before each Evolve: the
+    scenario's rate over the state (the wheels' speeds) is that rate, no --input needed."""
+    animation = _animate_cli(capsys, str(ax_sessions["marxbot"]), "--scenario",
+                             str(MARXBOT / "avoid_obstacle.toml"), "--t-end", "9",
+                             "--samples", "181")
+    assert _within_one_percent(animation, mx_simulated, ["LMotor_av", "RMotor_av"]) == []

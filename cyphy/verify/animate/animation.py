@@ -9,11 +9,13 @@ from pathlib import Path
 from typing import Any
 
 from cyphy.diagnostics import did_you_mean
+from cyphy.verify.animate import ax_evolve
 from cyphy.verify.animate.errors import AnimateError
 from cyphy.verify.animate.evolve import OdeSystem, build
 from cyphy.verify.animate.executor import (MAX_EVENTS_PER_INSTANT, Evolving, Proc, Runner,
                                            synchronise)
-from cyphy.verify.animate.reader import TheoryModel, read_model
+from cyphy.verify.animate.model import TheoryModel
+from cyphy.verify.animate.reader import read_model
 from cyphy.verify.animate.terms import Unsupported, evaluate, evaluate_hol, op_name
 
 
@@ -27,15 +29,22 @@ class Animation:
     composition: str
     undetermined: list[str] = field(default_factory=list)
     differential: list[str] = field(default_factory=list)  # the states Evolve integrates
+    held: list[str] = field(default_factory=list)  # axiomatic world inputs kept at 0
 
 
 class _Constants:
     """The theory's constants, ``--const`` winning, then the axioms ``name = value``."""
 
-    def __init__(self, model: TheoryModel, given: dict[str, float]) -> None:
+    def __init__(self, model: TheoryModel, given: dict[str, float],
+                 scenario: dict[str, float] | None = None) -> None:
         self.model = model
         self.values = dict(model.values)
         known = sorted(set(model.values) | set(model.open_constants))
+        # a scenario's values set the constants the theory has (tscale only when open); its
+        # other keys (call arguments, another model's names) are not the theory's business
+        for name, value in (scenario or {}).items():
+            if name in model.open_constants or (name in model.values and name != "tscale"):
+                self.values[name] = value
         for name, value in given.items():
             if name not in known:
                 raise AnimateError("E-ANIMATE-OPTION", f"--const {name}: the theory has no "
@@ -78,15 +87,24 @@ class _Constants:
 
 
 def animate(folder: str | Path, t_end: float, inputs: dict[str, str] | None = None,
-            consts: dict[str, float] | None = None, samples: int = 201) -> Animation:
-    """Run the session in ``folder`` for ``t_end`` seconds (see the module docstring)."""
+            consts: dict[str, float] | None = None, samples: int = 201,
+            scenario_consts: dict[str, float] | None = None,
+            scenario_rates: dict[str, tuple[str, float]] | None = None) -> Animation:
+    """Run the session in ``folder`` for ``t_end`` seconds (see the module docstring);
+    ``scenario_consts`` (a scenario's [consts], theory names) yield to ``consts``."""
     if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
         raise AnimateError("E-ANIMATE-OPTION", f"--t-end {t_end}: the time must be a finite "
                            "number above 0", status=2)
     if samples < 2:
         raise AnimateError("E-ANIMATE-OPTION", "--samples must be at least 2", status=2)
     model = read_model(Path(folder))
-    animator = _Animator(model, t_end, inputs or {}, consts or {}, samples)
+    for name, (rate, _start) in sorted((scenario_rates or {}).items()):
+        if model.dialect != "axiomatic":  # the utp dialect takes an input's value, not rate
+            raise AnimateError("E-ANIMATE-SCENARIO", f"the scenario's {name}' = {rate} "
+                               "depends on the state: give " + name + " as a function of t "
+                               f"and the state with --input {name}=EXPR", status=2)
+    animator = _Animator(model, t_end, inputs or {}, consts or {}, samples,
+                         scenario_consts or {}, scenario_rates or {})
     try:
         return animator.run()
     except (ZeroDivisionError, OverflowError, ValueError) as err:  # math on the values
@@ -98,17 +116,31 @@ def animate(folder: str | Path, t_end: float, inputs: dict[str, str] | None = No
 
 class _Animator:
     def __init__(self, model: TheoryModel, t_end: float, inputs: dict[str, str],
-                 consts: dict[str, float], samples: int) -> None:
+                 consts: dict[str, float], samples: int,
+                 scenario_consts: dict[str, float],
+                 scenario_rates: dict[str, tuple[str, float]]) -> None:
         import sympy  # lazy: the inputs and Evolve are symbolic
         self.model = model
         self.t_end = t_end
-        self.constants = _Constants(model, consts)
+        self.constants = _Constants(model, consts, scenario_consts)
         d, p = model.processes
         self.d = Proc(d.name, dict.fromkeys(d.fields), [(model.definitions[d.main].tree, {})])
         self.p = Proc(p.name, dict.fromkeys(p.fields), [(model.definitions[p.main].tree, {})])
         self.t_sym = sympy.Symbol("t")
         self.inputs = self._inputs(inputs)
-        self.runner = Runner(model, self.constants.need, self._settle)
+        # the axiomatic dialect's world rates a scenario gives over the state: (rate, start)
+        exprs = self._inputs({k: rate for k, (rate, _start) in scenario_rates.items()})
+        self.rates = {k: (e, scenario_rates[k][1]) for k, e in exprs.items()}
+        if model.dialect == "axiomatic":  # a world input is what the theory gives a rate
+            clash = sorted(x for x in {**self.inputs, **self.rates}
+                           if x + "_rate" not in self.p.state)
+            if clash:
+                raise AnimateError("E-ANIMATE-OPTION", f"--input {clash[0]}: the theory "
+                                   "evolves it from the value its actions give (a state, not "
+                                   "a world input)", status=2)
+        self.runner = Runner(model, self.constants.need, self._settle, self._choose)
+        p_defs = [df for df in model.definitions.values() if df.name != d.main]
+        self.ties = ax_evolve.ties(p_defs) if model.dialect == "axiomatic" else {}
         self.systems: dict[frozenset[str], OdeSystem] = {}
         self.evolve_tree = next((df.tree.children[0] for df in model.definitions.values()
                                  if df.tree.data == "evolution"), None)
@@ -117,6 +149,7 @@ class _Animator:
         self.rows: dict[int, dict[str, float]] = {}
         self.events: list[tuple[float, str, Any]] = []
         self.undetermined: set[str] = set()
+        self.held: set[str] = set()  # axiomatic world inputs without --input: at 0, still
 
     def _inputs(self, given: dict[str, str]) -> dict[str, Any]:
         import sympy  # lazy: as above
@@ -156,6 +189,8 @@ class _Animator:
         if self.evolve_tree is None:
             raise AnimateError("E-ANIMATE-EVOLVE", "the p-model has no Evolve", status=1,
                                path=self.model.path)
+        if self.model.dialect == "axiomatic":
+            return self._explicit()
         primed = {str(n.children[0]) for n in self.evolve_tree.iter_subtrees()
                   if n.data == "state_derivative"}
         differential = [f for f in self.p.state if f in primed and f in self.p.assigned]
@@ -178,6 +213,85 @@ class _Animator:
             self.undetermined |= set(self.systems[key].undetermined)
         return self.systems[key]
 
+    def _explicit(self) -> OdeSystem:
+        """The axiomatic dialect's explicit ODE under the values given so far."""
+        key = frozenset(x for x, v in self.p.state.items() if v is not None)
+        if key not in self.systems:
+            where = next(df for df in self.model.definitions.values()
+                         if df.tree.data == "evolution")
+            self.systems[key] = ax_evolve.explicit(self.evolve_tree, self.p.state,
+                                                   self.constants.get, self.t_sym, where)
+            self.undetermined |= set(self.systems[key].undetermined)
+        return self.systems[key]
+
+    def _choose(self, frame: list[str], proc: Proc) -> list[float]:
+        """The axiomatic dialect's world rates (any values): an input's rate from its
+        ``--input`` expression now; an input not given keeps still (rate 0). The frame
+        holds 0 while its rates are computed (the chain rule reads no rate of a rate)."""
+        out = []
+        for x in frame:
+            if self.p.state.get(x) is None:
+                self.p.state[x] = 0.0
+        for x in frame:
+            base = x[:-len("_rate")] if x.endswith("_rate") else None
+            if base is None or proc is not self.p:
+                raise AnimateError("E-ANIMATE-UNSUPPORTED", f"a choice of {x}, which is not "
+                                   "a world input's rate", path=self.model.path, status=2)
+            if base in self.rates and base not in self.inputs:
+                out.append(self._now(self.rates[base][0]))
+                continue
+            if base not in self.inputs:
+                self.held.add(base)
+                out.append(0.0)
+                continue
+            if self.p.state.get(base) is None:
+                self._settle(base, proc)
+            system = self._system()
+            out.append(ax_evolve.input_rate(self.inputs[base], self.t_sym, self.t,
+                                            self.p.state, system, self._y(system)))
+        return out
+
+    def _now(self, expr: Any) -> float:
+        """A scenario's rate over the state, at the current state."""
+        import sympy  # lazy: as above
+        subs = {sympy.Symbol(k): v for k, v in self.p.state.items() if v is not None}
+        subs[self.t_sym] = self.t
+        value = sympy.sympify(expr).subs(subs)
+        if value.free_symbols:
+            raise AnimateError("E-ANIMATE-OPEN", f"a scenario rate reads "
+                               f"{sorted(map(str, value.free_symbols))[0]}, which has no "
+                               "value yet", status=1)
+        return float(value)
+
+    def _ax_settle(self, name: str) -> Any:
+        """An axiomatic p-model value read before any action gives it: a world input's
+        ``--input`` value now (from then on it moves at its chosen rate), or the value the
+        main action re-establishes it to (an output's definition, ``Range_range :=
+        Range_distance``)."""
+        import sympy  # lazy: as above
+        if name in self.inputs:
+            subs = {sympy.Symbol(k): v for k, v in self.p.state.items() if v is not None}
+            subs[self.t_sym] = self.t
+            value = sympy.sympify(self.inputs[name]).subs(subs)
+            if value.free_symbols:
+                raise AnimateError("E-ANIMATE-OPEN", f"--input {name}: reads "
+                                   f"{sorted(map(str, value.free_symbols))[0]}, which has no "
+                                   "value yet", status=1)
+            self.p.state[name] = float(value)
+            return self.p.state[name]
+        if name in self.rates:
+            self.p.state[name] = float(self.rates[name][1])
+            return self.p.state[name]
+        if name in self.ties:
+            return self.runner.value(self.ties[name], self.p, {})
+        if name + "_rate" in self.p.state:  # a world input the theory leaves arbitrary
+            self.held.add(name)
+            self.p.state[name] = 0.0
+            return 0.0
+        raise AnimateError("E-ANIMATE-OPEN", f"{self.p.name} reads {name} before anything "
+                           "gives it a value", status=1, path=self.model.path,
+                           hint="a world input is given with --input NAME=EXPR")
+
     def _y(self, system: OdeSystem) -> list[float]:
         return [float(self.p.state[x]) for x in system.states]
 
@@ -185,6 +299,8 @@ class _Animator:
         """An unset p-model state read by an action: Evolve's value for it now (the theory
         leaves it free until the first Evolve; this is the one of its values consistent with
         the equations). The d-model's state has no equations: reading it unset is an error."""
+        if proc is self.p and self.model.dialect == "axiomatic":
+            return self._ax_settle(name)
         if proc is self.p:
             system = self._system()
             if name in system.algebraic:
@@ -199,6 +315,12 @@ class _Animator:
         y0 = self._y(system)
         guard = self._condition(ev, system)
         if guard(self.t, y0) >= 0:
+            return
+        if self.t_end - self.t <= 1e-12 * max(1.0, self.t_end):  # rounding: LSODA refuses
+            for k, tk in enumerate(self.grid):
+                if k not in self.rows and tk >= self.t - 1e-12:
+                    self.rows[k] = self._sample(system, tk, y0)
+            self.t = self.t_end
             return
         guard.terminal = True  # type: ignore[attr-defined]
         guard.direction = 1  # type: ignore[attr-defined]
@@ -310,5 +432,8 @@ class _Animator:
                 raise AnimateError("E-ANIMATE-VALUE", f"a value is not finite at t = "
                                    f"{row[0]:.6g}", status=1)
         differential = [x for x in names if any(x in s.states for s in self.systems.values())]
+        if self.model.dialect == "axiomatic":  # left out: what never got a value
+            self.undetermined = {x for x in self.undetermined if self.p.state.get(x) is None}
+            self.held = {x for x in self.held if self.p.state.get(x) is not None}
         return Animation(["t"] + names, rows, self.events, self.model.composition,
-                         sorted(self.undetermined), differential)
+                         sorted(self.undetermined), differential, sorted(self.held))

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable
 
 from cyphy.verify.animate.errors import AnimateError
-from cyphy.verify.animate.reader import Definition, TheoryModel
+from cyphy.verify.animate.model import Definition, TheoryModel
 from cyphy.verify.animate.terms import Unsupported, evaluate, op_name, place
 
 #: Events at one instant before the run is called a livelock (no time passes).
@@ -57,10 +57,12 @@ class Runner:
     value when a discrete action reads one that no action has set (Evolve's equations)."""
 
     def __init__(self, model: TheoryModel, constant: Callable[[str], Any],
-                 settle: Callable[[str, Proc], Any]) -> None:
+                 settle: Callable[[str, Proc], Any],
+                 choose: Callable[[list[str], Proc], list[float]] | None = None) -> None:
         self.model = model
         self.constant = constant
         self.settle = settle
+        self.choose = choose  # a frame with any values (the axiomatic dialect's rates)
         self.where: Definition | None = None
         self._specs: dict[int, tuple[Callable[..., Any], list[str]]] = {}
 
@@ -81,6 +83,17 @@ class Runner:
             return evaluate(node, state, lambda x: _no_rate(x), name)
         except Unsupported as err:
             raise self._here(err) from None
+
+    def _open_value(self, node: Any, proc: Proc, env: dict[str, Any]) -> Any:
+        """An assigned value; in the axiomatic dialect, whose main action re-establishes
+        every output before Evolve, None (left open) for one over a constant without a
+        value (a sensor no --const describes): only what reads it needs it."""
+        try:
+            return self.value(node, proc, env)
+        except AnimateError as err:
+            if err.code == "E-ANIMATE-CONST" and self.model.dialect == "axiomatic":
+                return None
+            raise
 
     def _here(self, err: Unsupported) -> AnimateError:
         if self.where is None:
@@ -154,10 +167,14 @@ class Runner:
             if kind == "assign":
                 names = [str(c) for c in ch if not hasattr(c, "data")]
                 exprs = [c for c in ch if hasattr(c, "data")]
-                self._assign(proc, names, [self.value(e, proc, env) for e in exprs])
+                self._assign(proc, names, [self._open_value(e, proc, env) for e in exprs])
                 continue
             if kind == "spec":
                 self._spec(proc, node, env)
+                continue
+            if kind == "choose" and self.choose is not None:
+                frame = [str(c) for c in ch[0].children]
+                self._assign(proc, frame, self.choose(frame, proc))
                 continue
             if kind == "interrupt_cond":
                 target = self._evolution(ch[0], env)

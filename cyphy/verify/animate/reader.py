@@ -9,59 +9,20 @@ each process's state fields, and the composition ``N = (D [| cs |] P) \\ cs``.""
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from cyphy.verify.animate.errors import AnimateError
+from cyphy.verify.animate.model import Definition, Process, TheoryModel, line_of
 from cyphy.verify.animate.terms import evaluate_hol
 from cyphy.verify.theory.session import SessionError, read_session
 from cyphy.verify.theory.utp_types import TypeError_, parser, read_theory
 
-#: The import that marks the axiomatic dialect (Ax_CyPhyCircus), which ``animate`` cannot read.
+#: The import that marks the axiomatic dialect (Ax_CyPhyCircus), read by ``ax_reader``.
 _AXIOMATIC = "Ax_CyPhyCircus"
 
 
-@dataclass
-class Definition:
-    """One ``definition NAME :: type where "NAME params = body"``, parsed."""
-
-    name: str
-    params: list[str]
-    tree: Any  # a lark Tree of utp_terms.lark's ``action``
-    path: Path
-    line: int
-
-
-@dataclass
-class Process:
-    """A process of the composition: its main action and its state's fields (name → type)."""
-
-    name: str
-    main: str
-    fields: dict[str, str]
-
-
-@dataclass
-class TheoryModel:
-    """What a generated theory states, as far as running it needs."""
-
-    path: Path
-    definitions: dict[str, Definition]
-    values: dict[str, Any]          # constants with values: floats, ints, lists, tuples
-    open_constants: dict[str, int]  # declared without a value → line
-    channels: set[str]              # the synchronisation set cs
-    processes: list[Process]        # [D, P], in the composition's order
-    composition: str
-    axioms: list[tuple[Any, int]] = field(default_factory=list)  # parsed hol terms, line
-
-
-def _line_of(text: str, pattern: str) -> int:
-    m = re.search(pattern, text, re.M)
-    return text.count("\n", 0, m.start()) + 1 if m else 0
-
-
-def _main_theory(folder: Path) -> tuple[Path, str]:
+def _main_theory(folder: Path) -> tuple[Path, str, bool]:
     """The session's theory that states the composition (the one ``animate`` runs)."""
     try:
         session, findings = read_session(folder)
@@ -75,14 +36,10 @@ def _main_theory(folder: Path) -> tuple[Path, str]:
                                line=finding.line, status=2)
     for theory in session.theories:
         if any(_AXIOMATIC in imp for imp in theory.imports):
-            raise AnimateError(
-                "E-ANIMATE-DIALECT", f"{theory.name} is in the axiomatic dialect "
-                "(Ax_CyPhyCircus): animate reads the utp dialect only", path=theory.path,
-                line=_line_of(theory.text, r"^\s*imports\b"), status=2,
-                hint="generate the session with --isabelle-dialect utp (the default)")
+            return theory.path, theory.text, True
     for theory in reversed(session.theories):
         if re.search(r'^definition \w+ :: "\w+ process"', theory.text, re.M):
-            return theory.path, theory.text
+            return theory.path, theory.text, False
     last = session.theories[-1] if session.theories else None
     raise AnimateError("E-ANIMATE-OPAQUE", "no theory of the session states the composition "
                        "N = (D [| cs |] P) \\ cs (a process definition)",
@@ -119,7 +76,10 @@ def _channel_set(expr: str) -> set[str]:
 def read_model(folder: Path) -> TheoryModel:
     """The composition the session states, read from its text; :class:`AnimateError` when
     the folder is not a session or its theory uses what the reader does not know."""
-    path, text = _main_theory(folder)
+    path, text, axiomatic = _main_theory(folder)
+    if axiomatic:
+        from cyphy.verify.animate.ax_reader import read_ax_model  # lazy: one dialect a run
+        return read_ax_model(path, text)
     try:
         th = read_theory(text)
     except (TypeError_, AttributeError, ValueError) as err:
@@ -127,13 +87,13 @@ def read_model(folder: Path) -> TheoryModel:
                            path=path, status=2) from None
     values: dict[str, Any] = {}
     for name, _typ, value in th.values:
-        line = _line_of(text, rf"^definition {re.escape(name)} ::")
+        line = line_of(text, rf"^definition {re.escape(name)} ::")
         try:
             values[name] = _hol_value(_parse(value, "hol", path, line), values)
         except KeyError as err:
             raise AnimateError("E-ANIMATE-READ", f"{name}'s value names {err}, which is not "
                                "defined before it", path=path, line=line, status=2) from None
-    open_constants = {name: _line_of(text, rf"^(consts )?\s*{re.escape(name)} ::")
+    open_constants = {name: line_of(text, rf"^(consts )?\s*{re.escape(name)} ::")
                       for name in th.constants
                       if name not in values and not name.startswith(("registerRead_",
                                                                      "registerWrite_"))
@@ -141,11 +101,11 @@ def read_model(folder: Path) -> TheoryModel:
                       and name not in {d[0] for d in th.definitions}
                       and re.search(rf"^(consts )?\s*{re.escape(name)} :: \"?(real|nat|int)\b",
                                     text, re.M)}
-    axioms = [(_parse(ax, "hol", path, _line_of(text, re.escape(ax))),
-               _line_of(text, re.escape(ax))) for ax in th.axioms]
+    axioms = [(_parse(ax, "hol", path, line_of(text, re.escape(ax))),
+               line_of(text, re.escape(ax))) for ax in th.axioms]
     definitions: dict[str, Definition] = {}
     for name, params, _typ, body in th.definitions:
-        line = _line_of(text, rf"^definition {re.escape(name)} ::")
+        line = line_of(text, rf"^definition {re.escape(name)} ::")
         definitions[name] = Definition(name, params, _parse(body, "action", path, line + 1),
                                        path, line)
     if not th.compositions:
@@ -156,13 +116,13 @@ def read_model(folder: Path) -> TheoryModel:
     channel_expr = next((e for n, _t, e in th.channel_sets if n == cs), None)
     if channel_expr is None:
         raise AnimateError("E-ANIMATE-READ", f"the channel set {cs} is not defined",
-                           path=path, line=_line_of(text, rf"^definition {name} ::"), status=2)
+                           path=path, line=line_of(text, rf"^definition {name} ::"), status=2)
     fields = _fields(text)
     processes = []
     for state, main in ((d_state, d_main), (p_state, p_main)):
         if main not in definitions:
             raise AnimateError("E-ANIMATE-READ", f"the composition runs {main}, which is not "
-                               "defined", path=path, line=_line_of(text, rf"^definition {name} ::"),
+                               "defined", path=path, line=line_of(text, rf"^definition {name} ::"),
                                status=2)
         processes.append(Process(state, main, fields.get(state, {})))
     return TheoryModel(path, definitions, values, open_constants, _channel_set(channel_expr),
