@@ -15,8 +15,9 @@ from conftest import CORPUS, EXAMPLES, needs_corpus
 from cyphy import api
 from cyphy.backends.isabelle.ax_terms import AX_RESERVED
 from cyphy.backends.isabelle.names import IsabelleNames
-from cyphy.verify.theory.ax_types import (AX_CONSTANTS, AX_KEYWORDS, AX_SIGNATURES, UNCHECKED,
-                               check_ax_theory, parse_type, parser)
+from cyphy.verify.theory.ax_signatures import (AX_CONSTANTS, AX_KEYWORDS, AX_SIGNATURES,
+                                               UNCHECKED)
+from cyphy.verify.theory.ax_types import check_ax_theory, parse_type, parser
 
 THEORY = "DCMotorBase_AxCyPhyCircus.thy"
 MOTORS = ("marXbotBase::Core::LHinge::LMotor", "marXbotBase::Core::RHinge::RMotor")

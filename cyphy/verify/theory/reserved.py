@@ -18,8 +18,8 @@ def reserved_for(kind: str) -> dict[str, str]:
     if kind == "utp":
         out.update({w: f"utp-main c9122f14 {src}" for w, src in SYNTAX_WORDS.items()})
     elif kind == "axiomatic":
-        from cyphy.verify.theory.ax_types import AX_INNER_KEYWORDS
+        from cyphy.verify.theory.ax_signatures import AX_INNER_KEYWORDS
 
-        out.update({w: "Ax_CyPhyCircus's parents (ax_types.AX_INNER_KEYWORDS)"
+        out.update({w: "Ax_CyPhyCircus's parents (ax_signatures.AX_INNER_KEYWORDS)"
                     for w in AX_INNER_KEYWORDS if w not in out})
     return out
