@@ -17,6 +17,7 @@ from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
 from cyphy.lang.scopes import Scopes, is_constant, is_template
 from cyphy.lang.workspace import Workspace
+from cyphy.model.constants import declared_constants
 from cyphy.model.evaluate import (
     EvalError, UnboundName, Value, coerce, evaluate_fast, free_names, literal_value,
 )
@@ -232,7 +233,7 @@ class Context:
                    key not in reported and
                    not any(_names(key, *names) for names in self.declared)]
         if unknown:  # a constant of another part of the files (a d-model's) is no typo
-            elsewhere = _declared_constants(self.ws)
+            elsewhere = declared_constants(self.ws.files.values())
             candidates |= elsewhere
             unknown = [key for key in unknown if key.split("::")[-1] not in elsewhere]
         for key in unknown:
@@ -287,28 +288,6 @@ class Context:
     def _known_missing(self, name: str, env: Env) -> bool:
         found = env._find(name)
         return isinstance(found, Binding) and found.state == "missing"
-
-
-
-def _declared_constants(ws: Workspace) -> set[str]:
-    """The names of every constant the files declare, wherever (a d-model's, an operation's,
-    a library device's): ``--const`` may give them values for the commands that read them,
-    and one set of values may serve several models."""
-    import dataclasses
-
-    out: set[str] = set()
-    todo: list[object] = [item for f in ws.files.values() for item in f.items]
-    while todo:
-        node = todo.pop()
-        if isinstance(node, ast.VarDecl):
-            if node.kind is ast.DeclKind.CONST:
-                out.add(node.name)
-            continue
-        if isinstance(node, (list, tuple)):
-            todo.extend(node)
-        elif dataclasses.is_dataclass(node) and not isinstance(node, ex.Expr):
-            todo.extend(getattr(node, f.name) for f in dataclasses.fields(node))
-    return out
 
 
 def _names(key: str, qualified: str, definition: str, name: str) -> bool:
