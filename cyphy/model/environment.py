@@ -17,7 +17,6 @@ from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
 from cyphy.lang.scopes import Scopes, is_constant, is_template
 from cyphy.lang.workspace import Workspace
-from cyphy.model.constants import declared_constants
 from cyphy.model.evaluate import (
     EvalError, UnboundName, Value, coerce, evaluate_fast, free_names, literal_value,
 )
@@ -233,6 +232,9 @@ class Context:
                    key not in reported and
                    not any(_names(key, *names) for names in self.declared)]
         if unknown:  # a constant of another part of the files (a d-model's) is no typo
+            # lazy: constants.py imports the parser (Lark), which a warm run must not load
+            from cyphy.model.constants import declared_constants
+
             elsewhere = declared_constants(self.ws.files.values())
             candidates |= elsewhere
             unknown = [key for key in unknown if key.split("::")[-1] not in elsewhere]
