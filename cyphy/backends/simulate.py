@@ -30,6 +30,7 @@ import numpy as np
 
 from cyphy import codes
 from cyphy.diagnostics import did_you_mean
+from cyphy.limits import trajectory_refusal
 from cyphy.backends.generated import definition_names
 from cyphy.backends.pinocchio_tree import pinocchio_model
 from cyphy.backends.stiffness import choose, finite_difference
@@ -84,11 +85,6 @@ class Trajectory:
 
     def column(self, name: str) -> np.ndarray:
         return self.values[:, self.names.index(name)]
-
-
-#: The most memory a trajectory may take (see :func:`check_memory`).
-MEMORY_BUDGET = 2 * 2**30
-BYTES_PER_VALUE = 40
 
 
 class SimulationError(Exception):
@@ -213,17 +209,11 @@ def check_names(options: SimulationOptions, states: Sequence[str], inputs: Seque
 
 
 def check_memory(samples: int, columns: int) -> None:
-    """Refuse, before integrating, a run whose trajectory would not fit in
-    :data:`MEMORY_BUDGET`: each value is held about three times (the integrator's output,
-    the table, its text) at some 40 bytes in all."""
-    needed = samples * (columns + 1) * BYTES_PER_VALUE
-    if needed > MEMORY_BUDGET:
-        most = max(2, MEMORY_BUDGET // ((columns + 1) * BYTES_PER_VALUE))
-        raise OptionError(f"--samples {samples}: a trajectory of {columns} column"
-                          f"{'s' if columns != 1 else ''} would "
-                          f"take about {needed / 2**30:.1f} GiB (the budget is "
-                          f"{MEMORY_BUDGET / 2**30:.0f} GiB)",
-                          f"give at most --samples {most}")
+    """Refuse, before integrating, a run whose trajectory would not fit in memory
+    (:func:`cyphy.limits.trajectory_refusal`)."""
+    refusal = trajectory_refusal(samples, columns)
+    if refusal:
+        raise OptionError(*refusal)
 
 
 # ----------------------------------------------------------------------------- symbolic path

@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from cyphy.backends.simulate import OptionError, check_memory
 from cyphy.diagnostics import did_you_mean
+from cyphy.limits import trajectory_refusal
 from cyphy.verify.animate import ax_evolve
 from cyphy.verify.animate.errors import AnimateError
 from cyphy.verify.animate.evolve import OdeSystem, build
@@ -98,10 +98,9 @@ def animate(folder: str | Path, t_end: float, inputs: dict[str, str] | None = No
                            "number above 0", status=2)
     if samples < 2:
         raise AnimateError("E-ANIMATE-OPTION", "--samples must be at least 2", status=2)
-    try:  # simulate's budget, for the smallest table (time and one column) before any work
-        check_memory(samples, 1)
-    except OptionError as err:
-        raise AnimateError("E-ANIMATE-OPTION", f"{err.message} ({err.hint})", status=2) from None
+    refusal = trajectory_refusal(samples, 1)  # simulate's budget, for the smallest table
+    if refusal:
+        raise AnimateError("E-ANIMATE-OPTION", f"{refusal[0]} ({refusal[1]})", status=2)
     model = read_model(Path(folder))
     for name, (rate, _start) in sorted((scenario_rates or {}).items()):
         if model.dialect != "axiomatic":  # the utp dialect takes an input's value, not rate
