@@ -141,7 +141,7 @@ class Reducer:
                 obstacles.append(Obstacle("unsupported", f"cannot convert an equation of "
                                           f"{eq.origin}: {err}", (), (eq,)))
                 continue
-            out.extend((sympy.expand((left - right).doit()), eq) for left, right in sides)
+            out.extend(((left - right).doit(), eq) for left, right in sides)
         return out
 
     def _derivative_symbol(self, f: Any) -> Any:
