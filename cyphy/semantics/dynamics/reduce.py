@@ -114,6 +114,18 @@ class Reducer:
         self.inputs = {c for n in system.inputs for c in self._components(n)}
         self.input_derivatives: dict[Any, Any] = {}
         self.static: dict[Any, Any] = {}  # algebraic variables solved without states
+        self._atom_cache: dict[tuple[Any, Any], frozenset[Any]] = {}
+
+    def _atoms(self, r: Any, kind: Any = None) -> frozenset[Any]:
+        """``r.atoms(kind)`` (``r.free_symbols`` for None), remembered: the matching and the
+        index reduction ask the same residuals again and again (a traversal each time was
+        a fifth of a 50-link motor chain's reduction, measured)."""
+        key = (r, kind)
+        found = self._atom_cache.get(key)
+        if found is None:
+            found = frozenset(r.free_symbols if kind is None else r.atoms(kind))
+            self._atom_cache[key] = found
+        return found
 
     def _func(self, name: str) -> Any:
         f = sympy.Function(name, real=True)(T)
@@ -207,10 +219,10 @@ class Reducer:
         efforts = {c for n in self.system.efforts for c in self._components(n)}
         rows: list[Row[Equation]] = []
         for r, eq in residuals:
-            direct = {f.func.__name__ for f in r.atoms(AppliedUndef)
+            direct = {f.func.__name__ for f in self._atoms(r, AppliedUndef)
                       if f.func.__name__ in self.funcs} - self.inputs
             hidden = self._hidden_in(r) - self.inputs
-            derived = {d.expr.func.__name__ for d in r.atoms(sympy.Derivative)} & direct
+            derived = {d.expr.func.__name__ for d in self._atoms(r, sympy.Derivative)} & direct
             motion = eq.origin.endswith(" motion")
             rows.append(Row(eq, frozenset(direct | hidden),
                             frozenset(direct - efforts if motion else direct),
@@ -282,14 +294,14 @@ class Reducer:
         if not self.hidden:
             return set()
         out: set[str] = set()
-        for s in r.free_symbols:
+        for s in self._atoms(r):
             out |= self.hidden.get(s.name, frozenset())
         return {n for n in out if n in self.funcs}
 
     def _unknowns_in(self, r: Any, states: set[str]) -> set[str]:
-        names = {f.func.__name__ for f in r.atoms(sympy.Function) if f.func.__name__ in
+        names = {f.func.__name__ for f in self._atoms(r, sympy.Function) if f.func.__name__ in
                  self.funcs} | self._hidden_in(r)
-        derivs = {d.expr.func.__name__ for d in r.atoms(sympy.Derivative)}
+        derivs = {d.expr.func.__name__ for d in self._atoms(r, sympy.Derivative)}
         algebraic = {n for n in names if n not in states and n not in self.inputs}
         return algebraic | {f"d_{n}" for n in derivs if n in states}
 
@@ -303,7 +315,8 @@ class Reducer:
         # this quadratic in the size of the model (15 s of a 30-link chain's 60, measured)
         blocked = [bool(self._unknowns_in(r, states) or self._hidden_in(r))
                    for r, _ in residuals]
-        mentions = [{g.func.__name__ for g in r.atoms(AppliedUndef)} for r, _ in residuals]
+        mentions = [{g.func.__name__ for g in self._atoms(r, AppliedUndef)}
+                    for r, _ in residuals]
         while changed:
             changed = False
             for i, (r, eq) in enumerate(residuals):
@@ -340,7 +353,7 @@ class Reducer:
                     x = sympy.expand(x.xreplace({sympy.Derivative(f, T): derivative})
                                      .xreplace({f: value}))
                     residuals[k] = (x, e)
-                    mentions[k] = {g.func.__name__ for g in x.atoms(AppliedUndef)}
+                    mentions[k] = {g.func.__name__ for g in self._atoms(x, AppliedUndef)}
                     blocked[k] = bool(self._unknowns_in(x, states) or self._hidden_in(x))
                 residuals.append((f - value, eq))  # keeps `name` as an output
                 blocked.append(True)  # `name` is now algebraic: an unknown
@@ -363,7 +376,7 @@ class Reducer:
                 continue
             for y in sorted(v for v in unknowns[i] if not v.startswith("d_")):
                 j = defined_by.get(y)
-                if j is None or residuals[j][0].atoms(sympy.Derivative) or \
+                if j is None or self._atoms(residuals[j][0], sympy.Derivative) or \
                         self._hidden_in(residuals[j][0]):
                     continue
                 f = self.funcs[y]
@@ -385,7 +398,7 @@ class Reducer:
         speeds from the operation's arguments, a sensor's output from its input) and
         substitute them, so that constraints they hide among states come to light."""
         static = [(i, r) for i, (r, _) in enumerate(residuals)
-                  if not r.atoms(sympy.Derivative) and not (self._names(r) & states)]
+                  if not self._atoms(r, sympy.Derivative) and not (self._names(r) & states)]
         unknown_of = {self.funcs[n]: n for n in sorted(set().union(*(self._names(r)
                       for _, r in static))) if n not in self.inputs} if static else {}
         if not unknown_of:
@@ -435,7 +448,7 @@ class Reducer:
         return r
 
     def _names(self, r: Any) -> set[str]:
-        return {f.func.__name__ for f in r.atoms(sympy.Function) if f.func.__name__ in
+        return {f.func.__name__ for f in self._atoms(r, sympy.Function) if f.func.__name__ in
                 self.funcs} | self._hidden_in(r)
 
     # ----- step 3: matching and block solving
@@ -530,7 +543,7 @@ class Reducer:
                        ) -> set[str]:
         """The unknowns ``r`` mentions; with ``hidden``, also those its definitions depend on
         (for the order of solving, not for matching: ``r`` cannot be solved for them)."""
-        present = r.atoms(AppliedUndef) | r.free_symbols
+        present = self._atoms(r, AppliedUndef) | self._atoms(r)
         out = {unknown_of[a] for a in present if a in unknown_of}
         if hidden and self.hidden:
             out |= {n for n in self._hidden_in(r) if self.funcs[n] in unknown_of}
