@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from cyphy import expr as ex
 from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.values import value_expr
 from cyphy.semantics.machines.automaton import Automaton
 
 MODE = "mode"
@@ -64,7 +65,9 @@ def dmodel_process(name: str, automaton: Automaton, reads: tuple[str, ...],
         for call, args in m.calls:
             if writes.get(call) != len(args):
                 raise ValueError(call)
-            values = tuple(c.Out(ex.Num(repr(float(a)))) for a in args)
+            # a literal as the parser makes one: a negative argument is a negation of its
+            # magnitude (a Num's text is never signed; the printers and readers rely on it)
+            values = tuple(c.Out(value_expr(float(a))) for a in args)
             sends.append(c.Prefix(c.Comm("registerWrite", call, values), c.Skip()))
         body = sends[0] if len(sends) == 1 else c.Seq(tuple(sends))
         write = c.Cond(ex.BinOp("==", _name(mode), ex.Num(str(i))), body, write)

@@ -303,9 +303,10 @@ class _Animator:
         """An unset p-model state read by an action: Evolve's value for it now (the theory
         leaves it free until the first Evolve; this is the one of its values consistent with
         the equations). The d-model's state has no equations: reading it unset is an error."""
-        if proc is self.p and self.model.dialect == "axiomatic":
+        # by name: a branch of an interleaving or a choice runs on a copy of P
+        if proc.name == self.p.name and self.model.dialect == "axiomatic":
             return self._ax_settle(name)
-        if proc is self.p:
+        if proc.name == self.p.name:
             system = self._system()
             if name in system.algebraic:
                 return float(system.algebraic[name](self.t, self._y(system)))

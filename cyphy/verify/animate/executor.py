@@ -14,6 +14,9 @@ from cyphy.verify.animate.terms import Unsupported, evaluate, op_name, place
 
 #: Events at one instant before the run is called a livelock (no time passes).
 MAX_EVENTS_PER_INSTANT = 100_000
+#: Interleavings entered inside one another while looking for the next event: past this a
+#: recursion runs through ``|||`` (``μ Y • (A ||| Y) □ …``), whose offers have no end.
+MAX_INTERLEAVING_DEPTH = 32
 
 Frame = tuple[Any, dict[str, Any]]
 
@@ -42,6 +45,7 @@ class Offer:
     kind: str            # "out", "in" or "plain"
     value: Any           # out: the value; in: the binders' names
     proc: Proc           # the process as it is after the event (binders still to bind)
+    binder: Proc | None = None  # whose next action the input binds (a branch of |||)
 
 
 @dataclass
@@ -65,6 +69,7 @@ class Runner:
         self.choose = choose  # a frame with any values (the axiomatic dialect's rates)
         self.where: Definition | None = None
         self._specs: dict[int, tuple[Callable[..., Any], list[str]]] = {}
+        self._interleaving_depth = 0
 
     # values -------------------------------------------------------------------------
     def value(self, node: Any, proc: Proc, env: dict[str, Any]) -> Any:
@@ -113,6 +118,11 @@ class Runner:
                 if node[1] > 1:
                     proc.stack.append((("tocks", node[1] - 1), env))
                 return [Offer("tock", "plain", None, proc)]
+            if isinstance(node, tuple) and node[0] == "interleave":
+                got = self._interleave(proc, node, env)
+                if got is None:
+                    continue  # every branch has ended
+                return got
             kind = node.data
             ch = node.children
             if kind == "skip":
@@ -140,6 +150,14 @@ class Runner:
                                                      "not start with an event"))
                     offers += got
                 return offers
+            if kind == "interleave":
+                # ``A ||| B`` with empty name sets: each branch runs on its own copy of the
+                # state, and the state from before is what follows (utp-main c9122f14,
+                # utp_circus_parallel.thy:18-26, 846-847): the outer state is left alone
+                branches = tuple(Proc(proc.name, dict(proc.state), [(branch, env)],
+                                      set(proc.assigned)) for branch in ch)
+                proc.stack.append((("interleave", branches), env))
+                continue
             if kind == "cond":
                 test = self.value(ch[1], proc, env)
                 proc.stack.append((ch[0] if test else ch[2], env))
@@ -181,6 +199,37 @@ class Runner:
                 return Evolving(target, ch[1], env, proc)
             raise self._here(Unsupported(f"the action {kind}"))
         return None
+
+    def _interleave(self, proc: Proc, node: tuple[str, tuple[Proc, ...]],
+                    env: dict[str, Any]) -> list[Offer] | None:
+        """The events either branch of an interleaving offers, each leading to the whole
+        process with that branch advanced; None when every branch has ended."""
+        branches = node[1]
+        offers: list[Offer] = []
+        ended = True
+        if self._interleaving_depth >= MAX_INTERLEAVING_DEPTH:
+            raise self._here(Unsupported(f"the action interleave nested more than "
+                                         f"{MAX_INTERLEAVING_DEPTH} deep before any event (a "
+                                         "recursion through |||)"))
+        for i, branch in enumerate(branches):
+            self._interleaving_depth += 1
+            try:
+                got = self.run(Proc(branch.name, dict(branch.state), list(branch.stack),
+                                    set(branch.assigned)))
+            finally:
+                self._interleaving_depth -= 1
+            if got is None:
+                continue
+            ended = False
+            if not isinstance(got, list):
+                raise self._here(Unsupported("an evolution inside an interleaving"))
+            for o in got:
+                after = branches[:i] + (o.proc,) + branches[i + 1:]
+                whole = Proc(proc.name, dict(proc.state),
+                             list(proc.stack) + [(("interleave", after), env)],
+                             set(proc.assigned))
+                offers.append(Offer(o.channel, o.kind, o.value, whole, o.binder or o.proc))
+        return None if ended else offers
 
     def _call(self, proc: Proc, node: Any, env: dict[str, Any]) -> None:
         name = str(node.children[0])
@@ -317,8 +366,9 @@ def _bind(offer: Offer, value: Any) -> None:
     """An input's names bound to the value (a tuple gives one component to each)."""
     names = offer.value
     parts = value if len(names) > 1 else (value,)
-    node, env = offer.proc.stack[-1] if offer.proc.stack else (None, {})
+    target = offer.binder or offer.proc
+    node, env = target.stack[-1] if target.stack else (None, {})
     bound = dict(env)
     bound.update(zip(names, parts))
-    if offer.proc.stack:
-        offer.proc.stack[-1] = (node, bound)
+    if target.stack:
+        target.stack[-1] = (node, bound)
