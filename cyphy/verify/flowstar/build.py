@@ -275,10 +275,11 @@ class _Builder:
                     eqs = [eq.expr for eq in system.equations if eq.origin == f"mapping {op}"]
                     cache[text] = self._solve_call(text, op, eqs, system, span, to_sympy)
                     self.call_effects[text] = cache[text]
+                # the calls are made in the cycle's order and each call's update persists
+                # (the theory's ReceiveFromDModel takes them in sequence): a later call to
+                # the same input (a during action's, then the next state's entry) wins
                 for u, v in cache[text].items():
-                    if u in effects[state] and effects[state][u] != v:
-                        raise self.fail(f"state {state}: its calls set {u} to two values",
-                                        span, "issue one call per actuator input and state")
+                    effects[state].pop(u, None)
                     effects[state][u] = v
                     if u not in frame:
                         frame.append(u)
