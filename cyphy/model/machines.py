@@ -330,10 +330,30 @@ def select_machine(files: list[ast.SourceFile], resolution: Resolution, pmodel: 
                   "add the d-model's files, or a [controller] table")
 
 
+def select_machines(files: list[ast.SourceFile], resolution: Resolution, pmodel: str | None,
+                    name: str | None) -> tuple[list[Machine], tuple[str, str]]:
+    """The machines that control ``pmodel``: as :func:`select_machine`, except that when the
+    module mapped onto ``pmodel`` runs several (one per controller, or a controller with
+    several), all of them, in the order its controllers declare them: the module runs them
+    all, every cycle. Empty with a message and a hint when there is none to choose."""
+    machine, problem = select_machine(files, resolution, pmodel, name)
+    if machine is not None:
+        return [machine], problem
+    if name is not None or pmodel is None:
+        return [], problem
+    running = run_by_mapped_module(files, resolution, pmodel)
+    by_id = {id(m.decl): m for m in machines_of(files, resolution)}
+    chosen = [by_id[i] for i in running if i in by_id]
+    if len(chosen) > 1:
+        return chosen, ("", "")
+    return [], problem
+
+
 def run_by_mapped_module(files: list[ast.SourceFile], resolution: Any, pmodel: str
-                          ) -> set[int]:
-    """Ids of the machines that the controllers of the module mapped onto ``pmodel`` run."""
-    out: set[int] = set()
+                          ) -> dict[int, None]:
+    """Ids of the machines that the controllers of the module mapped onto ``pmodel`` run,
+    in the order the module declares its controllers and they their machines."""
+    out: dict[int, None] = {}
     for f in files:
         for mapping in f.items:
             if not (isinstance(mapping, ast.PlatformMapping) and mapping.pmodel[-1] == pmodel):
@@ -347,6 +367,6 @@ def run_by_mapped_module(files: list[ast.SourceFile], resolution: Any, pmodel: s
             for c in controllers:
                 if not isinstance(c, ast.Controller):
                     continue
-                out.update(id(m) for m in c.machines)
-                out.update(id(resolution.get(r)) for r in c.machine_refs)
+                out.update(dict.fromkeys(id(m) for m in c.machines))
+                out.update(dict.fromkeys(id(resolution.get(r)) for r in c.machine_refs))
     return out

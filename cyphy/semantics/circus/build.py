@@ -15,7 +15,7 @@ from cyphy.lang.workspace import Workspace
 from cyphy.model.default_inertial import apply_default_inertial
 from cyphy.model.elaborate import elaborate_pmodel
 from cyphy.model.elements import ElaboratedModel
-from cyphy.model.machines import select_machine
+from cyphy.model.machines import select_machines
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel import dmodel_process
 from cyphy.semantics.circus.names import NameTable
@@ -24,8 +24,8 @@ from cyphy.semantics.circus.values import type_of
 from cyphy.semantics.circus.walk import action_nodes
 from cyphy.semantics.dynamics.equations import fixed_root_twists, motion, port_index
 from cyphy.semantics.dynamics.errors import DynamicsError
-from cyphy.semantics.machines.automaton import compile_machine
 from cyphy.semantics.machines.cycle import MACHINE, MachineError, interpreter_for
+from cyphy.semantics.machines.parallel import compile_module
 from cyphy.wellformed.platform_services import Platform, platform_of
 from cyphy.wellformed.registry import WFContext
 
@@ -126,18 +126,22 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
     error when the machine asked for by ``name`` is not among the files."""
 
     files = list(ws.user_files())
-    machine, (message, hint) = select_machine(files, resolution, mapping.pmodel[-1], name)
-    if machine is None:
+    machines, (message, hint) = select_machines(files, resolution, mapping.pmodel[-1], name)
+    if not machines:
         if name is not None:  # asked for by name: no semantics without it
             report.report(MACHINE, message, mapping.span, hint)
         elif "several" in message:
             report.report(OPAQUE_DMODEL, f"the d-model process is left opaque: {message}",
                           mapping.span, hint)
         return None
+    machine = machines[0]
     try:
-        interpreter = interpreter_for(machine, files, resolution, Scopes(ws), None,
-                                      mapping.pmodel[-1])
-        automaton = compile_machine(interpreter)
+        interpreters = []
+        for machine in machines:
+            interpreters.append(interpreter_for(machine, files, resolution, Scopes(ws), None,
+                                                mapping.pmodel[-1]))
+        # the module's machines together (the product), as simulate and reach run them
+        automaton = compile_module(interpreters)
     except MachineError as err:
         report.report(OPAQUE_DMODEL, f"the d-model process is left opaque: state machine "
                       f"{machine.name}: {err.message}", err.span, err.hint)

@@ -125,7 +125,7 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
         successors.append(row)
         k += 1
     calls = _held_calls([outputs for _, outputs in keys], successors)
-    blocks = _minimise(calls, successors)
+    blocks = minimise(calls, successors)
     return _automaton(m, events, combos, keys, calls, successors, blocks)
 
 
@@ -212,7 +212,7 @@ def _constant(interpreter: MachineInterpreter, m: Machine, constants: dict[str, 
     return float(value)
 
 
-def _minimise(outputs: list[tuple[Output, ...]], successors: list[list[int]]) -> list[int]:
+def minimise(outputs: list[tuple[Output, ...]], successors: list[list[int]]) -> list[int]:
     """Block of each configuration: the coarsest partition with equal calls and, per input
     combination, successors in equal blocks (numbered in order of first appearance)."""
     def renumber(keys: list[Any]) -> list[int]:
@@ -255,13 +255,13 @@ def _automaton(m: Machine, events: tuple[str, ...], combos: list[tuple[bool, ...
             if blocks[j] != b:
                 by_target.setdefault(blocks[j], []).append(combo)
         for target, minterms in sorted(by_target.items()):
-            for cube in _cover(minterms, len(events)):
+            for cube in cover(minterms, len(events)):
                 guard = tuple((events[k], not v) for k, v in enumerate(cube) if v is not None)
                 edges.append(Edge(names[b], names[target], guard))
     return Automaton(events, modes, names[blocks[0]], tuple(edges))
 
 
-def _cover(minterms: list[tuple[bool, ...]], n: int) -> list[tuple[bool | None, ...]]:
+def cover(minterms: list[tuple[bool, ...]], n: int) -> list[tuple[bool | None, ...]]:
     """Few cubes (``None``: either value) whose union is exactly ``minterms``: the prime
     implicants (Quine-McCluskey), then a greedy cover."""
     current: set[tuple[bool | None, ...]] = set(minterms)

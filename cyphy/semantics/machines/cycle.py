@@ -521,6 +521,11 @@ class MachineInterpreter:
 
     # ----- what callers read
     @property
+    def parts(self) -> tuple["MachineInterpreter", ...]:
+        """The machines run (a module's several: :mod:`~cyphy.semantics.machines.parallel`)."""
+        return (self,)
+
+    @property
     def state(self) -> str:
         """The node the machine rests in (a state, or a junction it is stuck at)."""
         return self.node

@@ -323,7 +323,7 @@ class _Builder:
         check = self.elaborated.check
         out: dict[str, tuple[tuple[Any, ...], dict[str, Any]]] = {}
         it = self.machine
-        names = {name for m in [it.machine, *it.operations.values()]
+        names = {name for part in it.parts for m in [part.machine, *part.operations.values()]
                  for name in [*m.platform.operations, *m.platform.output_events]}
         for op in sorted(names - set(it.observable)):
             try:

@@ -17,32 +17,39 @@ from cyphy.verify.flowstar.scenario import EXPORT, Scenario, Transition
 
 if TYPE_CHECKING:
     from cyphy.semantics.machines.cycle import MachineInterpreter
+    from cyphy.semantics.machines.parallel import ModuleInterpreter
 
 
 def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Report
-                       ) -> "MachineInterpreter | None":
+                       ) -> "MachineInterpreter | ModuleInterpreter | None":
     """Fill the scenario's controller from the d-model's machine and return the machine's
     interpreter (reset to its start); None (with diagnostics) when there is none to choose,
     or it cannot be compiled."""
     from cyphy.lang.scopes import Scopes
-    from cyphy.model.machines import select_machine
+    from cyphy.model.machines import select_machines
     from cyphy.semantics.machines.cycle import MachineError, interpreter_for
-    from cyphy.semantics.machines.automaton import compile_machine
+    from cyphy.semantics.machines.parallel import ModuleInterpreter, compile_module
 
     files = list(check.workspace.user_files())
     span = scenario.span("machine") if scenario.machine else Span(scenario.path, 1, 1, 1, 2)
-    machine, problem = select_machine(files, check.resolution, pmodel, scenario.machine)
-    if machine is None:
+    machines, problem = select_machines(files, check.resolution, pmodel, scenario.machine)
+    if not machines:
         message, hint = problem
         report.report(EXPORT, message if scenario.machine else
                       f"the scenario has no [controller], and {message}", span, hint)
         return None
     consts = {n: v for n, v in scenario.consts.items() if "::" not in n and
               isinstance(v, (int, float)) and not isinstance(v, bool)}
+    machine = machines[0]
     try:
-        interpreter = interpreter_for(machine, files, check.resolution,
-                                      Scopes(check.workspace), consts, pmodel)
-        automaton = compile_machine(interpreter)
+        interpreters = []
+        for machine in machines:
+            interpreters.append(interpreter_for(machine, files, check.resolution,
+                                                Scopes(check.workspace), consts, pmodel))
+        automaton = compile_module(interpreters)
+        # the module's machines run together, every cycle (one machine: itself)
+        interpreter = interpreters[0] if len(interpreters) == 1 else \
+            ModuleInterpreter(interpreters)
     except MachineError as err:
         report.report(EXPORT, f"state machine {machine.name}: {err.message}", err.span,
                       err.hint)

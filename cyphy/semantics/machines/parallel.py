@@ -1,0 +1,134 @@
+"""Several state machines of one module run together: RoboSim's module runs each of its
+controllers' machines every cycle, on the same input events read at the cycle's start (spec
+semantics.md; the paper's module process is the controllers in parallel, synchronised on
+the cycle). The machines share no variables, so a cycle of the module is each machine's
+cycle in turn, in the order the module's controllers are declared, the calls of all of them
+made in that order (as the theory's ``ReceiveFromDModel`` takes them: in sequence, a later
+call to the same actuator input winning).
+
+:class:`ModuleInterpreter` runs them (``cyphy simulate``'s sampled controller), and
+:func:`compile_module` composes their automata (:mod:`cyphy.semantics.machines.automaton`)
+into one, the product, for the Flow* export and the theory's ``D``.
+"""
+
+from __future__ import annotations
+
+import itertools
+from typing import Mapping, Sequence
+
+from cyphy.diagnostics import Span
+
+from cyphy.semantics.machines.automaton import Automaton, Edge, Mode, compile_machine, \
+    cover, minimise
+from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter, Output
+
+#: Product modes explored before the composition is called too large.
+MAX_PRODUCT_MODES = 5000
+
+
+class ModuleInterpreter:
+    """The machines of one module, run in lockstep: the interface of
+    :class:`~cyphy.semantics.machines.cycle.MachineInterpreter` that a sampled controller
+    needs (``cycle``, ``reset``, ``period``, ``observable``, ``machine``)."""
+
+    def __init__(self, interpreters: Sequence[MachineInterpreter]) -> None:
+        periods = {i.period for i in interpreters}
+        if len(periods) > 1:
+            first = interpreters[0]
+            raise MachineError(
+                f"the machines {', '.join(i.machine.name for i in interpreters)} run with "
+                f"different cycles ({', '.join(f'{p:g}' for p in sorted(periods))} time "
+                "units): one sampled controller cannot run them", first.machine.decl.span,
+                "give the module's machines the same cycleDef, or choose one with --machine")
+        self.interpreters = list(interpreters)
+        self.machine = interpreters[0].machine  # where the composition is reported
+        self.period = interpreters[0].period
+        self.observable = frozenset().union(*(i.observable for i in interpreters))
+
+    @property
+    def parts(self) -> tuple[MachineInterpreter, ...]:
+        """The machines run, in the module's order."""
+        return tuple(self.interpreters)
+
+    def reset(self) -> None:
+        for i in self.interpreters:
+            i.reset()
+
+    def cycle(self, events: Mapping[str, object]) -> tuple[Output, ...]:
+        out: list[Output] = []
+        for i in self.interpreters:
+            out += i.cycle(events)
+        return tuple(out)
+
+
+def compile_module(interpreters: Sequence[MachineInterpreter]) -> Automaton:
+    """One machine's automaton, or the product of several: a product mode is a mode of each,
+    its calls theirs in the module's order; under each combination of the input events every
+    machine moves along its own edge (or stays), and the product's edges are those moves
+    written again as few conjunctions of event literals."""
+    automata = [compile_machine(i) for i in interpreters]
+    if len(automata) == 1:
+        return automata[0]
+    return product(automata, interpreters[0].machine.decl.span)
+
+
+def product(automata: Sequence[Automaton], span: Span) -> Automaton:
+    """The synchronous product of the automata (see :func:`compile_module`)."""
+    events = tuple(dict.fromkeys(e for a in automata for e in a.events))
+    combos = list(itertools.product((False, True), repeat=len(events)))
+    modes = [{m.name: m for m in a.modes} for a in automata]
+
+    def move(a: Automaton, mode: str, combo: tuple[bool, ...]) -> str:
+        value = dict(zip(events, combo))
+        for e in a.edges:
+            if e.source == mode and all(value[ev] != negated for ev, negated in e.guard):
+                return e.target
+        return mode
+
+    start = tuple(a.initial for a in automata)
+    index = {start: 0}
+    keys = [start]
+    successors: list[list[int]] = []
+    k = 0
+    while k < len(keys):
+        row = []
+        for combo in combos:
+            nxt = tuple(move(a, m, combo) for a, m in zip(automata, keys[k]))
+            if nxt not in index:
+                if len(keys) >= MAX_PRODUCT_MODES:
+                    raise MachineError(f"the module's machines together have more than "
+                                       f"{MAX_PRODUCT_MODES} modes", span,
+                                       "choose one machine with --machine")
+                index[nxt] = len(keys)
+                keys.append(nxt)
+            row.append(index[nxt])
+        successors.append(row)
+        k += 1
+    calls = [tuple(c for m, table in zip(key, modes) for c in table[m].calls) for key in keys]
+    blocks = minimise(calls, successors)
+    first_of: dict[int, int] = {}
+    for i, b in enumerate(blocks):
+        first_of.setdefault(b, i)
+    names: dict[int, str] = {}
+    taken: set[str] = set()
+    for b, i in sorted(first_of.items()):
+        base = "_".join(keys[i])
+        name, n = base, 2
+        while name in taken:
+            name, n = f"{base}_{n}", n + 1
+        taken.add(name)
+        names[b] = name
+    product_modes = tuple(Mode(names[b], "|".join(table[m].node for m, table in
+                                                  zip(keys[i], modes)), calls[i])
+                          for b, i in sorted(first_of.items()))
+    edges: list[Edge] = []
+    for b, i in sorted(first_of.items()):
+        by_target: dict[int, list[tuple[bool, ...]]] = {}
+        for combo, j in zip(combos, successors[i]):
+            if blocks[j] != b:
+                by_target.setdefault(blocks[j], []).append(combo)
+        for target, minterms in sorted(by_target.items()):
+            for cube in cover(minterms, len(events)):
+                guard = tuple((events[c], not v) for c, v in enumerate(cube) if v is not None)
+                edges.append(Edge(names[b], names[target], guard))
+    return Automaton(events, product_modes, names[blocks[0]], tuple(edges))
