@@ -77,7 +77,9 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
         raise MachineError(f"the typed input event{'s' if len(typed) > 1 else ''} "
                            f"{', '.join(typed)} of {m.name} cannot be compiled: the automaton "
                            "models events as present or absent, not their values",
-                           m.decl.span, "use untyped events, or simulate the machine instead")
+                           m.decl.span, "use untyped events: reach, simulate and the theory's "
+                           "D all run this automaton, which models an event as present or "
+                           "absent")
     events = tuple(m.platform.input_events)
     if len(events) > MAX_EVENTS:
         raise MachineError(f"{m.name} reads {len(events)} input events: more than "
@@ -118,7 +120,8 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
                     raise MachineError(
                         f"{m.name} has more than {MAX_CONFIGURATIONS} configurations: its "
                         "variables take too many values to be compiled", m.decl.span,
-                        "simulate the machine instead")
+                        "let its variables take fewer values: reach, simulate and the "
+                        "theory's D all run the compiled automaton")
                 index[nxt] = len(keys)
                 keys.append(nxt)
             row.append(index[nxt])
