@@ -240,6 +240,18 @@ def test_rover_one_machine_by_name_still_leaves_the_other_out(tmp_path: Path) ->
     assert "registerWrite_drive!" in text and "registerWrite_pan!" not in text
 
 
+def test_rover_machines_with_different_cycles_are_refused(tmp_path: Path) -> None:
+    for f in ROVER.glob("*.rsm"):
+        text = f.read_text()
+        if f.name == "RoverSoftware.rsm":  # SScan's own cycle: two time units
+            head, tail = text.split("stm SScan {\n\tcycleDef cycle == 1")
+            text = head + "stm SScan {\n\tcycleDef cycle == 2" + tail
+        (tmp_path / f.name).write_text(text)
+    generated = api.generate_isabelle([tmp_path], api.SemanticsGenOptions())
+    opaque = [d for d in generated.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
+    assert opaque and "SDrive, SScan run with different cycles (1, 2" in opaque[0].message
+
+
 # ------------------------------------------------------------------------------ ranger
 def test_ranger_typed_event_is_refused_with_a_diagnostic(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -129,7 +129,7 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
         k += 1
     calls = _held_calls([outputs for _, outputs in keys], successors)
     blocks = minimise(calls, successors)
-    return _automaton(m, events, combos, keys, calls, successors, blocks)
+    return _automaton(events, combos, keys, calls, successors, blocks)
 
 
 def _held_calls(outputs: list[tuple[Output, ...]], successors: list[list[int]]
@@ -231,26 +231,36 @@ def minimise(outputs: list[tuple[Output, ...]], successors: list[list[int]]) -> 
         blocks = refined
 
 
-def _automaton(m: Machine, events: tuple[str, ...], combos: list[tuple[bool, ...]],
+def _automaton(events: tuple[str, ...], combos: list[tuple[bool, ...]],
                keys: list[tuple[Configuration, tuple[Output, ...]]],
                calls: list[tuple[Output, ...]], successors: list[list[int]],
                blocks: list[int]) -> Automaton:
+    bases = [(f"{c.running}::{c.node}" if c.running else c.node).replace("::", "_")
+             for c, _ in keys]
+    return assemble(events, combos, bases, [c.node for c, _ in keys], calls, successors,
+                    blocks)
+
+
+def assemble(events: tuple[str, ...], combos: list[tuple[bool, ...]], bases: list[str],
+             nodes: list[str], calls: list[tuple[Output, ...]], successors: list[list[int]],
+             blocks: list[int]) -> Automaton:
+    """The automaton of explored configurations (``bases``: each one's name before
+    numbering, ``nodes``: where it rests) and their blocks of :func:`minimise`: a mode per
+    block, named after its first configuration, and edges whose guards cover the input
+    combinations leading from block to block."""
     first_of: dict[int, int] = {}
     for i, b in enumerate(blocks):
         first_of.setdefault(b, i)
     names: dict[int, str] = {}
     taken: set[str] = set()
     for b in sorted(first_of):
-        config = keys[first_of[b]][0]
-        base = f"{config.running}::{config.node}" if config.running else config.node
-        base = base.replace("::", "_")
+        base = bases[first_of[b]]
         name, n = base, 2
         while name in taken:
             name, n = f"{base}_{n}", n + 1
         taken.add(name)
         names[b] = name
-    modes = tuple(Mode(names[b], keys[i][0].node, calls[i]) for b, i in
-                  sorted(first_of.items()))
+    modes = tuple(Mode(names[b], nodes[i], calls[i]) for b, i in sorted(first_of.items()))
     edges: list[Edge] = []
     for b, i in sorted(first_of.items()):
         by_target: dict[int, list[tuple[bool, ...]]] = {}

@@ -17,9 +17,8 @@ import itertools
 from typing import Mapping, Sequence
 
 from cyphy.diagnostics import Span
-
-from cyphy.semantics.machines.automaton import Automaton, Edge, Mode, compile_machine, \
-    cover, minimise
+from cyphy.semantics.machines.automaton import MAX_EVENTS, Automaton, assemble, \
+    compile_machine, minimise
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter, Output
 
 #: Product modes explored before the composition is called too large.
@@ -32,14 +31,7 @@ class ModuleInterpreter:
     needs (``cycle``, ``reset``, ``period``, ``observable``, ``machine``)."""
 
     def __init__(self, interpreters: Sequence[MachineInterpreter]) -> None:
-        periods = {i.period for i in interpreters}
-        if len(periods) > 1:
-            first = interpreters[0]
-            raise MachineError(
-                f"the machines {', '.join(i.machine.name for i in interpreters)} run with "
-                f"different cycles ({', '.join(f'{p:g}' for p in sorted(periods))} time "
-                "units): one sampled controller cannot run them", first.machine.decl.span,
-                "give the module's machines the same cycleDef, or choose one with --machine")
+        same_cycle(interpreters)
         self.interpreters = list(interpreters)
         self.machine = interpreters[0].machine  # where the composition is reported
         self.period = interpreters[0].period
@@ -61,11 +53,25 @@ class ModuleInterpreter:
         return tuple(out)
 
 
+def same_cycle(interpreters: Sequence[MachineInterpreter]) -> None:
+    """Raises :class:`MachineError` unless the machines have one cycle: the product takes
+    one step per cycle of each (RoboSim's module synchronises its controllers per cycle;
+    machines with different cycleDefs would need a common multiple, not done)."""
+    periods = {i.period for i in interpreters}
+    if len(periods) > 1:
+        raise MachineError(
+            f"the machines {', '.join(i.machine.name for i in interpreters)} run with "
+            f"different cycles ({', '.join(f'{p:g}' for p in sorted(periods))} time units): "
+            "they cannot be run as one controller", interpreters[0].machine.decl.span,
+            "give the module's machines the same cycleDef, or choose one with --machine")
+
+
 def compile_module(interpreters: Sequence[MachineInterpreter]) -> Automaton:
     """One machine's automaton, or the product of several: a product mode is a mode of each,
     its calls theirs in the module's order; under each combination of the input events every
     machine moves along its own edge (or stays), and the product's edges are those moves
     written again as few conjunctions of event literals."""
+    same_cycle(interpreters)
     automata = [compile_machine(i) for i in interpreters]
     if len(automata) == 1:
         return automata[0]
@@ -75,6 +81,9 @@ def compile_module(interpreters: Sequence[MachineInterpreter]) -> Automaton:
 def product(automata: Sequence[Automaton], span: Span) -> Automaton:
     """The synchronous product of the automata (see :func:`compile_module`)."""
     events = tuple(dict.fromkeys(e for a in automata for e in a.events))
+    if len(events) > MAX_EVENTS:
+        raise MachineError(f"the module's machines read {len(events)} input events: more "
+                           f"than {MAX_EVENTS} make too many combinations", span)
     combos = list(itertools.product((False, True), repeat=len(events)))
     modes = [{m.name: m for m in a.modes} for a in automata]
 
@@ -106,29 +115,6 @@ def product(automata: Sequence[Automaton], span: Span) -> Automaton:
         k += 1
     calls = [tuple(c for m, table in zip(key, modes) for c in table[m].calls) for key in keys]
     blocks = minimise(calls, successors)
-    first_of: dict[int, int] = {}
-    for i, b in enumerate(blocks):
-        first_of.setdefault(b, i)
-    names: dict[int, str] = {}
-    taken: set[str] = set()
-    for b, i in sorted(first_of.items()):
-        base = "_".join(keys[i])
-        name, n = base, 2
-        while name in taken:
-            name, n = f"{base}_{n}", n + 1
-        taken.add(name)
-        names[b] = name
-    product_modes = tuple(Mode(names[b], "|".join(table[m].node for m, table in
-                                                  zip(keys[i], modes)), calls[i])
-                          for b, i in sorted(first_of.items()))
-    edges: list[Edge] = []
-    for b, i in sorted(first_of.items()):
-        by_target: dict[int, list[tuple[bool, ...]]] = {}
-        for combo, j in zip(combos, successors[i]):
-            if blocks[j] != b:
-                by_target.setdefault(blocks[j], []).append(combo)
-        for target, minterms in sorted(by_target.items()):
-            for cube in cover(minterms, len(events)):
-                guard = tuple((events[c], not v) for c, v in enumerate(cube) if v is not None)
-                edges.append(Edge(names[b], names[target], guard))
-    return Automaton(events, product_modes, names[blocks[0]], tuple(edges))
+    nodes = ["|".join(table[m].node for m, table in zip(key, modes)) for key in keys]
+    return assemble(events, combos, ["_".join(key) for key in keys], nodes, calls,
+                    successors, blocks)
