@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import needs_flowstar
 from cyphy import api
 from cyphy.cli import main
 from cyphy.verify.animate.animation import Animation, animate
@@ -115,7 +116,7 @@ def _pendulum_by_hand(t_end: float, samples: int) -> tuple[np.ndarray, np.ndarra
                 torque = -0.3
             elif torque < 0 and x[0] <= -0.4:
                 torque = 0.3
-        inside = grid[(grid >= t0 - 1e-12) & (grid < t1 - 1e-12)]
+        inside = np.clip(grid[(grid >= t0 - 1e-12) & (grid < t1 - 1e-12)], t0, t1)
         sol = solve_ivp(lambda _t, y, u=torque: [y[1], (u - mgl * math.sin(y[0])) / inertia],
                         (t0, t1), x, t_eval=[*inside, t1], rtol=1e-10, atol=1e-12)
         times += list(sol.t[:-1])
@@ -149,6 +150,25 @@ def test_pendulum_animated_matches_simulate_and_the_hand_derivation(
     # the machine switched both ways: +0.3 first, -0.3 once past 0.4 rad (at t = 0.3)
     pushes = _writes(animation, "push")
     assert pushes[0] == (0.0, 0.3) and (0.3, -0.3) in pushes and (0.65, 0.3) in pushes
+
+
+@needs_flowstar
+@pytest.mark.parametrize("bound, verdict, status", [(0.55, "SAFE", 0), (0.45, "UNSAFE", 1)])
+def test_pendulum_reach_brackets_the_hand_derived_swing(
+        bound: float, verdict: str, status: int, tmp_path: Path,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """The real Flow* on the pendulum under its machine for 0.5 s: the swing derived by hand
+    peaks at 0.499 rad (t = 0.35 s), so θ ≥ 0.55 is never reached and θ ≥ 0.45 is."""
+    _t, theta = _pendulum_by_hand(0.5, 501)
+    assert 0.45 < float(np.max(theta)) < 0.55
+    text = (PENDULUM / "swing.toml").read_text().replace("horizon = 3.0", "horizon = 0.5")
+    scenario = tmp_path / "swing.toml"
+    scenario.write_text(text.replace("Pivot_theta >= 1.5", f"Pivot_theta >= {bound}"))
+    capsys.readouterr()
+    code = main(["reach", str(PENDULUM), "--scenario", str(scenario), "--jobs", "1",
+                 "--timeout", "120"])
+    out = capsys.readouterr().out
+    assert (code, out.split(":")[0]) == (status, verdict), out
 
 
 # ------------------------------------------------------------------------------ lift
