@@ -118,6 +118,8 @@ class _RunD:
             return e.value
         if isinstance(e, ex.UnaryOp) and e.op == "not":
             return not self.value(e.operand, bound)
+        if isinstance(e, ex.UnaryOp) and e.op == "-":  # a negative call argument
+            return -self.value(e.operand, bound)  # type: ignore[operator]
         assert isinstance(e, ex.BinOp), e
         left, right = self.value(e.left, bound), self.value(e.right, bound)
         return {"==": lambda: left == right, "/\\": lambda: bool(left and right)}[e.op]()

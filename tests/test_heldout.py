@@ -253,6 +253,38 @@ def test_rover_runs_both_controllers_machines(rover: dict[str, tuple[Path, list[
     assert pan[5] > 1.0 and pan[10] < -1.0 and pan[15] > 1.0  # the head swings both ways
 
 
+def test_rover_d_is_both_machines_stepped_together() -> None:
+    """The product D, run on random event sequences, leaves each operation's set-point where
+    the two machines' interpreters, stepped one after the other each cycle (RoboSim's cycle
+    semantics, no automaton), leave it."""
+    import random
+
+    from test_dmodel_process import _RunD, _semantics
+
+    from cyphy.semantics.machines.parallel import ModuleInterpreter
+
+    sem, _ = _semantics([ROVER / "Mapping.rsm"])
+    d = sem.program.dmodel
+    events = [f.name[len(d.name) + 1:] for f in d.state.fields[1:]]
+    assert events == ["near"]
+    rng = random.Random(27)
+    for _ in range(10):
+        interpreter, _checked = api.machine_interpreter([ROVER], pmodel="RoverBase")
+        assert isinstance(interpreter, ModuleInterpreter)
+        assert [p.machine.name for p in interpreter.parts] == ["SDrive", "SScan"]
+        runner = _RunD(d)
+        want: dict[str, tuple[float, ...]] = {}
+        got: dict[str, tuple[float, ...]] = {}
+        for k in range(40):
+            present = {e: rng.random() < 0.3 for e in events}
+            for name, args in interpreter.cycle({e: True if v else None
+                                                 for e, v in present.items()}):
+                want[name] = tuple(args)
+            for name, args in runner.cycle(present, first=k == 0):
+                got[name] = args
+            assert got == want, k
+
+
 def test_rover_one_machine_by_name_still_leaves_the_other_out(tmp_path: Path) -> None:
     generated = api.generate_isabelle([ROVER], api.SemanticsGenOptions(machine="SDrive"))
     assert not generated.report.has_errors
