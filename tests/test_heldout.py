@@ -251,6 +251,17 @@ def test_lift_flowstar_model_is_deterministic(tmp_path: Path,
                      str(LIFT / "reach_top.toml"), "-o", str(out), "-q"]) == 0
         texts.append((out / "reach_top.model").read_bytes())
     assert texts[0] == texts[1] and b"Rising" in texts[0] and b"Lowering" in texts[0]
+    # every mode's demanded speed (the integral's rate is dls - v): the rising mode entered
+    # from Lowering (calls lift(-0.1), then lift(0.2)) takes the last call, as in simulate
+    mode, rates = "", {}
+    for line in texts[0].decode().splitlines():
+        if line.startswith("  ") and line.strip().isidentifier():
+            mode = line.strip()
+        if "Winch_int1' =" in line:
+            rates[mode] = line.split("=", 1)[1].strip()
+    rising = {m: r for m, r in rates.items() if m.startswith("Rising")}
+    assert len(rising) >= 2 and set(rising.values()) == {"-Slide_v + 0.2"}, rates
+    assert {r for m, r in rates.items() if m.startswith("Lowering")} == {"-Slide_v - 0.1"}
 
 
 # ------------------------------------------------------------------------------ rover
