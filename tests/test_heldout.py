@@ -332,6 +332,29 @@ def test_rover_d_is_both_machines_stepped_together() -> None:
             assert got == want, k
 
 
+@needs_flowstar
+@pytest.mark.parametrize("bound, verdict, status", [(1.5, "SAFE", 0), (1.0, "UNSAFE", 1)])
+def test_rover_reach_runs_the_product_automaton(bound: float, verdict: str, status: int,
+                                               tmp_path: Path,
+                                               capsys: pytest.CaptureFixture[str]) -> None:
+    """The real Flow* on the rover's product automaton (both machines' modes) for 1 s: the
+    head's speed, demanded ±1.5 rad/s by SScan's five-cycle swings under PI control, stays
+    below 1.5 (simulate's peak: 1.296 rad/s at 0.5 s) and passes 1.0."""
+    simulated = _simulate(ROVER, ROVER / "bump.toml", "--t-end", "1.0", "--samples", "11")
+    assert 1.0 < float(np.max(simulated["Pan_av"])) < 1.5
+    text = (ROVER / "bump.toml").read_text().replace("horizon = 2.0", "horizon = 1.0")
+    scenario = tmp_path / "bump.toml"
+    scenario.write_text(text.replace("Pan_av >= 1.5", f"Pan_av >= {bound}"))
+    out_dir = tmp_path / "flowstar"
+    capsys.readouterr()
+    code = main(["reach", str(ROVER), "--scenario", str(scenario), "--jobs", "1",
+                 "--timeout", "120", "-o", str(out_dir)])
+    out = capsys.readouterr().out
+    assert (code, out.split(":")[0]) == (status, verdict), out
+    model = (out_dir / "bump.model").read_text()
+    assert "Ahead_Left" in model and "Turn_Right" in model  # modes of both machines
+
+
 def test_rover_one_machine_by_name_still_leaves_the_other_out(tmp_path: Path) -> None:
     generated = api.generate_isabelle([ROVER], api.SemanticsGenOptions(machine="SDrive"))
     assert not generated.report.has_errors
