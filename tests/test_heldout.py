@@ -188,6 +188,42 @@ def test_pendulum_interleaving_is_order_free_and_binds_inputs_in_a_branch(
     assert np.all(angle(inside) == 0.0)
 
 
+def _int_pendulum(folder: Path) -> Path:
+    """The pendulum with an int parameter: push(tq: int), tmax = 1, mapped by
+    ``TorqueIn == 0.3 * tq`` (the same torques as the real-valued pendulum)."""
+    folder.mkdir()
+    edits = {"PendulumSoftware.rsm": [("push(tq: real)", "push(tq: int)"),
+                                      ("const tmax: real = 0.3", "const tmax: int = 1")],
+             "Mapping.rsm": [("Drive.TorqueIn == tq\n", "Drive.TorqueIn == 0.3 * tq\n")]}
+    for f in PENDULUM.iterdir():
+        text = f.read_text()
+        for old, new in edits.get(f.name, []):
+            assert old in text
+            text = text.replace(old, new)
+        (folder / f.name).write_text(text)
+    return folder
+
+
+@pytest.mark.parametrize("dialect", ["utp", "axiomatic"])
+def test_an_int_parameter_is_written_as_int_and_embedded_in_the_reals(
+        tmp_path: Path, dialect: str) -> None:
+    """An int call argument: D writes the whole number (``1``, not ``1.0``, which is no int),
+    and the call's effect embeds the parameter in the p-model's real arithmetic with
+    ``real_of_int`` (HOL has no implicit coercion); check-theory rejected both before."""
+    model = _int_pendulum(tmp_path / "model")
+    folder, _codes = _generate(model, tmp_path / dialect, dialect)
+    result = api.check_theory(folder)
+    assert result.exit_code == 0, result.findings
+    text = "".join(f.read_text() for f in folder.glob("*.thy"))
+    assert "(0.3 * (real_of_int tq))" in text and "registerWrite_push" in text
+    assert "1.0" not in "".join(line for line in text.splitlines() if "Write = " in line)
+    animation = animate(folder, 1.0, {}, {"tscale": 0.05}, samples=21)
+    simulated = _simulate(model, model / "swing.toml", "--t-end", "1.0", "--samples", "21")
+    assert max(_worst(animation, simulated, ["Pivot_theta", "Pivot_v"]).values()) < 0.01
+    _t, theta = _pendulum_by_hand(1.0, 21)  # the same torques as the real-valued one
+    assert np.max(np.abs(_column(animation, "Pivot_theta") - theta)) < 1e-5
+
+
 @needs_flowstar
 @pytest.mark.parametrize("bound, verdict, status", [(0.55, "SAFE", 0), (0.45, "UNSAFE", 1)])
 def test_pendulum_reach_brackets_the_hand_derived_swing(

@@ -42,7 +42,8 @@ Chaos Miracle II while do od fi process state begin end var UNIV
 
 #: HOL and UTP constants that a global name would shadow, and the prelude's own names.
 SHADOWED = frozenset("""
-id set map fst snd real int nat sin cos tan sqrt exp ln log abs sgn min max norm pi inverse
+id set map fst snd real real_of_int int nat sin cos tan sqrt exp ln log abs sgn min max norm pi
+inverse
 length hd tl last dom ran card Inf Sup top bot tr tt st ok wait ref transpose rev nth take
 drop zip filter concat sum prod list bool unit option Some None Nil Cons True False
 uop bop trop qtop action hrel upred uexpr NCSP CSP Healthy

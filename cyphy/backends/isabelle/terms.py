@@ -119,6 +119,8 @@ class IsabellePrinter:
         self._mode = "hol"
         self._coerce_nat = False
         self._bound: list[dict[str, str]] = [{}]
+        #: Parameters of type int or nat (name -> type) of the definition being printed.
+        self._whole_params: dict[str, str] = {}
         self._free_memo: dict[tuple[int, int], bool] = {}
         self._memo_keep: list[object] = []
 
@@ -152,6 +154,16 @@ class IsabellePrinter:
             self._mode, self._coerce_nat = saved
 
     # ------------------------------------------------------------------ names and scopes
+
+    @contextmanager
+    def whole_params(self, params: dict[str, str]) -> Iterator[None]:
+        """Print with these parameters (name -> ``int`` or ``nat``) embedded in the reals
+        where an action uses them (a call's effect on the p-model's real state)."""
+        saved, self._whole_params = self._whole_params, dict(params)
+        try:
+            yield
+        finally:
+            self._whole_params = saved
 
     @contextmanager
     def binding(self, names: tuple[str, ...] | list[str]) -> Iterator[list[str]]:
@@ -232,6 +244,11 @@ class IsabellePrinter:
         ident = self.name(text)
         if self._coerce_nat and text in self.symbols.nat and self._bound_ident(text) is None:
             return f"(real {ident})"
+        whole = self._whole_params.get(text)
+        if self._coerce_nat and whole is not None and self._bound_ident(text) is not None:
+            # an int or nat parameter of a call in the p-model's real arithmetic: HOL has no
+            # implicit coercion (Real.thy: real = of_nat, real_of_int = of_int)
+            return f"({'real_of_int' if whole == 'int' else 'real'} {ident})"
         return ident
 
     def _print_BinOp(self, e: ex.BinOp) -> str:

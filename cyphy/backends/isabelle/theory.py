@@ -381,7 +381,8 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
 def _definition(printer: IsabellePrinter, d: c.ActionDef, action_type: str) -> Definition:
     """One action's definition and closure lemma as the template writes them."""
     names = printer.symbols.names
-    with printer.binding([p.name for p in d.params]) as params:
+    whole = {p.name: p.type.name for p in d.params if p.type in (c.INT, c.NAT)}
+    with printer.binding([p.name for p in d.params]) as params, printer.whole_params(whole):
         body = printer.action(d.body)
     ptypes = [printer.type(p.type) for p in d.params]
     multi_input = any(isinstance(n, c.Comm) and sum(isinstance(f, c.In) for f in n.fields)

@@ -148,7 +148,7 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
         return None
     channels = {ch.name: ch for ch in program.channels}
     reads = tuple(v.tag for v in channels["registerRead"].variants if v.tag is not None)
-    writes = {v.tag: len(v.types) for v in channels["registerWrite"].variants
+    writes = {v.tag: v.types for v in channels["registerWrite"].variants
               if v.tag is not None}
     try:
         return dmodel_process(program.dmodel.name, automaton, reads, writes)

@@ -30,10 +30,10 @@ def _name(text: str) -> ex.Name:
 
 
 def dmodel_process(name: str, automaton: Automaton, reads: tuple[str, ...],
-                   writes: dict[str, int]) -> c.BasicProcess:
+                   writes: dict[str, tuple[c.Type, ...]]) -> c.BasicProcess:
     """``D`` for the compiled machine: ``reads`` are the input events that the mapping maps
     (``registerRead`` variants: an event it does not map never occurs), ``writes`` the
-    operations and output events it maps with their arity. Raises ``ValueError`` naming a
+    operations and output events it maps with their parameters' types. Raises ``ValueError`` naming a
     call the mapping has no ``registerWrite`` variant for (the rules report it)."""
     prefix = name  # D's names: <D>_mode, <D>_<event>, <D>Read, …
     mode = f"{prefix}_{MODE}"
@@ -63,11 +63,10 @@ def dmodel_process(name: str, automaton: Automaton, reads: tuple[str, ...],
             continue
         sends: list[c.Action] = []
         for call, args in m.calls:
-            if writes.get(call) != len(args):
+            types = writes.get(call)
+            if types is None or len(types) != len(args):
                 raise ValueError(call)
-            # a literal as the parser makes one: a negative argument is a negation of its
-            # magnitude (a Num's text is never signed; the printers and readers rely on it)
-            values = tuple(c.Out(value_expr(float(a))) for a in args)
+            values = tuple(c.Out(_literal(a, t)) for a, t in zip(args, types))
             sends.append(c.Prefix(c.Comm("registerWrite", call, values), c.Skip()))
         body = sends[0] if len(sends) == 1 else c.Seq(tuple(sends))
         write = c.Cond(ex.BinOp("==", _name(mode), ex.Num(str(i))), body, write)
@@ -84,6 +83,16 @@ def dmodel_process(name: str, automaton: Automaton, reads: tuple[str, ...],
                                    calls[f"{prefix}Write"], wait, c.Call("X"))))))
     return c.BasicProcess(name, (), c.Schema(f"{prefix}State", tuple(fields)),
                           c.Schema(f"{prefix}Local", ()), actions, main)
+
+
+def _literal(value: float, type_: c.Type) -> ex.Expr:
+    """An argument as a literal of its parameter's type (an ``int`` or ``nat`` channel takes
+    a whole number, ``1``, not ``1.0``), written as the parser writes literals: a negative
+    one is the negation of its magnitude (a Num's text is never signed; the printers and
+    the theory readers rely on it)."""
+    if type_ in (c.INT, c.NAT) and float(value).is_integer():
+        return value_expr(int(value))
+    return value_expr(float(value))
 
 
 def _sequence(actions: list[c.Action]) -> c.Action:

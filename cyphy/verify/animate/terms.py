@@ -29,7 +29,7 @@ _COMPARE: dict[str, Callable[[Any, Any], Any]] = {
     "\\<Leftrightarrow>": lambda a, b: bool(a) == bool(b),
 }
 _FUNCTIONS = ("sin", "cos", "tan", "sqrt", "exp", "ln", "abs", "arctan", "real", "nat",
-              "of_nat", "floor", "ceiling")
+              "of_nat", "real_of_int", "of_int", "floor", "ceiling")
 
 
 class Unsupported(Exception):
@@ -43,7 +43,7 @@ def op_name(token: Any) -> str:
 
 
 def _function(name: str, args: list[Any]) -> Any:
-    if name in ("real", "of_nat", "nat"):
+    if name in ("real", "of_nat", "nat", "real_of_int", "of_int"):  # embeddings in the reals
         return args[0]
     symbolic = any(hasattr(a, "free_symbols") for a in args)
     if symbolic:

@@ -106,7 +106,7 @@ AX_SIGNATURES: dict[str, tuple[str, str]] = {
 }
 #: HOL's constants, read in Isabelle2020's HOL theories (the utp checker's entries).
 _HOL = ("+", "-", "*", "/", "^", "powr", "uminus", "=", "\\<noteq>", "<", ">", "\\<le>",
-        "\\<ge>", "\\<longrightarrow>", "\\<longleftrightarrow>", "@", "!", "real", "True",
+        "\\<ge>", "\\<longrightarrow>", "\\<longleftrightarrow>", "@", "!", "real", "real_of_int", "True",
         "False", "sin", "cos", "tan", "arctan", "exp", "ln", "sqrt", "abs")
 for _name in _HOL:
     AX_SIGNATURES[_name] = SIGNATURES[_name]

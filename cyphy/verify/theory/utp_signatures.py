@@ -43,6 +43,7 @@ SIGNATURES: dict[str, tuple[str, str]] = {
     "Cons": ("'a \\<Rightarrow> 'a list \\<Rightarrow> 'a list", H + "List.thy:13"),
     "Nil": ("'a list", H + "List.thy:12"),
     "real": ("nat \\<Rightarrow> real", H + "Real.thy:952 (abbreviation real, of_nat)"),
+    "real_of_int": ("int \\<Rightarrow> real", H + "Real.thy:955 (abbreviation real_of_int, of_int)"),
     "True": ("bool", H + "HOL.thy:100"), "False": ("bool", H + "HOL.thy:109"),
     "UNIV": ("'a set", H + "Set.thy:576"),
     "sin": ("real \\<Rightarrow> real", H + "Transcendental.thy:3271 (at real)"),
