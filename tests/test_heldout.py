@@ -152,20 +152,6 @@ def test_pendulum_animated_matches_simulate_and_the_hand_derivation(
     assert pushes[0] == (0.0, 0.3) and (0.3, -0.3) in pushes and (0.65, 0.3) in pushes
 
 
-def _rewritten(folder: Path, out: Path, old: str, new: str) -> Path:
-    """A copy of the session with ``old`` replaced by ``new`` (once) in its theory."""
-    out.mkdir()
-    changed = 0
-    for f in folder.iterdir():
-        text = f.read_text()
-        if f.suffix == ".thy" and old in text:
-            assert text.count(old) == 1
-            text, changed = text.replace(old, new), changed + 1
-        (out / f.name).write_text(text)
-    assert changed == 1
-    return out
-
-
 def test_pendulum_interleaving_is_order_free_and_binds_inputs_in_a_branch(
         pendulum: dict[str, Path], tmp_path: Path) -> None:
     """Interleaving offers either branch's events first: with the senders swapped (D reads
@@ -177,12 +163,15 @@ def test_pendulum_interleaving_is_order_free_and_binds_inputs_in_a_branch(
     def angle(folder: Path) -> np.ndarray:
         return _column(animate(folder, 1.0, {}, {"tscale": 0.05}, samples=21), "Pivot_theta")
 
+    from test_animate import _mutant
+
     want = angle(pendulum["utp"])
-    swapped = _rewritten(pendulum["utp"], tmp_path / "swapped",
-                         "(TooFarToDModel ||| TooBackToDModel)",
-                         "(TooBackToDModel ||| TooFarToDModel)")
-    inside = _rewritten(pendulum["utp"], tmp_path / "inside", "((PushFromDModel ;; Y)",
-                        "(((PushFromDModel ||| Skip) ;; Y)")
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    swapped = _mutant(pendulum["utp"], tmp_path / "a", "(TooFarToDModel ||| TooBackToDModel)",
+                      "(TooBackToDModel ||| TooFarToDModel)")
+    inside = _mutant(pendulum["utp"], tmp_path / "b", "((PushFromDModel ;; Y)",
+                     "(((PushFromDModel ||| Skip) ;; Y)")
     assert np.array_equal(angle(swapped), want)
     assert np.max(np.abs(want)) > 0.3  # it swings: the pushes arrived
     assert np.all(angle(inside) == 0.0)
