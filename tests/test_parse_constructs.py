@@ -1290,3 +1290,12 @@ def test_span_of_event_parameter():
     (ev,) = m.events
     assert (ev.span.line, ev.span.column) == (2, 3)
     assert (ev.param_span.line, ev.param_span.column) == (2, 17)
+
+
+def test_a_parenthesised_operand_keeps_its_span_and_widens_its_parents():
+    # Hand-counted columns: `(` at 17, `a` at 18, `)` at 19, `b` at 21 (end 22). The
+    # parentheses belong to the member access, not to the name inside them.
+    (decl,) = parse("const c: real = (a).b").items
+    member = decl.value
+    assert (member.span.line, member.span.column, member.span.end_column) == (1, 17, 22)
+    assert (member.base.span.column, member.base.span.end_column) == (18, 19)
