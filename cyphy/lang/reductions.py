@@ -109,10 +109,12 @@ def _callback(shape: Shape, method: Callable[[Pos, list[Any]], Any] | None) -> C
                 if nones:
                     children += [None] * nones
                 s = symbols[i]
-                if splice:
-                    children += s[0]
-                else:
+                if not splice:
                     children.append(s if type(s) is not tuple else s[0])
+                elif children:
+                    children += s[0]
+                else:  # a list grown one member at a time (`_member*`) is extended in place,
+                    children = s[0]  # not copied: each reduced value has one consumer
             if nones_after:
                 children += [None] * nones_after
         if expand1 and len(children) == 1:
