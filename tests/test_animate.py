@@ -420,3 +420,21 @@ def test_the_axiomatic_marxbot_runs_from_its_scenario_alone(ax_sessions: dict[st
                              str(MARXBOT / "avoid_obstacle.toml"), "--t-end", "9",
                              "--samples", "181")
     assert _within_one_percent(animation, mx_simulated, ["LMotor_av", "RMotor_av"]) == []
+
+
+def test_scenario_consts_name_constants_as_simulate_does() -> None:
+    """A [consts] key sets the theory constants ``simulate`` would set: by qualified or
+    definition-qualified name or a ``::`` suffix of either, never another block's constant
+    that only shares the last segment (the names.tsv rows below are made up)."""
+    from cyphy.verify.animate.scenario import _targets
+
+    rows = [("R::Core::LMotor::R", "LMotor_R", "SpeedControlMotor::R"),
+            ("R::Core::RMotor::R", "RMotor_R", "SpeedControlMotor::R"),
+            ("R::Core::Heater::R", "Heater_R", "Resistor::R"),
+            ("R::Core::LMotor.das", "LMotor_das", "")]
+    assert _targets("SpeedControlMotor::R", rows) == ["LMotor_R", "RMotor_R"]
+    assert _targets("Resistor::R", rows) == ["Heater_R"]
+    assert _targets("LMotor::R", rows) == ["LMotor_R"]
+    assert _targets("R", rows) == ["Heater_R", "LMotor_R", "RMotor_R"]
+    assert _targets("Heater_R", rows) == ["Heater_R"]
+    assert _targets("Other::R", rows) == [] and _targets("das", rows) == []

@@ -259,6 +259,25 @@ def test_require_constants_lists_every_missing_one(tmp_path: Path) -> None:
     assert "--const" in d.hint and len(d.notes) == 2
 
 
+def test_given_value_an_instantiation_overrides_is_a_warning(tmp_path: Path) -> None:
+    """An instantiation wins over --const (docs/dynamics.md), so ``--const H=10`` where the
+    only H is instantiated (``instantiation H = 3*K``) changes nothing: W-CONST-INSTANTIATED
+    at the instantiation's value, and the pose keeps 3*K. A key that also sets a constant
+    that is not instantiated (K), or that gives the instantiated value itself, is silent."""
+    ignored = elaborate(tmp_path, {"n.rsm": NESTED}, model="Top", consts={"H": 10.0})
+    found = [d for d in ignored.report.diagnostics if d.code.id == "W-CONST-INSTANTIATED"]
+    assert [(d.span.line, d.span.column) for d in found] == [(7, 95)]  # at 3*K
+    assert "H changes nothing: 'Top::mid::low::H' is set by an instantiation" in \
+        found[0].message
+    assert ignored.model is not None
+    assert ignored.model.element("Top::mid::low::Tip").pose.position[2] == 6.0
+    applied = elaborate(tmp_path, {"n.rsm": NESTED}, model="Top", consts={"K": 5})
+    assert applied.model.element("Top::mid::low::Tip").pose.position[2] == 15.0
+    same = elaborate(tmp_path, {"n.rsm": NESTED}, model="Top", consts={"H": 6})
+    assert not [d for d in [*applied.report.diagnostics, *same.report.diagnostics]
+                if d.code.id == "W-CONST-INSTANTIATED"]
+
+
 REPLACED = """pmodel M {
 \tconst PI: real = 3.1415
 \tconst AXIS: vector(real, 3) = (|0, 0, 1|)

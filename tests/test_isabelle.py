@@ -251,10 +251,13 @@ def test_marxbot_generation_is_deterministic() -> None:
 
 def test_names_table(marxbot_session) -> None:
     rows = [r.split("\t") for r in marxbot_session.files["names.tsv"].splitlines()]
-    assert rows[0] == ["qualified", "cyphycircus", "isabelle"]
+    assert rows[0] == ["qualified", "cyphycircus", "isabelle", "definition"]
     table = {r[0]: (r[1], r[2]) for r in rows[1:]}
     assert table["marXbotBase::Core::LHinge::LMotor.das"] == ("LMotor_das", "LMotor_das")
     assert table["M::move::dsl"] == ("move_dsl", "move_dsl")
+    definition = {r[0]: r[3] for r in rows[1:]}  # a device constant's block-qualified name
+    assert definition["marXbotBase::Core::LHinge::LMotor::R"] == "SpeedControlMotor::R"
+    assert definition["marXbotBase::Core::LHinge::LMotor.das"] == ""
 
 
 def test_names_table_lists_every_state_field_of_the_theory(marxbot_session) -> None:

@@ -110,8 +110,8 @@ def check_static(files: dict[str, str], theory: str) -> str:
 
 def test_marxbot_passes_the_static_checks(marxbot) -> None:
     text = check_static(marxbot.files, THEORY)
-    names = dict(line.split("\t")[1:] for line in marxbot.files["names.tsv"].splitlines()[1:]
-                 if line.count("\t") == 2)
+    names = dict(line.split("\t")[1:3] for line in marxbot.files["names.tsv"].splitlines()[1:]
+                 if line.count("\t") == 3)
     expected = [{"Evolve": "Evolve_v"}.get(a, a) for a in MARXBOT_ACTIONS]
     # then the d-model process D (from the machine SMovement) and the composition N, all
     # over the system's one state (Ax_CyPhyCircus hides no state)

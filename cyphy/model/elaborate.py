@@ -102,6 +102,8 @@ def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: 
             reported.add(key)
     with collector.paused():  # see cyphy/collector.py
         model = _Elaborator(ctx, devices).run(pm, file)
+    if devices:
+        ctx.report_instantiated()
     if devices and strict_consts:  # the whole model: every constant it declares was seen
         # a name no file declares is reported once, above; this adds those of other models
         ctx.report_unknown_consts(pm.span, frozenset(reported))

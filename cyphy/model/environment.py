@@ -106,6 +106,8 @@ class Context:
         self.scopes = Scopes(ws)
         self.consts = dict(consts)
         self.used_consts: set[str] = set()
+        # --const keys that name instantiated constants (the instantiation wins): key → them
+        self.instantiated: dict[str, list[Binding]] = {}
         self.replaced: set[Span] = set()  # declarations already reported W-CONST-REPLACED
         self.declared: set[tuple[str, str, str]] = set()  # (qualified, definition, name)
         self.missing: dict[str, list[Span]] = {}
@@ -163,6 +165,8 @@ class Context:
         b.state = "busy"
         value: Value | None = None
         given = self._user_value(b) if b.expr is None or b.expr is b.decl.value else None
+        if given is None and b.expr is not None and b.expr is not b.decl.value:
+            self._note_instantiated(b)
         if given is not None:  # --const wins over the declaration's own value
             value = given
             if b.expr is not None:
@@ -206,6 +210,32 @@ class Context:
                            f"the given value {format_value(given)} replaces it",
                            b.decl.span, "give the declared value, or leave the constant "
                            "out of --const/--consts/[consts] to keep it")
+
+    def _note_instantiated(self, b: Binding) -> None:
+        """Remember the ``--const`` keys that name ``b``, a constant an instantiation sets:
+        the instantiation wins, so a key that names nothing else changes nothing."""
+        for key in self.consts:
+            if _names(key, b.qualified, b.definition, b.decl.name):
+                self.instantiated.setdefault(key, []).append(b)
+
+    def report_instantiated(self) -> None:
+        """W-CONST-INSTANTIATED for each ``--const``/``--consts``/``[consts]`` key that set no
+        constant because every constant it names is instantiated: without it, ``--const
+        Kp=100`` on a motor that instantiates ``Kp = 2.0`` ran with 2.0 and said nothing."""
+        for key, bindings in sorted(self.instantiated.items()):
+            given = self.consts[key]
+            bindings = [b for b in bindings if b.value is None or not same_value(b.value, given)]
+            if key in self.used_consts or not bindings:
+                continue  # applied elsewhere, or the instantiations give that very value
+            first = bindings[0]
+            span = first.expr.span if first.expr is not None and \
+                first.expr.span.line else first.decl.span
+            more = f" and {len(bindings) - 1} more" if len(bindings) > 1 else ""
+            self.report.report(codes.CONST_INSTANTIATED,
+                               f"the given value of {key} changes nothing: "
+                               f"'{first.qualified}'{more} is set by an instantiation, which "
+                               "wins over --const, --consts and a scenario's [consts]", span,
+                               "change the instantiation in the model to change the value")
 
     def _user_value(self, b: Binding) -> Value | None:
         """The ``--const`` value for a constant, the most specific key winning: the instance

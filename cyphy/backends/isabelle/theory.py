@@ -430,8 +430,10 @@ def _quoted(t: str) -> str:
 
 
 def _names_table(table: NameTable, names: IsabelleNames, symbols: Symbols) -> str:
-    """qualified RoboSim name, CyPhyCircus name, Isabelle identifier (locals are bound)."""
-    rows = ["qualified\tcyphycircus\tisabelle"]
+    """qualified RoboSim name, CyPhyCircus name, Isabelle identifier (locals are bound), and
+    for a device's constant its definition-qualified name (``SpeedControlMotor::R``), which
+    ``--const`` and a scenario's ``[consts]`` may use (empty otherwise)."""
+    rows = ["qualified\tcyphycircus\tisabelle\tdefinition"]
     globals_ = names.identifiers()
     by_mangled = {mangled: qualified for qualified, mangled in table.items()}
     split = {m.group(1) for n, _ in names.items()
@@ -441,7 +443,7 @@ def _names_table(table: NameTable, names: IsabelleNames, symbols: Symbols) -> st
         if mangled in split:
             continue  # the theory has its components (below), not the vector itself
         ident = names.get(mangled) or bound_identifier(mangled, globals_)
-        rows.append(f"{qualified}\t{mangled}\t{ident}")
+        rows.append(f"{qualified}\t{mangled}\t{ident}\t{table.definition(qualified)}")
     # What the theory has in their place: the components of a vector or matrix (the state is
     # scalar: LHinge_F is LHinge_F_1 .. LHinge_F_6) and the integrator states of integrals.
     for mangled, ident in sorted(names.items()):
@@ -450,17 +452,17 @@ def _names_table(table: NameTable, names: IsabelleNames, symbols: Symbols) -> st
         m = re.fullmatch(r"(.+?)((?:_\d+)+)", mangled)
         if m and m.group(1) in split:
             index = "".join(f"[{k}]" for k in m.group(2).split("_")[1:])
-            rows.append(f"{by_mangled[m.group(1)]}{index}\t{mangled}\t{ident}")
+            rows.append(f"{by_mangled[m.group(1)]}{index}\t{mangled}\t{ident}\t")
             continue
         m = re.fullmatch(r"(.+)_int\d*", mangled)
         if m and m.group(1) in by_mangled:
-            rows.append(f"integral of {by_mangled[m.group(1)]}\t{mangled}\t{ident}")
+            rows.append(f"integral of {by_mangled[m.group(1)]}\t{mangled}\t{ident}\t")
     # The d-model process's own state (its machine's mode, the events it read): no RoboSim
     # element has these names, so the first column says whose they are.
-    listed = {row.rsplit("\t", 1)[1] for row in rows[1:]}
+    listed = {row.split("\t")[2] for row in rows[1:]}
     for field in sorted(symbols.state):
         ident = names.get(field) or field
         if ident not in listed:
-            rows.append(f"state of the d-model process\t{field}\t{ident}")
+            rows.append(f"state of the d-model process\t{field}\t{ident}\t")
     return "\n".join(rows) + "\n"
 

@@ -33,6 +33,7 @@ class NameTable:
     def __init__(self) -> None:
         self._by_qualified: dict[str, str] = {}
         self._owner: dict[str, str] = {}
+        self._definition: dict[str, str] = {}
 
     def claim(self, qualified: str, mangled: str) -> str:
         """Record a name chosen elsewhere (a device port mangled by elaboration)."""
@@ -56,6 +57,16 @@ class NameTable:
         while f"{base}_{n}" in self._owner:
             n += 1
         return self.claim(qualified, f"{base}_{n}")
+
+    def define(self, qualified: str, definition: str) -> None:
+        """Record the definition-qualified name of an instance's constant
+        (``SpeedControlMotor::R`` for ``marXbotBase::Core::LHinge::LMotor::R``): a scenario's
+        ``[consts]`` may name it so, as ``--const`` may (``cyphy animate --scenario``)."""
+        self._definition[qualified] = definition
+
+    def definition(self, qualified: str) -> str:
+        """The definition-qualified name recorded for ``qualified``, or ``""``."""
+        return self._definition.get(qualified, "")
 
     def lookup(self, qualified: str) -> str:
         return self._by_qualified[qualified]

@@ -201,6 +201,8 @@ def constants(ctx: Context) -> tuple[c.Constant, ...]:
         for p in device.of_kind(ast.DeclKind.CONST):
             qualified = f"{e.name}::{p.name}"
             ctx.names.claim(qualified, p.mangled)
+            if e.definition:
+                ctx.names.define(qualified, f"{e.definition}::{p.name}")
             value = value_expr(p.value) if p.value is not None else None
             out.append(c.Constant(p.mangled, type_of(p.type), value, qualified))
     own = {q for q in (x.origin for x in out)}

@@ -28,35 +28,37 @@ class ScenarioValues:
     state_dependent: dict[str, tuple[str, float]] = field(default_factory=dict)
 
 
-def _names(folder: Path) -> dict[str, str]:
-    """RoboSim's qualified name → the theory's identifier, from the session's names.tsv
-    (empty when the session has none: then only the theory's own identifiers match)."""
+def _names(folder: Path) -> list[tuple[str, str, str]]:
+    """The session's names.tsv rows: RoboSim's qualified name, the theory's identifier and,
+    for a device's constant, its definition-qualified name (``SpeedControlMotor::R``); empty
+    when the session has none (then only the theory's own identifiers match)."""
     table = folder / "names.tsv"
-    out: dict[str, str] = {}
     try:
         lines = table.read_text(encoding="utf-8").splitlines()[1:]
     except (OSError, UnicodeDecodeError):
-        return out
+        return []
+    out = []
     for row in lines:
         cells = row.split("\t")
         if len(cells) >= 3:
-            out[cells[0]] = cells[2]
+            out.append((cells[0], cells[2], cells[3] if len(cells) > 3 else ""))
     return out
 
 
-def _targets(key: str, names: dict[str, str]) -> list[str]:
-    """The theory constants a [consts] key sets: its identifier or qualified name exactly;
-    else a ``Block::c`` key sets every block instance's ``c`` (names.tsv records instances,
-    not their blocks' names, so the block part cannot narrow the match)."""
-    idents = set(names.values())
-    if key in idents:
+def _targets(key: str, names: list[tuple[str, str, str]]) -> list[str]:
+    """The theory constants a [consts] key sets, as ``simulate`` reads the key
+    (``cyphy.model.environment``): the theory identifier or a qualified name exactly; else
+    every constant whose qualified or definition-qualified name is the key or ends with
+    ``::key`` (``SpeedControlMotor::R`` sets the R of each SpeedControlMotor, not another
+    block's R; a bare ``R`` sets every R)."""
+    if any(ident == key for _, ident, _ in names):
         return [key]
-    if key in names:
-        return [names[key]]
-    if "::" in key:
-        last = key.rsplit("::", 1)[1]
-        return sorted({ident for q, ident in names.items() if q.endswith("::" + last)})
-    return []
+    exact = [ident for qualified, ident, _ in names if qualified == key]
+    if exact:
+        return exact
+    return sorted({ident for qualified, ident, definition in names
+                   if any(full == key or full.endswith("::" + key)
+                          for full in (qualified, definition) if full)})
 
 
 def _start(lo_hi: tuple[float, float]) -> float:
