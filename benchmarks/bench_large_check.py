@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import subprocess
 import sys
 import tempfile
@@ -32,30 +31,44 @@ ROOT = Path(__file__).resolve().parent.parent
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--links", type=int, default=90_198)
+    parser.add_argument("--warm", action="store_true",
+                        help="check a second time, with the parse cache the first run wrote")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="cyphy-bench-") as folder:
         path = write_model(Path(folder), tree_model(args.links, 3))
         size = path.stat().st_size
         env = {**os.environ, "PYTHONPATH": str(ROOT), "CYPHY_PROGRESS": "1",
                "CYPHY_CACHE_DIR": str(Path(folder) / "cache")}
-        started = time.perf_counter()
-        proc = subprocess.Popen([sys.executable, "-m", "cyphy", "check", str(path)],
-                                stderr=subprocess.PIPE, text=True, env=env)
-        stamps = [started]
-        assert proc.stderr is not None
-        for line in proc.stderr:  # one line per stage: when each arrived
-            stamps.append(time.perf_counter())
-            last = line.rstrip()
-        code = proc.wait()
-        seconds = time.perf_counter() - started
-    stamps.append(time.perf_counter())
-    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 2**20  # KiB -> GiB
-    gap = max(b - a for a, b in zip(stamps, stamps[1:]))
-    print(f"{args.links} links ({size / 2**20:.1f} MB): exit {code}, {seconds:.1f} s, peak "
-          f"{peak:.2f} GiB, progress still for at most {gap:.1f} s; last line: {last}")
-    met = seconds <= 60 and peak <= 1.5
-    print(f"target (90,198 links: 60 s, 1.5 GiB): {'met' if met else 'NOT met'}")
+        runs = [("cold", _check(path, env))]
+        if args.warm:
+            runs.append(("warm", _check(path, env)))
+    for kind, (code, seconds, peak, gap, last) in runs:
+        print(f"{args.links} links ({size / 2**20:.1f} MB), {kind}: exit {code}, {seconds:.1f} s, "
+              f"peak {peak:.2f} GiB, progress still for at most {gap:.1f} s; last line: {last}")
+    code, seconds, peak = runs[0][1][:3]
+    met = args.links >= 90_198 and seconds <= 60 and peak <= 1.5
+    print(f"target (90,198 links cold: 60 s, 1.5 GiB): {'met' if met else 'NOT met'}")
     return code or (0 if met else 1)
+
+
+def _check(path: Path, env: dict[str, str]) -> tuple[int, float, float, float, str]:
+    """One ``cyphy check`` in a child process: (exit code, seconds, peak GiB, longest still
+    progress in seconds, last line of its output)."""
+    started = time.perf_counter()
+    proc = subprocess.Popen([sys.executable, "-m", "cyphy", "check", str(path)],
+                            stderr=subprocess.PIPE, text=True, env=env)
+    stamps = [started]
+    last = ""
+    assert proc.stderr is not None
+    for line in proc.stderr:  # one line per stage: when each arrived
+        stamps.append(time.perf_counter())
+        last = line.rstrip()
+    _, status, usage = os.wait4(proc.pid, 0)  # this child's own peak, not all children's
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    seconds = time.perf_counter() - started
+    stamps.append(time.perf_counter())
+    gap = max(b - a for a, b in zip(stamps, stamps[1:]))
+    return proc.returncode, seconds, usage.ru_maxrss / 2**20, gap, last  # KiB -> GiB
 
 
 if __name__ == "__main__":
