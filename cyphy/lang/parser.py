@@ -29,6 +29,8 @@ def parse_text(text: str, path: str = "<string>") -> ParseResult:
     if text.startswith("\ufeff"):
         text = text[1:]
     builder = Builder(text, path)
+    # ``Lark.parse`` would call the tree builder's callbacks, made when the grammar was loaded;
+    # an interactive parser has a state of its own, so this parse gets the builder's instead.
     parser = grammar().parse_interactive(text)
     parser.parser_state.parse_conf.callbacks = reductions.callbacks(_shapes(), builder)
     try:
@@ -40,6 +42,8 @@ def parse_text(text: str, path: str = "<string>") -> ParseResult:
 
 @lru_cache(maxsize=None)
 def _shapes() -> dict[Any, reductions.Shape]:
+    """What each rule keeps, worked out once per process (the callbacks are per parse: they
+    call one file's builder)."""
     return reductions.shapes(grammar())
 
 

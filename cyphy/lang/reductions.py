@@ -28,7 +28,7 @@ rule that can match nothing (``tests/test_parse_constructs.py`` checks the gramm
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, Iterable
 
 from lark import Lark, Token
 
@@ -133,24 +133,18 @@ def _first(symbols: list[Any]) -> Any:
 
 def _position(symbols: list[Any]) -> Pos:
     """From the first positioned symbol's start to the last one's end."""
-    start = end = None
-    for s in symbols:
-        if type(s) is tuple:
-            if s[1] is not None:
-                start = s[1]
-                break
-        else:
-            start = (s.line, s.column, s.end_line, s.end_column)
-            break
+    start = _first_position(symbols)
     if start is None:
         return None
-    for s in reversed(symbols):
-        if type(s) is tuple:
-            if s[1] is not None:
-                end = s[1]
-                break
-        else:
-            end = (s.line, s.column, s.end_line, s.end_column)
-            break
+    end = _first_position(reversed(symbols))
     assert end is not None
     return (start[0], start[1], end[2], end[3])
+
+
+def _first_position(symbols: Iterable[Any]) -> Pos:
+    for s in symbols:
+        if type(s) is not tuple:
+            return (s.line, s.column, s.end_line, s.end_column)  # a token
+        if s[1] is not None:
+            return s[1]
+    return None
