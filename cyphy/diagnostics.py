@@ -145,6 +145,8 @@ MESSAGE_WIDTH = 1000
 def printable(text: str) -> str:
     """``text`` with control characters (terminal escape sequences, NUL, bidirectional
     overrides) written as escapes (``\\x1b``), so a model's bytes never act on the terminal."""
+    if text.isprintable():  # the common case, checked in C (a long check prints thousands)
+        return text
     return "".join(ch if ch.isprintable() or ch == " " else _escape(ch) for ch in text)
 
 

@@ -1290,3 +1290,38 @@ def test_span_of_event_parameter():
     (ev,) = m.events
     assert (ev.span.line, ev.span.column) == (2, 3)
     assert (ev.param_span.line, ev.param_span.column) == (2, 17)
+
+
+def test_a_parenthesised_operand_keeps_its_span_and_widens_its_parents():
+    # Hand-counted columns: `(` at 17, `a` at 18, `)` at 19, `b` at 21 (end 22). The
+    # parentheses belong to the member access, not to the name inside them.
+    (decl,) = parse("const c: real = (a).b").items
+    member = decl.value
+    assert (member.span.line, member.span.column, member.span.end_column) == (1, 17, 22)
+    assert (member.base.span.column, member.base.span.end_column) == (18, 19)
+
+
+def test_no_question_rule_passes_on_a_rule_that_can_match_nothing():
+    """The one case where building during the parse would differ from Lark's trees
+    (:mod:`cyphy.lang.reductions`): a ``?rule`` with more symbols than its one kept child,
+    that child a rule able to match no text."""
+    from cyphy.lang.parser import grammar
+
+    rules = grammar().rules
+    nullable: set[str] = set()
+    changed = True
+    while changed:
+        changed = False
+        for r in rules:
+            if r.origin.name not in nullable and all(
+                    not s.is_term and s.name in nullable for s in r.expansion):
+                nullable.add(r.origin.name)
+                changed = True
+    assert "start" in nullable  # the check sees empty rules at all
+    passing = [r for r in rules if r.options.expand1 and not r.alias and len(r.expansion) > 1]
+    assert passing  # `?atom: "(" expr ")"` is one
+    for r in passing:
+        kept = [s for s in r.expansion if r.options.keep_all_tokens
+                or not (s.is_term and s.filter_out)]
+        if len(kept) == 1:
+            assert kept[0].is_term or kept[0].name not in nullable, r

@@ -20,7 +20,9 @@ def grammar(strict: bool = False) -> Lark:
         GRAMMAR,
         parser="lalr",
         lexer="contextual",
-        propagate_positions=True,
+        # Positions are propagated by cyphy's own reduction callbacks (cyphy.lang.reductions),
+        # which replace Lark's tree builder.
+        propagate_positions=False,
         maybe_placeholders=True,
         strict=strict,
         # Lark stores the LALR tables in a temporary file keyed by the grammar's hash: the

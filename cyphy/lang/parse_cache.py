@@ -42,7 +42,8 @@ from cyphy import progress
 from cyphy.lang.ast import ParseResult
 
 _PACKAGE = Path(__file__).resolve().parent.parent
-_SOURCES = ("lang/robosim.lark", "lang/parser.py", "lang/syntax_errors.py", "lang/builder/*.py",
+_SOURCES = ("lang/robosim.lark", "lang/grammar.py", "lang/parser.py", "lang/reductions.py",
+            "lang/syntax_errors.py", "lang/builder/*.py",
             "lang/ast/*.py", "expr.py", "diagnostics.py", "codes.py", "pickling.py", "records.py",
             "lang/parse_cache.py")
 _STALE_AFTER_S = 7 * 24 * 3600

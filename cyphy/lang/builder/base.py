@@ -1,4 +1,4 @@
-"""The walk from Lark's tree to the syntax tree, and what every rule's method shares: spans,
+"""What every rule's method of the syntax-tree builder shares: spans,
 flattened children, the small records (qualified names, tagged children) that only a
 parent rule interprets."""
 
@@ -7,10 +7,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Iterable
 
-from lark import Token, Tree
+from lark import Token
 
 from cyphy import codes
 from cyphy.diagnostics import Diagnostic, Span
+from cyphy.lang.reductions import Pos
 
 
 @dataclass(frozen=True, slots=True)
@@ -40,33 +41,20 @@ def unescape(s: str) -> str:
 
 class BuilderBase:
     """Builds the AST bottom-up. Methods are named after grammar rules and aliases and take
-    ``(meta, children)``. The walk is a loop over Lark's bottom-up subtree order, so a long
-    expression does not exhaust Python's stack, and it skips the per-call wrappers of Lark's
-    ``Transformer`` (a fifth of the parse time)."""
+    ``(pos, children)``: the rule's text as ``(line, column, end_line, end_column)`` (None
+    when it matched nothing) and its kept children, already built. They are called while the
+    parser reduces (:mod:`cyphy.lang.reductions`), so no Lark tree is built or walked."""
 
     def __init__(self, text: str, path: str) -> None:
         self.text = text
         self.path = path
         self.diagnostics: list[Diagnostic] = []
 
-    def transform(self, tree: Tree) -> Any:
-        order: list[Tree] = []
-        stack = [tree]
-        while stack:  # parents before children; reversed, children before parents
-            node = stack.pop()
-            order.append(node)
-            stack.extend(c for c in node.children if isinstance(c, Tree))
-        results: dict[int, Any] = {}
-        for sub in reversed(order):
-            children = [results.pop(id(c)) if isinstance(c, Tree) else c for c in sub.children]
-            results[id(sub)] = getattr(self, sub.data)(sub.meta, children)
-        return results[id(tree)]
-
     # ----- helpers
-    def _span(self, meta: Any) -> Span:
-        if getattr(meta, "empty", True):
+    def _span(self, pos: Pos) -> Span:
+        if pos is None:
             return Span(self.path, 1, 1, 1, 1)
-        return Span(self.path, meta.line, meta.column, meta.end_line, meta.end_column)
+        return Span(self.path, *pos)
 
     def _tok_span(self, tok: Token) -> Span:
         return Span(self.path, tok.line or 0, tok.column or 0, tok.end_line or 0,

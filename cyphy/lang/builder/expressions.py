@@ -10,27 +10,28 @@ from lark import Token
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang.builder.base import QN, BuilderBase, Tagged, name_of, unescape
+from cyphy.lang.reductions import Pos
 
 
 class ExpressionRules(BuilderBase):
     """Methods of the expression rules."""
 
     # ----- expressions
-    def binop(self, meta: Any, c: list[Token]) -> str:
+    def binop(self, pos: Pos, c: list[Token]) -> str:
         return str(c[0])
 
     sum_op = cmp_op = binop
 
-    def prefix(self, meta: Any, c: list[Token]) -> Tagged:
+    def prefix(self, pos: Pos, c: list[Token]) -> Tagged:
         return Tagged("prefix", str(c[0]), self._tok_span(c[0]))
 
-    def unit(self, meta: Any, c: list[Any]) -> Tagged:
-        return Tagged("unit", c, self._span(meta))
+    def unit(self, pos: Pos, c: list[Any]) -> Tagged:
+        return Tagged("unit", c, self._span(pos))
 
-    def power_group(self, meta: Any, c: list[Any]) -> Tagged:
-        return Tagged("power_group", c[-1], self._span(meta))
+    def power_group(self, pos: Pos, c: list[Any]) -> Tagged:
+        return Tagged("power_group", c[-1], self._span(pos))
 
-    def expr(self, meta: Any, c: list[Any]) -> ex.Expr:
+    def expr(self, pos: Pos, c: list[Any]) -> ex.Expr:
         """Apply operator precedence to a flat row of operands and operators (Pratt)."""
         items: list[tuple[str, Any]] = []
         for child in c:
@@ -51,9 +52,9 @@ class ExpressionRules(BuilderBase):
 
     sum = expr
 
-    def call(self, meta: Any, c: list[Any]) -> ex.Expr:
+    def call(self, pos: Pos, c: list[Any]) -> ex.Expr:
         func, args = c[0], tuple(a for a in c[1:] if a is not None)
-        span = self._span(meta)
+        span = self._span(pos)
         if isinstance(func, ex.Name) and func.parts == ("derivative",) and len(args) == 1:
             return ex.Derivative(args[0], span=span)
         if isinstance(func, ex.Name) and func.parts == ("integral",) and len(args) in (1, 3):
@@ -61,58 +62,58 @@ class ExpressionRules(BuilderBase):
             return ex.Integral(args[0], lower, upper, span=span)
         return ex.Call(func, args, span=span)
 
-    def index_expr(self, meta: Any, c: list[Any]) -> ex.Index:
-        return ex.Index(c[0], tuple(c[1:]), span=self._span(meta))
+    def index_expr(self, pos: Pos, c: list[Any]) -> ex.Index:
+        return ex.Index(c[0], tuple(c[1:]), span=self._span(pos))
 
-    def member(self, meta: Any, c: list[Any]) -> ex.Member:
-        return ex.Member(c[0], name_of(c[1]), span=self._span(meta))
+    def member(self, pos: Pos, c: list[Any]) -> ex.Member:
+        return ex.Member(c[0], name_of(c[1]), span=self._span(pos))
 
-    def number(self, meta: Any, c: list[Token]) -> ex.Num:
-        return ex.Num(str(c[0]), span=self._span(meta))
+    def number(self, pos: Pos, c: list[Token]) -> ex.Num:
+        return ex.Num(str(c[0]), span=self._span(pos))
 
-    def quantity(self, meta: Any, c: list[Any]) -> ex.Quantity:
+    def quantity(self, pos: Pos, c: list[Any]) -> ex.Quantity:
         value, unit = c
-        span = self._span(meta)
+        span = self._span(pos)
         if isinstance(value, Token):
             value = ex.Num(str(value), span=self._tok_span(value))
         return ex.Quantity(value, str(unit), span=span)
 
-    def platform_ref(self, meta: Any, c: list[Any]) -> ex.PlatformRef:
+    def platform_ref(self, pos: Pos, c: list[Any]) -> ex.PlatformRef:
         return ex.PlatformRef(c[0].parts, name_of(c[1]) if c[1] is not None else None,
-                              span=self._span(meta))
+                              span=self._span(pos))
 
-    def string(self, meta: Any, c: list[Token]) -> ex.Str:
-        return ex.Str(unescape(str(c[0])), span=self._span(meta))
+    def string(self, pos: Pos, c: list[Token]) -> ex.Str:
+        return ex.Str(unescape(str(c[0])), span=self._span(pos))
 
-    def true_lit(self, meta: Any, c: list[Any]) -> ex.Bool:
-        return ex.Bool(True, span=self._span(meta))
+    def true_lit(self, pos: Pos, c: list[Any]) -> ex.Bool:
+        return ex.Bool(True, span=self._span(pos))
 
-    def false_lit(self, meta: Any, c: list[Any]) -> ex.Bool:
-        return ex.Bool(False, span=self._span(meta))
+    def false_lit(self, pos: Pos, c: list[Any]) -> ex.Bool:
+        return ex.Bool(False, span=self._span(pos))
 
-    def name_ref(self, meta: Any, c: list[QN]) -> ex.Name:
-        return ex.Name(c[0].parts, span=self._span(meta))
+    def name_ref(self, pos: Pos, c: list[QN]) -> ex.Name:
+        return ex.Name(c[0].parts, span=self._span(pos))
 
-    def field_value(self, meta: Any, c: list[Any]) -> tuple[str, ex.Expr]:
+    def field_value(self, pos: Pos, c: list[Any]) -> tuple[str, ex.Expr]:
         return (name_of(c[0]), c[1])
 
-    def record_lit(self, meta: Any, c: list[Any]) -> ex.Record:
-        return ex.Record(c[0].parts, tuple(c[1:]), span=self._span(meta))
+    def record_lit(self, pos: Pos, c: list[Any]) -> ex.Record:
+        return ex.Record(c[0].parts, tuple(c[1:]), span=self._span(pos))
 
-    def row(self, meta: Any, c: list[Any]) -> tuple[ex.Expr, ...]:
+    def row(self, pos: Pos, c: list[Any]) -> tuple[ex.Expr, ...]:
         return tuple(c)
 
-    def tuple_lit(self, meta: Any, c: list[Any]) -> ex.Vector:
-        return ex.Vector(tuple(c), span=self._span(meta))
+    def tuple_lit(self, pos: Pos, c: list[Any]) -> ex.Vector:
+        return ex.Vector(tuple(c), span=self._span(pos))
 
-    def matrix_lit(self, meta: Any, c: list[Any]) -> ex.Matrix:
-        return ex.Matrix(tuple(c), span=self._span(meta))
+    def matrix_lit(self, pos: Pos, c: list[Any]) -> ex.Matrix:
+        return ex.Matrix(tuple(c), span=self._span(pos))
 
-    def seq_lit(self, meta: Any, c: list[Any]) -> ex.Seq:
-        return ex.Seq(tuple(x for x in c if x is not None), span=self._span(meta))
+    def seq_lit(self, pos: Pos, c: list[Any]) -> ex.Seq:
+        return ex.Seq(tuple(x for x in c if x is not None), span=self._span(pos))
 
-    def if_expr(self, meta: Any, c: list[Any]) -> ex.IfExpr:
-        return ex.IfExpr(c[0], c[1], c[2], span=self._span(meta))
+    def if_expr(self, pos: Pos, c: list[Any]) -> ex.IfExpr:
+        return ex.IfExpr(c[0], c[1], c[2], span=self._span(pos))
 
 
 # Binding powers, loosest first; right-associative operators parse their right side at their

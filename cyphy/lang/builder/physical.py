@@ -11,6 +11,7 @@ from cyphy import expr as ex
 from cyphy.diagnostics import Diagnostic, did_you_mean
 from cyphy.lang import ast
 from cyphy.lang.builder.base import BuilderBase, Tagged, name_of, unescape
+from cyphy.lang.reductions import Pos
 
 POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
 
@@ -18,76 +19,76 @@ POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
 class PModelRules(BuilderBase):
     """Methods of the p-model rules."""
 
-    def pmodel(self, meta: Any, c: list[Any]) -> ast.PModel:
-        return ast.PModel(name_of(c[0]), self._flat(c[1:]), False, span=self._span(meta))
+    def pmodel(self, pos: Pos, c: list[Any]) -> ast.PModel:
+        return ast.PModel(name_of(c[0]), self._flat(c[1:]), False, span=self._span(pos))
 
-    def fragment(self, meta: Any, c: list[Any]) -> ast.PModel:
-        return ast.PModel(name_of(c[0]), self._flat(c[1:]), True, span=self._span(meta))
+    def fragment(self, pos: Pos, c: list[Any]) -> ast.PModel:
+        return ast.PModel(name_of(c[0]), self._flat(c[1:]), True, span=self._span(pos))
 
-    def block_kind(self, meta: Any, c: list[Token]) -> ast.BlockKind:
+    def block_kind(self, pos: Pos, c: list[Token]) -> ast.BlockKind:
         return ast.BlockKind(str(c[0]))
 
-    def ref_kind(self, meta: Any, c: list[Token]) -> ast.BlockKind:
+    def ref_kind(self, pos: Pos, c: list[Token]) -> ast.BlockKind:
         return ast.REF_KINDS[str(c[0])]
 
-    def definition(self, meta: Any, c: list[Any]) -> ast.Definition:
-        return ast.Definition(c[0], name_of(c[1]), self._flat(c[2:]), span=self._span(meta))
+    def definition(self, pos: Pos, c: list[Any]) -> ast.Definition:
+        return ast.Definition(c[0], name_of(c[1]), self._flat(c[2:]), span=self._span(pos))
 
-    def local_block(self, meta: Any, c: list[Any]) -> ast.Block:
-        return ast.Block(c[0], name_of(c[1]), None, self._flat(c[2:]), span=self._span(meta))
+    def local_block(self, pos: Pos, c: list[Any]) -> ast.Block:
+        return ast.Block(c[0], name_of(c[1]), None, self._flat(c[2:]), span=self._span(pos))
 
-    def ref_block(self, meta: Any, c: list[Any]) -> ast.Block:
+    def ref_block(self, pos: Pos, c: list[Any]) -> ast.Block:
         kind, name, target, *members = c
         return ast.Block(kind, name_of(name), target.parts, self._flat(members),
-                         span=self._span(meta))
+                         span=self._span(pos))
 
-    def def_block(self, meta: Any, c: list[Any]) -> ast.DefBlock:
-        return ast.DefBlock(self._flat(c), span=self._span(meta))
+    def def_block(self, pos: Pos, c: list[Any]) -> ast.DefBlock:
+        return ast.DefBlock(self._flat(c), span=self._span(pos))
 
-    def equation(self, meta: Any, c: list[Any]) -> ast.Equation:
-        return ast.Equation(c[0], span=self._span(meta))
+    def equation(self, pos: Pos, c: list[Any]) -> ast.Equation:
+        return ast.Equation(c[0], span=self._span(pos))
 
-    def constraint(self, meta: Any, c: list[Any]) -> ast.Constraint:
-        return ast.Constraint(c[0], span=self._span(meta))
+    def constraint(self, pos: Pos, c: list[Any]) -> ast.Constraint:
+        return ast.Constraint(c[0], span=self._span(pos))
 
-    def relation(self, meta: Any, c: list[Any]) -> ast.Relation:
-        return ast.Relation(c[0], span=self._span(meta))
+    def relation(self, pos: Pos, c: list[Any]) -> ast.Relation:
+        return ast.Relation(c[0], span=self._span(pos))
 
-    def relation_flexi(self, meta: Any, c: list[Any]) -> ast.Relation:
-        return ast.Relation(c[0], flexi=True, span=self._span(meta))
+    def relation_flexi(self, pos: Pos, c: list[Any]) -> ast.Relation:
+        return ast.Relation(c[0], flexi=True, span=self._span(pos))
 
-    def bare_relation(self, meta: Any, c: list[Any]) -> ast.Relation:
-        span = self._span(meta)
+    def bare_relation(self, pos: Pos, c: list[Any]) -> ast.Relation:
+        span = self._span(pos)
         return ast.Relation(ex.BinOp(c[1], c[0], c[2], span=span), bare=True, span=span)
 
-    def instantiation(self, meta: Any, c: list[Any]) -> ast.Instantiation:
-        return ast.Instantiation(name_of(c[0]), c[1], span=self._span(meta))
+    def instantiation(self, pos: Pos, c: list[Any]) -> ast.Instantiation:
+        return ast.Instantiation(name_of(c[0]), c[1], span=self._span(pos))
 
-    def fixed(self, meta: Any, c: list[Any]) -> ast.FixedConnection:
+    def fixed(self, pos: Pos, c: list[Any]) -> ast.FixedConnection:
         return ast.FixedConnection(name_of(c[0]), name_of(c[1]) if c[1] else None,
-                                   span=self._span(meta))
+                                   span=self._span(pos))
 
-    def flexible(self, meta: Any, c: list[Any]) -> ast.FlexibleConnection:
+    def flexible(self, pos: Pos, c: list[Any]) -> ast.FlexibleConnection:
         return ast.FlexibleConnection(name_of(c[0]), name_of(c[1]) if c[1] else None,
-                                      span=self._span(meta))
+                                      span=self._span(pos))
 
-    def part(self, meta: Any, c: list[Any]) -> ast.Part:
+    def part(self, pos: Pos, c: list[Any]) -> ast.Part:
         name, target, *members = c
-        return ast.Part(name_of(name), target.parts, self._flat(members), span=self._span(meta))
+        return ast.Part(name_of(name), target.parts, self._flat(members), span=self._span(pos))
 
-    def part_fixed(self, meta: Any, c: list[Any]) -> ast.PartFixed:
+    def part_fixed(self, pos: Pos, c: list[Any]) -> ast.PartFixed:
         return ast.PartFixed(name_of(c[0]), name_of(c[1]), name_of(c[2]) if c[2] else None,
-                             span=self._span(meta))
+                             span=self._span(pos))
 
-    def part_flexible(self, meta: Any, c: list[Any]) -> ast.PartFlexible:
+    def part_flexible(self, pos: Pos, c: list[Any]) -> ast.PartFlexible:
         return ast.PartFlexible(name_of(c[0]), name_of(c[1]), name_of(c[2]) if c[2] else None,
-                                span=self._span(meta))
+                                span=self._span(pos))
 
-    def pose(self, meta: Any, c: list[Any]) -> ast.Pose:
-        return ast.Pose(tuple(c), span=self._span(meta))
+    def pose(self, pos: Pos, c: list[Any]) -> ast.Pose:
+        return ast.Pose(tuple(c), span=self._span(pos))
 
-    def pose_field(self, meta: Any, c: list[Any]) -> ast.PoseField:
-        key, span = name_of(c[0]), self._span(meta)
+    def pose_field(self, pos: Pos, c: list[Any]) -> ast.PoseField:
+        key, span = name_of(c[0]), self._span(pos)
         if key not in POSE_KEYS:
             self.diagnostics.append(Diagnostic(
                 codes.MEMBER, f"a pose has no field '{key}'", self._tok_span(c[0]),
@@ -95,33 +96,33 @@ class PModelRules(BuilderBase):
                 + "the fields are " + ", ".join(POSE_KEYS)))
         return ast.PoseField(key, c[1], span=span)
 
-    def index(self, meta: Any, c: list[Any]) -> ast.IndexDecl:
-        return ast.IndexDecl(name_of(c[0]), c[1], c[2], c[3], span=self._span(meta))
+    def index(self, pos: Pos, c: list[Any]) -> ast.IndexDecl:
+        return ast.IndexDecl(name_of(c[0]), c[1], c[2], c[3], span=self._span(pos))
 
-    def half_open(self, meta: Any, c: list[Any]) -> bool:
+    def half_open(self, pos: Pos, c: list[Any]) -> bool:
         return False
 
-    def closed(self, meta: Any, c: list[Any]) -> bool:
+    def closed(self, pos: Pos, c: list[Any]) -> bool:
         return True
 
     # ----- body properties
-    def shape_kind(self, meta: Any, c: list[Token]) -> str:
+    def shape_kind(self, pos: Pos, c: list[Token]) -> str:
         return str(c[0])
 
-    def shape(self, meta: Any, c: list[Any]) -> ast.Shape:
-        return ast.Shape(c[0], self._flat(c[1:]), span=self._span(meta))
+    def shape(self, pos: Pos, c: list[Any]) -> ast.Shape:
+        return ast.Shape(c[0], self._flat(c[1:]), span=self._span(pos))
 
-    def geom_arg(self, meta: Any, c: list[Any]) -> ast.GeomArg:
-        return ast.GeomArg(name_of(c[0]), c[1], span=self._span(meta))
+    def geom_arg(self, pos: Pos, c: list[Any]) -> ast.GeomArg:
+        return ast.GeomArg(name_of(c[0]), c[1], span=self._span(pos))
 
-    def mesh_shape(self, meta: Any, c: list[Token]) -> Tagged:
-        return Tagged("shape", unescape(str(c[0])), self._span(meta))
+    def mesh_shape(self, pos: Pos, c: list[Token]) -> Tagged:
+        return Tagged("shape", unescape(str(c[0])), self._span(pos))
 
-    def mesh_scaling(self, meta: Any, c: list[Any]) -> Tagged:
-        return Tagged("scaling", c[0], self._span(meta))
+    def mesh_scaling(self, pos: Pos, c: list[Any]) -> Tagged:
+        return Tagged("scaling", c[0], self._span(pos))
 
-    def mesh(self, meta: Any, c: list[Tagged]) -> ast.Mesh:
-        span = self._span(meta)
+    def mesh(self, pos: Pos, c: list[Tagged]) -> ast.Mesh:
+        span = self._span(pos)
         values: dict[str, Any] = {}
         for t in c:
             if t.tag in values:
@@ -129,16 +130,16 @@ class PModelRules(BuilderBase):
             values.setdefault(t.tag, t.value)
         return ast.Mesh(values.get("shape"), values.get("scaling"), span=span)
 
-    def mass(self, meta: Any, c: list[Any]) -> Tagged:
-        return Tagged("mass", c[0], self._span(meta))
+    def mass(self, pos: Pos, c: list[Any]) -> Tagged:
+        return Tagged("mass", c[0], self._span(pos))
 
-    def inertia_matrix(self, meta: Any, c: list[Any]) -> Tagged:
-        return Tagged("inertia", tuple(c), self._span(meta))
+    def inertia_matrix(self, pos: Pos, c: list[Any]) -> Tagged:
+        return Tagged("inertia", tuple(c), self._span(pos))
 
-    def inertia_entry(self, meta: Any, c: list[Any]) -> ast.InertiaEntry:
-        return ast.InertiaEntry(name_of(c[0]), c[1], span=self._span(meta))
+    def inertia_entry(self, pos: Pos, c: list[Any]) -> ast.InertiaEntry:
+        return ast.InertiaEntry(name_of(c[0]), c[1], span=self._span(pos))
 
-    def inertial(self, meta: Any, c: list[Any]) -> ast.Inertial:
+    def inertial(self, pos: Pos, c: list[Any]) -> ast.Inertial:
         values: dict[str, Any] = {}
         order = []
         for item in c:
@@ -149,40 +150,40 @@ class PModelRules(BuilderBase):
             values.setdefault(tag, value)
             order.append(tag)
         return ast.Inertial(values.get("mass"), values.get("inertia"), values.get("pose"),
-                            tuple(order), span=self._span(meta))
+                            tuple(order), span=self._span(pos))
 
-    def restitution(self, meta: Any, c: list[Any]) -> Tagged:
-        return Tagged("restitution", c[0], self._span(meta))
+    def restitution(self, pos: Pos, c: list[Any]) -> Tagged:
+        return Tagged("restitution", c[0], self._span(pos))
 
-    def threshold(self, meta: Any, c: list[Any]) -> Tagged:
-        return Tagged("threshold", c[0], self._span(meta))
+    def threshold(self, pos: Pos, c: list[Any]) -> Tagged:
+        return Tagged("threshold", c[0], self._span(pos))
 
-    def bounce(self, meta: Any, c: list[Tagged]) -> ast.Bounce:
+    def bounce(self, pos: Pos, c: list[Tagged]) -> ast.Bounce:
         values = {t.tag: t.value for t in c}
         return ast.Bounce(values.get("restitution"), values.get("threshold"),
-                          span=self._span(meta))
+                          span=self._span(pos))
 
-    def friction_entry(self, meta: Any, c: list[Any]) -> ast.FrictionEntry:
-        return ast.FrictionEntry(name_of(c[0]), c[1], span=self._span(meta))
+    def friction_entry(self, pos: Pos, c: list[Any]) -> ast.FrictionEntry:
+        return ast.FrictionEntry(name_of(c[0]), c[1], span=self._span(pos))
 
-    def friction(self, meta: Any, c: list[Any]) -> ast.Friction:
-        return ast.Friction(tuple(c), span=self._span(meta))
+    def friction(self, pos: Pos, c: list[Any]) -> ast.Friction:
+        return ast.Friction(tuple(c), span=self._span(pos))
 
-    def laser_retro(self, meta: Any, c: list[Any]) -> ast.LaserRetro:
-        return ast.LaserRetro(c[0], span=self._span(meta))
+    def laser_retro(self, pos: Pos, c: list[Any]) -> ast.LaserRetro:
+        return ast.LaserRetro(c[0], span=self._span(pos))
 
     # ----- solutions
-    def solution(self, meta: Any, c: list[Any]) -> ast.Solution:
+    def solution(self, pos: Pos, c: list[Any]) -> ast.Solution:
         name, type_, order, group, method, *rest = c
         return ast.Solution(
             name_of(name), type_, int(str(order).split(".")[0]), int(str(group).split(".")[0]),
             name_of(method),
             tuple(x for x in rest if isinstance(x, ast.SolutionInput)),
             tuple(x for x in rest if isinstance(x, ast.Constraint)),
-            span=self._span(meta),
+            span=self._span(pos),
         )
 
-    def solution_input(self, meta: Any, c: list[Any]) -> ast.SolutionInput:
-        return ast.SolutionInput(name_of(c[0]), c[1], span=self._span(meta))
+    def solution_input(self, pos: Pos, c: list[Any]) -> ast.SolutionInput:
+        return ast.SolutionInput(name_of(c[0]), c[1], span=self._span(pos))
 
     # ----- mappings

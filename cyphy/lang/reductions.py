@@ -1,0 +1,150 @@
+"""The syntax tree built while Lark's LALR parser reduces, instead of from a Lark tree afterwards.
+
+Building Lark's ``Tree`` objects, propagating their positions and walking them again with the
+builder took more than half of a long file's parse (a 1,000-link model, the collector paused as
+in a command: 2.6-3.6 s of CPU, of which Lark's lexer and LALR loop alone took 1.1 s; built
+here, 2.0 s). Lark's ``transformer=`` would skip the trees but loses the positions: its rule
+callbacks see only the kept children (no keywords, no braces), and positions are only
+propagated onto ``Tree`` results. So each grammar rule gets a callback of its own here, which
+receives the reduced symbols as they are on the parser's stack, does what Lark's tree builder
+(``maybe_placeholders``, ``?rule``, ``_rule`` inlining, ``propagate_positions``) would have
+done with them, and calls the builder's method at once:
+
+* every value on the stack is a lexer ``Token`` or a pair ``(value, position)``, ``position``
+  being ``(line, column, end_line, end_column)`` or None for a rule that matched no text;
+* a rule's position runs from the first positioned symbol it reduced to the last one,
+  keywords and punctuation included (Lark's *container* position);
+* anonymous tokens are dropped unless the rule keeps them (``!rule``), ``[x]`` leaves a None
+  where ``x`` is absent, and an inlined ``_rule`` puts its children in its parent's place;
+* a ``?rule`` with one child is that child, its position widened to what the rule reduced
+  (``(x)`` makes ``x``'s parent start at the parenthesis, while ``x`` keeps its own span).
+
+One divergence from Lark's trees cannot arise with this grammar: Lark fills in the position
+of an *empty* rule that a ``?rule`` passes through from the surrounding symbols, after the
+fact; here the empty rule's node is already built. No ``?rule`` of ``robosim.lark`` passes a
+rule that can match nothing (``tests/test_parse_constructs.py`` checks the grammar for it).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, Iterable
+
+from lark import Lark, Token
+
+#: ``(line, column, end_line, end_column)`` of a rule's text, or None when it matched nothing.
+Pos = tuple[int, int, int, int] | None
+Callback = Callable[[list[Any]], Any]
+
+
+@dataclass(frozen=True, slots=True)
+class Shape:
+    """What one grammar rule (one alternative) keeps of the symbols it reduces."""
+
+    method: str | None  # the builder's method, or None for an inlined ``_rule``
+    include: tuple[tuple[int, bool, int], ...]  # (symbol index, splice it?, Nones before it)
+    nones_after: int
+    expand1: bool
+    size: int  # symbols reduced
+
+
+def shapes(parser: Lark) -> dict[Any, Shape]:
+    """The shape of every rule of ``parser``, keyed by Lark's rule objects."""
+    placeholders = parser.options.maybe_placeholders
+    out: dict[Any, Shape] = {}
+    for rule in parser.rules:
+        options = rule.options
+        empty = options.empty_indices if placeholders else ()
+        if empty:  # Nones to insert before each kept symbol and after the last
+            runs = [len(ones) for ones in "".join(str(int(b)) for b in empty).split("0")]
+        else:
+            runs = [0] * (len(rule.expansion) + 1)
+        include = []
+        pending = 0
+        for i, sym in enumerate(rule.expansion):
+            pending += runs[i]
+            if options.keep_all_tokens or not (sym.is_term and sym.filter_out):
+                include.append((i, not sym.is_term and sym.name.startswith("_"), pending))
+                pending = 0
+        name = rule.alias or options.template_source or rule.origin.name
+        inlined = name.startswith("_")
+        out[rule] = Shape(None if inlined else name, tuple(include), pending + runs[-1],
+                           bool(options.expand1 and not rule.alias and not inlined),
+                           len(rule.expansion))
+    return out
+
+
+def callbacks(rule_shapes: dict[Any, Shape], builder: object) -> dict[Any, Callback]:
+    """One callback per rule, calling ``builder``'s methods (``method(pos, children)``). A
+    ``?rule`` alternative with a single child needs no method (it never makes a node)."""
+    return {rule: _callback(shape, _method(builder, shape)) for rule, shape in rule_shapes.items()}
+
+
+def _method(builder: object, shape: Shape) -> Callable[[Pos, list[Any]], Any] | None:
+    if shape.method is None:
+        return None
+    children = sum(1 + nones for _, _, nones in shape.include) + shape.nones_after
+    if shape.expand1 and children == 1 and not any(splice for _, splice, _ in shape.include):
+        return getattr(builder, shape.method, None)
+    return getattr(builder, shape.method)  # a rule without its method is a builder bug
+
+
+def _callback(shape: Shape, method: Callable[[Pos, list[Any]], Any] | None) -> Callback:
+    include, nones_after, expand1 = shape.include, shape.nones_after, shape.expand1
+    if expand1 and include == ((0, False, 0),) and not nones_after and shape.size == 1:
+        return _first  # `?postfix: atom`: the child, its position unchanged
+
+    simple = nones_after == 0 and all(not splice and not nones for _, splice, nones in include)
+    indices = tuple(i for i, _, _ in include)
+
+    def reduce(symbols: list[Any]) -> Any:
+        pos = _position(symbols)
+        if simple:
+            children = [s if type(s) is not tuple else s[0]
+                        for s in (symbols[i] for i in indices)]
+        else:
+            children = []
+            for i, splice, nones in include:
+                if nones:
+                    children += [None] * nones
+                s = symbols[i]
+                if not splice:
+                    children.append(s if type(s) is not tuple else s[0])
+                elif children:
+                    children += s[0]
+                else:  # a list grown one member at a time (`_member*`) is extended in place,
+                    children = s[0]  # not copied: each reduced value has one consumer
+            if nones_after:
+                children += [None] * nones_after
+        if expand1 and len(children) == 1:
+            only = children[0]
+            # A lone token is passed on as it is (Lark does not move a token's position).
+            return only if isinstance(only, Token) else (only, pos)
+        if method is None:
+            return (children, pos)
+        return (method(pos, children), pos)
+
+    return reduce
+
+
+def _first(symbols: list[Any]) -> Any:
+    return symbols[0]
+
+
+def _position(symbols: list[Any]) -> Pos:
+    """From the first positioned symbol's start to the last one's end."""
+    start = _first_position(symbols)
+    if start is None:
+        return None
+    end = _first_position(reversed(symbols))
+    assert end is not None
+    return (start[0], start[1], end[2], end[3])
+
+
+def _first_position(symbols: Iterable[Any]) -> Pos:
+    for s in symbols:
+        if type(s) is not tuple:
+            return (s.line, s.column, s.end_line, s.end_column)  # a token
+        if s[1] is not None:
+            return s[1]
+    return None
