@@ -33,11 +33,14 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable, Sequence, TypeVar
 
 from cyphy import expr as ex
 from cyphy.model.machines import Machine, expressions
 from cyphy.semantics.machines.cycle import Configuration, MachineError, MachineInterpreter, Output
+
+#: A key of :func:`explore`: a configuration, or a tuple of modes.
+K = TypeVar("K")
 
 MAX_CONFIGURATIONS = 5000
 MAX_EVENTS = 8
@@ -106,30 +109,44 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
                            "automaton first samples them at the end of the first cycle",
                            m.decl.span, "let the first cycle end (exec) before reading events")
     start = first.pop()
-    index: dict[tuple[Configuration, tuple[Output, ...]], int] = {start: 0}
+
+    def too_many() -> MachineError:
+        return MachineError(
+            f"{m.name} has more than {MAX_CONFIGURATIONS} configurations: its "
+            "variables take too many values to be compiled", m.decl.span,
+            "let its variables take fewer values: reach, simulate and the "
+            "theory's D all run the compiled automaton")
+
+    keys, successors = explore(start, combos, lambda key, combo: step(key[0], combo),
+                               MAX_CONFIGURATIONS, too_many)
+    calls = _held_calls([outputs for _, outputs in keys], successors)
+    blocks = minimise(calls, successors)
+    return _automaton(events, combos, keys, calls, successors, blocks)
+
+
+def explore(start: K, combos: Sequence[tuple[bool, ...]],
+            step: Callable[[K, tuple[bool, ...]], K], limit: int,
+            too_many: Callable[[], MachineError]) -> tuple[list[K], list[list[int]]]:
+    """Every key reachable from ``start`` (breadth first, in the order found: the modes'
+    numbering, so the output is deterministic) and, for each, the index of its successor
+    under each input combination; ``too_many()`` is raised past ``limit`` keys."""
+    index = {start: 0}
     keys = [start]
     successors: list[list[int]] = []
     k = 0
     while k < len(keys):
-        config, _ = keys[k]
         row = []
         for combo in combos:
-            nxt = step(config, combo)
+            nxt = step(keys[k], combo)
             if nxt not in index:
-                if len(keys) >= MAX_CONFIGURATIONS:
-                    raise MachineError(
-                        f"{m.name} has more than {MAX_CONFIGURATIONS} configurations: its "
-                        "variables take too many values to be compiled", m.decl.span,
-                        "let its variables take fewer values: reach, simulate and the "
-                        "theory's D all run the compiled automaton")
+                if len(keys) >= limit:
+                    raise too_many()
                 index[nxt] = len(keys)
                 keys.append(nxt)
             row.append(index[nxt])
         successors.append(row)
         k += 1
-    calls = _held_calls([outputs for _, outputs in keys], successors)
-    blocks = minimise(calls, successors)
-    return _automaton(events, combos, keys, calls, successors, blocks)
+    return keys, successors
 
 
 def _held_calls(outputs: list[tuple[Output, ...]], successors: list[list[int]]

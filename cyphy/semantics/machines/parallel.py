@@ -18,7 +18,7 @@ from typing import Mapping, Sequence
 
 from cyphy.diagnostics import Span
 from cyphy.semantics.machines.automaton import MAX_EVENTS, Automaton, assemble, \
-    compile_machine, minimise
+    compile_machine, explore, minimise
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter, Output
 
 #: Product modes explored before the composition is called too large.
@@ -95,24 +95,16 @@ def product(automata: Sequence[Automaton], span: Span) -> Automaton:
         return mode
 
     start = tuple(a.initial for a in automata)
-    index = {start: 0}
-    keys = [start]
-    successors: list[list[int]] = []
-    k = 0
-    while k < len(keys):
-        row = []
-        for combo in combos:
-            nxt = tuple(move(a, m, combo) for a, m in zip(automata, keys[k]))
-            if nxt not in index:
-                if len(keys) >= MAX_PRODUCT_MODES:
-                    raise MachineError(f"the module's machines together have more than "
-                                       f"{MAX_PRODUCT_MODES} modes", span,
-                                       "choose one machine with --machine")
-                index[nxt] = len(keys)
-                keys.append(nxt)
-            row.append(index[nxt])
-        successors.append(row)
-        k += 1
+
+    def too_many() -> MachineError:
+        return MachineError(f"the module's machines together have more than "
+                            f"{MAX_PRODUCT_MODES} modes", span,
+                            "choose one machine with --machine")
+
+    keys, successors = explore(
+        start, combos, lambda key, combo: tuple(move(a, m, combo)
+                                                for a, m in zip(automata, key)),
+        MAX_PRODUCT_MODES, too_many)
     calls = [tuple(c for m, table in zip(key, modes) for c in table[m].calls) for key in keys]
     blocks = minimise(calls, successors)
     nodes = ["|".join(table[m].node for m, table in zip(key, modes)) for key in keys]
