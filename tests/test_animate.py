@@ -272,6 +272,7 @@ def test_the_animator_reads_the_theory_not_the_model() -> None:
     folder = Path(__file__).resolve().parent.parent / "cyphy" / "verify" / "animate"
     allowed = ("cyphy.verify.animate", "cyphy.verify.theory", "cyphy.diagnostics",
                "cyphy.backends.plotting", "cyphy.limits",  # limits: the memory budget
+               "cyphy.constant_keys",  # how a [consts] key names a constant
                "cyphy.verify.flowstar.scenario")  # --scenario's TOML reader: values only
     used = set()
     for path in folder.glob("*.py"):

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from cyphy import codes
 from cyphy import expr as ex
+from cyphy.constant_keys import names_constant
 from cyphy.diagnostics import Report, Span
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
@@ -323,10 +324,8 @@ class Context:
 
 
 def _names(key: str, qualified: str, definition: str, name: str) -> bool:
-    """Whether a ``--const`` key names the constant: its instance-qualified or definition
-    name, a ``::`` suffix of either, or its bare name."""
-    return key == name or any(full == key or full.endswith("::" + key)
-                              for full in (qualified, definition))
+    """Whether a ``--const`` key names the constant (:func:`cyphy.constant_keys.names_constant`)."""
+    return names_constant(key, name, qualified, definition)
 
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from cyphy.constant_keys import names_constant
 from cyphy.diagnostics import Report
 from cyphy.verify.animate.errors import AnimateError
 
@@ -57,8 +58,8 @@ def _targets(key: str, names: list[tuple[str, str, str]]) -> list[str]:
     if exact:
         return exact
     return sorted({ident for qualified, ident, definition in names
-                   if any(full == key or full.endswith("::" + key)
-                          for full in (qualified, definition) if full)})
+                   if names_constant(key, qualified.rsplit("::", 1)[-1], qualified,
+                                     definition)})
 
 
 def _start(lo_hi: tuple[float, float]) -> float:
