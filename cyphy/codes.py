@@ -25,8 +25,8 @@ E, W = Severity.ERROR, Severity.WARNING
 OPTION = code("E-OPTION", E, "a command-line value does not fit the model")
 CONST_REPLACED = code("W-CONST-REPLACED", W, "a given constant value (--const, --consts, a "
                       "scenario's [consts]) replaces a different declared value")
-CONST_INSTANTIATED = code("W-CONST-INSTANTIATED", W, "a given constant value changes nothing: "
-                          "every constant it names is set by an instantiation, which wins")
+CONST_INSTANTIATED = code("W-CONST-INSTANTIATED", W, "a given constant value does not reach "
+                          "a constant that an instantiation sets (the instantiation wins)")
 
 # Reading files.
 IO = code("E-IO", E, "a file or folder cannot be read")

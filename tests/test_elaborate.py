@@ -267,8 +267,7 @@ def test_given_value_an_instantiation_overrides_is_a_warning(tmp_path: Path) -> 
     ignored = elaborate(tmp_path, {"n.rsm": NESTED}, model="Top", consts={"H": 10.0})
     found = [d for d in ignored.report.diagnostics if d.code.id == "W-CONST-INSTANTIATED"]
     assert [(d.span.line, d.span.column) for d in found] == [(7, 95)]  # at 3*K
-    assert "H changes nothing: 'Top::mid::low::H' is set by an instantiation" in \
-        found[0].message
+    assert "H does not reach 'Top::mid::low::H': an instantiation sets it" in found[0].message
     assert ignored.model is not None
     assert ignored.model.element("Top::mid::low::Tip").pose.position[2] == 6.0
     applied = elaborate(tmp_path, {"n.rsm": NESTED}, model="Top", consts={"K": 5})
@@ -276,6 +275,15 @@ def test_given_value_an_instantiation_overrides_is_a_warning(tmp_path: Path) -> 
     same = elaborate(tmp_path, {"n.rsm": NESTED}, model="Top", consts={"H": 6})
     assert not [d for d in [*applied.report.diagnostics, *same.report.diagnostics]
                 if d.code.id == "W-CONST-INSTANTIATED"]
+    # H given while one part instantiates it and another does not: the second takes it, the
+    # first keeps 3*K, and the warning says which one the value did not reach
+    both = NESTED.replace("pmodel Top {", "pmodel Top {\n  part bare = Bottom { }")
+    partly = elaborate(tmp_path, {"n.rsm": both}, model="Top", consts={"H": 10.0})
+    (warning,) = [d for d in partly.report.diagnostics if d.code.id == "W-CONST-INSTANTIATED"]
+    assert "does not reach 'Top::mid::low::H' (it sets the others it names)" in \
+        warning.message
+    assert partly.model.element("Top::bare::Tip").pose.position[2] == 10.0
+    assert partly.model.element("Top::mid::low::Tip").pose.position[2] == 6.0
 
 
 REPLACED = """pmodel M {

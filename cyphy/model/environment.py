@@ -220,22 +220,24 @@ class Context:
                 self.instantiated.setdefault(key, []).append(b)
 
     def report_instantiated(self) -> None:
-        """W-CONST-INSTANTIATED for each ``--const``/``--consts``/``[consts]`` key that set no
-        constant because every constant it names is instantiated: without it, ``--const
-        Kp=100`` on a motor that instantiates ``Kp = 2.0`` ran with 2.0 and said nothing."""
+        """W-CONST-INSTANTIATED for each ``--const``/``--consts``/``[consts]`` key that names
+        constants an instantiation sets to another value: the key does not reach them, even
+        where it sets other constants. Without it, ``--const Kp=100`` on a motor that
+        instantiates ``Kp = 2.0`` ran with 2.0 and said nothing."""
         for key, bindings in sorted(self.instantiated.items()):
             given = self.consts[key]
             bindings = [b for b in bindings if b.value is None or not same_value(b.value, given)]
-            if key in self.used_consts or not bindings:
-                continue  # applied elsewhere, or the instantiations give that very value
+            if not bindings:
+                continue  # the instantiations give that very value
             first = bindings[0]
             span = first.expr.span if first.expr is not None and \
                 first.expr.span.line else first.decl.span
             more = f" and {len(bindings) - 1} more" if len(bindings) > 1 else ""
+            elsewhere = " (it sets the others it names)" if key in self.used_consts else ""
             self.report.report(codes.CONST_INSTANTIATED,
-                               f"the given value of {key} changes nothing: "
-                               f"'{first.qualified}'{more} is set by an instantiation, which "
-                               "wins over --const, --consts and a scenario's [consts]", span,
+                               f"the given value of {key} does not reach '{first.qualified}'"
+                               f"{more}{elsewhere}: an instantiation sets it, and wins over "
+                               "--const, --consts and a scenario's [consts]", span,
                                "change the instantiation in the model to change the value")
 
     def _user_value(self, b: Binding) -> Value | None:
