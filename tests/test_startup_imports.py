@@ -5,6 +5,7 @@ start-up budget; ``benchmarks/bench_startup.py`` measures the whole processes)."
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -92,3 +93,26 @@ print(json.dumps({n: isinstance(getattr(api, n), types.ModuleType) for n in api.
     is_module = json.loads(done.stdout.strip().splitlines()[-1])
     assert {"check", "semantics", "simulate", "solve", "view", "check_theory"} <= set(is_module)
     assert not any(is_module.values()), sorted(n for n, m in is_module.items() if m)
+
+
+_ENV_PROBE = """
+import os, sys
+import cyphy.cli
+cyphy.cli.main = lambda: print(os.environ.get("OPENBLAS_NUM_THREADS")) or 0
+cyphy.cli.run()
+"""
+
+
+@pytest.mark.parametrize("given, expected", [(None, "1"), ("3", "3")])
+def test_the_command_keeps_openblas_to_one_thread_unless_told(given: str | None,
+                                                              expected: str) -> None:
+    """OpenBLAS's spinning threads cost every NumPy-importing command a tenth of a second of
+    processor time; the ``cyphy`` process asks for one thread before anything imports NumPy,
+    and a user's own setting wins."""
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    if given is not None:
+        env["OPENBLAS_NUM_THREADS"] = given
+    env["PYTHONPATH"] = str(ROOT)
+    out = subprocess.run([sys.executable, "-c", _ENV_PROBE], env=env, capture_output=True,
+                         text=True, timeout=60, check=True)
+    assert out.stdout.strip() == expected

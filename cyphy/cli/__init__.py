@@ -63,7 +63,12 @@ def run() -> NoReturn:
     """The ``cyphy`` command: :func:`main`, then the exit without the interpreter's teardown.
     Freeing a large model object by object, and the final collection before it, take seconds
     on a 10,000-link model; everything has been written and closed by then, and the standard
-    streams are flushed here (mypy ends the same way)."""
+    streams are flushed here (mypy ends the same way).
+
+    NumPy's OpenBLAS starts a thread per core at import, and they spin: 0.1 s of processor
+    time on every command that imports NumPy, for matrices of 3x3 to a few hundred rows, which
+    one thread multiplies faster than several can share. A user's own setting wins."""
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     try:
         interrupts.raise_on_sigterm()
         progress.start()
