@@ -60,10 +60,11 @@ def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = Semant
                 pass
             return CheckResult(None, loaded, sources=sources), None  # type: ignore[arg-type]
         options = _with_scenario(options, scenario)
-    # The value checks concern geometry and inertia, which the semantics does not use.
+    # With the value checks (V1-V6): Evolve holds the equations of motion, built from the
+    # masses, inertias and axes; a theory of a robot with a negative mass is not the robot's.
     checked = check(paths, CheckOptions(search_paths=options.search_paths,
                                         consts=dict(options.consts),
-                                        neighbours_as_targets=True, value_checks=False,
+                                        neighbours_as_targets=True,
                                         find_in_folder="mapping"))
     if scenario is not None:
         checked.sources[scenario.path] = scenario.text

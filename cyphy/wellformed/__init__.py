@@ -19,5 +19,6 @@ from cyphy.wellformed import mappings  # noqa: E402,F401
 from cyphy.wellformed import values  # noqa: E402,F401
 from cyphy.wellformed import units  # noqa: E402,F401
 from cyphy.wellformed import machines  # noqa: E402,F401
+from cyphy.wellformed import machine_types  # noqa: E402,F401
 
 __all__ = ["RULES", "WFContext", "check_wellformed", "rule"]

@@ -22,7 +22,8 @@ from cyphy.lang import ast
 from cyphy.lang.notation import type_to_notation
 from cyphy.lang.resolve import steps_of
 from cyphy.wellformed.mapping_names import (
-    ACT_IN, ACT_OUT, CONST, DVAR, OTHER, PARAM, PREDICATE_READS, SENSOR_IN, SENSOR_OUT, TIME,
+    ACT_IN, ACT_OUT, CONST, DVAR, OPERATION, OTHER, PARAM, PREDICATE_READS, SENSOR_IN, SENSOR_OUT,
+    TIME, Access,
     UNKNOWN, Names, Ref, access_of, pmodel_of_part,
 )
 from cyphy.wellformed.platform_services import (
@@ -171,11 +172,29 @@ def check_PMap4_mapped_services_exist(ctx: WFContext) -> None:
             kind = kind_of(member)
             table = platform.of_kind(kind)
             if member.name in table:
+                if isinstance(member, ast.EventMapping):
+                    _check_event_direction(ctx, platform, member)
                 continue
             hint = _unknown_service_hint(platform, member.name, table, kind)
             ctx.error("PMap4", member,
                       f"robotic platform {pname} of d-model {platform.module.name} has no "
                       f"{kind} '{member.name}' for the mapping of {label_of(member)}", hint)
+
+
+def _check_event_direction(ctx: WFContext, platform: Platform,
+                           member: ast.EventMapping) -> None:
+    """An event the module's connections send from the platform to the software is an input
+    event (its mapping observes sensors); one they send to the platform is an output event
+    (its mapping drives actuators). Mapped the other way, the mapping means nothing."""
+    way = platform.direction(member.name)
+    if way is None or way == member.direction:
+        return
+    towards = "from the platform to the software" if way == "input" else \
+        "from the software to the platform"
+    ctx.error("PMap4", member,
+              f"the mapping of {label_of(member)} is for an {member.direction} event, but "
+              f"module {platform.module.name} connects {member.name} {towards}",
+              f"write '{way} event {member.name}'")
 
 
 def _unknown_service_hint(platform: Platform, name: str, table: dict[str, Service],
@@ -311,9 +330,11 @@ def _check_access(ctx: WFContext, site: Site, member: MemberMapping) -> None:
 
     both = access.reads | access.writes
     for eq in member.equations:
-        for ref in names.refs(eq.expr):
+        refs = list(names.refs(eq.expr))
+        for ref in refs:
             if ref.category not in both:
                 report(ref, "mentions", False)
+        _check_equation_writes(ctx, access, member, eq, refs)
     for action in member.actions:
         for s in action.statements:
             if isinstance(s, ast.Assign):
@@ -335,6 +356,29 @@ def _check_access(ctx: WFContext, site: Site, member: MemberMapping) -> None:
                 for ref in names.refs(s.call):
                     if ref.category not in access.reads:
                         report(ref, "reads", False)
+
+
+def _check_equation_writes(ctx: WFContext, access: Access, member: MemberMapping,
+                           eq: ast.Equation, refs: list[Ref]) -> None:
+    """An equation relates what the mapping writes to what it reads: one that mentions
+    nothing the mapping may write (``equation S.range == 2.0`` in an input event mapping)
+    constrains what it may only read, a sensor output or the software's parameter."""
+    if any(r.category in access.writes | {UNKNOWN} for r in refs):
+        return
+    read = next((r for r in refs if r.category not in _NOT_STATE), None)
+    if read is None and not refs:
+        return
+    what = f"{read.what} ({read.text})" if read is not None else "only constants"
+    ctx.error(access.rule, eq, f"an equation of the mapping of {label_of(member)} sets nothing "
+              f"the mapping may write: it constrains {what}; {access.summary}",
+              "relate it to a local ('var') or to what the mapping drives, or make it the "
+              "predicate" if isinstance(member, ast.EventMapping) and member.direction == "input"
+              else "relate it to an actuator input or a local ('var')")
+
+
+#: Names that are no state of the robot or the software: an equation over them alone is odd,
+#: but it is the constant's, not the mapping's, business (PMap7-PMap10 name the state).
+_NOT_STATE = frozenset({CONST, TIME, OPERATION, UNKNOWN})
 
 
 def _check_kind(ctx: WFContext, kind: str) -> None:
@@ -396,12 +440,18 @@ def check_PMap11_no_operation_calls(ctx: WFContext) -> None:
                 for statement in action.statements:
                     for e in ast.expressions_in(statement):
                         for node in e.walk():
-                            if not isinstance(node, ex.Call) or not isinstance(node.func, ex.Name):
+                            if not isinstance(node, ex.Call):
                                 continue
-                            origin = _called_operation(ctx, site, ops, node.func.parts)
+                            if isinstance(node.func, ex.PlatformRef):  # $op(…)
+                                parts = node.func.name
+                            elif isinstance(node.func, ex.Name):
+                                parts = node.func.parts
+                            else:
+                                continue
+                            origin = _called_operation(ctx, site, ops, parts)
                             if origin is None:
                                 continue
-                            name = node.func.parts[-1]
+                            name = parts[-1]
                             ctx.error("PMap11", node,
                                       f"an action of the mapping of {label_of(member)} calls "
                                       f"d-model operation {name} (of {origin})",

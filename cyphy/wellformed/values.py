@@ -23,6 +23,7 @@ from cyphy.model.environment import EVAL
 from cyphy.model.inertia import is_physical
 from cyphy.model.mesh_paths import outside_model_folder
 from cyphy.wellformed.registry import WFContext, rule
+from cyphy.wellformed.value_spans import axis_span, inertia_span, mass_span
 
 GEOMETRY_TOL = 1e-9
 
@@ -69,11 +70,11 @@ def check_V1_physical_inertia(ctx: WFContext) -> None:
     for m in _models(ctx):
         for element, inertial, what in _given_inertials(m):
             if inertial.mass <= 0:
-                ctx.error("V1", element, f"the mass of {what} {element.name} is "
-                          f"{inertial.mass:g}", "masses must be positive")
+                ctx.error("V1", mass_span(ctx, element), f"the mass of {what} "
+                          f"{element.name} is {inertial.mass:g}", "masses must be positive")
             elif any(inertial.inertia) and not is_physical(inertial.inertia):
-                ctx.error("V1", element, f"the inertia matrix of {what} {element.name} "
-                          f"({' '.join(f'{v:g}' for v in inertial.inertia)}) is not positive "
+                ctx.error("V1", inertia_span(ctx, element), f"the inertia matrix of {what} "
+                          f"{element.name} ({' '.join(f'{v:g}' for v in inertial.inertia)}) is not positive "
                           "definite or breaks a triangle inequality",
                           "check the entries: ixx + iyy >= izz, ixx + izz >= iyy, "
                           "iyy + izz >= ixx, all moments positive")
@@ -109,7 +110,9 @@ def check_V2_geometry(ctx: WFContext) -> None:
                 for name, value in body.size.items():
                     v = _number(value)
                     if v is not None and v < 0:
-                        ctx.error("V2", body, f"the {body.geometry.kind} of body {body.name} "
+                        arg = body.geometry.arg(name)
+                        where = arg.span if arg is not None else body.span
+                        ctx.error("V2", where, f"the {body.geometry.kind} of body {body.name} "
                                   f"has {name} = {v:g}", f"give the {body.geometry.kind} a "
                                   f"positive {name}")
                     elif v == 0:
@@ -195,7 +198,8 @@ def check_V4_axis_agreement(ctx: WFContext) -> None:
             if na < GEOMETRY_TOL or nx < GEOMETRY_TOL:
                 continue
             if not _allclose([a / na for a in axis], [x / nx for x in xyz]):
-                ctx.error("V4", joint, f"joint {joint.name}: AXIS {_fmt(axis)} and the "
+                ctx.error("V4", axis_span(ctx, joint, True), f"joint {joint.name}: AXIS "
+                          f"{_fmt(axis)} and the "
                           f"annotation's xyz {_fmt(xyz)} are different directions",
                           "make instantiation AXIS and annotation axis xyz agree")
 
@@ -214,7 +218,8 @@ def check_V6_nonzero_axis(ctx: WFContext) -> None:
                                 ("the annotation's xyz", _annotation_xyz(joint.annotation))):
                 v = _vector(value)
                 if v is not None and math.hypot(*v) < GEOMETRY_TOL:
-                    ctx.error("V6", joint, f"{what} of joint {joint.name} is the zero vector",
+                    ctx.error("V6", axis_span(ctx, joint, what == "the AXIS constant"),
+                              f"{what} of joint {joint.name} is the zero vector",
                               "give the joint a non-zero axis, e.g. xyz = (|0, 0, 1|)")
 
 

@@ -29,11 +29,20 @@ class CheckerBase:
 
     # ------------------------------------------------------------------ driver
     def run(self) -> None:
+        # Mappings last: the paths they name (`Rail::Carriage::Eye.voltage`) reach the
+        # definitions of other files' blocks, resolved by then whatever the files' order.
+        mappings: list[tuple[ast.SourceFile, ast.PlatformMapping]] = []
         for file in self.ws.user_files():
             self.file = file
             self._imports(file)
             for item in file.declarations():
-                self._item(item)
+                if isinstance(item, ast.PlatformMapping):
+                    mappings.append((file, item))
+                else:
+                    self._item(item)
+        for file, mapping in mappings:
+            self.file = file
+            self._item(mapping)
         self._package_duplicates()
         self._part_cycles()
 

@@ -3,17 +3,19 @@ header, operation parameters and event values, mapping variables and element pat
 
 from __future__ import annotations
 
-from typing import Iterator
+from typing import Callable, Iterator
 
 from cyphy import codes
 from cyphy import expr as ex
-from cyphy.diagnostics import Span, did_you_mean
+from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.lang import ast
+from cyphy.lang.notation import to_notation
 from cyphy.lang.resolution.checker import CheckerBase
 from cyphy.lang.resolution.names import (
     BUILTIN_NAMES, Scope, block_children, describe, name_hint, path_roots, steps_of,
 )
 from cyphy.lang.scopes import is_interface, is_module, is_pmodel, is_value
+from cyphy.lang.typing import ANY, Lookup, TypeChecker, Ty, type_of_declared
 
 
 class MappingChecker:
@@ -103,13 +105,15 @@ class MappingChecker:
             if isinstance(m, (ast.Equation, ast.Predicate)):
                 self._expr(m.expr, scope, known)
                 kind = "a predicate" if isinstance(m, ast.Predicate) else "an equation"
-                self.c.predicate(m.expr, scope, f"{kind} of the mapping of "
-                                 f"{getattr(member, 'name')}")
+                self._types(scope).expect_predicate(m.expr, f"{kind} of the mapping of "
+                                                    f"{getattr(member, 'name')}")
             elif isinstance(m, ast.Action):
                 for s in m.statements:
                     if isinstance(s, ast.Assign):
                         self._expr(s.target, scope, known)
                         self._expr(s.value, scope, known)
+                        self._types(scope).expect_assignable(
+                            s.target, s.value, f"'{to_notation(s.target)}'")
                     elif isinstance(s, ast.CallStatement):
                         call = s.call
                         if isinstance(call, ex.Call) and isinstance(call.func, ex.Name) and \
@@ -146,6 +150,52 @@ class MappingChecker:
                 continue
             if self.pmodel is not None:
                 self._element_path(steps)
+
+    def _types(self, scope: Scope) -> TypeChecker:
+        """S3's inference with the mapping's names: an event's parameter has the event's
+        type, a mapped variable the platform variable's, and a path to a sensor or actuator
+        variable (``Bench::Range.range``) the type its definition declares."""
+        def lookup(name: ex.Name) -> object | None:
+            if len(name.parts) == 1:
+                local = scope.find(name.parts[0])
+                if isinstance(local, (ast.EventMapping, ast.VariableMapping)):
+                    decl = self._platform_decl(local)
+                    if isinstance(decl, ast.EventDecl) and decl.type is not None:
+                        return ast.Param(decl.name, decl.type, span=decl.span)
+                    return decl
+                if local is not None:
+                    return local
+            found = self.c.scopes.lookup(self.c.file, name.parts, is_value)
+            return found[0] if found else None
+
+        return _PathTypes(lookup, self.c.report, self._port_decl)
+
+    def _platform_decl(self, member: ast.EventMapping | ast.VariableMapping
+                       ) -> ast.EventDecl | ast.VarDecl | None:
+        """The platform's declaration of the event or variable a member maps."""
+        if self.platform is None:
+            return None
+        want = ast.EventDecl if isinstance(member, ast.EventMapping) else ast.VarDecl
+        decls = list(self.platform.members)
+        for relation in ("uses", "provides"):
+            for i in self._interfaces(relation):
+                decls.extend(i.members)
+        return next((d for d in decls if isinstance(d, want) and d.name == member.name), None)
+
+    def _port_decl(self, e: ex.Expr) -> ast.VarDecl | None:
+        """The variable of a sensor or actuator that an element path names, or None."""
+        steps = steps_of(e)
+        if self.pmodel is None or not steps or len(steps) < 2:
+            return None
+        if steps[0][0] == self.pmodel.name:
+            steps = steps[1:]
+        current: ast.PModel | ast.Block | ast.Part | None = self.pmodel
+        for name, _, _ in steps[:-1]:
+            current = child_of(current, name, self.c) if current is not None else None
+        if not isinstance(current, ast.Block):
+            return None
+        ports = self.c.ports_of(current)
+        return ports.get(steps[-1][0]) if ports else None
 
     def _element_path(self, steps: list[tuple[str, Span, bool]]) -> None:
         pm = self.pmodel
@@ -202,3 +252,21 @@ def child_names(node: ast.PModel | ast.Block | ast.Part, c: CheckerBase) -> set[
             return set()
         node = target
     return set(block_children(node))
+
+
+class _PathTypes(TypeChecker):
+    """S3's inference where a ``.`` names a port of the p-model (``Motor.das``): its type is
+    the one its definition declares, not unknown."""
+
+    def __init__(self, lookup: Lookup, report: Report,
+                 port: Callable[[ex.Expr], ast.VarDecl | None]) -> None:
+        super().__init__(lookup, report)
+        self.port = port
+
+    def _infer_Member(self, e: ex.Member) -> Ty:
+        for node in e.walk():
+            if isinstance(node, ex.Index):
+                for a in node.args:
+                    self.infer(a)
+        decl = self.port(e)
+        return type_of_declared(decl.type) if decl is not None else ANY

@@ -1,0 +1,96 @@
+"""RoboSim state machines: STM8, the types of a machine's behaviour.
+
+S3 (expressions are well-typed) for what a machine does: a transition's condition is a
+boolean, an assignment gives a variable a value of its declared type, and a call passes each
+operation parameter a value of its type. Name resolution (STM5) and arities (STM3) are
+checked by their own rules; here a name that does not resolve, a field, or a call with the
+wrong number of arguments has an unknown type and is passed over, so nothing is reported
+twice and nothing is guessed.
+"""
+
+from __future__ import annotations
+
+from cyphy import expr as ex
+from cyphy.diagnostics import Report
+from cyphy.lang import ast
+from cyphy.lang.scopes import is_value
+from cyphy.lang.typing import BOOL, ANY, TypeChecker, Ty, type_of_declared
+from cyphy.model.machines import Machine, called_operation, statements
+from cyphy.wellformed.machines import _machines
+from cyphy.wellformed.registry import RULES, WFContext, rule
+
+
+class _MachineTypes(TypeChecker):
+    """S3's inference with the names of one machine: its variables, constants and
+    parameters, the constants in scope, and ``$e`` (an event occurred: a boolean; a platform
+    variable: its type)."""
+
+    def __init__(self, ctx: WFContext, m: Machine, report: Report) -> None:
+        own: dict[str, object] = {**m.constants, **m.variables,
+                                  **{p.name: p for p in m.decl.params}}
+
+        def lookup(name: ex.Name) -> object | None:
+            if len(name.parts) == 1 and name.parts[0] in own:
+                return own[name.parts[0]]
+            found = ctx.scopes.lookup(m.file, name.parts, is_value)
+            return found[0] if found else None
+
+        super().__init__(lookup, report)
+        self.machine = m
+
+    def error(self, node: ex.Expr, message: str, hint: str) -> None:
+        self.report.report(RULES["STM8"].code, message, getattr(node, "span"), hint)
+
+    def _infer_PlatformRef(self, e: ex.PlatformRef) -> Ty:
+        p = self.machine.platform
+        name = e.name[-1]
+        if name in p.variables:
+            return type_of_declared(p.variables[name].type)
+        if name in p.input_events or name in p.output_events:
+            return BOOL
+        return ANY
+
+
+def _parameters(ctx: WFContext, m: Machine, call: ex.Call) -> tuple[str, tuple[ast.Param, ...]]:
+    """The operation a call names and its parameters (none when it names no operation)."""
+    defined = called_operation(m, call, ctx.scopes)
+    if defined is not None:
+        return defined.name, defined.params
+    func = call.func
+    name = func.name[-1] if isinstance(func, ex.PlatformRef) else (
+        func.parts[-1] if isinstance(func, ex.Name) else "")
+    op = m.platform.operations.get(name)
+    return name, op.params if op is not None else ()
+
+
+@rule("STM8", "a machine's conditions are booleans; assignments and operation arguments have "
+      "the declared types")
+def check_STM8_machine_types(ctx: WFContext) -> None:
+    """A transition's condition is a boolean (``condition speed`` is a number: the machine
+    would never, or always, take it); an assignment ``x = e`` gives ``x`` a value of its
+    declared type; ``$op(a, b)`` passes each parameter a value of its type. Any other
+    expression of the behaviour is typed as S3 types equations (``not`` of a number, ``+``
+    of a boolean)."""
+    for m in _machines(ctx):
+        types = _MachineTypes(ctx, m, ctx.report)
+        for t in m.transitions:
+            if t.decl.condition is not None:
+                types.expect_predicate(t.decl.condition, f"the condition of transition {t.name}")
+        for s, where in statements(m):
+            if isinstance(s, ast.Assign):
+                types.expect_assignable(s.target, s.value, f"{where}: {_text(s.target)}")
+            elif isinstance(s, ast.CallStatement) and isinstance(s.call, ex.Call):
+                name, params = _parameters(ctx, m, s.call)
+                if len(params) != len(s.call.args):
+                    for a in s.call.args:
+                        types.infer(a)
+                    continue  # STM3 reports the arity
+                for arg, param in zip(s.call.args, params):
+                    types.expect_type(arg, type_of_declared(param.type),
+                                      f"{where}: parameter '{param.name}' of {name}")
+            elif isinstance(s, ast.SendStatement):
+                types.infer(s.value)
+
+
+def _text(e: ex.Expr) -> str:
+    return e.text if isinstance(e, ex.Name) else "the target"

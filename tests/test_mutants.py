@@ -1,0 +1,259 @@
+"""The mutation sweep: small faults a user could make in the examples and the held-out models,
+each refused with the right diagnostic at the right line, or accepted when the model stays
+valid; and for every mutant the commands a user runs next (``gen --isabelle``, ``simulate``)
+refuse it without writing anything, or, when it is accepted, run.
+
+The catalogue is :data:`MUTANTS`, one row a mutant: the model folder, the file, the text
+replaced and its replacement, and the expected code (``ACCEPTED`` for a valid mutant). The
+expected place is the line where the replacement starts, or the line of ``at`` (text of the
+mutated file) when the fault is reported elsewhere (an unmapped event at the mapping's header).
+Each mutant is checked in process, through :func:`cyphy.cli.main`, on a copy of its folder.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from conftest import EXAMPLES, ROOT
+from cyphy.cli import main
+
+HELDOUT = ROOT / "tests" / "data" / "heldout"
+ACCEPTED = "accepted"
+
+#: Each model folder, and the short scenario ``simulate`` runs for an accepted mutant.
+FOLDERS = {
+    "dcmotor": (EXAMPLES / "dcmotor", "sampled_stop.toml"),
+    "marxbot": (EXAMPLES / "marxbot", "obstacle_stop.toml"),
+    "lift": (HELDOUT / "lift", "cycle.toml"),
+    "pendulum": (HELDOUT / "pendulum", "swing.toml"),
+    "ranger": (HELDOUT / "ranger", "approach.toml"),
+    "rover": (HELDOUT / "rover", "bump.toml"),
+}
+
+
+@dataclass(frozen=True)
+class Mutant:
+    """One fault: ``old`` replaced by ``new`` in ``folder``/``file`` (and the ``also`` edits,
+    each ``(file, old, new)``), refused with ``expect`` at the line of ``at`` (default: where
+    ``new`` starts) in ``at_file`` (default: ``file``), or ``ACCEPTED``. ``runs``: whether
+    ``gen``/``simulate`` then succeed (default: only when accepted; a warning's mutant may
+    run); ``shows``: text the generated Isabelle theory must hold (what the mutation
+    changed)."""
+
+    name: str
+    folder: str
+    file: str
+    old: str
+    new: str
+    expect: str
+    at: str | None = None
+    at_file: str | None = None
+    also: tuple[tuple[str, str, str], ...] = ()
+    runs: bool | None = None
+    shows: str | None = None
+
+
+M = Mutant
+DC_MAP, DC_SW, DC_BASE = "Mapping.rsm", "DCMotorSoftware.rsm", "DCMotorBase.rsm"
+NEAR = "\tinput event near {\n\t\tpredicate Bench::Range.range <= 1.0\n\t}\n"
+STOP = "\toperation stop {\n\t\tequation Bench::Shaft::Motor.das == 0\n\t}\n"
+HEADER = "map BenchMapping"
+
+MUTANTS: tuple[Mutant, ...] = (
+    # ---- platform mappings (PMap) -----------------------------------------------------------
+    M("event-reads-unknown-output", "dcmotor", DC_MAP, "Range.range <= 1.0",
+      "Range.rnge <= 1.0", "S1"),
+    M("event-predicate-not-boolean", "dcmotor", DC_MAP, "Range.range <= 1.0",
+      "Range.range + 1.0", "S3"),
+    M("event-reads-actuator-input", "dcmotor", DC_MAP, "Bench::Range.range <= 1.0",
+      "Bench::Shaft::Motor.das <= 1.0", "PMap12"),
+    M("event-reads-joint", "dcmotor", DC_MAP, "Bench::Range.range <= 1.0",
+      "Bench::Shaft.theta <= 1.0", "PMap12"),
+    M("event-writes-sensor-output", "dcmotor", DC_MAP, "predicate Bench::Range.range <= 1.0",
+      "predicate Bench::Range.range <= 1.0\n\t\tequation Bench::Range.range == 2.0", "PMap7",
+      at="equation Bench::Range.range == 2.0"),
+    M("event-direction-swapped", "dcmotor", DC_MAP, "input event near", "output event near",
+      "PMap4"),
+    M("event-unmapped", "dcmotor", DC_MAP, NEAR, "", "PMap3", at=HEADER),
+    M("event-mapped-twice", "dcmotor", DC_MAP, NEAR, NEAR + NEAR, "S2",
+      at="input event near {\n\t\tpredicate Bench::Range.range <= 1.0\n\t}\n}"),
+    M("event-unknown", "dcmotor", DC_MAP, "input event near", "input event nearr", "PMap4"),
+    M("event-untyped-with-parameter", "dcmotor", DC_MAP, "input event near {",
+      "input event near ? d {", "PMap5"),
+    M("event-typed-parameter-wrong-type", "ranger", "Mapping.rsm", "input event echo ? r {",
+      "input event echo ? r {", "S3", at="equation r == Rail::Carriage::Eye.voltage",
+      also=(("RangerSoftware.rsm", "event echo: real", "event echo: boolean"),)),
+    M("event-reads-misspelled-port", "ranger", "Mapping.rsm", "r == Rail::Carriage::Eye.voltage",
+      "r == Rail::Carriage::Eye.voltag", "S1"),
+    M("event-typed-without-parameter", "ranger", "Mapping.rsm", "input event echo ? r {",
+      "input event echo {", "PMap5"),
+    M("event-threshold-changed", "dcmotor", DC_MAP, "Range.range <= 1.0",
+      "Range.range <= 0.5", ACCEPTED),
+    M("operation-unmapped", "dcmotor", DC_MAP, STOP, "", "PMap3", at=HEADER),
+    M("operation-mapped-twice", "dcmotor", DC_MAP, STOP, STOP + STOP, "S2",
+      at="\toperation stop {\n\t\tequation Bench::Shaft::Motor.das == 0\n\t}\n\tinput"),
+    M("operation-unknown", "dcmotor", DC_MAP, "operation stop {", "operation halt {", "PMap4"),
+    M("operation-writes-sensor-output", "dcmotor", DC_MAP,
+      "equation Bench::Shaft::Motor.das == 0", "equation Bench::Range.range == 0", "PMap9"),
+    M("operation-reads-joint", "dcmotor", DC_MAP, "Bench::Shaft::Motor.das == w",
+      "Bench::Shaft::Motor.das == w + Bench::Shaft.theta", "PMap9"),
+    M("operation-reads-sensor-output", "dcmotor", DC_MAP, "Bench::Shaft::Motor.das == w",
+      "Bench::Shaft::Motor.das == w + Bench::Range.range", "PMap9"),
+    M("operation-unknown-parameter", "dcmotor", DC_MAP, "Motor.das == w", "Motor.das == v",
+      "S1"),
+    M("operation-parameter-wrong-type", "dcmotor", DC_SW, "drive(w: real)",
+      "drive(w: boolean)", "S3", at="equation Bench::Shaft::Motor.das == w",
+      at_file=DC_MAP),
+    M("operation-argument-wrong-type", "dcmotor", DC_SW, "$drive(wref)", "$drive(true)",
+      "STM8"),
+    M("operation-parameter-added", "dcmotor", DC_SW, "drive(w: real)",
+      "drive(w: real, k: real)", "STM3", at="$drive(wref)", at_file=DC_SW),
+    M("operation-equations-and-actions", "dcmotor", DC_MAP,
+      "equation Bench::Shaft::Motor.das == 0",
+      "equation Bench::Shaft::Motor.das == 0\n\t\taction Bench::Shaft::Motor.das = 0", "PMap6",
+      at="action Bench::Shaft::Motor.das = 0"),
+    M("operation-empty", "dcmotor", DC_MAP, "equation Bench::Shaft::Motor.das == 0", "",
+      "PMap6", at="operation stop"),
+    M("operation-action-calls-dmodel", "dcmotor", DC_MAP,
+      "equation Bench::Shaft::Motor.das == 0", "action $drive(0)", "PMap11"),
+    M("operation-reads-stm-constant", "dcmotor", DC_MAP, "Motor.das == w",
+      "Motor.das == wref", "S1"),
+    M("operation-scaled", "dcmotor", DC_MAP, "Motor.das == w", "Motor.das == 2*w", ACCEPTED),
+    M("operation-two-wheels-swapped", "rover", "Mapping.rsm", "LMotor.das == left",
+      "LMotor.das == right", ACCEPTED),
+    M("variable-type-mismatch", "dcmotor", DC_MAP, STOP,
+      STOP + "\tvariable armed {\n\t\tequation Bench::Shaft::Motor.das == armed\n\t}\n", "S3",
+      at="equation Bench::Shaft::Motor.das == armed",
+      also=((DC_SW, "provides SpeedI", "provides SpeedI\n\t\tvar armed: boolean"),)),
+    M("variable-writes-sensor", "dcmotor", DC_MAP, STOP,
+      STOP + "\tvariable level {\n\t\tequation Bench::Range.range == level\n\t}\n", "PMap10",
+      at="equation Bench::Range.range == level",
+      also=((DC_SW, "provides SpeedI", "provides SpeedI\n\t\tvar level: real"),)),
+    M("variable-not-of-platform", "dcmotor", DC_MAP, STOP,
+      STOP + "\tvariable level {\n\t\tequation Bench::Shaft::Motor.das == 1\n\t}\n", "PMap4",
+      at="variable level"),
+    M("index-out-of-range", "marxbot", "Mapping.rsm", "Proximity[1]", "Proximity[24]",
+      "E-INDEX"),
+    M("mapping-wrong-pmodel", "dcmotor", DC_MAP, "to pmodel DCMotorBase",
+      "to pmodel DCMotorBas", "S1"),
+    M("pmap1-joint-unconnected", "dcmotor", DC_BASE, "\t\t\tflexibly connected to Flywheel\n",
+      "", "PMap1", at="jref Shaft"),
+    # ---- d-models (state machines) ----------------------------------------------------------
+    M("stm-unknown-event", "dcmotor", DC_SW, "condition not $near", "condition not $nearr",
+      "STM4"),
+    M("stm-operation-wrong-arity", "dcmotor", DC_SW, "$drive(wref)", "$drive(wref, 1.0)",
+      "STM3"),
+    M("stm-operation-too-few", "rover", "RoverSoftware.rsm", "$drive(cruise, cruise)",
+      "$drive(cruise)", "STM3"),
+    M("stm-unknown-operation", "dcmotor", DC_SW, "$drive(wref)", "$drivee(wref)", "STM3"),
+    M("stm-no-initial", "dcmotor", DC_SW, "\tinitial i0\n", "", "STM2", at="stm SSpeed"),
+    M("stm-unknown-target", "dcmotor", DC_SW, "from Check to Stopped",
+      "from Check to Stoped", "STM1"),
+    M("stm-guard-not-boolean", "dcmotor", DC_SW, "condition not $near", "condition wref",
+      "STM8"),
+    M("stm-wrong-type-assigned", "dcmotor", DC_SW, "entry $drive(wref)",
+      "entry $drive(wref); on = 1.0", "STM8",
+      also=((DC_SW, "const wref: real = 10.0", "const wref: real = 10.0\n\tvar on: boolean"),)),
+    M("stm-speed-changed", "dcmotor", DC_SW, "wref: real = 10.0", "wref: real = 5.0",
+      ACCEPTED),
+    M("stm-bound-changed", "pendulum", "PendulumSoftware.rsm", "tmax: real = 0.3",
+      "tmax: real = 0.2", ACCEPTED),
+    # ---- p-models ---------------------------------------------------------------------------
+    M("part-missing-constant", "marxbot", "marXbotBase.rsm",
+      "roll = PI pitch = 0 yaw = 0 }\n\t\tinstantiation HEIGHT = 0.05m\n",
+      "roll = PI pitch = 0 yaw = 0 }\n", "P1", at="part LTreel", runs=False),
+    M("part-unknown-constant", "marxbot", "marXbotBase.rsm",
+      "roll = PI pitch = 0 yaw = 0 }\n\t\tinstantiation HEIGHT = 0.05m\n",
+      "roll = PI pitch = 0 yaw = 0 }\n\t\tinstantiation HEIGHT = 0.05m\n"
+      "\t\tinstantiation SIZE = 0.05m\n", "P3", at="instantiation SIZE"),
+    M("joint-to-missing-link", "dcmotor", DC_BASE, "flexibly connected to Flywheel",
+      "flexibly connected to Flywheell", "S1"),
+    M("negative-mass", "dcmotor", DC_BASE, "mass 0.2kg", "mass -0.2kg", "V1"),
+    M("zero-mass-inertia", "pendulum", "PendulumBase.rsm",
+      "ixx 0.001 ixy 0 ixz 0 iyy 0.001", "ixx 0.001 ixy 0 ixz 0 iyy -0.001", "V1"),
+    M("zero-axis", "dcmotor", DC_BASE, "instantiation AXIS = (|0,0,1|)",
+      "instantiation AXIS = (|0,0,0|)", "V6"),
+    M("non-unit-axis", "pendulum", "PendulumBase.rsm", "AXIS = (|0,1,0|)",
+      "AXIS = (|0,2,0|)", "V6"),
+    M("axes-disagree", "dcmotor", DC_BASE, "instantiation AXIS = (|0,0,1|)",
+      "instantiation AXIS = (|0,1,0|)", "V4", runs=True),
+    M("fixed-cycle", "rover", "RoverBase.rsm", "\tlocal link Head {\n",
+      "\tlocal link Head {\n\t\tfixed to Tail\n", "Fix4",
+      also=(("RoverBase.rsm", "\tlocal link LWheel {",
+             "\tlocal link Tail {\n\t\tdef { inertial information { mass 0.1 } }\n"
+             "\t\tfixed to Head\n\t}\n\tlocal link LWheel {"),)),
+    M("negative-size", "dcmotor", DC_BASE, "radius = 0.1m", "radius = -0.1m", "V2"),
+    M("mass-changed", "rover", "RoverBase.rsm", "mass 0.1kg", "mass 0.15kg", ACCEPTED),
+)
+
+
+def mutate(mutant: Mutant, into: Path) -> Path:
+    """A copy of the mutant's folder in ``into`` with its edits made (each ``old`` must occur
+    in the original exactly once, so a row cannot silently stop applying)."""
+    source, _ = FOLDERS[mutant.folder]
+    folder = into / mutant.folder
+    shutil.copytree(source, folder, ignore=shutil.ignore_patterns("*-gen", "README.md"))
+    for file, old, new in ((mutant.file, mutant.old, mutant.new), *mutant.also):
+        path = folder / file
+        text = path.read_text(encoding="utf-8")
+        assert text.count(old) == 1, f"{mutant.name}: {old!r} occurs {text.count(old)} times"
+        path.write_text(text.replace(old, new), encoding="utf-8")
+    return folder
+
+
+def expected_line(mutant: Mutant, folder: Path) -> int:
+    """The line the diagnostic must point at: where ``at`` (or the replacement) starts."""
+    text = (folder / (mutant.at_file or mutant.file)).read_text(encoding="utf-8")
+    anchor = mutant.at or mutant.new.strip()
+    assert anchor and text.count(anchor) == 1, f"{mutant.name}: anchor {anchor!r} not unique"
+    return text[:text.index(anchor)].count("\n") + 1
+
+
+def _run(argv: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
+    """``cyphy argv`` in process: exit status, stdout, stderr (never a traceback, never 70)."""
+    status = main(argv)
+    out, err = capsys.readouterr()
+    assert status != 70 and "Traceback" not in err, (argv, err)
+    return status, out, err
+
+
+@pytest.mark.parametrize("mutant", MUTANTS, ids=lambda m: m.name)
+def test_mutant(mutant: Mutant, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``check`` refuses the mutant with its code at its line (or accepts it); then
+    ``gen --isabelle`` and ``simulate`` write nothing for a refused mutant and run for an
+    accepted one."""
+    folder = mutate(mutant, tmp_path)
+    status, out, err = _run(["check", "--format", "json", str(folder)], capsys)
+    diags = json.loads(out)
+    errors = [d for d in diags if d["severity"] == "ERROR"]
+    assert status == (1 if errors else 0), err
+    if mutant.expect == ACCEPTED:
+        assert errors == [], errors
+    else:
+        where = (mutant.expect, mutant.at_file or mutant.file, expected_line(mutant, folder))
+        found = {(d["code"], Path(d["span"]["file"]).name, d["span"]["line"]) for d in diags}
+        assert where in found, diags
+        assert all(d["hint"] for d in diags), diags
+    runs = mutant.runs if mutant.runs is not None else mutant.expect == ACCEPTED
+    assert not (runs and errors)
+
+    theories = tmp_path / "theories"
+    status, _, err = _run(["gen", str(folder), "--isabelle", "-o", str(theories)], capsys)
+    assert (status == 0) == runs, err
+    if runs:
+        theory = next(theories.glob("*_CyPhyCircus.thy")).read_text(encoding="utf-8")
+        assert mutant.shows is None or mutant.shows in theory
+    else:
+        assert not theories.exists() or not any(theories.iterdir())
+
+    trajectories = tmp_path / "trajectories.csv"
+    scenario = folder / FOLDERS[mutant.folder][1]
+    status, _, err = _run(["simulate", str(folder), "--scenario", str(scenario), "--t-end",
+                           "0.2", "-o", str(trajectories)], capsys)
+    assert (status == 0) == runs, err
+    assert trajectories.exists() == runs
