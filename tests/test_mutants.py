@@ -138,7 +138,7 @@ MUTANTS: tuple[Mutant, ...] = (
       STOP + "\tvariable level {\n\t\tequation Bench::Shaft::Motor.das == 1\n\t}\n", "PMap4",
       at="variable level"),
     M("index-out-of-range", "marxbot", "Mapping.rsm", "Proximity[1]", "Proximity[24]",
-      "E-INDEX"),
+      "IX5"),
     M("mapping-wrong-pmodel", "dcmotor", DC_MAP, "to pmodel DCMotorBase",
       "to pmodel DCMotorBas", "S1"),
     M("pmap1-joint-unconnected", "dcmotor", DC_BASE, "\t\t\tflexibly connected to Flywheel\n",

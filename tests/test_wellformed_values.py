@@ -52,9 +52,9 @@ def test_clean_model(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("changes, code, line, text", [
-    ({"link_def": "inertial information { mass -2 }"}, "V1", 4, "mass of link V::A is -2"),
+    ({"link_def": "inertial information { mass -2 }"}, "V1", 5, "mass of link V::A is -2"),
     ({"link_def": "inertial information { mass 2 inertia matrix { ixx 1 ixy 0 ixz 0 iyy 1 iyz 0 izz 3 } }"},
-     "V1", 4, "inertia matrix of link V::A"),
+     "V1", 5, "inertia matrix of link V::A"),
     ({"body1": "box(length = 1, width = -1, height = 1)"}, "V2", 6,
      "box of body V::A::B1 has width = -1"),
     ({"body1": 'mesh { shape "meshes/arm.dae" }'}, "V2", 6,
@@ -63,14 +63,16 @@ def test_clean_model(tmp_path: Path) -> None:
      "restitution_coefficient of body V::A::B2 is 1.5"),
     ({"body2": "sphere(radius = 0.5) friction { translational { coefficient1 -0.2 } }"}, "V3",
      7, "coefficient1 of body V::A::B2 is -0.2"),
-    ({"axis": "(|1, 0, 0|)"}, "V4", 8, "AXIS (1, 0, 0) and the annotation's xyz (0, 0, 2)"),
-    ({"xyz": "(|0, 0, 0|)"}, "V6", 8, "the annotation's xyz of joint V::A::J is the zero"),
+    ({"axis": "(|1, 0, 0|)"}, "V4", 10, "AXIS (1, 0, 0) and the annotation's xyz (0, 0, 2)"),
+    ({"xyz": "(|0, 0, 0|)"}, "V6", 9, "the annotation's xyz of joint V::A::J is the zero"),
     ({"b2x": "0", "body2": "box(length = 1, width = 1, height = 1)"}, "V5", 7,
      "bodies V::A::B1 and V::A::B2 have the same shape at the same place"),
     ({"cx": "0"}, "V5", 19, "links V::C and V::D have the same shape at the same place"),
 ])
 def test_value_checks(tmp_path: Path, changes: dict[str, str], code: str, line: int,
                       text: str) -> None:
+    """Each at the value's line (the mass, the inertia matrix, the AXIS instantiation, the
+    annotation's xyz), not at its block's."""
     found = diags(tmp_path, **changes)
     assert [(c, l) for c, l, _ in found] == [(code, line)], found
     assert text in found[0][2]

@@ -23,8 +23,7 @@ from cyphy.lang.notation import type_to_notation
 from cyphy.lang.resolve import steps_of
 from cyphy.wellformed.mapping_names import (
     ACT_IN, ACT_OUT, CONST, DVAR, OPERATION, OTHER, PARAM, PREDICATE_READS, SENSOR_IN, SENSOR_OUT,
-    TIME, Access,
-    UNKNOWN, Names, Ref, access_of, pmodel_of_part,
+    TIME, UNKNOWN, Access, Names, Ref, access_of, pmodel_of_part,
 )
 from cyphy.wellformed.platform_services import (
     MemberMapping, Platform, Service, Site, in_user_file, kind_of, label_of, members_of,
@@ -363,8 +362,9 @@ def _check_equation_writes(ctx: WFContext, access: Access, member: MemberMapping
     """An equation relates what the mapping writes to what it reads: one that mentions
     nothing the mapping may write (``equation S.range == 2.0`` in an input event mapping)
     constrains what it may only read, a sensor output or the software's parameter."""
-    if any(r.category in access.writes | {UNKNOWN} for r in refs):
-        return
+    if any(r.category in access.writes | {UNKNOWN} for r in refs) or \
+            any(r.category not in access.reads for r in refs):
+        return  # it sets something, or mentions what it may not (reported above)
     read = next((r for r in refs if r.category not in _NOT_STATE), None)
     if read is None and not refs:
         return
