@@ -13,17 +13,21 @@ MODEL = codes.code("E-MODEL", codes.E, "the p-model to elaborate cannot be chose
 MISSING = codes.code("E-CONST", codes.E, "constants without values that a generator needs")
 
 
-def require_constants(model: ElaboratedModel, report: Report, what: str) -> bool:
+def require_constants(model: ElaboratedModel, report: Report, what: str,
+                      owners: set[str] | None = None) -> bool:
     """For a generator: report every constant without a value at once (``E-CONST``) and
-    say whether the model can be generated."""
-    if not model.missing:
+    say whether the model can be generated; with ``owners``, only the constants declared
+    by those (p-models, devices), by name."""
+    missing = {n: spans for n, spans in model.missing.items()
+               if owners is None or n.rpartition("::")[0] in owners}
+    if not missing:
         return True
-    names = ", ".join(model.missing)
-    first = next(iter(model.missing.values()))[0]
-    report.report(MISSING, f"{what} needs values for {len(model.missing)} constant"
-                  f"{'s' if len(model.missing) != 1 else ''} without one: {names}", first,
+    names = ", ".join(missing)
+    first = next(iter(missing.values()))[0]
+    report.report(MISSING, f"{what} needs values for {len(missing)} constant"
+                  f"{'s' if len(missing) != 1 else ''} without one: {names}", first,
                   "give them with --const NAME=VALUE (repeatable) or --consts FILE",
-                  [f"{n} is declared at {spans[0]}" for n, spans in model.missing.items()])
+                  [f"{n} is declared at {spans[0]}" for n, spans in missing.items()])
     return False
 
 

@@ -1,4 +1,4 @@
-"""Fixed and flexible connections: Fix1-Fix3, Flex1-Flex3.
+"""Fixed and flexible connections: Fix1-Fix4, Flex1-Flex3.
 
 Name resolution (S1) already reports a connection whose target or source names nothing in the
 right place; these rules check what is left: the target is not the connected element's own
@@ -11,6 +11,7 @@ already gave for the same connection is never repeated.
 from __future__ import annotations
 
 from collections.abc import Iterator
+from graphlib import CycleError, TopologicalSorter
 
 from cyphy.diagnostics import did_you_mean
 from cyphy.lang import ast
@@ -148,6 +149,35 @@ def check_Fix3_part_fixed_target(ctx: WFContext) -> None:
                 continue
             _report_target(ctx, "Fix3", pm, c.target, c.part, c,
                            f"the fixed connection of link {c.link} of part {part.name}")
+
+
+@rule("Fix4", "the fixed connections between a p-model's links form no cycle")
+def check_Fix4_no_fixed_cycle(ctx: WFContext) -> None:
+    """Links fixed to one another in a cycle (``A fixed to B``, ``B fixed to A``) weld a link
+    to itself through the others: a closed chain, which each command meets differently (the
+    SDF gets a loop of joints, ``simulate`` refuses it, the semantics drops the motion). The
+    connection that closes the cycle is reported, once per cycle."""
+    for _, pm in ctx.items(ast.PModel):
+        links = _links(pm)
+        edges: dict[tuple[str, str], ast.FixedConnection] = {}
+        for name, link in links.items():
+            for c in link.fixed:
+                if c.part is None and c.target in links and c.target != name:
+                    edges.setdefault((name, c.target), c)
+        while edges:
+            graph: dict[str, set[str]] = {}
+            for source, target in edges:
+                graph.setdefault(source, set()).add(target)
+            try:
+                TopologicalSorter(graph).prepare()
+                break
+            except CycleError as err:
+                cycle = list(reversed(err.args[1]))  # graphlib lists it against the edges
+                closing = edges.pop((cycle[-2], cycle[-1]))
+                ctx.error("Fix4", closing, f"link {cycle[-2]} fixed to {cycle[-1]} closes a cycle "
+                          f"of fixed connections ({' → '.join(cycle)}) in p-model {pm.name}",
+                          "remove one fixed connection of the cycle: fixed links are one rigid "
+                          "body, joined once")
 
 
 # --------------------------------------------------------------------------- flexible

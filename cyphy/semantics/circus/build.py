@@ -12,6 +12,7 @@ from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
 from cyphy.lang.scopes import Scopes, is_pmodel
 from cyphy.lang.workspace import Workspace
+from cyphy.model.choose import require_constants
 from cyphy.model.default_inertial import apply_default_inertial
 from cyphy.model.elaborate import elaborate_pmodel
 from cyphy.model.elements import ElaboratedModel
@@ -100,9 +101,14 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
     platform = platform_of(wf, mapping)
     dmodel = _dmodel(mapping, platform)
 
+    equations_of_motion = _motion(model, report, {i.name for f in ws.files.values()
+                                                  for i in f.items
+                                                  if isinstance(i, ast.PModel)})
+    if report.has_errors:
+        return None
     ctx = Context(model, mapping, dmodel, NameTable(),
                   options.system_name or mapping.name, options.tscale,
-                  port_index(model), _motion(model, report), dict(options.initial or {}))
+                  port_index(model), equations_of_motion, dict(options.initial or {}))
     try:
         program = rule1_program(ctx)
     except SemanticsError as err:
@@ -160,7 +166,8 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
         return None
 
 
-def _motion(model: ElaboratedModel, report: Report) -> tuple[ex.Expr, ...]:
+def _motion(model: ElaboratedModel, report: Report, pmodels: set[str]
+            ) -> tuple[ex.Expr, ...]:
     """The kinematic tree's equations of motion for ``Evolve``: the very equations ``cyphy
     solve`` assembles by default, the root fixed to the world and gravity −9.81 m/s² along the
     model's z (the semantics has no option for either: the axiomatic Isabelle dialect reduces
@@ -173,6 +180,12 @@ def _motion(model: ElaboratedModel, report: Report) -> tuple[ex.Expr, ...]:
     try:
         return twists + tuple(e.expr for e in motion(model))
     except DynamicsError as err:
+        # Not a tree without motion: the p-models' constants that place and weigh its
+        # links have no values (a part that does not instantiate one, P1). The devices'
+        # constants stay open in the theory, as its `consts`.
+        if not require_constants(model, report, "Evolve's equations of motion",
+                                 owners=pmodels):
+            return twists
         report.report(NO_MOTION, f"Evolve has no equations of motion: {err.message}", err.span,
                       err.hint)
         return twists
