@@ -26,6 +26,8 @@ from cyphy.wellformed.registry import WFContext, rule
 from cyphy.wellformed.value_spans import axis_span, inertia_span, mass_span
 
 GEOMETRY_TOL = 1e-9
+#: How far from 1 an AXIS's length may be: five significant digits (0.70711, 0.70711, 0).
+UNIT_TOL = 1e-5
 
 
 def _models(ctx: WFContext) -> list[Any]:
@@ -204,12 +206,17 @@ def check_V4_axis_agreement(ctx: WFContext) -> None:
                           "make instantiation AXIS and annotation axis xyz agree")
 
 
-@rule("V6", "a joint's axis (its AXIS constant, its annotation's xyz) is not the zero vector")
+@rule("V6", "a joint's axis (its AXIS constant, its annotation's xyz) is not the zero vector; "
+      "its AXIS is a unit vector")
 def check_V6_nonzero_axis(ctx: WFContext) -> None:
     """A joint turns or slides along a direction: a zero axis has none. It is an error, not a
     warning: the joint's equations lose their motion subspace, and SDFormat rejects the
     ``<axis><xyz>0 0 0</xyz>`` that ``gen --sdf`` would write (libsdformat: "The norm of the
-    xyz vector cannot be zero")."""
+    xyz vector cannot be zero"). The AXIS constant is also a unit vector: the library's joint
+    equations use it as written (``fV == pV + A * v``, ``A = ScrewAxis(AXIS, …)``), so
+    ``(|0, 2, 0|)`` would turn the child twice as fast as the angle ``theta`` grows, while
+    the equations of motion and SDFormat take the direction normalised. (The annotation's
+    ``xyz`` is a direction for the simulator alone, which normalises it.)"""
     for m in _models(ctx):
         for joint in m.joints:
             if joint.target_copy:
@@ -221,6 +228,14 @@ def check_V6_nonzero_axis(ctx: WFContext) -> None:
                     ctx.error("V6", axis_span(ctx, joint, what == "the AXIS constant"),
                               f"{what} of joint {joint.name} is the zero vector",
                               "give the joint a non-zero axis, e.g. xyz = (|0, 0, 1|)")
+                elif v is not None and what == "the AXIS constant" and \
+                        abs(math.hypot(*v) - 1) > UNIT_TOL:
+                    length = math.hypot(*v)
+                    ctx.error("V6", axis_span(ctx, joint, True),
+                              f"the AXIS constant of joint {joint.name} is {_fmt(v)}, of length "
+                              f"{length:g}: the joint's equations would move it {length:g} "
+                              "times as fast as its coordinate",
+                              f"write the unit vector {_fmt([x / length for x in v])}")
 
 
 def _annotation_xyz(annotation: Any) -> Any:
