@@ -42,18 +42,18 @@ def codes_of(report: object) -> list[str]:
 
 
 # ----- item 5: a zero joint axis is an error
-@pytest.mark.parametrize("xyz, axis, what", [
-    ("(|0, 0, 0|)", "(|0, 0, 1|)", "the annotation's xyz of joint Arm::Base::J"),
-    ("(|0, 0, 1|)", "(|0, 0, 0|)", "the AXIS constant of joint Arm::Base::J"),
+@pytest.mark.parametrize("xyz, axis, what, line", [  # line: the zero vector's
+    ("(|0, 0, 0|)", "(|0, 0, 1|)", "the annotation's xyz of joint Arm::Base::J", 8),
+    ("(|0, 0, 1|)", "(|0, 0, 0|)", "the AXIS constant of joint Arm::Base::J", 9),
 ])
 def test_zero_axis_is_an_error_and_gen_writes_nothing(
         tmp_path: Path, capsys: pytest.CaptureFixture[str], xyz: str, axis: str,
-        what: str) -> None:
+        what: str, line: int) -> None:
     model = tmp_path / "arm.rsm"
     model.write_text(ARM.format(xyz=xyz, axis=axis))
     report = api.check([model]).report
     [error] = report.errors
-    assert (error.code.id, error.span.line) == ("V6", 7)
+    assert (error.code.id, error.span.line) == ("V6", line)
     assert what in error.message and "zero vector" in error.message
     out = tmp_path / "out"
     assert main(["gen", "--sdf", "-o", str(out), str(model)]) == 1
