@@ -43,8 +43,8 @@ class Mutant:
     each ``(file, old, new)``), refused with ``expect`` at the line of ``at`` (default: where
     ``new`` starts) in ``at_file`` (default: ``file``), or ``ACCEPTED``. ``runs``: the
     commands (``gen``, ``simulate``) that then succeed (default: both when accepted, none
-    when refused; a warning's mutant may run); ``shows``: text the generated Isabelle theory must hold (what the mutation
-    changed)."""
+    when refused; a warning's mutant may run). ``shows``: text the generated Isabelle theory
+    must hold (what the mutation changed)."""
 
     name: str
     folder: str
@@ -86,9 +86,9 @@ MUTANTS: tuple[Mutant, ...] = (
     M("event-unknown", "dcmotor", DC_MAP, "input event near", "input event nearr", "PMap4"),
     M("event-untyped-with-parameter", "dcmotor", DC_MAP, "input event near {",
       "input event near ? d {", "PMap5"),
-    M("event-typed-parameter-wrong-type", "ranger", "Mapping.rsm", "input event echo ? r {",
-      "input event echo ? r {", "S3", at="equation r == Rail::Carriage::Eye.voltage",
-      also=(("RangerSoftware.rsm", "event echo: real", "event echo: boolean"),)),
+    M("event-typed-parameter-wrong-type", "ranger", "RangerSoftware.rsm", "event echo: real",
+      "event echo: boolean", "S3", at="equation r == Rail::Carriage::Eye.voltage",
+      at_file="Mapping.rsm"),
     M("event-reads-misspelled-port", "ranger", "Mapping.rsm", "r == Rail::Carriage::Eye.voltage",
       "r == Rail::Carriage::Eye.voltag", "S1"),
     M("event-typed-without-parameter", "ranger", "Mapping.rsm", "input event echo ? r {",
@@ -147,6 +147,7 @@ MUTANTS: tuple[Mutant, ...] = (
       "Mast::Slide::Level.height <= 0.02", "Mast::Slide::Winch.dls <= 0.02", "PMap12"),
     M("index-out-of-range", "marxbot", "Mapping.rsm", "Proximity[1]", "Proximity[24]",
       "IX5"),
+    M("index-count", "marxbot", "Mapping.rsm", "Proximity[1]", "Proximity[1, 0]", "IX5"),
     M("mapping-wrong-pmodel", "dcmotor", DC_MAP, "to pmodel DCMotorBase",
       "to pmodel DCMotorBas", "S1"),
     M("pmap1-joint-unconnected", "dcmotor", DC_BASE, "\t\t\tflexibly connected to Flywheel\n",

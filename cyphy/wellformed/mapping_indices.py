@@ -13,9 +13,9 @@ from typing import Iterator
 
 from cyphy import expr as ex
 from cyphy.lang import ast
-from cyphy.lang.resolution.names import block_children, steps_of
-from cyphy.wellformed.mapping_names import pmodel_of_part
-from cyphy.wellformed.platform_services import Site, label_of, members_of, sites
+from cyphy.lang.resolution.names import path_roots, steps_of
+from cyphy.wellformed.mapping_names import Names
+from cyphy.wellformed.platform_services import MemberMapping, Site, label_of, members_of, sites
 from cyphy.wellformed.registry import WFContext, rule
 
 
@@ -27,36 +27,20 @@ def _literal(e: ex.Expr) -> int | None:
     return int(e.text) if isinstance(e, ex.Num) and e.is_integer else None
 
 
-def _block(ctx: WFContext, site: Site, names: list[str]) -> ast.Block | None:
-    """The block an element path names (``Core::Proximity``), or None."""
-    if site.pmodel is None or site.pmodel_file is None:
-        return None
-    if names and names[0] == site.pmodel.name:
-        names = names[1:]
-    current: ast.PModel | ast.Block | ast.Part = site.pmodel
-    file = site.pmodel_file
-    for name in names:
-        if isinstance(current, ast.Part):
-            inner = pmodel_of_part(ctx, current, file)
-            if inner is None:
-                return None
-            current, file = inner
-        children = block_children(current)
-        if name in children:
-            current = children[name][0]
-            continue
-        nested = [block_children(b)[name][0] for b in getattr(current, "blocks", ())
-                  if name in block_children(b)]
-        if not nested:
-            return None
-        current = nested[0]
-    return current if isinstance(current, ast.Block) else None
-
-
-def _indexed_paths(e: ex.Expr) -> Iterator[ex.Index]:
-    for node in e.walk():
-        if isinstance(node, ex.Index) and steps_of(node.base):
-            yield node
+def _indexed_elements(ctx: WFContext, site: Site, member: MemberMapping
+                      ) -> Iterator[tuple[ex.Index, ast.Block]]:
+    """Each ``E[…]`` of the member's paths with the block ``E`` it indexes."""
+    names = Names(ctx, site, member)
+    for m in member.members:
+        for e in ast.expressions_in(m):
+            for root in path_roots(e):
+                block = names.classify(root).block
+                if block is None:
+                    continue
+                for node in root.walk():
+                    steps = steps_of(node.base) if isinstance(node, ex.Index) else None
+                    if steps and steps[-1][0] == block.name:
+                        yield node, block  # type: ignore[misc]
 
 
 @rule("IX5", "an index into an indexed element names one of its copies")
@@ -66,12 +50,7 @@ def check_IX5_mapping_indices(ctx: WFContext) -> None:
     declarations, each within its range."""
     for site in sites(ctx):
         for member in members_of(site.mapping):
-            for node in (n for m in member.members for e in ast.expressions_in(m)
-                         for n in _indexed_paths(e)):
-                steps = steps_of(node.base) or []
-                block = _block(ctx, site, [s[0] for s in steps])
-                if block is None:
-                    continue
+            for node, block in _indexed_elements(ctx, site, member):
                 where = f"the mapping of {label_of(member)}"
                 if len(node.args) != len(block.indices):
                     ctx.error("IX5", node, f"{where} gives {block.name} {len(node.args)} "

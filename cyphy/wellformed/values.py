@@ -75,9 +75,10 @@ def check_V1_physical_inertia(ctx: WFContext) -> None:
                 ctx.error("V1", mass_span(ctx, element), f"the mass of {what} "
                           f"{element.name} is {inertial.mass:g}", "masses must be positive")
             elif any(inertial.inertia) and not is_physical(inertial.inertia):
+                entries = " ".join(f"{v:g}" for v in inertial.inertia)
                 ctx.error("V1", inertia_span(ctx, element), f"the inertia matrix of {what} "
-                          f"{element.name} ({' '.join(f'{v:g}' for v in inertial.inertia)}) is not positive "
-                          "definite or breaks a triangle inequality",
+                          f"{element.name} ({entries}) is not positive definite or breaks a "
+                          "triangle inequality",
                           "check the entries: ixx + iyy >= izz, ixx + izz >= iyy, "
                           "iyy + izz >= ixx, all moments positive")
 
