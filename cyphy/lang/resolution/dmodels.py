@@ -63,13 +63,25 @@ class DModelChecks(CheckerBase):
             self._type(p.type)
         for use in stm.interface_uses:
             self.resolve(use, use.interface, is_interface, "interface", use.span)
+        self._unique_nodes(stm.members, f"{stm.kind if stm.kind == 'operation' else 'machine'} "
+                           f"{stm.name}")
+        self._unique([m for m in stm.members if isinstance(m, (ast.VarDecl, ast.ClockDecl))],
+                     "variable", f"machine {stm.name}")
         stack: list[object] = list(stm.members)
         while stack:
             m = stack.pop()
             if isinstance(m, ast.VarDecl):
                 self._type(m.type)
             elif isinstance(m, ast.State):
+                self._unique_nodes(m.members, f"state {m.name}")
                 stack.extend(m.members)
+
+    def _unique_nodes(self, members: tuple[object, ...], where: str) -> None:
+        """S2 in one scope of a machine: two states (or junctions) of one name make every
+        transition to that name ambiguous; two transitions of one name, every reference."""
+        self._unique([m for m in members if isinstance(m, (ast.State, ast.MachineNode))],
+                     "state or junction", where)
+        self._unique([m for m in members if isinstance(m, ast.Transition)], "transition", where)
 
     def _module(self, mod: ast.Module) -> None:
         nodes: dict[str, object] = {}
