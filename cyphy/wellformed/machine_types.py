@@ -1,4 +1,4 @@
-"""RoboSim state machines: STM8, the types of a machine's behaviour.
+"""RoboSim state machines: STM8, the types of a machine's behaviour; STM9, a positive cycle.
 
 S3 (expressions are well-typed) for what a machine does: a transition's condition is a
 boolean, an assignment gives a variable a value of its declared type, and a call passes each
@@ -94,3 +94,35 @@ def check_STM8_machine_types(ctx: WFContext) -> None:
 
 def _text(e: ex.Expr) -> str:
     return e.text if isinstance(e, ex.Name) else "the target"
+
+
+def _period(e: ex.Expr) -> float | None:
+    """The number ``cycleDef cycle == e`` gives, when ``e`` is a (signed) number literal."""
+    if isinstance(e, ex.UnaryOp) and e.op == "-":
+        inner = _period(e.operand)
+        return -inner if inner is not None else None
+    return float(e.text) if isinstance(e, ex.Num) else None
+
+
+@rule("STM9", "a cycleDef gives the cycle a positive period")
+def check_STM9_positive_cycle(ctx: WFContext) -> None:
+    """``cycleDef cycle == 0`` (or a negative period) in a module, controller or machine: a
+    cycle that takes no time runs the machine infinitely often per time unit, and the
+    semantics' and the simulator's clocks divide by it. A period written as a number is
+    compared; one given by a constant is left to the commands that evaluate it."""
+    for item in (i for f in ctx.files() for i in f.items):
+        holders = [item, *getattr(item, "members", ())] if isinstance(item, ast.Controller) \
+            else [item]
+        for holder in holders:
+            if not isinstance(holder, (ast.Module, ast.Controller, ast.StateMachine)):
+                continue
+            for c in (m for m in holder.members if isinstance(m, ast.CycleDef)):
+                e = c.expr
+                if not (isinstance(e, ex.BinOp) and e.op == "==" and
+                        e.left == ex.Name(("cycle",))):
+                    continue
+                value = _period(e.right)
+                if value is not None and value <= 0:
+                    ctx.error("STM9", e.right, f"the cycle of {holder.name} is {value:g}: a "
+                              "cycle takes a positive time", "write 'cycleDef cycle == 1' "
+                              "(one time unit), or the period in time units")

@@ -46,6 +46,9 @@ class DModelChecks(CheckerBase):
                 self._type(m.type)
 
     def _controller(self, c: ast.Controller) -> None:
+        nodes: dict[str, object] = {c.name: c}
+        nodes.update({m.name: m for m in c.members
+                      if isinstance(m, (ast.MachineRef, ast.StateMachine))})
         for m in c.members:
             if isinstance(m, ast.InterfaceUse):
                 self.resolve(m, m.interface, is_interface, "interface", m.span)
@@ -55,6 +58,9 @@ class DModelChecks(CheckerBase):
                 self._machine(m)
             elif isinstance(m, ast.VarDecl):
                 self._type(m.type)
+        for m in c.members:
+            if isinstance(m, ast.Connection):
+                self._connection_events(m, nodes)
 
     def _machine(self, stm: ast.StateMachine) -> None:
         """The interfaces and types a machine names; its states, transitions and expressions
@@ -105,6 +111,40 @@ class DModelChecks(CheckerBase):
                         self.error(codes.S1, f"module {mod.name} has no node '{node}'", m.span,
                                    did_you_mean(node, nodes) or
                                    "connect the platform or a controller of this module")
+                self._connection_events(m, nodes)
+
+    def _connection_events(self, c: ast.Connection, nodes: dict[str, object]) -> None:
+        """S1 for the events a connection names: ``connection P on near to ctrl on near``
+        names an event of each end (of its own declarations or of an interface it uses,
+        requires or provides). A misspelt one silently connects nothing: the controller
+        would never see the event."""
+        for node, event in ((c.source, c.source_event), (c.target, c.target_event)):
+            events = self._events_of(nodes.get(node))
+            if events is not None and event not in events:
+                self.error(codes.S1, f"'{node}' has no event '{event}' for connection "
+                           f"{c.source} on {c.source_event} to {c.target} on "
+                           f"{c.target_event}", c.span,
+                           did_you_mean(event, events) or
+                           f"its events are: {', '.join(sorted(events)) or '(none)'}")
+
+    def _events_of(self, node: object) -> set[str] | None:
+        """The events of a connection's end (a platform, a controller, a machine, or a
+        reference to one), or None when it cannot be known (an unresolved reference)."""
+        if isinstance(node, (ast.NodeRef, ast.MachineRef)):
+            node = self.resolution.get(node)
+        if not isinstance(node, (ast.RoboticPlatform, ast.Controller, ast.StateMachine)):
+            return None
+        events = {e.name for e in node.members if isinstance(e, ast.EventDecl)}
+        uses = node.interface_uses if isinstance(node, (ast.RoboticPlatform,
+                                                        ast.StateMachine)) else \
+            tuple(u for u in node.members if isinstance(u, ast.InterfaceUse))
+        for use in uses:
+            found = self.scopes.lookup(self.file, use.interface, is_interface)
+            if not found:
+                return None
+            events.update(e.name for i in found if isinstance(i, ast.Interface)
+                          for e in i.events)
+        return events
 
     # ------------------------------------------------------------------ S5 part cycles
     def _part_cycles(self) -> None:
