@@ -92,6 +92,9 @@ def definition_order(actions: tuple[c.ActionDef, ...]) -> list[c.ActionDef]:
     rules build bottom-up), otherwise each moved after what it calls; a cycle is an error
     (2020 ``definition`` is not recursive: recursion goes through ``MuC``)."""
     by_name = {d.name: d for d in actions}
+    if len(by_name) < len(actions):  # the rules name actions apart: one would be lost here
+        twice = sorted({d.name for d in actions if sum(e.name == d.name for e in actions) > 1})
+        raise IsabelleError(f"actions named twice: {', '.join(twice)}")
     done: dict[str, c.ActionDef] = {}
     visiting: set[str] = set()
 

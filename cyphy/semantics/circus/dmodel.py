@@ -23,6 +23,9 @@ from cyphy.semantics.circus.values import value_expr
 from cyphy.semantics.machines.automaton import Automaton
 
 MODE = "mode"
+#: The names ``D`` derives from its own name ``<D>``: its actions, schemas and fields (an
+#: event's flag ``<D>_<event>`` starts with ``<D>_`` and is kept apart by the event's name).
+DERIVED = ("Init", "Read", "Step", "Write", "State", "Local", f"_{MODE}")
 
 
 def _name(text: str) -> ex.Name:

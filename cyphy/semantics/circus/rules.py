@@ -18,6 +18,7 @@ from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.model.elements import ElaboratedModel, Sensor
 from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.dmodel import DERIVED
 from cyphy.semantics.circus.names import NameTable, capitalised
 from cyphy.semantics.circus.values import (constant_type, literal, si_units, type_of,
                                           value_expr, within)
@@ -93,6 +94,31 @@ class Context:
     ports: dict[tuple[str, ...], str] = field(default_factory=dict)
     motion: tuple[ex.Expr, ...] = ()  # the kinematic tree's equations of motion (build.py)
     given: dict[str, tuple[float, float]] = field(default_factory=dict)  # a scenario's [init]
+    actions: set[str] = field(default_factory=lambda: set(RULE_ACTIONS))  # named so far
+
+    def action_name(self, base: str) -> str:
+        """``base``, or ``base_2``, ``base_3``… when an action already has it: names built from
+        mapped names (``<Event>ToDModel``, ``<Op>Call``, ``<Op>FromDModel``) can repeat a
+        rule's own (an input event ``send`` makes ``SendToDModel``) or each other (events
+        ``near`` and ``Near``), and two definitions of one name are ambiguous in the text and
+        rejected by Isabelle."""
+        return claim_apart(base, self.actions)
+
+
+#: The actions that Rule 2 names itself; :meth:`Context.action_name` keeps the others apart.
+RULE_ACTIONS = ("Init", "SendToDModel", "ReceiveFromDModel", "Evolve")
+#: Names the Isabelle printers derive from a process's name ``<P>``: the action and channel
+#: types, the visible state, the main action (backends/isabelle/theory.py, ax_theory.py).
+PRINTED_FROM_PROCESS = ("_action", "_chan", "Visible", "Main")
+
+
+def claim_apart(base: str, taken: set[str]) -> str:
+    """``base``, else the first of ``base_2``, ``base_3``… that ``taken`` lacks; added to it."""
+    name, n = base, 2
+    while name in taken:
+        name, n = f"{base}_{n}", n + 1
+    taken.add(name)
+    return name
 
 
 # --------------------------------------------------------------------------- Rule 1
@@ -113,12 +139,36 @@ def rule1_program(ctx: Context) -> c.Program:
         where.append(ex.BinOp("==", tscale, ex.Num(repr(float(ctx.tscale)))))
     globals_ = c.AxDef((c.Binding("cycle", c.NAT), c.Binding("tscale", c.REAL)), tuple(where))
     process = rule2_pmodel_process(ctx)
-    dmodel = c.OpaqueProcess(ctx.dmodel.module)
-    system = c.ProcessDef(ctx.system_name, c.PHide(
+    taken = _global_names(process)
+    dmodel = c.OpaqueProcess(claim_apart(ctx.dmodel.module, taken))
+    taken |= _derived_names(dmodel.name)
+    system = c.ProcessDef(claim_apart(ctx.system_name, taken), c.PHide(
         c.PParallel(c.PRef(dmodel.name), REGISTER_CHANNELS, c.PRef(process.name)),
         REGISTER_CHANNELS))
     return c.Program(globals_, channels(ctx), dmodel, process, system,
                      functions(process))
+
+
+def _global_names(process: c.BasicProcess) -> set[str]:
+    """The names that ``D`` and ``N`` must not take: global in Isabelle, where every action,
+    schema and field is a constant, and the processes' in the text. ``D`` and ``P`` may come
+    from a d-model and a p-model of one name; the mapping ``N`` is named after may share a
+    name with either, or with one of ``P``'s actions (``map Init …``)."""
+    names = {process.name, "MainAction", "cycle", "tscale", "tock", "registerRead",
+             "registerWrite"}
+    names |= _derived_names(process.name)
+    names |= {a.name for a in process.actions}
+    for schema in (process.state, process.local):
+        names.add(schema.name)
+        names |= {f.name for f in schema.fields}
+    names |= {k.name for k in process.constants}
+    return names
+
+
+def _derived_names(process: str) -> set[str]:
+    """What a process's name makes: ``D``'s actions, state and fields
+    (:data:`cyphy.semantics.circus.dmodel.DERIVED`), and the printers' types."""
+    return {f"{process}{suffix}" for suffix in (*DERIVED, *PRINTED_FROM_PROCESS)}
 
 
 def channels(ctx: Context) -> tuple[c.ChannelDecl, ...]:
@@ -332,7 +382,7 @@ def rule4_input_event(ctx: Context, m: ast.EventMapping) -> c.ActionDef:
     has to be invented for given sets."""
     preds = [translate(ctx, m, p.expr) for p in m.predicates]
     cond = ex.conjunction(preds) if preds else ex.Bool(True)
-    return c.ActionDef(f"{capitalised(m.name)}ToDModel", (),
+    return c.ActionDef(ctx.action_name(f"{capitalised(m.name)}ToDModel"), (),
                        c.Cond(cond, rule5_then_branch(ctx, m), _not_occurred(ctx, m)))
 
 
@@ -418,11 +468,11 @@ def operation_mapping(ctx: Context, op: ast.OperationMapping) -> list[c.ActionDe
     """``OpCall(x1..xn)`` (the mapping's effect) and
     ``OpFromDModel ≙ registerWrite.op?x1..?xn → OpCall(x1..xn)``."""
     service = ctx.dmodel.operations.get(op.name, Service(op.name))
-    call_name = f"{capitalised(op.name)}Call"
+    call_name = ctx.action_name(f"{capitalised(op.name)}Call")
     call = c.ActionDef(call_name, service.params, effect(ctx, op))
     trigger = c.Comm("registerWrite", op.name, tuple(c.In(b.name) for b in service.params))
     args = tuple(ex.Name((b.name,)) for b in service.params)
-    receive = c.ActionDef(f"{capitalised(op.name)}FromDModel", (),
+    receive = c.ActionDef(ctx.action_name(f"{capitalised(op.name)}FromDModel"), (),
                           c.Prefix(trigger, c.Call(call_name, args)))
     return [call, receive]
 
@@ -432,13 +482,13 @@ def output_event_mapping(ctx: Context, m: ast.EventMapping) -> c.ActionDef:
     ``registerWrite.e → effect``."""
     service = ctx.dmodel.events.get(m.name, Service(m.name))
     fields = tuple(c.In(m.param or b.name) for b in service.params)
-    return c.ActionDef(f"{capitalised(m.name)}FromDModel", (),
+    return c.ActionDef(ctx.action_name(f"{capitalised(m.name)}FromDModel"), (),
                        c.Prefix(c.Comm("registerWrite", m.name, fields), effect(ctx, m)))
 
 
 def variable_mapping(ctx: Context, v: ast.VariableMapping) -> c.ActionDef:
     """A variable: ``registerWrite.v?v → effect`` (the new value is bound to ``v``)."""
-    return c.ActionDef(f"{capitalised(v.name)}FromDModel", (),
+    return c.ActionDef(ctx.action_name(f"{capitalised(v.name)}FromDModel"), (),
                        c.Prefix(c.Comm("registerWrite", v.name, (c.In(v.name),)),
                                 effect(ctx, v)))
 
