@@ -543,6 +543,27 @@ def test_a_relation_in_an_indexed_block_names_its_own_copy(
     assert not any("." in r for r in relations), relations
 
 
+def test_a_relation_naming_every_copy_at_once_is_refused(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Written outside the indexed jref, ``Axle.theta`` names both copies: refused with
+    E-RELATION at the name (it was left unrenamed: check passed, simulate failed far from
+    the cause, \"Range_distance is not an input\"), and gen writes nothing."""
+    for f in TRACKS.iterdir():
+        text = f.read_text()
+        if f.name == "TracksBase.rsm":
+            text = text.replace("\t\t\tpose { x = 0.2m y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }\n",
+                                "\t\t\tpose { x = 0.2m y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }\n"
+                                "\t\t\trelation Range.distance == Axle.theta\n", 1)
+            line = next(i for i, s in enumerate(text.splitlines(), 1) if "Axle.theta" in s)
+        (tmp_path / f.name).write_text(text)
+    out = tmp_path / "out"
+    capsys.readouterr()
+    assert main(["gen", str(tmp_path), "--isabelle", "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert f"TracksBase.rsm:{line}:31: ERROR E-RELATION: the relation names Axle.theta, " \
+        "but Axle has 2 copies" in err and "Traceback" not in err and not out.exists()
+
+
 def test_tracks_wheels_follow_the_machine_and_the_hand_derivation(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     simulated = _simulate(TRACKS, TRACKS / "clear.toml", "--samples", "21")
