@@ -15,6 +15,10 @@
   both machines run (the product of their automata).
 - ranger: a typed input event carrying a sensor reading: refused with a clear diagnostic
   (the automaton models events as present or absent), the theory's ``D`` left opaque.
+
+A second round (tracks, gate, pincer; below) found a relation in an indexed block left
+unrenamed, a machine's open constant ignored by ``gen``, animate sampling a cycle's end before
+its calls, and a scenario diagnostic placed at a comment (docs/theories.md).
 """
 
 from __future__ import annotations
@@ -577,7 +581,10 @@ def test_tracks_wheels_follow_the_machine_and_the_hand_derivation(
         folder, _err = _session(TRACKS, tmp_path / dialect, dialect)
         assert api.check_theory(folder).exit_code == 0
         animated, calls = _animate_cli(folder, TRACKS / "clear.toml", 21, capsys)
-        for name in ("Axle0_Motor_av", "Axle1_Motor_av", "Axle0_v", "Axle1_theta"):
+        # the speed error e = das - av jumps when a call changes das: at the cycles' ends
+        # (0.4, 1.3) both take it after the calls (animate took it before, t = 0 after)
+        errors = ["Axle0_Motor_e", "Axle1_Motor_e"] if dialect == "utp" else []
+        for name in ("Axle0_Motor_av", "Axle1_Motor_av", "Axle0_v", "Axle1_theta", *errors):
             scale = float(np.max(np.abs(simulated[name])))
             assert np.max(np.abs(animated[name] - simulated[name])) / scale < 1e-4, name
         # gear(n: int) writes whole numbers; the composite state's clock shifts at 0.4;
