@@ -84,6 +84,22 @@ def _writes(animation: Animation, channel: str) -> list[tuple[float, object]]:
     return [(round(t, 9), v) for t, c, v in animation.events if c == f"registerWrite_{channel}"]
 
 
+def _reach(model: Path, scenario: Path, edits: dict[str, str], tmp_path: Path,
+           capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    """``cyphy reach`` with the real Flow* on the scenario with ``edits`` (a shorter
+    horizon, another unsafe bound): the exit status, the verdict and the report."""
+    text = scenario.read_text()
+    for old, new in edits.items():
+        assert old in text
+        text = text.replace(old, new)
+    (tmp_path / scenario.name).write_text(text)
+    capsys.readouterr()
+    code = main(["reach", str(model), "--scenario", str(tmp_path / scenario.name), "--jobs",
+                 "1", "--timeout", "120", *argv])
+    out = capsys.readouterr().out
+    return code, out.split(":")[0], out
+
+
 @pytest.mark.parametrize("model", [PENDULUM, LIFT, ROVER, RANGER], ids=lambda p: p.name)
 def test_every_model_checks_clean(model: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["check", str(model), "--consistency"]) == 0
@@ -227,14 +243,10 @@ def test_pendulum_reach_brackets_the_hand_derived_swing(
     peaks at 0.499 rad (t = 0.35 s), so θ ≥ 0.55 is never reached and θ ≥ 0.45 is."""
     _t, theta = _pendulum_by_hand(0.5, 501)
     assert 0.45 < float(np.max(theta)) < 0.55
-    text = (PENDULUM / "swing.toml").read_text().replace("horizon = 3.0", "horizon = 0.5")
-    scenario = tmp_path / "swing.toml"
-    scenario.write_text(text.replace("Pivot_theta >= 1.5", f"Pivot_theta >= {bound}"))
-    capsys.readouterr()
-    code = main(["reach", str(PENDULUM), "--scenario", str(scenario), "--jobs", "1",
-                 "--timeout", "120"])
-    out = capsys.readouterr().out
-    assert (code, out.split(":")[0]) == (status, verdict), out
+    code, said, out = _reach(PENDULUM, PENDULUM / "swing.toml", {
+        "horizon = 3.0": "horizon = 0.5", "Pivot_theta >= 1.5": f"Pivot_theta >= {bound}"},
+        tmp_path, capsys)
+    assert (code, said) == (status, verdict), out
 
 
 # ------------------------------------------------------------------------------ lift
@@ -602,14 +614,10 @@ def test_tracks_reach_brackets_the_hand_derived_peak(
     the rotor's speed derived by hand peaks at 11.27 rad/s (t = 0.8, second gear)."""
     _t, want = _tracks_by_hand(1.0, 101)
     assert 11.0 < float(np.max(want[:, 0])) < 12.0
-    text = (TRACKS / "clear.toml").read_text().replace("horizon = 2.0", "horizon = 1.0")
-    scenario = tmp_path / "clear.toml"
-    scenario.write_text(text.replace("Axle0_Motor_av >= 12", f"Axle0_Motor_av >= {bound}"))
-    capsys.readouterr()
-    code = main(["reach", str(TRACKS), "--scenario", str(scenario), "--jobs", "1",
-                 "--timeout", "120"])
-    out = capsys.readouterr().out
-    assert (code, out.split(":")[0]) == (status, verdict), out
+    code, said, out = _reach(TRACKS, TRACKS / "clear.toml", {
+        "horizon = 2.0": "horizon = 1.0",
+        "Axle0_Motor_av >= 12": f"Axle0_Motor_av >= {bound}"}, tmp_path, capsys)
+    assert (code, said) == (status, verdict), out
 
 
 def test_gate_in_robotool_notation_opens_holds_and_shuts(
@@ -780,11 +788,7 @@ def test_gate_reach_brackets_the_travel_limit(bound: float, verdict: str, status
     limit, hold): simulate's peak is 0.624 m, so 0.7 m is never reached and 0.6 m is."""
     simulated = _simulate(GATE, GATE / "cycle.toml", "--t-end", "2.5", "--samples", "251")
     assert 0.6 < float(np.max(simulated["Rail_theta"])) < 0.7
-    text = (GATE / "cycle.toml").read_text().replace("horizon = 5.0", "horizon = 2.5")
-    scenario = tmp_path / "cycle.toml"
-    scenario.write_text(text.replace("Rail_theta >= 0.7", f"Rail_theta >= {bound}"))
-    capsys.readouterr()
-    code = main(["reach", str(GATE), "--scenario", str(scenario), "--jobs", "1",
-                 "--timeout", "120"])
-    out = capsys.readouterr().out
-    assert (code, out.split(":")[0]) == (status, verdict), out
+    code, said, out = _reach(GATE, GATE / "cycle.toml", {
+        "horizon = 5.0": "horizon = 2.5", "Rail_theta >= 0.7": f"Rail_theta >= {bound}"},
+        tmp_path, capsys)
+    assert (code, said) == (status, verdict), out
