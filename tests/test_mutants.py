@@ -34,6 +34,8 @@ FOLDERS = {
     "pendulum": (HELDOUT / "pendulum", "swing.toml"),
     "ranger": (HELDOUT / "ranger", "approach.toml"),
     "rover": (HELDOUT / "rover", "bump.toml"),
+    "tracks": (HELDOUT / "tracks", "clear.toml"),
+    "pincer": (HELDOUT / "pincer", "squeeze.toml"),
 }
 
 
@@ -150,6 +152,13 @@ MUTANTS: tuple[Mutant, ...] = (
     M("index-out-of-range", "marxbot", "Mapping.rsm", "Proximity[1]", "Proximity[24]",
       "IX5"),
     M("index-count", "marxbot", "Mapping.rsm", "Proximity[1]", "Proximity[1, 0]", "IX5"),
+    M("indexed-joint-out-of-range", "tracks", "Mapping.rsm",
+      "Chassis::Axle[1].Motor.das == -w", "Chassis::Axle[2].Motor.das == -w", "IX5"),
+    M("indexed-part-out-of-range", "pincer", "Mapping.rsm",
+      "predicate Fingers[0].Root.Knuckle.Angle.reading >= 0.5",
+      "predicate Fingers[2].Root.Knuckle.Angle.reading >= 0.5", "IX5"),
+    M("indexed-steer-same-way", "tracks", "Mapping.rsm",
+      "Chassis::Axle[1].Motor.das == -w", "Chassis::Axle[1].Motor.das == w", ACCEPTED),
     M("mapping-wrong-pmodel", "dcmotor", DC_MAP, "to pmodel DCMotorBase",
       "to pmodel DCMotorBas", "S1"),
     M("pmap1-joint-unconnected", "dcmotor", DC_BASE, "\t\t\tflexibly connected to Flywheel\n",

@@ -13,8 +13,8 @@ from typing import Iterator
 
 from cyphy import expr as ex
 from cyphy.lang import ast
-from cyphy.lang.resolution.names import path_roots, steps_of
-from cyphy.wellformed.mapping_names import Names
+from cyphy.lang.resolution.names import steps_of
+from cyphy.wellformed.mapping_names import walk_path
 from cyphy.wellformed.platform_services import MemberMapping, Site, label_of, members_of, sites
 from cyphy.wellformed.registry import WFContext, rule
 
@@ -28,19 +28,23 @@ def _literal(e: ex.Expr) -> int | None:
 
 
 def _indexed_elements(ctx: WFContext, site: Site, member: MemberMapping
-                      ) -> Iterator[tuple[ex.Index, ast.Block]]:
-    """Each ``E[…]`` of the member's paths with the block ``E`` it indexes."""
-    names = Names(ctx, site, member)
+                      ) -> Iterator[tuple[ex.Index, ast.Block | ast.Part]]:
+    """Each ``E[…]`` of the member's paths with the element ``E`` (a sensor, a joint, a
+    part…) it indexes, wherever ``E`` is on the path (``Chassis::Axle[1].Motor.das``)."""
+    if site.pmodel is None or site.pmodel_file is None:
+        return
     for m in member.members:
         for e in ast.expressions_in(m):
-            for root in path_roots(e):
-                block = names.classify(root).block
-                if block is None:
+            for node in e.walk():
+                steps = steps_of(node.base) if isinstance(node, ex.Index) else None
+                if not steps:
                     continue
-                for node in root.walk():
-                    steps = steps_of(node.base) if isinstance(node, ex.Index) else None
-                    if steps and steps[-1][0] == block.name:
-                        yield node, block  # type: ignore[misc]
+                names = [s[0] for s in steps]
+                if names[0] == site.pmodel.name:
+                    names = names[1:]
+                walked = list(walk_path(ctx, site.pmodel, site.pmodel_file, names))
+                if walked and len(walked) == len(names):
+                    yield node, walked[-1][0]  # type: ignore[misc]
 
 
 @rule("IX5", "an index into an indexed element names one of its copies")

@@ -162,16 +162,18 @@ def pmodel_of_part(ctx: WFContext, part: ast.Part, file: ast.SourceFile
     return target, ctx.file_of(target) or file
 
 
-def _navigate(ctx: WFContext, pm: ast.PModel, pm_file: ast.SourceFile, names: list[str]
-              ) -> tuple[ast.Block, ast.SourceFile, str] | None:
-    """Follow an element path from the p-model to (block, its file, port name)."""
+def walk_path(ctx: WFContext, pm: ast.PModel, pm_file: ast.SourceFile, names: list[str]
+              ) -> Iterator[tuple[ast.Block | ast.Part, ast.SourceFile]]:
+    """The elements an element path names one after another from the p-model (with the
+    file of each), entering a part's p-model; it stops at the first name that is no element
+    (a port, or a mistake)."""
     current: Container = pm
     file = pm_file
-    for i, name in enumerate(names):
+    for name in names:
         if isinstance(current, ast.Part):
             inner = pmodel_of_part(ctx, current, file)
             if inner is None:
-                return None
+                return
             current, file = inner
         children = block_children(current)
         child = children[name][0] if name in children else None
@@ -183,11 +185,21 @@ def _navigate(ctx: WFContext, pm: ast.PModel, pm_file: ast.SourceFile, names: li
                     child = nested[name][0]
                     break
         if child is None:
-            if isinstance(current, ast.Block) and i > 0:
-                return current, file, name  # a port (further steps are record fields)
-            return None
+            return
+        yield child, file
         current = child
-    return None  # the path names a block, not a variable (S1 reports it)
+
+
+def _navigate(ctx: WFContext, pm: ast.PModel, pm_file: ast.SourceFile, names: list[str]
+              ) -> tuple[ast.Block, ast.SourceFile, str] | None:
+    """Follow an element path from the p-model to (block, its file, port name)."""
+    walked = list(walk_path(ctx, pm, pm_file, names))
+    if not walked or len(walked) == len(names):
+        return None  # nothing, or the path names a block, not a variable (S1 reports it)
+    block, file = walked[-1]
+    if not isinstance(block, ast.Block):
+        return None
+    return block, file, names[len(walked)]  # a port (further steps are record fields)
 
 
 def _ports(ctx: WFContext, block: ast.Block, file: ast.SourceFile
