@@ -11,7 +11,7 @@ run): 2,000 links 8.0 s / 0.15 GiB cold, 3.8 s warm; 5,000 links 19.8 s / 0.29 G
 was built during the parse: 137 s / 2.08 GiB cold); 90,198 links 422 s / 6.10 GiB cold, the
 progress line still for at most 58 s. The 90k target is not met (docs/limits.md).
 
-    python3 benchmarks/bench_large_check.py [--links N] [--warm]
+    python3 benchmarks/bench_large_check.py [--links N] [--warm [--repeat K]]
 """
 
 from __future__ import annotations
@@ -35,6 +35,9 @@ def main() -> int:
     parser.add_argument("--links", type=int, default=90_198)
     parser.add_argument("--warm", action="store_true",
                         help="check a second time, with the parse cache the first run wrote")
+    parser.add_argument("--repeat", type=int, default=1, metavar="K",
+                        help="with --warm: K warm runs (the machine is shared: one run's time "
+                             "says little)")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="cyphy-bench-") as folder:
         path = write_model(Path(folder), tree_model(args.links, 3))
@@ -43,7 +46,7 @@ def main() -> int:
                "CYPHY_CACHE_DIR": str(Path(folder) / "cache")}
         runs = [("cold", _check(path, env))]
         if args.warm:
-            runs.append(("warm", _check(path, env)))
+            runs.extend(("warm", _check(path, env)) for _ in range(max(args.repeat, 1)))
     for kind, (code, seconds, peak, gap, last, cpu) in runs:
         print(f"{args.links} links ({size / 2**20:.1f} MB), {kind}: exit {code}, {seconds:.1f} s "
               f"({cpu:.1f} s of CPU), peak {peak:.2f} GiB, progress still for at most {gap:.1f} "
