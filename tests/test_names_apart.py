@@ -26,6 +26,7 @@ import pytest
 
 from cyphy.api import (SemanticsGenOptions, check_theory, generate_cyphycircus,
                        generate_isabelle)
+from cyphy.diagnostics import Severity
 
 ROOT = Path(__file__).resolve().parent.parent
 DCMOTOR = ROOT / "examples" / "dcmotor"
@@ -117,3 +118,17 @@ def test_a_dmodel_and_a_pmodel_of_one_name(tmp_path: Path) -> None:
     composition = re.search(r'BenchMapping = HideCSP \(\(state (\w+) \\<bullet> (\w+)\)', theory)
     assert composition.groups() == ("DCMotorBase_2State", "DCMotorBase_2Main")
     _session(folder, tmp_path / "ax", "axiomatic")
+
+
+def test_a_parameter_named_as_a_port_is_refused(tmp_path: Path) -> None:
+    """An operation parameter named ``Motor_das``, the name the semantics gives the motor's
+    ``das``: the theory's call read ``Motor_das = Motor_das`` and set nothing. Refused at the
+    mapping's operation (simulate, which keeps the two apart, still runs it)."""
+    folder = _renamed(tmp_path, DCMOTOR, "w", "Motor_das")
+    generated = generate_isabelle([folder], SemanticsGenOptions())
+    assert not generated.files
+    [error] = [d for d in generated.report.diagnostics if d.severity == Severity.ERROR]
+    assert error.code.id == "E-SEMANTICS" and "'Motor_das' of drive" in error.message
+    assert error.span.line == next(
+        i for i, line in enumerate((folder / "Mapping.rsm").read_text().splitlines(), 1)
+        if "operation drive" in line)

@@ -68,6 +68,10 @@ class NameTable:
         """The definition-qualified name recorded for ``qualified``, or ``""``."""
         return self._definition.get(qualified, "")
 
+    def owner(self, mangled: str) -> str | None:
+        """The qualified name that ``mangled`` was given to, if any."""
+        return self._owner.get(mangled)
+
     def lookup(self, qualified: str) -> str:
         return self._by_qualified[qualified]
 

@@ -537,12 +537,35 @@ def translate(ctx: Context, owner: ast.OperationMapping | ast.EventMapping
     name (``Core::LHinge::LMotor.das`` → ``LMotor_das``), locals and constants of the
     element get their mangled names, quantities their SI values; parameters stay."""
 
+    _bound_apart(ctx, owner)
     names = {d.name: f"{ctx.mapping.name}::{d.name}" for d in ctx.mapping.declarations}
     names.update({d.name: f"{ctx.mapping.name}::{owner.name}::{d.name}"
                   for d in owner.declarations})
     scoped: dict[str, ex.Expr] = {n: ex.Name((m,)) for n, q in names.items()
                                   if (m := ctx.names.get(q)) is not None}
     return si_units(ex.transform(e, mapping_renamer(ctx.model, ctx.ports, scoped)))
+
+
+def _bound_apart(ctx: Context, owner: ast.OperationMapping | ast.EventMapping
+                 | ast.VariableMapping) -> None:
+    """Refuse a parameter (an operation's, a typed event's value, a mapped variable) named as
+    the semantics names a port or constant (``Motor_das``): parameters stay as they are in
+    the translated equations, so ``LMotor.das == Motor_das`` would read
+    ``Motor_das = Motor_das``, and the call would set nothing."""
+    if isinstance(owner, ast.OperationMapping):
+        service = ctx.dmodel.operations.get(owner.name, Service(owner.name))
+        bound, what = [b.name for b in service.params], "parameter"
+    elif isinstance(owner, ast.EventMapping):
+        value = _event_value(ctx, owner)
+        bound, what = ([value.name] if value is not None else []), "value"
+    else:
+        bound, what = [owner.name], "variable"
+    for name in bound:
+        if (taken := ctx.names.owner(name)) is not None:
+            raise SemanticsError(
+                f"the {what} '{name}' of {owner.name} has the name that the semantics gives "
+                f"to {taken}: in the mapping's equations the two could not be told apart",
+                owner.span, f"rename '{name}' (in the d-model and in this mapping)")
 
 
 # --------------------------------------------------------------------------- helpers
