@@ -97,7 +97,7 @@ class AnnotationValue:
         return None
 
 
-@dataclass(eq=False, slots=True)
+@dataclass(eq=False)
 class Element:
     """Base of every elaborated element. ``qname`` is the tuple of name components."""
 
@@ -115,7 +115,7 @@ class Element:
         return next(c for c in reversed(self.qname) if not c.lstrip("-").isdigit())
 
 
-@dataclass(eq=False, slots=True)
+@dataclass(eq=False)
 class Body(Element):
     link: Link | None = None
     pose: Pose | None = None  # relative to the link
@@ -126,7 +126,7 @@ class Body(Element):
     surface: dict[str, Value | None] = field(default_factory=dict)
 
 
-@dataclass(eq=False, slots=True)
+@dataclass(eq=False)
 class Sensor(Element):
     link: Link | None = None
     joint: Joint | None = None  # when the sensor is contained in a joint
@@ -136,12 +136,12 @@ class Sensor(Element):
     definition: str | None = None  # qualified name of the definition it realises
 
 
-@dataclass(eq=False, slots=True)
+@dataclass(eq=False)
 class Actuator(Sensor):
     pass
 
 
-@dataclass(eq=False, slots=True)
+@dataclass(eq=False)
 class Joint(Element):
     parent: Link | None = None
     child: Link | None = None
@@ -156,13 +156,13 @@ class Joint(Element):
     actuators: list[Actuator] = field(default_factory=list)
 
 
-@dataclass(eq=False, slots=True)
+@dataclass(eq=False)
 class FixedJoint(Element):
     parent: Link | None = None
     child: Link | None = None
 
 
-@dataclass(eq=False, slots=True)
+@dataclass(eq=False)
 class Link(Element):
     pose: Pose | None = None  # relative to the p-model (the model frame)
     inertial: Inertial | None = None  # own, or combined from the bodies
