@@ -10,6 +10,9 @@ run): 2,000 links 8.0 s / 0.15 GiB cold, 3.8 s warm; 5,000 links 19.8 s / 0.29 G
 8.5 s warm; 20,000 links 84 s / 1.02 GiB cold, 29 s / 1.01 GiB warm (before the syntax tree
 was built during the parse: 137 s / 2.08 GiB cold); 90,198 links 422 s / 6.10 GiB cold, the
 progress line still for at most 58 s. The 90k target is not met (docs/limits.md).
+After the parse cache's lighter pickling (docs/limits.md, the same load): 20,000 links
+79.5 s of CPU / 0.91 GiB cold, 22-25 s / 0.83 GiB warm; 40,000 links 156 s / 1.78 GiB cold,
+48.6 s / 1.63 GiB warm. ``--links 5000 10000 20000`` fits the growth exponents.
 
     python3 benchmarks/bench_large_check.py [--links N [N ...]] [--warm [--repeat K]]
 """
