@@ -6,15 +6,20 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from cyphy import codes
 from cyphy import expr as ex
+from cyphy.diagnostics import Report
 from cyphy.lang import ast
 from cyphy.model.elements import Device, ElaboratedModel, glued
+
+RELATION = codes.code("E-RELATION", codes.E, "a relation names a block with several copies "
+                      "from outside every one of them")
 
 
 def name_devices(model: ElaboratedModel, device_names: list[tuple[Device, tuple[str, ...]]],
                  index_values: dict[int, dict[str, int]],
-                 relation_queue: list[tuple[ex.Expr, ast.Block, Device | None, dict[str, int]]]
-                 ) -> None:
+                 relation_queue: list[tuple[ex.Expr, ast.Block, Device | None, dict[str, int]]],
+                 report: Report) -> None:
     """Mangled prefixes: the block name with its index values (``Proximity1``); where two
     collide, the enclosing part or link names are prepended until they are unique."""
     tokens = {id(d): glued(q[1:]) for d, q in device_names}  # model left out
@@ -47,17 +52,33 @@ def name_devices(model: ElaboratedModel, device_names: list[tuple[Device, tuple[
         for child in j.joints:
             if child.device is not None and id(child.device) in renamed:
                 child.device = renamed[id(child.device)]
-    _rename_relations(model, renamed, relation_queue)
+    _rename_relations(model, renamed, relation_queue, report)
+
+
+def _enclosing(candidates: list[Device], own: Device | None,
+               qnames: dict[int, tuple[str, ...]]) -> Device | None:
+    """The one candidate whose element encloses the relation's own: inside copy 0 of an
+    indexed ``jref Axle``, the motor's ``Axle.tau`` is copy 0's, whose qualified name
+    (``…::Axle::0``) begins the motor's (``…::Axle::0::Motor``)."""
+    mine = qnames.get(id(own)) if own is not None else None
+    if mine is None:
+        return None
+    around = [d for d in candidates
+              if (q := qnames.get(id(d))) is not None and mine[:len(q)] == q]
+    return around[0] if len(around) == 1 else None
+
 
 def _rename_relations(model: ElaboratedModel, renamed: dict[int, Device],
                       relation_queue: list[tuple[ex.Expr, ast.Block, Device | None,
-                                                 dict[str, int]]]) -> None:
+                                                 dict[str, int]]], report: Report) -> None:
     mangled = {p.mangled for d in renamed.values() for p in d.ports}
     by_name: dict[str, list[Device]] = {}
+    qnames: dict[int, tuple[str, ...]] = {}
     for e in [*model.joints, *model.unconnected, *model.sensors,
               *model.actuators]:
         if e.device is not None:
             by_name.setdefault(e.simple_name, []).append(e.device)
+            qnames[id(e.device)] = e.qname
     for expr, block, device, values in relation_queue:
         own = renamed.get(id(device)) if device is not None else None
 
@@ -69,8 +90,18 @@ def _rename_relations(model: ElaboratedModel, renamed: dict[int, Device],
                 candidates = by_name.get(node.base.parts[0], [])
                 if own is not None and own in candidates:
                     target: Device | None = own
+                elif len(candidates) == 1:
+                    target = candidates[0]
                 else:
-                    target = candidates[0] if len(candidates) == 1 else None
+                    target = _enclosing(candidates, own, qnames)
+                    if target is None:  # left as written, it would name no port at all
+                        name = node.base.parts[0]
+                        report.report(RELATION, f"the relation names {name}.{node.name}, "
+                                      f"but {name} has {len(candidates)} copies: a relation "
+                                      "says which one only inside one of them", node.span,
+                                      "write the relation inside the indexed block (each "
+                                      f"copy then relates its own {name}), or relate an "
+                                      "element that is not indexed")
                 port = target.port(node.name) if target is not None else None
                 if port is not None:
                     return ex.Name((port.mangled,), span=node.span)

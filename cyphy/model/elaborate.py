@@ -135,7 +135,7 @@ class _Elaborator:
         if self.devices:
             progress.step(f"{len(self.model.links)} links: naming the devices")
             name_devices(self.model, self.device_names, self.index_values,
-                         self.relation_queue)
+                         self.relation_queue, self.ctx.report)
         self.model.constants = dict(sorted(self.ctx.constants.items()))
         self.model.missing = dict(sorted(self.ctx.missing.items()))
         return self.model

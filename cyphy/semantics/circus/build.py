@@ -24,7 +24,8 @@ from cyphy.semantics.circus.values import type_of
 from cyphy.semantics.circus.walk import action_nodes
 from cyphy.semantics.dynamics.equations import fixed_root_twists, motion, port_index
 from cyphy.semantics.dynamics.errors import DynamicsError
-from cyphy.semantics.machines.cycle import MACHINE, MachineError, interpreter_for
+from cyphy.semantics.machines.cycle import (MACHINE, MachineError, interpreter_for,
+                                             machine_constants)
 from cyphy.semantics.machines.parallel import compile_module
 from cyphy.wellformed.platform_services import Platform, platform_of
 from cyphy.wellformed.registry import WFContext
@@ -108,7 +109,8 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
     except SemanticsError as err:
         report.report(UNTRANSLATABLE, err.message, err.span, err.hint)
         return None
-    dprocess = _dmodel_process(ws, resolution, report, mapping, program, options.machine)
+    dprocess = _dmodel_process(ws, resolution, report, mapping, program, options.machine,
+                               machine_constants(options.consts))
     if report.has_errors:
         return None
     if dprocess is not None:
@@ -118,12 +120,14 @@ def build_semantics(ws: Workspace, resolution: Resolution, report: Report,
 
 def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
                     mapping: ast.PlatformMapping, program: c.Program,
-                    name: str | None) -> c.BasicProcess | None:
+                    name: str | None, consts: dict[str, object]) -> c.BasicProcess | None:
     """``D`` from the state machine that controls the mapped p-model (``name``, else the
     one its module runs, as ``simulate`` and ``reach`` choose it), compiled as they compile
     it; None, the d-model left opaque, when the files have no machine (said in every
     output) or, with a warning at the machine, when it cannot be written yet; None with an
-    error when the machine asked for by ``name`` is not among the files."""
+    error when the machine asked for by ``name`` is not among the files. ``consts`` gives
+    the machine's constants left open (``--const``, a scenario's ``[consts]``), as
+    simulate and reach take them."""
 
     files = list(ws.user_files())
     machines, (message, hint) = select_machines(files, resolution, mapping.pmodel[-1], name)
@@ -138,7 +142,7 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
     try:
         interpreters = []
         for machine in machines:
-            interpreters.append(interpreter_for(machine, files, resolution, Scopes(ws), None,
+            interpreters.append(interpreter_for(machine, files, resolution, Scopes(ws), consts,
                                                 mapping.pmodel[-1]))
         # the module's machines together (the product), as simulate and reach run them
         automaton = compile_module(interpreters)

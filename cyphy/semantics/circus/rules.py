@@ -18,7 +18,7 @@ from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.model.elements import ElaboratedModel, Sensor
 from cyphy.semantics.circus import ast as c
-from cyphy.semantics.circus.dmodel import DERIVED
+from cyphy.semantics.circus.apart import RULE_ACTIONS, claim_apart, derived_names, global_names
 from cyphy.semantics.circus.names import NameTable, capitalised
 from cyphy.semantics.circus.values import (constant_type, literal, si_units, type_of,
                                           value_expr, within)
@@ -105,22 +105,6 @@ class Context:
         return claim_apart(base, self.actions)
 
 
-#: The actions that Rule 2 names itself; :meth:`Context.action_name` keeps the others apart.
-RULE_ACTIONS = ("Init", "SendToDModel", "ReceiveFromDModel", "Evolve")
-#: Names the Isabelle printers derive from a process's name ``<P>``: the action and channel
-#: types, the visible state, the main action (backends/isabelle/theory.py, ax_theory.py).
-PRINTED_FROM_PROCESS = ("_action", "_chan", "Visible", "Main")
-
-
-def claim_apart(base: str, taken: set[str]) -> str:
-    """``base``, else the first of ``base_2``, ``base_3``… that ``taken`` lacks; added to it."""
-    name, n = base, 2
-    while name in taken:
-        name, n = f"{base}_{n}", n + 1
-    taken.add(name)
-    return name
-
-
 # --------------------------------------------------------------------------- Rule 1
 
 
@@ -139,36 +123,14 @@ def rule1_program(ctx: Context) -> c.Program:
         where.append(ex.BinOp("==", tscale, ex.Num(repr(float(ctx.tscale)))))
     globals_ = c.AxDef((c.Binding("cycle", c.NAT), c.Binding("tscale", c.REAL)), tuple(where))
     process = rule2_pmodel_process(ctx)
-    taken = _global_names(process)
+    taken = global_names(process)
     dmodel = c.OpaqueProcess(claim_apart(ctx.dmodel.module, taken))
-    taken |= _derived_names(dmodel.name)
+    taken |= derived_names(dmodel.name)
     system = c.ProcessDef(claim_apart(ctx.system_name, taken), c.PHide(
         c.PParallel(c.PRef(dmodel.name), REGISTER_CHANNELS, c.PRef(process.name)),
         REGISTER_CHANNELS))
     return c.Program(globals_, channels(ctx), dmodel, process, system,
                      functions(process))
-
-
-def _global_names(process: c.BasicProcess) -> set[str]:
-    """The names that ``D`` and ``N`` must not take: global in Isabelle, where every action,
-    schema and field is a constant, and the processes' in the text. ``D`` and ``P`` may come
-    from a d-model and a p-model of one name; the mapping ``N`` is named after may share a
-    name with either, or with one of ``P``'s actions (``map Init …``)."""
-    names = {process.name, "MainAction", "cycle", "tscale", "tock", "registerRead",
-             "registerWrite"}
-    names |= _derived_names(process.name)
-    names |= {a.name for a in process.actions}
-    for schema in (process.state, process.local):
-        names.add(schema.name)
-        names |= {f.name for f in schema.fields}
-    names |= {k.name for k in process.constants}
-    return names
-
-
-def _derived_names(process: str) -> set[str]:
-    """What a process's name makes: ``D``'s actions, state and fields
-    (:data:`cyphy.semantics.circus.dmodel.DERIVED`), and the printers' types."""
-    return {f"{process}{suffix}" for suffix in (*DERIVED, *PRINTED_FROM_PROCESS)}
 
 
 def channels(ctx: Context) -> tuple[c.ChannelDecl, ...]:

@@ -531,6 +531,14 @@ class MachineInterpreter:
         return self.node
 
 
+def machine_constants(consts: Mapping[str, object] | None) -> dict[str, object]:
+    """The values given (``--const``, a scenario's ``[consts]``) that a machine may read:
+    plain numbers under plain names (``wclose``); a qualified name (``Motor::R``) is a
+    p-model block's."""
+    return {n: v for n, v in (consts or {}).items() if "::" not in n and
+            isinstance(v, (int, float)) and not isinstance(v, bool)}
+
+
 def interpreter_for(machine: Machine, files: list[ast.SourceFile], resolution: Any,
                     scopes: Any, consts: Mapping[str, object] | None = None,
                     pmodel: str | None = None) -> MachineInterpreter:

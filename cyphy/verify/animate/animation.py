@@ -335,9 +335,16 @@ class _Animator:
             raise AnimateError("E-ANIMATE-INTEGRATE", f"the integrator failed at t = "
                                f"{sol.t[-1]:.6g}: {sol.message}", status=1)
         t1 = float(sol.t[-1])
+        # An instant where the evolution stops (a tock) is sampled by the next one, after
+        # the cycle's calls, as t = 0 is and as simulate samples it: inputs such as a motor's
+        # demand, and what depends on them, take their new values there. The end is
+        # sampled here.
+        last = t1 >= self.t_end - 1e-12 * max(1.0, self.t_end)
         for k, tk in enumerate(self.grid):
-            if k not in self.rows and self.t <= tk <= t1 + 1e-12:
-                self.rows[k] = self._sample(system, tk, list(sol.sol(min(tk, t1))))
+            if k not in self.rows and self.t - 1e-12 <= tk and \
+                    (tk < t1 - 1e-9 * max(1.0, t1) or last):
+                self.rows[k] = self._sample(system, tk,
+                                            list(sol.sol(min(max(tk, self.t), t1))))
         for x, v in zip(system.states, sol.y[:, -1]):
             self.p.state[x] = float(v)
         yend = list(sol.y[:, -1])

@@ -27,7 +27,7 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
     or it cannot be compiled."""
     from cyphy.lang.scopes import Scopes
     from cyphy.model.machines import select_machines
-    from cyphy.semantics.machines.cycle import MachineError, interpreter_for
+    from cyphy.semantics.machines.cycle import MachineError, interpreter_for, machine_constants
     from cyphy.semantics.machines.parallel import ModuleInterpreter, compile_module
 
     files = list(check.workspace.user_files())
@@ -38,8 +38,7 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
         report.report(EXPORT, message if scenario.machine else
                       f"the scenario has no [controller], and {message}", span, hint)
         return None
-    consts = {n: v for n, v in scenario.consts.items() if "::" not in n and
-              isinstance(v, (int, float)) and not isinstance(v, bool)}
+    consts = machine_constants(scenario.consts)
     machine = machines[0]
     try:
         interpreters = []

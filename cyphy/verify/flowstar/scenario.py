@@ -111,13 +111,28 @@ class Scenario:
         for key in keys:
             pattern = re.compile(rf'(^|[\s\[."]){re.escape(key)}($|[\s\]."=])')
             for i in range(start, len(lines)):
-                m = pattern.search(lines[i])
+                m = pattern.search(_code(lines[i]))
                 if m:
                     col = m.start() + (1 if m.group(1) else 0) + 1
                     found = Span(self.path, i + 1, col, i + 1, col + len(key))
                     start = i
                     break
         return found
+
+
+def _code(line: str) -> str:
+    """The line without its TOML comment (a ``#`` outside a string), so that a key named in
+    a comment (``# … the environment below``) is not taken for the key itself."""
+    quote = ""
+    for k, ch in enumerate(line):
+        if quote:
+            if ch == quote and line[k - 1] != "\\":
+                quote = ""
+        elif ch in "\"'":
+            quote = ch
+        elif ch == "#":
+            return line[:k]
+    return line
 
 
 class _Reader:
