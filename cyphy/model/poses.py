@@ -124,10 +124,15 @@ class Pose:
         """
         r, q = self.rotation, inner.rotation
         p, v = self.position, inner.position
-        position = tuple(r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2] + p[i]
-                         for i in range(3))
-        rotation = tuple(tuple(r[i][0] * q[0][j] + r[i][1] * q[1][j] + r[i][2] * q[2][j]
-                               for j in range(3)) for i in range(3))
+        # Written out, not as generators: a tuple built from a generator keeps room for ten
+        # items (120 bytes, not 64), and every elaborated link keeps several poses.
+        (r0, r1, r2), (q0, q1, q2) = r, q
+        position = (r0[0] * v[0] + r0[1] * v[1] + r0[2] * v[2] + p[0],
+                    r1[0] * v[0] + r1[1] * v[1] + r1[2] * v[2] + p[1],
+                    r2[0] * v[0] + r2[1] * v[1] + r2[2] * v[2] + p[2])
+        rotation = tuple([(ri[0] * q0[0] + ri[1] * q1[0] + ri[2] * q2[0],
+                           ri[0] * q0[1] + ri[1] * q1[1] + ri[2] * q2[1],
+                           ri[0] * q0[2] + ri[1] * q1[2] + ri[2] * q2[2]) for ri in (r0, r1, r2)])
         return Pose._trusted(position, rotation)  # type: ignore[arg-type]
 
     def __matmul__(self, inner: Pose) -> Pose:

@@ -44,7 +44,7 @@ def rule(id: str, summary: str, severity: Severity = Severity.ERROR
     return register
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class BlockSite:
     """A block with where it is: its file, p-model and enclosing blocks (outermost first)."""
 

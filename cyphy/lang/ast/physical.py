@@ -195,8 +195,8 @@ class _Members:
             views = {}
             object.__setattr__(self, "_views", views)
         found = views.get(cls)
-        if found is None:
-            found = views[cls] = tuple(m for m in self.members if isinstance(m, cls))
+        if found is None:  # (from a list: a tuple built from a generator keeps room for 10)
+            found = views[cls] = tuple([m for m in self.members if isinstance(m, cls)])
         return found
 
     @property
