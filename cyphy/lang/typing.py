@@ -120,12 +120,7 @@ class TypeChecker:
     def expect_assignable(self, target: ex.Expr, value: ex.Expr, what: str) -> None:
         """``target = value`` (or an argument passed for a parameter): a boolean where a
         number is held, or the reverse, is an error; unknown kinds pass."""
-        want, got = self.infer(target), self.infer(value)
-        if Kind.ANY in (want.kind, got.kind):
-            return
-        if want.kind is not got.kind or not same_shape(want.shape, got.shape):
-            self.error(value, f"{what} is {want.describe()}, but it is given {got.describe()}",
-                       "give a value of the declared type")
+        self.expect_type(value, self.infer(target), what)
 
     def expect_type(self, e: ex.Expr, want: Ty, what: str) -> None:
         """``e`` where a value of type ``want`` is needed (an operation's argument)."""

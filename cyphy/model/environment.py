@@ -97,7 +97,6 @@ class Env(Mapping[str, Value]):
         return sum(1 for _ in self)
 
 
-
 class Context:
     def __init__(self, ws: Workspace, resolution: Resolution, report: Report,
                  consts: Mapping[str, Value]) -> None:
@@ -216,7 +215,7 @@ class Context:
         """Remember the ``--const`` keys that name ``b``, a constant an instantiation sets:
         the instantiation wins, so a key that names nothing else changes nothing."""
         for key in self.consts:
-            if _names(key, b.qualified, b.definition, b.decl.name):
+            if names_constant(key, b.decl.name, b.qualified, b.definition):
                 self.instantiated.setdefault(key, []).append(b)
 
     def report_instantiated(self) -> None:
@@ -245,7 +244,7 @@ class Context:
         name, the definition name, a ``::`` suffix of either, or the bare name."""
         best: tuple[int, str] | None = None
         for key in self.consts:
-            if _names(key, b.qualified, b.definition, b.decl.name):
+            if names_constant(key, b.decl.name, b.qualified, b.definition):
                 if best is None or len(key) > best[0]:
                     best = (len(key), key)
         if best is None:
@@ -263,7 +262,8 @@ class Context:
         candidates = {n for names in self.declared for n in names}
         unknown = [key for key in sorted(self.consts) if key not in self.used_consts and
                    key not in reported and
-                   not any(_names(key, *names) for names in self.declared)]
+                   not any(names_constant(key, name, qualified, definition)
+                           for qualified, definition, name in self.declared)]
         if unknown:  # a constant of another part of the files (a d-model's) is no typo
             # lazy: constants.py imports the parser (Lark), which a warm run must not load
             from cyphy.model.constants import declared_constants
@@ -323,12 +323,6 @@ class Context:
     def _known_missing(self, name: str, env: Env) -> bool:
         found = env._find(name)
         return isinstance(found, Binding) and found.state == "missing"
-
-
-def _names(key: str, qualified: str, definition: str, name: str) -> bool:
-    """Whether a ``--const`` key names the constant (:func:`cyphy.constant_keys.names_constant`)."""
-    return names_constant(key, name, qualified, definition)
-
 
 
 def numbers_only(e: ex.Vector | ex.Matrix) -> bool:

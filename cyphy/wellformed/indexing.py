@@ -270,7 +270,7 @@ _IX1_EMPTY = Code("IX1", Severity.WARNING, "an index range is empty")
 Indexed = Union[ast.Block, ast.Part]
 
 
-def _indices(ctx: WFContext) -> Iterator[tuple[ast.SourceFile, ast.PModel, Indexed,
+def indices(ctx: WFContext) -> Iterator[tuple[ast.SourceFile, ast.PModel, Indexed,
                                                ast.IndexDecl, Names]]:
     """Every index declaration with the names visible where its range is written."""
     for site in ctx.blocks():
@@ -294,7 +294,7 @@ def check_IX1_index_range(ctx: WFContext) -> None:
     """An index range ``[a, b)`` or ``[a, b]`` has bounds that are integer constant
     expressions, with ``a <= b``. An empty range (``[a, a)``) is a warning: the block has no
     copies. Bounds that need a constant without a value are not checked."""
-    for file, _, node, index, outer in _indices(ctx):
+    for file, _, node, index, outer in indices(ctx):
         values: list[int] = []
         for which, bound in (("lower", index.lower), ("upper", index.upper)):
             variables = list(variables_used(bound, outer))

@@ -16,6 +16,7 @@ from cyphy.lang import ast
 from cyphy.lang.scopes import is_value
 from cyphy.lang.typing import BOOL, ANY, TypeChecker, Ty, type_of_declared
 from cyphy.model.machines import Machine, called_operation, statements
+from cyphy.wellformed.indexing import evaluate_in
 from cyphy.wellformed.machines import _machines
 from cyphy.wellformed.registry import RULES, WFContext, rule
 
@@ -96,21 +97,14 @@ def _text(e: ex.Expr) -> str:
     return e.text if isinstance(e, ex.Name) else "the target"
 
 
-def _period(e: ex.Expr) -> float | None:
-    """The number ``cycleDef cycle == e`` gives, when ``e`` is a (signed) number literal."""
-    if isinstance(e, ex.UnaryOp) and e.op == "-":
-        inner = _period(e.operand)
-        return -inner if inner is not None else None
-    return float(e.text) if isinstance(e, ex.Num) else None
-
-
 @rule("STM9", "a cycleDef gives the cycle a positive period")
 def check_STM9_positive_cycle(ctx: WFContext) -> None:
     """``cycleDef cycle == 0`` (or a negative period) in a module, controller or machine: a
     cycle that takes no time runs the machine infinitely often per time unit, and the
-    semantics' and the simulator's clocks divide by it. A period written as a number is
-    compared; one given by a constant is left to the commands that evaluate it."""
-    for item in (i for f in ctx.files() for i in f.items):
+    semantics' and the simulator's clocks divide by it. The period is evaluated with the
+    constants in scope (``cycleDef cycle == P``); one that needs a constant without a value
+    is left to the commands that are given it."""
+    for file, item in ((f, i) for f in ctx.files() for i in f.items):
         holders = [item, *getattr(item, "members", ())] if isinstance(item, ast.Controller) \
             else [item]
         for holder in holders:
@@ -121,8 +115,9 @@ def check_STM9_positive_cycle(ctx: WFContext) -> None:
                 if not (isinstance(e, ex.BinOp) and e.op == "==" and
                         e.left == ex.Name(("cycle",))):
                     continue
-                value = _period(e.right)
-                if value is not None and value <= 0:
+                value, _ = evaluate_in(ctx, file, {}, e.right)
+                if isinstance(value, (int, float)) and not isinstance(value, bool) and \
+                        value <= 0:
                     ctx.error("STM9", e.right, f"the cycle of {holder.name} is {value:g}: a "
                               "cycle takes a positive time", "write 'cycleDef cycle == 1' "
                               "(one time unit), or the period in time units")

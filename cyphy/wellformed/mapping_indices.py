@@ -3,8 +3,9 @@
 ``Core::Proximity[1].voltage`` reads copy 1 of the ring of 24 sensors ``index j : [0,24)``.
 An index outside the range (``Proximity[24]``), or as many indices as the element does not
 have, names no sensor: the semantics would read a variable that does not exist, and the
-mapping's event would never (or always) occur. Indices and bounds that are integer literals
-are compared; others (a constant, an expression) are left to the elaboration.
+mapping's event would never (or always) occur. Indices and bounds are evaluated as IX1
+evaluates bounds (constants included: ``index j : [0, N)`` with ``const N: nat = 24``); one
+that needs a constant without a value is not compared.
 """
 
 from __future__ import annotations
@@ -14,17 +15,26 @@ from typing import Iterator
 from cyphy import expr as ex
 from cyphy.lang import ast
 from cyphy.lang.resolution.names import steps_of
+from cyphy.wellformed.indexing import Names, evaluate_in, indices
 from cyphy.wellformed.mapping_names import walk_path
 from cyphy.wellformed.platform_services import MemberMapping, Site, label_of, members_of, sites
 from cyphy.wellformed.registry import WFContext, rule
 
 
-def _literal(e: ex.Expr) -> int | None:
-    """An integer literal, possibly negated; None for anything else."""
-    if isinstance(e, ex.UnaryOp) and e.op == "-":
-        inner = _literal(e.operand)
-        return -inner if inner is not None else None
-    return int(e.text) if isinstance(e, ex.Num) and e.is_integer else None
+def _integer(ctx: WFContext, file: ast.SourceFile, names: Names, e: ex.Expr) -> int | None:
+    """The integer value of ``e`` where it is written, or None (no value here, or not an
+    integer: IX1 and S3 report those)."""
+    value, _ = evaluate_in(ctx, file, names, e)
+    return value if isinstance(value, int) and not isinstance(value, bool) else None
+
+
+def _ranges(ctx: WFContext) -> dict[int, tuple[ast.SourceFile, Names]]:
+    """For each index declaration (by id), the file and names where its range is written."""
+    found: dict[int, tuple[ast.SourceFile, Names]] | None = ctx.cache.get("index-ranges")
+    if found is None:
+        found = {id(index): (file, outer) for file, _, _, index, outer in indices(ctx)}
+        ctx.cache["index-ranges"] = found
+    return found
 
 
 def _indexed_elements(ctx: WFContext, site: Site, member: MemberMapping
@@ -63,8 +73,10 @@ def check_IX5_mapping_indices(ctx: WFContext) -> None:
                               f"{block.name}")
                     continue
                 for arg, decl in zip(node.args, block.indices):
-                    value, low, high = (_literal(arg), _literal(decl.lower),
-                                        _literal(decl.upper))
+                    file, outer = _ranges(ctx).get(id(decl), (site.file, {}))
+                    value = _integer(ctx, site.file, {}, arg)
+                    low, high = (_integer(ctx, file, outer, decl.lower),
+                                 _integer(ctx, file, outer, decl.upper))
                     if value is None or low is None or high is None:
                         continue
                     last = high if decl.closed else high - 1
