@@ -26,8 +26,10 @@ from cyphy.wellformed.registry import WFContext, rule
 from cyphy.wellformed.value_spans import axis_span, inertia_span, mass_span
 
 GEOMETRY_TOL = 1e-9
-#: How far from 1 an AXIS's length may be: five significant digits (0.70711, 0.70711, 0).
-UNIT_TOL = 1e-5
+#: How far from 1 an AXIS's length may be: a direction written to three digits
+#: ((|0.707, 0.707, 0|), length 0.99985) is the unit vector its writer meant, and scales the
+#: joint's speed by less than 0.1%; (|0, 2, 0|) is a mistake.
+UNIT_TOL = 1e-3
 
 
 def _models(ctx: WFContext) -> list[Any]:
