@@ -132,3 +132,23 @@ def test_a_parameter_named_as_a_port_is_refused(tmp_path: Path) -> None:
     assert error.span.line == next(
         i for i, line in enumerate((folder / "Mapping.rsm").read_text().splitlines(), 1)
         if "operation drive" in line)
+
+
+def test_both_events_of_alike_names_drive_the_animated_theory(tmp_path: Path) -> None:
+    """The oracle for the first case: the theory animated (``cyphy animate``, which reads
+    only the theory) swings the pendulum as ``cyphy simulate`` does, switching both ways,
+    which needs both events (``tooFar`` to push back, ``TooFar`` to push forward again)."""
+    import numpy as np
+
+    from test_heldout import _column, _simulate, _worst, _writes
+    from cyphy.verify.animate.animation import animate
+
+    folder = _renamed(tmp_path, PENDULUM, "tooBack", "TooFar")
+    _session(folder, tmp_path / "out")
+    animation = animate(tmp_path / "out", 1.5, {}, {"tscale": 0.05}, samples=31)
+    simulated = _simulate(folder, folder / "swing.toml", "--t-end", "1.5", "--samples", "31")
+    worst = _worst(animation, simulated, ["Pivot_theta", "Pivot_v"])
+    assert max(worst.values()) < 0.01, worst
+    pushes = _writes(animation, "push")
+    assert (0.3, -0.3) in pushes and (0.65, 0.3) in pushes  # back on tooFar, on on TooFar
+    assert np.max(np.abs(_column(animation, "Pivot_theta"))) > 0.3
