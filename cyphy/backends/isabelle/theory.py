@@ -22,6 +22,7 @@ from cyphy import codes
 from cyphy.backends.isabelle.names import RESERVED, IsabelleNames, is_identifier
 from cyphy.backends.isabelle.terms import (HOL_FUNCTIONS, IsabellePrinter, Symbols, UnsupportedNode,
                                      bound_identifier)
+from cyphy.semantics.circus.dmodel_cycle import is_cycle_process
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.names import NameTable, identifier
 from cyphy.semantics.circus.rules import DEVIATIONS, REGISTER_CHANNELS, functions
@@ -425,6 +426,7 @@ def _dprocess_context(program: c.Program, dm: c.BasicProcess, printer: IsabelleP
         "fields": [{"name": names[f.name], "type": _quoted(printer.type(f.type))}
                    for f in dm.state.fields],
         "definitions": definitions, "main": definitions[-1].name,
+        "cycle": is_cycle_process(dm),  # one cycle written out (typed events), not modes
         "channels_name": names[f"{program.system.name}_channels"], "channels": channels,
     }
 

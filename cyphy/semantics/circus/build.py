@@ -19,14 +19,15 @@ from cyphy.model.elements import ElaboratedModel
 from cyphy.model.machines import select_machines
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel import dmodel_process
+from cyphy.semantics.circus.dmodel_cycle import cycle_process
 from cyphy.semantics.circus.names import NameTable
 from cyphy.semantics.circus.rules import Context, DModel, SemanticsError, Service, rule1_program
 from cyphy.semantics.circus.values import type_of
 from cyphy.semantics.circus.walk import action_nodes
 from cyphy.semantics.dynamics.equations import fixed_root_twists, motion, port_index
 from cyphy.semantics.dynamics.errors import DynamicsError
-from cyphy.semantics.machines.cycle import (MACHINE, MachineError, interpreter_for,
-                                             machine_constants)
+from cyphy.semantics.machines.cycle import (MACHINE, MachineError, MachineInterpreter,
+                                             interpreter_for, machine_constants)
 from cyphy.semantics.machines.parallel import compile_module
 from cyphy.wellformed.platform_services import Platform, platform_of
 from cyphy.wellformed.registry import WFContext
@@ -145,29 +146,43 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
                           mapping.span, hint)
         return None
     machine = machines[0]
+    channels = {ch.name: ch for ch in program.channels}
+    reads = {v.tag: v.types for v in channels["registerRead"].variants if v.tag is not None}
+    writes = {v.tag: v.types for v in channels["registerWrite"].variants
+              if v.tag is not None}
     try:
         interpreters = []
         for machine in machines:
             interpreters.append(interpreter_for(machine, files, resolution, Scopes(ws), consts,
                                                 mapping.pmodel[-1]))
+        typed = _typed_reader(interpreters)
+        if typed is not None:  # values the automaton cannot hold: one cycle written out
+            if len(interpreters) > 1:
+                raise MachineError("it reads a typed input event and runs beside other "
+                                   "machines: D for typed events is written for one machine",
+                                   typed.machine.decl.span, "choose one with --machine")
+            machine = typed.machine
+            return cycle_process(program.dmodel.name, typed, reads, writes)
         # the module's machines together (the product), as simulate and reach run them
         automaton = compile_module(interpreters)
+        return dmodel_process(program.dmodel.name, automaton, tuple(reads), writes)
     except MachineError as err:
         report.report(OPAQUE_DMODEL, f"the d-model process is left opaque: state machine "
                       f"{machine.name}: {err.message}", err.span, err.hint)
         return None
-    channels = {ch.name: ch for ch in program.channels}
-    reads = tuple(v.tag for v in channels["registerRead"].variants if v.tag is not None)
-    writes = {v.tag: v.types for v in channels["registerWrite"].variants
-              if v.tag is not None}
-    try:
-        return dmodel_process(program.dmodel.name, automaton, reads, writes)
     except ValueError as err:
         report.report(OPAQUE_DMODEL, f"the d-model process is left opaque: state machine "
                       f"{machine.name} calls {err}, which the mapping does not map with "
                       "these arguments", machine.decl.span,
                       f"map {err} in {mapping.name}")
         return None
+
+
+def _typed_reader(interpreters: list[MachineInterpreter]) -> MachineInterpreter | None:
+    """The first machine that reads a typed input event (its ``D`` is
+    :mod:`~cyphy.semantics.circus.dmodel_cycle`'s), None when none does."""
+    return next((i for i in interpreters if any(
+        d.type is not None for d in i.machine.platform.input_events.values())), None)
 
 
 def _motion(model: ElaboratedModel, report: Report, pmodels: set[str]

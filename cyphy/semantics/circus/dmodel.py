@@ -23,9 +23,10 @@ from cyphy.semantics.circus.values import value_expr
 from cyphy.semantics.machines.automaton import Automaton
 
 MODE = "mode"
-#: The names ``D`` derives from its own name ``<D>``: its actions, schemas and fields (an
+#: The names ``D`` derives from its own name ``<D>``: its actions (``Start`` is the first
+#: cycle of :mod:`~cyphy.semantics.circus.dmodel_cycle`'s), schemas and fields (an
 #: event's flag ``<D>_<event>`` starts with ``<D>_`` and is kept apart by the event's name).
-DERIVED = ("Init", "Read", "Step", "Write", "State", "Local", f"_{MODE}")
+DERIVED = ("Init", "Read", "Start", "Step", "Write", "State", "Local", f"_{MODE}")
 
 
 def _name(text: str) -> ex.Name:
@@ -69,7 +70,7 @@ def dmodel_process(name: str, automaton: Automaton, reads: tuple[str, ...],
             types = writes.get(call)
             if types is None or len(types) != len(args):
                 raise ValueError(call)
-            values = tuple(c.Out(_literal(a, t)) for a, t in zip(args, types))
+            values = tuple(c.Out(literal(a, t)) for a, t in zip(args, types))
             sends.append(c.Prefix(c.Comm("registerWrite", call, values), c.Skip()))
         body = sends[0] if len(sends) == 1 else c.Seq(tuple(sends))
         write = c.Cond(ex.BinOp("==", _name(mode), ex.Num(str(i))), body, write)
@@ -88,7 +89,7 @@ def dmodel_process(name: str, automaton: Automaton, reads: tuple[str, ...],
                           c.Schema(f"{prefix}Local", ()), actions, main)
 
 
-def _literal(value: float, type_: c.Type) -> ex.Expr:
+def literal(value: float, type_: c.Type) -> ex.Expr:
     """An argument as a literal of its parameter's type (an ``int`` or ``nat`` channel takes
     a whole number, ``1``, not ``1.0``), written as the parser writes literals: a negative
     one is the negation of its magnitude (a Num's text is never signed; the printers and

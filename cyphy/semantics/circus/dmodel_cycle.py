@@ -1,0 +1,422 @@
+"""``D`` for a state machine that reads **typed** input events: one cycle of the machine
+translated into Circus conditionals and assignments over the machine's own state.
+
+Why not the automaton (:mod:`cyphy.semantics.circus.dmodel`): the automaton's modes are the
+interpreter's configurations, found by running it under every combination of events present
+or absent. An event that carries a value (``event echo: real``, read as ``$echo?seen``) binds
+a variable to a real number, so the configurations are not finite and the automaton cannot
+be built. Here the values stay symbolic: ``D``'s state is
+
+- ``<D>_mode``: the node the machine rests in (its position among the machine's nodes);
+- ``<D>_<e>`` (a Boolean) per input event the mapping maps, and ``<D>_<e>_value`` for a
+  typed one: what ``registerRead.e?b?v`` read at the cycle's start (P's side offers
+  ``registerRead.e!true!p`` or ``!false!p``, :func:`cyphy.semantics.circus.rules.rule4_input_event`);
+- ``<D>_<x>`` per variable of the machine, at its initial value;
+- ``<D>_<C>`` per clock: the cycles counted since ``#C`` (``since(C)`` is the count times
+  the machine's cycle, as in the interpreter).
+
+and each cycle runs the interpreter's rules (:mod:`cyphy.semantics.machines.cycle`, point
+3) written out as an action, unrolled from each node the machine can rest in:
+
+``<D>Read``  reads every mapped input event: ``registerRead.e?e_in?e_value_in →
+(<D>_e, <D>_e_value := e_in, e_value_in)``;
+
+``<D>Step``  advances the clocks, then ``if <D>_mode = s then <cycle from s> else …``: the
+state's ``during`` action, then its transitions in the order written (exec ones too: the
+machine has rested since the last cycle), each ``if guard then (bind ; exit ; action ; enter
+target ; <target's transitions, exec ones excluded>) else <next>``, the last ``else`` the
+machine resting (``<D>_mode := s`` where it moved). A guard is the trigger and condition
+over the state: ``$e`` is ``<D>_e = true``, a name bound by ``$e?x`` is ``<D>_e_value`` in
+the guard and ``x := <D>_e_value`` when taken, a constant is its value. A call or output
+event is sent where the machine makes it, ``registerWrite.op!(args)`` with the arguments
+as expressions over the state (the values the interpreter would compute there);
+
+``<D>Start`` is the first cycle: from the initial junction, exec transitions excluded, no
+clock advanced. ``<D>Main ≙ <D>Init ; <D>Read ; <D>Start ; Wait(cycle) ; μ X • (<D>Read ;
+<D>Step ; Wait(cycle) ; X)``.
+
+So ``<D>Write`` has no part here: the calls are made inside the cycle, in the interpreter's
+order, interleaved with the assignments that precede them. A machine without typed input
+events keeps the automaton's ``D`` (its theory is unchanged).
+
+Isabelle constructs (the printers already use each for ``P`` or the automaton's ``D``): an
+input of two fields ``c?(b)?(v)`` is utp-main c9122f14's mixed prefix
+(``theories/circus/utp_circus_prefix.thy:41, 58-59``: ``_mixed_prefix`` to ``_pattern x y``,
+then ``InputCSP``, ``theories/sf_rdes/utp_sfrd_prog.thy:864``), and Ax_CyPhyCircus's
+``c\\<^bold>?(b, v)``, a ``pttrn`` (Circus_Toolkit 97811b8 ``IsaCircus_Syntax.thy:68, 90``);
+conditionals, assignments and output prefixes as in the automaton's ``D``.
+
+What is refused (``W-SEMANTICS-DMODEL``, with the reason): composite states, operation
+definitions, ``exec`` and ``wait`` inside actions, vector variables, a name bound by ``$e?x``
+outside a conjunct of its guard, several machines, and a cycle that passes more than
+:data:`MAX_DEPTH` nodes (a loop of transitions without ``exec``).
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from cyphy import expr as ex
+from cyphy.lang import ast
+from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.dmodel import MODE, literal
+from cyphy.semantics.circus.values import type_of, value_expr
+from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
+
+#: Nodes passed in one cycle before the unrolling is taken to loop.
+MAX_DEPTH = 32
+#: Conditionals in one ``D`` before it is called too large to write.
+MAX_CONDITIONALS = 2000
+_SCALARS = (c.REAL, c.INT, c.NAT, c.BOOL)
+_CONNECTIVES = ("/\\", "\\/", "=>", "<=>")
+
+
+def _name(text: str) -> ex.Name:
+    return ex.Name((text,))
+
+
+def _seq(actions: list[c.Action]) -> c.Action:
+    actions = [a for a in actions if not isinstance(a, c.Skip)]
+    if not actions:
+        return c.Skip()
+    return actions[0] if len(actions) == 1 else c.Seq(tuple(actions))
+
+
+def _conjuncts(e: ex.Expr) -> list[ex.Expr]:
+    if isinstance(e, ex.BinOp) and e.op == "/\\":
+        return _conjuncts(e.left) + _conjuncts(e.right)
+    return [e]
+
+
+class _Cycle:
+    """The translation of one flat machine (see the module docstring)."""
+
+    def __init__(self, name: str, interpreter: MachineInterpreter,
+                 reads: dict[str, tuple[c.Type, ...]],
+                 writes: dict[str, tuple[c.Type, ...]]) -> None:
+        self.interpreter = interpreter
+        self.machine = m = interpreter.machine
+        self.writes = writes
+        self.prefix = name
+        self.mode = f"{name}_{MODE}"
+        self.index = {key: i for i, key in enumerate(m.nodes)}
+        self.events = [e for e in m.platform.input_events if e in reads]
+        self.typed = {e: reads[e][1] for e in self.events if len(reads[e]) == 2}
+        self.conditionals = 0
+        self.rest: list[str] = []  # nodes the machine may rest in, in the order found
+        self._refuse_unsupported()
+        self.fields = self._fields()
+
+    # ----- what the translation refuses
+    def _refuse(self, message: str, span: object = None, hint: str = "") -> MachineError:
+        return MachineError(message, span or self.machine.decl.span,  # type: ignore[arg-type]
+                            hint or "the theory's D is written for flat machines: states, "
+                            "junctions, variables, clocks, and calls made in one cycle")
+
+    def _refuse_unsupported(self) -> None:
+        m = self.machine
+        for node in m.nodes.values():
+            if node.parent is not None or node.composite:
+                raise self._refuse(f"state {node.key} is composite: D for typed events is "
+                                   "written for flat machines only", node.span)
+        if self.interpreter.operations:
+            names = ", ".join(sorted(self.interpreter.operations))
+            raise self._refuse(f"it calls the operation definition{'s' if ',' in names else ''}"
+                               f" {names}: D for typed events does not run operation "
+                               "definitions")
+        for name, decl in m.variables.items():
+            if type_of(decl.type) not in _SCALARS:
+                raise self._refuse(f"variable {name} is not a number or a Boolean", decl.span)
+        for e, t in self.typed.items():
+            if t not in _SCALARS:
+                raise self._refuse(f"the event {e} carries a value that is not a number or "
+                                   "a Boolean")
+
+    # ----- the state
+    def _fields(self) -> list[c.SchemaField]:
+        p = self.prefix
+        fields = [c.SchemaField(self.mode, c.NAT)]
+        for e in self.events:
+            fields.append(c.SchemaField(f"{p}_{e}", c.BOOL))
+            if e in self.typed:
+                fields.append(c.SchemaField(f"{p}_{e}_value", self.typed[e]))
+        fields += [c.SchemaField(f"{p}_{x}", type_of(d.type))
+                   for x, d in self.machine.variables.items()]
+        fields += [c.SchemaField(f"{p}_{k}", c.NAT) for k in self.machine.clocks]
+        names = [f.name for f in fields]
+        clash = next((n for n in names if names.count(n) > 1), None)
+        if clash is not None:
+            raise self._refuse(f"two parts of its state would both be named {clash} (an "
+                               "event, a variable or a clock of one name, or one named "
+                               f"'{MODE}' or '<event>_value')", hint="rename one of them")
+        return fields
+
+    def init(self) -> c.Action:
+        it = self.interpreter
+        it.reset()
+        values: list[ex.Expr] = [ex.Num(str(self.index[it.node]))]
+        for e in self.events:
+            values.append(ex.Bool(False))
+            if e in self.typed:
+                values.append(_zero(self.typed[e]))
+        for x, d in self.machine.variables.items():
+            values.append(_constant(it.variables[x], type_of(d.type)))
+        values += [ex.Num("0") for _ in self.machine.clocks]
+        return c.Assign(tuple(f.name for f in self.fields), tuple(values))
+
+    def read(self) -> c.Action:
+        p = self.prefix
+        receive: list[c.Action] = []
+        for e in self.events:
+            if e in self.typed:
+                comm = c.Comm("registerRead", e, (c.In(f"{e}_in"), c.In(f"{e}_value_in")))
+                then = c.Assign((f"{p}_{e}", f"{p}_{e}_value"),
+                                (_name(f"{e}_in"), _name(f"{e}_value_in")))
+            else:
+                comm = c.Comm("registerRead", e, (c.In(f"{e}_in"),))
+                then = c.Assign((f"{p}_{e}",), (_name(f"{e}_in"),))
+            receive.append(c.Prefix(comm, then))
+        return _seq(receive)
+
+    # ----- one cycle
+    def start(self) -> c.Action:
+        it = self.interpreter
+        it.reset()
+        return self._select(it.node, resting=False, here=it.node, depth=0)
+
+    def step(self) -> c.Action:
+        clocks = [c.Assign((f"{self.prefix}_{k}",),
+                           (ex.BinOp("+", _name(f"{self.prefix}_{k}"), ex.Num("1")),))
+                  for k in self.machine.clocks]
+        branches: list[tuple[str, c.Action]] = []
+        done: set[str] = set()
+        while len(done) < len(self.rest):
+            key = next(k for k in self.rest if k not in done)
+            done.add(key)
+            node = self.machine.nodes[key]
+            during = self._statements(node.actions("during")) if node.kind == "state" else []
+            body = _seq([*during, self._select(key, resting=True, here=key, depth=0)])
+            if not isinstance(body, c.Skip):
+                branches.append((key, body))
+        cases: c.Action = c.Skip()
+        for key, body in sorted(branches, key=lambda kb: self.index[kb[0]], reverse=True):
+            cases = self._cond(ex.BinOp("==", _name(self.mode), ex.Num(str(self.index[key]))),
+                               body, cases)
+        return _seq([*clocks, cases])
+
+    def _cond(self, cond: ex.Expr, then: c.Action, orelse: c.Action) -> c.Action:
+        self.conditionals += 1
+        if self.conditionals > MAX_CONDITIONALS:
+            raise self._refuse(f"its cycles unroll to more than {MAX_CONDITIONALS} "
+                               "conditionals", hint="let the machine's cycles pass fewer "
+                               "junctions, or end them with exec")
+        return c.Cond(cond, then, orelse)
+
+    def _select(self, key: str, resting: bool, here: str, depth: int) -> c.Action:
+        """The machine at ``key`` after its during action: its first enabled transition
+        taken, else it rests at ``key`` (``here``: where the cycle began)."""
+        if depth > MAX_DEPTH:
+            raise self._refuse(f"a cycle from {here} passes more than {MAX_DEPTH} nodes: a "
+                               "loop of transitions without exec?",
+                               self.machine.nodes[key].span,
+                               "mark the end of the cycle with exec")
+        action: c.Action = c.Skip() if key == here else \
+            c.Assign((self.mode,), (ex.Num(str(self.index[key])),))
+        enabled = [t for t in self.machine.outgoing(key)
+                   if t.target is not None and (resting or not t.decl.exec)]
+        always = next((i for i, t in enumerate(enabled)
+                       if t.decl.trigger is None and t.decl.condition is None), None)
+        if always is not None:  # the transitions after it are never taken, nor is resting
+            enabled = enabled[:always + 1]
+        elif key not in self.rest:
+            self.rest.append(key)
+        for t in reversed(enabled):
+            guard, bindings = self._guard(t.decl)
+            taken = _seq([*bindings, *self._statements(self.machine.nodes[key].actions("exit")),
+                          *self._statements(t.decl.action or ()),
+                          *self._arrive(t.target, here, depth + 1)])
+            action = taken if t is enabled[-1] and always is not None else \
+                self._cond(guard, taken, action)
+        return action
+
+    def _arrive(self, key: str, here: str, depth: int) -> list[c.Action]:
+        node = self.machine.nodes[key]
+        steps: list[c.Action] = []
+        if node.kind == "state":
+            steps += self._statements(node.actions("entry"))
+            steps += self._statements(node.actions("during"))
+        return [*steps, self._select(key, resting=False, here=here, depth=depth)]
+
+    # ----- guards and expressions
+    def _guard(self, t: ast.Transition) -> tuple[ex.Expr, list[c.Action]]:
+        """The guard over D's state and the assignments of the names ``$e?x`` binds."""
+        parts = [e for e in (t.trigger, t.condition) if e is not None]
+        bound: dict[str, str] = {}
+        bindings: list[c.Action] = []
+        for part in parts:
+            top = set(map(id, _conjuncts(part)))
+            for n in part.walk():
+                if isinstance(n, ex.PlatformRef) and n.binding is not None:
+                    event = n.name[-1]
+                    if id(n) not in top:
+                        raise self._refuse(f"transition {t.name} binds {n.binding} from "
+                                           f"${event} outside a conjunct of its guard: the "
+                                           "value is bound only when the event occurs", n.span,
+                                           f"write the guard as $" + event + "?" + n.binding +
+                                           " /\\ …")
+                    if event in self.typed:
+                        bound[n.binding] = f"{self.prefix}_{event}_value"
+                        bindings.append(c.Assign((f"{self.prefix}_{n.binding}",),
+                                                 (_name(bound[n.binding]),)))
+                    elif event in self.events:  # (an event not mapped never occurs)
+                        raise self._refuse(f"transition {t.name} binds {n.binding} from the "
+                                           f"untyped event {event}", n.span)
+        if not parts:
+            return ex.Bool(True), bindings
+        guard = ex.conjunction([self._predicate(p, bound) for p in parts])
+        return guard, bindings
+
+    def _predicate(self, e: ex.Expr, bound: dict[str, str]) -> ex.Expr:
+        """A condition as a predicate: Z has no Boolean-valued terms in predicate position,
+        so an event and a Boolean variable are compared with true."""
+        if isinstance(e, ex.BinOp) and e.op in _CONNECTIVES:
+            return ex.BinOp(e.op, self._predicate(e.left, bound),
+                            self._predicate(e.right, bound))
+        if isinstance(e, ex.UnaryOp) and e.op == "not":
+            return ex.UnaryOp("not", self._predicate(e.operand, bound))
+        if isinstance(e, ex.PlatformRef):
+            event = e.name[-1]
+            if event not in self.events:  # not mapped: it never occurs
+                return ex.Bool(False)
+            return ex.BinOp("==", _name(f"{self.prefix}_{event}"), ex.Bool(True))
+        if isinstance(e, ex.Bool):
+            return e
+        if isinstance(e, ex.Name) and e.text in self.machine.variables and \
+                type_of(self.machine.variables[e.text].type) == c.BOOL:
+            return ex.BinOp("==", self._expr(e, bound), ex.Bool(True))
+        return self._expr(e, bound)
+
+    def _expr(self, e: ex.Expr, bound: dict[str, str] | None = None) -> ex.Expr:
+        """A value over D's state: variables and clocks are D's, constants their values."""
+        p, bound = self.prefix, bound or {}
+        period = self.interpreter.period
+        constants = self.interpreter.constants
+
+        def rewrite(n: ex.Expr) -> ex.Expr | None:
+            if isinstance(n, ex.Call) and isinstance(n.func, ex.Name) and \
+                    n.func.text == "since" and len(n.args) == 1 and \
+                    isinstance(n.args[0], ex.Name) and n.args[0].text in self.machine.clocks:
+                count = _name(f"{p}_{n.args[0].text}")
+                return count if period == 1 else ex.BinOp("*", count, value_expr(period))
+            if isinstance(n, ex.PlatformRef):
+                raise self._refuse(f"${n.text} is used as a value", n.span,
+                                   "test events in guards only")
+            if isinstance(n, ex.Name):
+                if n.text in bound:
+                    return _name(bound[n.text])
+                if n.text in self.machine.variables:
+                    return _name(f"{p}_{n.text}")
+                value = constants.get(n.text)
+                if isinstance(value, (bool, int, float)):
+                    return _constant(value, c.REAL)
+                if n.text == "since" or n.text in self.machine.clocks:
+                    return None  # since(C) is rewritten at the call (bottom-up)
+                raise self._refuse(f"'{n.text}' has no value in the machine", n.span)
+            return None
+
+        out = ex.transform(e, rewrite)
+        left = next((n for n in out.walk() if isinstance(n, ex.Name) and (
+            n.text == "since" or n.text in self.machine.clocks)), None)
+        if left is not None:
+            raise self._refuse(f"'{left.text}' is used outside since(C)", left.span)
+        return out
+
+    # ----- statements
+    def _statements(self, statements: tuple[ast.Statement, ...] | list[ast.Statement]
+                    ) -> list[c.Action]:
+        return [self._statement(s) for s in statements]
+
+    def _statement(self, s: ast.Statement) -> c.Action:
+        p = self.prefix
+        if isinstance(s, ast.Assign):
+            if not isinstance(s.target, ex.Name) or s.target.text not in self.machine.variables:
+                raise self._refuse("only a variable of the machine can be assigned", s.span)
+            decl = self.machine.variables[s.target.text]
+            value = self._predicate(s.value, {}) if type_of(decl.type) == c.BOOL \
+                else self._expr(s.value)
+            return c.Assign((f"{p}_{s.target.text}",), (value,))
+        if isinstance(s, ast.ClockReset):
+            return c.Assign((f"{p}_{s.clock}",), (ex.Num("0"),))
+        if isinstance(s, ast.SkipStatement):
+            return c.Skip()
+        if isinstance(s, (ast.ExecStatement, ast.WaitStatement)):
+            raise self._refuse("exec and wait inside an action are not written in D for "
+                               "typed events (the cycle would end inside the action)", s.span)
+        if isinstance(s, ast.SendStatement):
+            name = s.event.name[-1] if isinstance(s.event, ex.PlatformRef) else "?"
+            return self._send(name, (s.value,), s)
+        if isinstance(s, ast.CallStatement):
+            call = s.call
+            if isinstance(call, ex.PlatformRef):
+                return self._send(call.name[-1], (), s)
+            if isinstance(call, ex.Call) and isinstance(call.func, ex.PlatformRef):
+                return self._send(call.func.name[-1], call.args, s)
+            raise self._refuse("this call is not a call of the platform", s.span)
+        raise self._refuse("this statement is not written in D", s.span)
+
+    def _send(self, name: str, args: tuple[ex.Expr, ...], s: ast.Statement) -> c.Action:
+        types = self.writes.get(name)
+        if types is None and name in self.interpreter.observable:
+            return c.Skip()  # an output event the mapping does not map: observable only
+        if types is None or len(types) != len(args):
+            raise ValueError(name)
+        values = tuple(c.Out(self._argument(a, t)) for a, t in zip(args, types))
+        return c.Prefix(c.Comm("registerWrite", name, values), c.Skip())
+
+    def _argument(self, a: ex.Expr, type_: c.Type) -> ex.Expr:
+        """A constant argument as the automaton's ``D`` writes it (a literal of the
+        parameter's type), any other as an expression over the state."""
+        translated = self._expr(a)
+        if not any(isinstance(n, ex.Name) for n in translated.walk()):
+            try:
+                value = self.interpreter._value(a, self.interpreter.constants)
+            except MachineError:
+                value = None
+            if isinstance(value, (int, float)) and not isinstance(value, bool):
+                return literal(float(value), type_)
+        return translated
+
+
+def _zero(type_: c.Type) -> ex.Expr:
+    return ex.Bool(False) if type_ == c.BOOL else ex.Num("0")
+
+
+def _constant(value: object, type_: c.Type) -> ex.Expr:
+    if isinstance(value, bool) or type_ == c.BOOL:
+        return ex.Bool(bool(value))
+    return literal(float(value), type_)  # type: ignore[arg-type]
+
+
+def cycle_process(name: str, interpreter: MachineInterpreter,
+                  reads: dict[str, tuple[c.Type, ...]],
+                  writes: dict[str, tuple[c.Type, ...]]) -> c.BasicProcess:
+    """``D`` for one flat machine (see the module docstring): ``reads`` are the mapped
+    input events with their ``registerRead`` payload types (``(bool,)`` or ``(bool, T)``),
+    ``writes`` the mapped calls with their parameters' types. Raises :class:`MachineError`
+    with what cannot be written, ``ValueError`` naming a call the mapping does not map."""
+    t = _Cycle(name, interpreter, reads, writes)
+    p = name
+    defs = [c.ActionDef(f"{p}Init", (), t.init()), c.ActionDef(f"{p}Read", (), t.read()),
+            c.ActionDef(f"{p}Start", (), t.start()), c.ActionDef(f"{p}Step", (), t.step())]
+    call: Callable[[str], c.Call] = lambda suffix: c.Call(f"{p}{suffix}")
+    wait = c.Wait(_name("cycle"))
+    main = c.Seq((call("Init"), call("Read"), call("Start"), wait,
+                  c.Mu("X", c.Seq((call("Read"), call("Step"), wait, c.Call("X"))))))
+    return c.BasicProcess(name, (), c.Schema(f"{p}State", tuple(t.fields)),
+                          c.Schema(f"{p}Local", ()), tuple(defs), main)
+
+
+def is_cycle_process(process: c.BasicProcess) -> bool:
+    """Whether ``D`` is this module's (it has ``<D>Start``), not the automaton's: the
+    theories' prose says which construction they state."""
+    return any(a.name == f"{process.name}Start" for a in process.actions)
