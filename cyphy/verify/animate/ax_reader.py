@@ -104,6 +104,14 @@ class _Rewrite:
         if kind in ("assign_one", "assign"):
             return Tree(kind, [c if not hasattr(c, "data") else self.expr(c, bound)
                                for c in ch])
+        if kind == "indexed_choice":
+            # ``□ x ∈ UNIV. (p & A)`` in the utp dialect's form: p as an ``exists`` node of
+            # its conjuncts (the executor solves them for x)
+            var, typ, where, body = ch
+            inner = bound | {str(var)}
+            conjuncts = where.children if getattr(where, "data", "") == "conj" else [where]
+            exists = Tree("exists", [self.expr(c, inner) for c in conjuncts])
+            return Tree("indexed_choice", [var, typ, exists, self.action(body, inner)])
         if kind == "spec":
             return self._spec(node, bound)
         if kind == "evolution":

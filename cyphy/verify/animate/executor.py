@@ -167,6 +167,15 @@ class Runner:
                     return []
                 proc.stack.append((ch[1], env))
                 continue
+            if kind == "indexed_choice":
+                # ``□ x ∈ UNIV • (p(x) & A(x))``: A for the value of x that p determines (a
+                # typed event's value: Rule 5's equations), or 0 when p is true (Rule 4's
+                # else-branch leaves the value of an event that did not occur free)
+                var, where, body = str(ch[0]), ch[2], ch[3]
+                inner = dict(env)
+                inner[var] = self._chosen(var, where, proc, env)
+                proc.stack.append((body, inner))
+                continue
             if kind == "mu":
                 var = str(ch[0])
                 inner = dict(env)
@@ -279,18 +288,32 @@ class Runner:
         if not self.value(node.children[1], proc, env):
             raise AnimateError("E-ANIMATE-PRE", f"a call's precondition is false in "
                                f"{self.where.name if self.where else 'the theory'}", status=1)
-        key = id(node)
+        self._assign(proc, frame, self._solved(node.children[2], frame, proc, env,
+                                               "its postcondition"))
+
+    def _chosen(self, var: str, where: Any, proc: Proc, env: dict[str, Any]) -> Any:
+        """The value of an indexed choice's variable: the one its predicate determines, 0
+        when the predicate is ``true`` (any value: the theory leaves it free)."""
+        conjuncts = [c for c in where.children if getattr(c, "data", "") != "binder"]
+        if all(getattr(c, "data", "") in ("utrue", "true") for c in conjuncts):
+            return 0.0
+        return self._solved(where, [var], proc, env, "the choice's predicate")[0]
+
+    def _solved(self, post: Any, frame: list[str], proc: Proc, env: dict[str, Any],
+                what: str) -> list[float]:
+        """The frame's values that the equations ``post`` (an ``exists`` node) give, solved
+        once per node over the parameters and the state they read."""
+        key = id(post)
         if key not in self._specs:
-            self._specs[key] = self._solve_spec(node, frame, proc, env)
+            self._specs[key] = self._solve_spec(post, frame, proc, env, what)
         solution, reads = self._specs[key]
         args = [env[x] if x in env else (proc.state.get(x) if proc.state.get(x) is not None
                                          else self.settle(x, proc)) for x in reads]
-        self._assign(proc, frame, [float(v) for v in solution(*args)])
+        return [float(v) for v in solution(*args)]
 
-    def _solve_spec(self, node: Any, frame: list[str], proc: Proc,
-                    env: dict[str, Any]) -> tuple[Callable[..., Any], list[str]]:
+    def _solve_spec(self, post: Any, frame: list[str], proc: Proc,
+                    env: dict[str, Any], what: str) -> tuple[Callable[..., Any], list[str]]:
         import sympy  # lazy: only calls with a specification statement need it
-        post = node.children[2]
         binders = [str(b.children[0]) for b in post.children if getattr(b, "data", "") == "binder"]
         syms = {x: sympy.Symbol(x) for x in frame + binders}
         reads: dict[str, Any] = {}
@@ -322,7 +345,7 @@ class Runner:
         answers = sympy.solve(eqs, list(syms.values()), dict=True, rational=False)
         if len(answers) != 1 or any(syms[x] not in answers[0] for x in frame):
             raise AnimateError("E-ANIMATE-SPEC", f"{self.where.name if self.where else 'a call'}"
-                               f": its postcondition does not determine {', '.join(frame)}",
+                               f": {what} does not determine {', '.join(frame)}",
                                path=self.where.path if self.where else None,
                                line=self.where.line if self.where else 0, status=1)
         names = list(reads)
