@@ -54,7 +54,9 @@ def test_dcmotor_d_is_the_speed_machine_by_hand() -> None:
 
 
 def test_a_machine_d_cannot_express_is_a_warning_at_the_machine(tmp_path: Path) -> None:
-    """A typed input event: the automaton models events as present or absent only."""
+    """A typed input event in a machine with a composite state: the automaton models events
+    as present or absent only, and the cycle written out (dmodel_cycle.py) is for flat
+    machines."""
     (tmp_path / "DCMotorBase.rsm").write_text((DCMOTOR / "DCMotorBase.rsm").read_text())
     mapping = (DCMOTOR / "Mapping.rsm").read_text()
     (tmp_path / "Mapping.rsm").write_text(mapping.replace(
@@ -62,15 +64,21 @@ def test_a_machine_d_cannot_express_is_a_warning_at_the_machine(tmp_path: Path) 
         "input event near ? d {\n\t\tpredicate Bench::Range.range <= 1.0\n"
         "\t\tequation d == Bench::Range.range\n"))
     software = (DCMOTOR / "DCMotorSoftware.rsm").read_text()
-    (tmp_path / "DCMotorSoftware.rsm").write_text(
-        software.replace("event near\n", "event near: real\n"))
+    software = software.replace("event near\n", "event near: real\n")
+    (tmp_path / "DCMotorSoftware.rsm").write_text(software)
+    sem, checked = _semantics([tmp_path / "Mapping.rsm"])
+    assert sem is not None and isinstance(sem.program.dmodel, c.BasicProcess)  # flat: written
+    composite = software.replace("state Stopped {}", "state Stopped {\n\t\tinitial j0\n"
+                                 "\t\tstate Still {}\n\t\ttransition u0 { from j0 to Still }\n\t}")
+    assert composite != software
+    (tmp_path / "DCMotorSoftware.rsm").write_text(composite)
     sem, checked = _semantics([tmp_path / "Mapping.rsm"])
     assert sem is not None and isinstance(sem.program.dmodel, c.OpaqueProcess)
     [warning] = [d for d in checked.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
-    assert "typed input event" in warning.message and "SSpeed" in warning.message
+    assert "state Stopped is composite" in warning.message and "SSpeed" in warning.message
     assert warning.span.file.endswith("DCMotorSoftware.rsm")
-    stm_line = software.splitlines().index("stm SSpeed {") + 1
-    assert warning.span.line == stm_line
+    stopped_line = composite.splitlines().index("\tstate Stopped {") + 1
+    assert warning.span.line == stopped_line
 
 
 def test_gen_machine_option_chooses_d_and_an_unknown_one_is_an_error(tmp_path: Path,

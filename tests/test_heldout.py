@@ -14,7 +14,8 @@
   parameters. ``D`` was left opaque ("several state machines") and simulate refused; now
   both machines run (the product of their automata).
 - ranger: a typed input event carrying a sensor reading: refused with a clear diagnostic
-  (the automaton models events as present or absent), the theory's ``D`` left opaque.
+  (the automaton models events as present or absent), the theory's ``D`` left opaque; now
+  ``D`` is the machine's cycle written out over its variables and the event's value.
 
 A second round (tracks, gate, pincer; below) found a relation in an indexed block left
 unrenamed, a machine's open constant ignored by ``gen``, animate sampling a cycle's end before
@@ -417,14 +418,20 @@ def test_rover_machines_with_different_cycles_are_refused(tmp_path: Path) -> Non
 
 
 # ------------------------------------------------------------------------------ ranger
-def test_ranger_typed_event_is_refused_with_a_diagnostic(
+def test_ranger_typed_event_d_is_stated_and_animated(tmp_path: Path) -> None:
+    """D is written for the typed event (one cycle written out: dmodel_cycle.py), checks
+    and runs in both dialects; tests/test_dmodel_typed.py compares it with the p-model's
+    equations by hand."""
+    for dialect in ("utp", "axiomatic"):
+        folder, codes = _generate(RANGER, tmp_path / dialect, dialect)
+        assert "W-SEMANTICS-DMODEL" not in codes
+        assert api.check_theory(folder).exit_code == 0
+        anim = animate(folder, 1.0, {}, {"tscale": 0.1}, samples=11)
+        assert anim.columns.index("RangerSoftware_seen") > 0
+
+
+def test_ranger_typed_event_is_refused_by_simulate(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    folder, codes = _generate(RANGER, tmp_path / "utp", "utp")
-    assert "W-SEMANTICS-DMODEL" in codes
-    assert api.check_theory(folder).exit_code == 0  # P is written and checks
-    with pytest.raises(AnimateError) as err:
-        animate(folder, 1.0, {}, {"tscale": 0.1}, samples=11)
-    assert err.value.code == "E-ANIMATE-OPAQUE" and err.value.status == 1
     out = tmp_path / "sim.csv"
     capsys.readouterr()
     code = main(["simulate", str(RANGER), "--scenario", str(RANGER / "approach.toml"),
