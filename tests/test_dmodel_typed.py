@@ -250,3 +250,48 @@ def test_a_typed_machine_d_cannot_write_is_refused_with_the_reason(tmp_path: Pat
     assert sem is not None and isinstance(sem.program.dmodel, c.OpaqueProcess)
     [warning] = [d for d in checked.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
     assert "SFollow" in warning.message and "composite" in warning.message
+
+
+# ---------------------------------------------------------------- a second construction
+
+LIFT = HERE / "data" / "heldout" / "lift"
+
+
+def _typed_lift(folder: Path) -> Path:
+    """The held-out lift with its event atTop typed (it carries the height read) and the
+    machine unchanged: it only tests atTop's occurrence, so the machine behaves as the
+    untyped lift's, whose D is the automaton's."""
+    folder.mkdir(parents=True)
+    (folder / "LiftBase.rsm").write_text((LIFT / "LiftBase.rsm").read_text())
+    software = (LIFT / "LiftSoftware.rsm").read_text()
+    typed = software.replace("\tevent atTop\n", "\tevent atTop: real\n")
+    mapping = (LIFT / "Mapping.rsm").read_text()
+    typed_mapping = mapping.replace(
+        "input event atTop {\n\t\tpredicate Mast::Slide::Level.height >= 0.3\n",
+        "input event atTop ? h {\n\t\tpredicate Mast::Slide::Level.height >= 0.3\n"
+        "\t\tequation h == Mast::Slide::Level.height\n")
+    assert typed != software and typed_mapping != mapping
+    (folder / "LiftSoftware.rsm").write_text(typed)
+    (folder / "Mapping.rsm").write_text(typed_mapping)
+    return folder
+
+
+@pytest.mark.parametrize("dialect", DIALECTS)
+def test_typed_lift_animates_as_the_automaton_d_of_the_untyped_lift(tmp_path: Path,
+                                                                    dialect: str) -> None:
+    """The lift's machine (entry, during and exit actions, a junction, exec transitions, a
+    clock reset on exit and compared with a constant) through both constructions: the cycle
+    written out (its atTop typed) and the automaton (untyped). Over cycle.toml's 7 s (up,
+    hold 5 cycles, down, up again) the slide's height and the winch's demand agree at every
+    cycle."""
+    typed, _, diagnostics = _generate([_typed_lift(tmp_path / "typed")], tmp_path / "t", dialect)
+    assert not [d for d in diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
+    assert main(["check-theory", str(typed)]) == 0
+    untyped, theory, _ = _generate([LIFT], tmp_path / "u", dialect)
+    assert "LiftSoftwareStart" not in theory  # the automaton's D
+    names = ["t", "Slide_theta", "Winch_dls"]
+    a = _columns(animate(typed, 7.0, consts={"tscale": TSCALE}, samples=71), names)
+    b = _columns(animate(untyped, 7.0, consts={"tscale": TSCALE}, samples=71), names)
+    assert np.max(np.abs(a["Slide_theta"] - b["Slide_theta"])) < 1e-9
+    assert np.max(np.abs(a["Winch_dls"] - b["Winch_dls"])) < 1e-12
+    assert {0.2, 0.0, -0.1} <= set(np.round(a["Winch_dls"], 9))  # rise, hold, lower

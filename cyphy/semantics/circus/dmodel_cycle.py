@@ -13,7 +13,9 @@ be built. Here the values stay symbolic: ``D``'s state is
   ``registerRead.e!true!p`` or ``!false!p``, :func:`cyphy.semantics.circus.rules.rule4_input_event`);
 - ``<D>_<x>`` per variable of the machine, at its initial value;
 - ``<D>_<C>`` per clock: the cycles counted since ``#C`` (``since(C)`` is the count times
-  the machine's cycle, as in the interpreter).
+  the machine's cycle, as in the interpreter), a whole number held as a real: it is
+  compared with real constants (``since(C) >= pause``), and utp-main's UTP expressions have
+  no coercion from ``nat`` to ``real`` (a ``nat`` count there is a type error).
 
 and each cycle runs the interpreter's rules (:mod:`cyphy.semantics.machines.cycle`, point
 3) written out as an action, unrolled from each node the machine can rest in:
@@ -142,7 +144,7 @@ class _Cycle:
                 fields.append(c.SchemaField(f"{p}_{e}_value", self.typed[e]))
         fields += [c.SchemaField(f"{p}_{x}", type_of(d.type))
                    for x, d in self.machine.variables.items()]
-        fields += [c.SchemaField(f"{p}_{k}", c.NAT) for k in self.machine.clocks]
+        fields += [c.SchemaField(f"{p}_{k}", c.REAL) for k in self.machine.clocks]
         names = [f.name for f in fields]
         clash = next((n for n in names if names.count(n) > 1), None)
         if clash is not None:
