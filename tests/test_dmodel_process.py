@@ -54,9 +54,9 @@ def test_dcmotor_d_is_the_speed_machine_by_hand() -> None:
 
 
 def test_a_machine_d_cannot_express_is_a_warning_at_the_machine(tmp_path: Path) -> None:
-    """A typed input event in a machine with a composite state: the automaton models events
-    as present or absent only, and the cycle written out (dmodel_cycle.py) is for flat
-    machines."""
+    """A typed input event in a machine that waits inside an action: the automaton models
+    events as present or absent only, and the cycle written out (dmodel_cycle.py) does not
+    end a cycle inside an action."""
     (tmp_path / "DCMotorBase.rsm").write_text((DCMOTOR / "DCMotorBase.rsm").read_text())
     mapping = (DCMOTOR / "Mapping.rsm").read_text()
     (tmp_path / "Mapping.rsm").write_text(mapping.replace(
@@ -68,17 +68,15 @@ def test_a_machine_d_cannot_express_is_a_warning_at_the_machine(tmp_path: Path) 
     (tmp_path / "DCMotorSoftware.rsm").write_text(software)
     sem, checked = _semantics([tmp_path / "Mapping.rsm"])
     assert sem is not None and isinstance(sem.program.dmodel, c.BasicProcess)  # flat: written
-    composite = software.replace("state Stopped {}", "state Stopped {\n\t\tinitial j0\n"
-                                 "\t\tstate Still {}\n\t\ttransition u0 { from j0 to Still }\n\t}")
-    assert composite != software
-    (tmp_path / "DCMotorSoftware.rsm").write_text(composite)
+    waiting = software.replace("state Stopped {}", "state Stopped {\n\t\tentry wait(1)\n\t}")
+    assert waiting != software
+    (tmp_path / "DCMotorSoftware.rsm").write_text(waiting)
     sem, checked = _semantics([tmp_path / "Mapping.rsm"])
     assert sem is not None and isinstance(sem.program.dmodel, c.OpaqueProcess)
     [warning] = [d for d in checked.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
-    assert "state Stopped is composite" in warning.message and "SSpeed" in warning.message
+    assert "wait inside an action" in warning.message and "SSpeed" in warning.message
     assert warning.span.file.endswith("DCMotorSoftware.rsm")
-    stopped_line = composite.splitlines().index("\tstate Stopped {") + 1
-    assert warning.span.line == stopped_line
+    assert warning.span.line == waiting.splitlines().index("\t\tentry wait(1)") + 1
 
 
 def test_gen_machine_option_chooses_d_and_an_unknown_one_is_an_error(tmp_path: Path,

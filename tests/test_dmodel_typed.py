@@ -9,6 +9,7 @@ IR sensor) integrated with SciPy, sampled each cycle by the machine's interprete
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -235,21 +236,21 @@ def test_follower_animated_demand_is_the_reading_times_k(tmp_path: Path,
 
 
 def test_a_typed_machine_d_cannot_write_is_refused_with_the_reason(tmp_path: Path) -> None:
-    """A composite state in a machine that reads a typed event: D stays opaque with the
-    reason at the machine (W-SEMANTICS-DMODEL), and gen still writes the rest."""
+    """``wait(1)`` in an entry action (the cycle would end inside the action) in a machine
+    that reads a typed event: D stays opaque with the reason at the statement
+    (W-SEMANTICS-DMODEL), and gen still writes the rest."""
     software = (FOLLOW / "FollowSoftware.rsm").read_text()
-    composite = software.replace(
-        "state Track {}",
-        "state Track {\n\t\tinitial j0\n\t\tstate In {}\n\t\ttransition u0 { from j0 to In }\n\t}")
-    assert composite != software
-    (tmp_path / "FollowSoftware.rsm").write_text(composite)
+    waiting = software.replace("state Track {}", "state Track {\n\t\tentry wait(1)\n\t}")
+    assert waiting != software
+    (tmp_path / "FollowSoftware.rsm").write_text(waiting)
     (tmp_path / "Mapping.rsm").write_text((FOLLOW / "Mapping.rsm").read_text())
     checked = api.check([RANGER / "RangerBase.rsm", tmp_path],
                         api.CheckOptions(neighbours_as_targets=True))
     sem = build_semantics(checked.workspace, checked.resolution, checked.report)
     assert sem is not None and isinstance(sem.program.dmodel, c.OpaqueProcess)
     [warning] = [d for d in checked.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
-    assert "SFollow" in warning.message and "composite" in warning.message
+    assert "SFollow" in warning.message and "wait inside an action" in warning.message
+    assert warning.span.line == waiting.splitlines().index("\t\tentry wait(1)") + 1
 
 
 # ---------------------------------------------------------------- a second construction
@@ -295,3 +296,45 @@ def test_typed_lift_animates_as_the_automaton_d_of_the_untyped_lift(tmp_path: Pa
     assert np.max(np.abs(a["Slide_theta"] - b["Slide_theta"])) < 1e-9
     assert np.max(np.abs(a["Winch_dls"] - b["Winch_dls"])) < 1e-12
     assert {0.2, 0.0, -0.1} <= set(np.round(a["Winch_dls"], 9))  # rise, hold, lower
+
+
+TRACKS = HERE / "data" / "heldout" / "tracks"
+
+
+def test_typed_tracks_animate_as_the_automaton_d_of_the_untyped_tracks(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The held-out tracks' machine has a composite state (Moving: First, Second, a clock
+    reset on First's entry, an exec transition on it), a during action and calls with an
+    int argument: with near typed, its D (the cycle written out) drives both motors as the
+    untyped tracks' automaton D does, over clear.toml (first gear, second, halt)."""
+    typed = tmp_path / "typed"
+    typed.mkdir()
+    (typed / "TracksBase.rsm").write_text((TRACKS / "TracksBase.rsm").read_text())
+    software = (TRACKS / "TracksSoftware.rsm").read_text()
+    (typed / "TracksSoftware.rsm").write_text(
+        software.replace("\tevent near\n", "\tevent near: real\n"))
+    mapping = (TRACKS / "Mapping.rsm").read_text()
+    typed_mapping = mapping.replace(
+        "input event near {\n\t\tpredicate Chassis::Range.range <= 0.4\n",
+        "input event near ? r {\n\t\tpredicate Chassis::Range.range <= 0.4\n"
+        "\t\tequation r == Chassis::Range.range\n")
+    assert typed_mapping != mapping
+    (typed / "Mapping.rsm").write_text(typed_mapping)
+    scenario = TRACKS / "clear.toml"
+    runs = {}
+    for name, model in (("typed", typed), ("untyped", TRACKS)):
+        out = tmp_path / f"{name}-thy"
+        assert main(["gen", "--isabelle", str(model), "--scenario", str(scenario), "-o",
+                     str(out), "-q"]) == 0
+        assert ("TracksSoftwareStart" in (out / "TracksBase_CyPhyCircus.thy").read_text()) \
+            == (name == "typed")
+        capsys.readouterr()
+        assert main(["animate", str(out), "--scenario", str(scenario), "--samples", "21",
+                     "--format", "json", "-q"]) == 0
+        doc = json.loads(capsys.readouterr().out)
+        runs[name] = {col: np.array([row[i] for row in doc["rows"]], dtype=float)
+                      for i, col in enumerate(doc["columns"])
+                      if col in ("Axle0_Motor_av", "Axle1_Motor_av", "Axle0_Motor_das")}
+    for col, values in runs["untyped"].items():
+        assert np.max(np.abs(runs["typed"][col] - values)) < 1e-9, col
+    assert {5.0, 10.0, 0.0} <= set(runs["typed"]["Axle0_Motor_das"])  # gears 1, 2, halt

@@ -48,7 +48,11 @@ then ``InputCSP``, ``theories/sf_rdes/utp_sfrd_prog.thy:864``), and Ax_CyPhyCirc
 ``c\\<^bold>?(b, v)``, a ``pttrn`` (Circus_Toolkit 97811b8 ``IsaCircus_Syntax.thy:68, 90``);
 conditionals, assignments and output prefixes as in the automaton's ``D``.
 
-What is refused (``W-SEMANTICS-DMODEL``, with the reason): composite states, operation
+Composite states run as the interpreter runs them: the during actions of the states around
+the one the machine rests in (outermost first), their transitions before those of the states
+inside, exits innermost first, and a composite target entered through its initial junction.
+
+What is refused (``W-SEMANTICS-DMODEL``, with the reason): operation
 definitions, ``exec`` and ``wait`` inside actions, vector variables, a name bound by ``$e?x``
 outside a conjunct of its guard, several machines, and a cycle that passes more than
 :data:`MAX_DEPTH` nodes (a loop of transitions without ``exec``).
@@ -91,7 +95,7 @@ def _conjuncts(e: ex.Expr) -> list[ex.Expr]:
 
 
 class _Cycle:
-    """The translation of one flat machine (see the module docstring)."""
+    """The translation of one machine (see the module docstring)."""
 
     def __init__(self, name: str, interpreter: MachineInterpreter,
                  reads: dict[str, tuple[c.Type, ...]],
@@ -112,15 +116,12 @@ class _Cycle:
     # ----- what the translation refuses
     def _refuse(self, message: str, span: object = None, hint: str = "") -> MachineError:
         return MachineError(message, span or self.machine.decl.span,  # type: ignore[arg-type]
-                            hint or "the theory's D is written for flat machines: states, "
-                            "junctions, variables, clocks, and calls made in one cycle")
+                            hint or "the theory's D for typed events is written for machines "
+                            "of states, junctions, variables, clocks, and calls made in one "
+                            "cycle")
 
     def _refuse_unsupported(self) -> None:
         m = self.machine
-        for node in m.nodes.values():
-            if node.parent is not None or node.composite:
-                raise self._refuse(f"state {node.key} is composite: D for typed events is "
-                                   "written for flat machines only", node.span)
         if self.interpreter.operations:
             names = ", ".join(sorted(self.interpreter.operations))
             raise self._refuse(f"it calls the operation definition{'s' if ',' in names else ''}"
@@ -196,7 +197,9 @@ class _Cycle:
             key = next(k for k in self.rest if k not in done)
             done.add(key)
             node = self.machine.nodes[key]
-            during = self._statements(node.actions("during")) if node.kind == "state" else []
+            during = self._statements([s for k in self._ancestors(key)
+                                       for s in self.machine.nodes[k].actions("during")]
+                                      ) if node.kind == "state" else []
             body = _seq([*during, self._select(key, resting=True, here=key, depth=0)])
             if not isinstance(body, c.Skip):
                 branches.append((key, body))
@@ -224,28 +227,46 @@ class _Cycle:
                                "mark the end of the cycle with exec")
         action: c.Action = c.Skip() if key == here else \
             c.Assign((self.mode,), (ex.Num(str(self.index[key])),))
-        enabled = [t for t in self.machine.outgoing(key)
+        chain = self._ancestors(key)  # a composite state's transitions before its states'
+        enabled = [(t, a) for a in chain for t in self.machine.outgoing(a)
                    if t.target is not None and (resting or not t.decl.exec)]
-        always = next((i for i, t in enumerate(enabled)
+        always = next((i for i, (t, _) in enumerate(enabled)
                        if t.decl.trigger is None and t.decl.condition is None), None)
         if always is not None:  # the transitions after it are never taken, nor is resting
             enabled = enabled[:always + 1]
         elif key not in self.rest:
             self.rest.append(key)
-        for t in reversed(enabled):
+        for n, (t, source) in reversed(list(enumerate(enabled))):
             guard, bindings = self._guard(t.decl)
-            taken = _seq([*bindings, *self._statements(self.machine.nodes[key].actions("exit")),
+            leaving = chain[chain.index(source):]  # exited innermost first
+            exits = [s for k in reversed(leaving)
+                     for s in self.machine.nodes[k].actions("exit")]
+            taken = _seq([*bindings, *self._statements(exits),
                           *self._statements(t.decl.action or ()),
                           *self._arrive(t.target, here, depth + 1)])
-            action = taken if t is enabled[-1] and always is not None else \
-                self._cond(guard, taken, action)
+            action = taken if n == always else self._cond(guard, taken, action)
         return action
 
+    def _ancestors(self, key: str) -> list[str]:
+        """The node and the composite states around it, outermost first."""
+        out = [key]
+        while self.machine.nodes[out[0]].parent is not None:
+            out.insert(0, self.machine.nodes[out[0]].parent)  # type: ignore[arg-type]
+        return out
+
     def _arrive(self, key: str, here: str, depth: int) -> list[c.Action]:
+        """Entering ``key``: a state's entry action, then a composite state's initial
+        junction, or a simple state's during action; then its transitions."""
         node = self.machine.nodes[key]
         steps: list[c.Action] = []
         if node.kind == "state":
             steps += self._statements(node.actions("entry"))
+            if node.composite:
+                inner = self.machine.initial(key)
+                if inner is None:
+                    raise self._refuse(f"state {key} has no initial junction", node.span,
+                                       "add 'initial i0' inside it (see STM2)")
+                return [*steps, *self._arrive(inner.key, here, depth + 1)]
             steps += self._statements(node.actions("during"))
         return [*steps, self._select(key, resting=False, here=here, depth=depth)]
 
@@ -402,7 +423,7 @@ def _constant(value: object, type_: c.Type) -> ex.Expr:
 def cycle_process(name: str, interpreter: MachineInterpreter,
                   reads: dict[str, tuple[c.Type, ...]],
                   writes: dict[str, tuple[c.Type, ...]]) -> c.BasicProcess:
-    """``D`` for one flat machine (see the module docstring): ``reads`` are the mapped
+    """``D`` for one machine (see the module docstring): ``reads`` are the mapped
     input events with their ``registerRead`` payload types (``(bool,)`` or ``(bool, T)``),
     ``writes`` the mapped calls with their parameters' types. Raises :class:`MachineError`
     with what cannot be written, ``ValueError`` naming a call the mapping does not map."""
