@@ -10,6 +10,7 @@ IR sensor) integrated with SciPy, sampled each cycle by the machine's interprete
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -255,86 +256,55 @@ def test_a_typed_machine_d_cannot_write_is_refused_with_the_reason(tmp_path: Pat
 
 # ---------------------------------------------------------------- a second construction
 
-LIFT = HERE / "data" / "heldout" / "lift"
+HELDOUT = HERE / "data" / "heldout"
 
 
-def _typed_lift(folder: Path) -> Path:
-    """The held-out lift with its event atTop typed (it carries the height read) and the
-    machine unchanged: it only tests atTop's occurrence, so the machine behaves as the
-    untyped lift's, whose D is the automaton's."""
+def _typed_variant(model: Path, event: str, folder: Path) -> Path:
+    """The held-out ``model`` with its input event ``event`` typed (``event e: real``, the
+    mapping's ``? r`` carrying the sensor reading its predicate tests) and the machines
+    unchanged: they only test the event's occurrence, so they behave as the untyped
+    model's, whose ``D`` is the automaton's."""
     folder.mkdir(parents=True)
-    (folder / "LiftBase.rsm").write_text((LIFT / "LiftBase.rsm").read_text())
-    software = (LIFT / "LiftSoftware.rsm").read_text()
-    typed = software.replace("\tevent atTop\n", "\tevent atTop: real\n")
-    mapping = (LIFT / "Mapping.rsm").read_text()
-    typed_mapping = mapping.replace(
-        "input event atTop {\n\t\tpredicate Mast::Slide::Level.height >= 0.3\n",
-        "input event atTop ? h {\n\t\tpredicate Mast::Slide::Level.height >= 0.3\n"
-        "\t\tequation h == Mast::Slide::Level.height\n")
-    assert typed != software and typed_mapping != mapping
-    (folder / "LiftSoftware.rsm").write_text(typed)
-    (folder / "Mapping.rsm").write_text(typed_mapping)
+    for f in model.glob("*.rsm"):
+        text = f.read_text()
+        typed = text.replace(f"\tevent {event}\n", f"\tevent {event}: real\n")
+        found = re.search(rf"\tinput event {event} \{{\n\t\tpredicate ((\S+) [<>]= \S+)\n", typed)
+        if found:
+            typed = typed.replace(found[0], f"\tinput event {event} ? r {{\n\t\tpredicate "
+                                  f"{found[1]}\n\t\tequation r == {found[2]}\n")
+        (folder / f.name).write_text(typed)
+    assert (folder / "Mapping.rsm").read_text().count(f"input event {event} ? r") == 1
     return folder
 
 
-@pytest.mark.parametrize("dialect", DIALECTS)
-def test_typed_lift_animates_as_the_automaton_d_of_the_untyped_lift(tmp_path: Path,
-                                                                    dialect: str) -> None:
-    """The lift's machine (entry, during and exit actions, a junction, exec transitions, a
-    clock reset on exit and compared with a constant) through both constructions: the cycle
-    written out (its atTop typed) and the automaton (untyped). Over cycle.toml's 7 s (up,
-    hold 5 cycles, down, up again) the slide's height and the winch's demand agree at every
-    cycle."""
-    typed, _, diagnostics = _generate([_typed_lift(tmp_path / "typed")], tmp_path / "t", dialect)
-    assert not [d for d in diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
-    assert main(["check-theory", str(typed)]) == 0
-    untyped, theory, _ = _generate([LIFT], tmp_path / "u", dialect)
-    assert "LiftSoftwareStart" not in theory  # the automaton's D
-    names = ["t", "Slide_theta", "Winch_dls"]
-    a = _columns(animate(typed, 7.0, consts={"tscale": TSCALE}, samples=71), names)
-    b = _columns(animate(untyped, 7.0, consts={"tscale": TSCALE}, samples=71), names)
-    assert np.max(np.abs(a["Slide_theta"] - b["Slide_theta"])) < 1e-9
-    assert np.max(np.abs(a["Winch_dls"] - b["Winch_dls"])) < 1e-12
-    assert {0.2, 0.0, -0.1} <= set(np.round(a["Winch_dls"], 9))  # rise, hold, lower
-
-
-TRACKS = HERE / "data" / "heldout" / "tracks"
-
-
-def test_typed_tracks_animate_as_the_automaton_d_of_the_untyped_tracks(
-        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """The held-out tracks' machine has a composite state (Moving: First, Second, a clock
-    reset on First's entry, an exec transition on it), a during action and calls with an
-    int argument: with near typed, its D (the cycle written out) drives both motors as the
-    untyped tracks' automaton D does, over clear.toml (first gear, second, halt)."""
-    typed = tmp_path / "typed"
-    typed.mkdir()
-    (typed / "TracksBase.rsm").write_text((TRACKS / "TracksBase.rsm").read_text())
-    software = (TRACKS / "TracksSoftware.rsm").read_text()
-    (typed / "TracksSoftware.rsm").write_text(
-        software.replace("\tevent near\n", "\tevent near: real\n"))
-    mapping = (TRACKS / "Mapping.rsm").read_text()
-    typed_mapping = mapping.replace(
-        "input event near {\n\t\tpredicate Chassis::Range.range <= 0.4\n",
-        "input event near ? r {\n\t\tpredicate Chassis::Range.range <= 0.4\n"
-        "\t\tequation r == Chassis::Range.range\n")
-    assert typed_mapping != mapping
-    (typed / "Mapping.rsm").write_text(typed_mapping)
-    scenario = TRACKS / "clear.toml"
+@pytest.mark.parametrize("model, event, scenario, samples", [
+    ("lift", "atTop", "cycle.toml", 71),    # entry/during/exit, a junction, a clock
+    ("tracks", "near", "clear.toml", 21),   # a composite state, a clock, an int argument
+    ("rover", "near", "bump.toml", 21),     # two machines in the module
+])
+def test_typed_variant_animates_as_the_automaton_d_of_the_untyped_model(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], model: str, event: str,
+        scenario: str, samples: int) -> None:
+    """One machine through both constructions: with the event typed, D is the cycle
+    written out; untyped, the automaton (the product of the module's machines for the
+    rover). Run by ``cyphy animate`` with the model's scenario, every state of the p-model
+    agrees at every sample."""
+    typed = _typed_variant(HELDOUT / model, event, tmp_path / "typed")
     runs = {}
-    for name, model in (("typed", typed), ("untyped", TRACKS)):
+    for name, folder in (("typed", typed), ("untyped", HELDOUT / model)):
         out = tmp_path / f"{name}-thy"
-        assert main(["gen", "--isabelle", str(model), "--scenario", str(scenario), "-o",
-                     str(out), "-q"]) == 0
-        assert ("TracksSoftwareStart" in (out / "TracksBase_CyPhyCircus.thy").read_text()) \
-            == (name == "typed")
+        assert main(["gen", "--isabelle", str(folder), "--scenario",
+                     str(HELDOUT / model / scenario), "-o", str(out), "-q"]) == 0
+        theory = next(out.glob("*_CyPhyCircus.thy")).read_text()
+        assert ("Start = " in theory) == (name == "typed")  # which construction
+        assert main(["check-theory", str(out)]) == 0
         capsys.readouterr()
-        assert main(["animate", str(out), "--scenario", str(scenario), "--samples", "21",
-                     "--format", "json", "-q"]) == 0
+        assert main(["animate", str(out), "--scenario", str(HELDOUT / model / scenario),
+                     "--samples", str(samples), "--format", "json", "-q"]) == 0
         doc = json.loads(capsys.readouterr().out)
         runs[name] = {col: np.array([row[i] for row in doc["rows"]], dtype=float)
                       for i, col in enumerate(doc["columns"])
-                      if col in ("Axle0_Motor_av", "Axle1_Motor_av", "Axle0_Motor_das")}
+                      if "Software_" not in col}  # D's own state is named apart
+    assert runs["typed"].keys() == runs["untyped"].keys() and len(runs["typed"]) > 10
     for col, values in runs["untyped"].items():
         assert np.max(np.abs(runs["typed"][col] - values)) < 1e-9, col
-    assert {5.0, 10.0, 0.0} <= set(runs["typed"]["Axle0_Motor_das"])  # gears 1, 2, halt

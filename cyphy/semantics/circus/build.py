@@ -155,14 +155,8 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
         for machine in machines:
             interpreters.append(interpreter_for(machine, files, resolution, Scopes(ws), consts,
                                                 mapping.pmodel[-1]))
-        typed = _typed_reader(interpreters)
-        if typed is not None:  # values the automaton cannot hold: one cycle written out
-            if len(interpreters) > 1:
-                raise MachineError("it reads a typed input event and runs beside other "
-                                   "machines: D for typed events is written for one machine",
-                                   typed.machine.decl.span, "choose one with --machine")
-            machine = typed.machine
-            return cycle_process(program.dmodel.name, typed, reads, writes)
+        if _reads_typed(interpreters):  # values no automaton holds: the cycle written out
+            return cycle_process(program.dmodel.name, interpreters, reads, writes)
         # the module's machines together (the product), as simulate and reach run them
         automaton = compile_module(interpreters)
         return dmodel_process(program.dmodel.name, automaton, tuple(reads), writes)
@@ -178,11 +172,11 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
         return None
 
 
-def _typed_reader(interpreters: list[MachineInterpreter]) -> MachineInterpreter | None:
-    """The first machine that reads a typed input event (its ``D`` is
-    :mod:`~cyphy.semantics.circus.dmodel_cycle`'s), None when none does."""
-    return next((i for i in interpreters if any(
-        d.type is not None for d in i.machine.platform.input_events.values())), None)
+def _reads_typed(interpreters: list[MachineInterpreter]) -> bool:
+    """Whether a machine reads a typed input event (then ``D`` is
+    :mod:`~cyphy.semantics.circus.dmodel_cycle`'s, not the automaton's)."""
+    return any(d.type is not None for i in interpreters
+               for d in i.machine.platform.input_events.values())
 
 
 def _motion(model: ElaboratedModel, report: Report, pmodels: set[str]

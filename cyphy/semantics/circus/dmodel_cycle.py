@@ -8,6 +8,11 @@ a variable to a real number, so the configurations are not finite and the automa
 be built. Here the values stay symbolic: ``D``'s state is
 
 - ``<D>_mode``: the node the machine rests in (its position among the machine's nodes);
+  a module that runs several machines has one per machine, ``<D>_<machine>_mode``, and
+  their variables and clocks are named ``<D>_<machine>_x`` (each machine runs its cycle in
+  turn, in the module's order, on the events read once: ``<D>Start`` and ``<D>Step`` are
+  the machines' in sequence, as :class:`~cyphy.semantics.machines.parallel.ModuleInterpreter`
+  runs them);
 - ``<D>_<e>`` (a Boolean) per input event the mapping maps, and ``<D>_<e>_value`` for a
   typed one: what ``registerRead.e?b?v`` read at the cycle's start (P's side offers
   ``registerRead.e!true!p`` or ``!false!p``, :func:`cyphy.semantics.circus.rules.rule4_input_event`);
@@ -54,7 +59,7 @@ inside, exits innermost first, and a composite target entered through its initia
 
 What is refused (``W-SEMANTICS-DMODEL``, with the reason): operation
 definitions, ``exec`` and ``wait`` inside actions, vector variables, a name bound by ``$e?x``
-outside a conjunct of its guard, several machines, and a cycle that passes more than
+outside a conjunct of its guard, and a cycle that passes more than
 :data:`MAX_DEPTH` nodes (a loop of transitions without ``exec``).
 """
 
@@ -68,6 +73,7 @@ from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel import MODE, literal
 from cyphy.semantics.circus.values import type_of, value_expr
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
+from cyphy.semantics.machines.parallel import same_cycle
 
 #: Nodes passed in one cycle before the unrolling is taken to loop.
 MAX_DEPTH = 32
@@ -97,21 +103,23 @@ def _conjuncts(e: ex.Expr) -> list[ex.Expr]:
 class _Cycle:
     """The translation of one machine (see the module docstring)."""
 
-    def __init__(self, name: str, interpreter: MachineInterpreter,
+    def __init__(self, name: str, own: str, interpreter: MachineInterpreter,
                  reads: dict[str, tuple[c.Type, ...]],
                  writes: dict[str, tuple[c.Type, ...]]) -> None:
+        """``name`` is D's (its events' fields ``<D>_e``), ``own`` prefixes the machine's
+        mode, variables and clocks (``<D>``, or ``<D>_<machine>`` beside others)."""
         self.interpreter = interpreter
         self.machine = m = interpreter.machine
         self.writes = writes
-        self.prefix = name
-        self.mode = f"{name}_{MODE}"
+        self.name = name
+        self.prefix = own
+        self.mode = f"{own}_{MODE}"
         self.index = {key: i for i, key in enumerate(m.nodes)}
         self.events = [e for e in m.platform.input_events if e in reads]
         self.typed = {e: reads[e][1] for e in self.events if len(reads[e]) == 2}
         self.conditionals = 0
         self.rest: list[str] = []  # nodes the machine may rest in, in the order found
         self._refuse_unsupported()
-        self.fields = self._fields()
 
     # ----- what the translation refuses
     def _refuse(self, message: str, span: object = None, hint: str = "") -> MachineError:
@@ -136,50 +144,30 @@ class _Cycle:
                                    "a Boolean")
 
     # ----- the state
-    def _fields(self) -> list[c.SchemaField]:
-        p = self.prefix
-        fields = [c.SchemaField(self.mode, c.NAT)]
+    def event_fields(self) -> list[c.SchemaField]:
+        """What the cycle read: ``<D>_e``, and ``<D>_e_value`` for a typed event."""
+        fields = []
         for e in self.events:
-            fields.append(c.SchemaField(f"{p}_{e}", c.BOOL))
+            fields.append(c.SchemaField(f"{self.name}_{e}", c.BOOL))
             if e in self.typed:
-                fields.append(c.SchemaField(f"{p}_{e}_value", self.typed[e]))
-        fields += [c.SchemaField(f"{p}_{x}", type_of(d.type))
-                   for x, d in self.machine.variables.items()]
-        fields += [c.SchemaField(f"{p}_{k}", c.REAL) for k in self.machine.clocks]
-        names = [f.name for f in fields]
-        clash = next((n for n in names if names.count(n) > 1), None)
-        if clash is not None:
-            raise self._refuse(f"two parts of its state would both be named {clash} (an "
-                               "event, a variable or a clock of one name, or one named "
-                               f"'{MODE}' or '<event>_value')", hint="rename one of them")
+                fields.append(c.SchemaField(f"{self.name}_{e}_value", self.typed[e]))
         return fields
 
-    def init(self) -> c.Action:
+    def own_fields(self) -> list[c.SchemaField]:
+        """The machine's variables and clocks (its mode is :attr:`mode`)."""
+        p = self.prefix
+        return [c.SchemaField(f"{p}_{x}", type_of(d.type))
+                for x, d in self.machine.variables.items()] + \
+            [c.SchemaField(f"{p}_{k}", c.REAL) for k in self.machine.clocks]
+
+    def initial(self) -> tuple[ex.Expr, list[ex.Expr]]:
+        """The mode's initial value (the initial junction) and the own fields'."""
         it = self.interpreter
         it.reset()
-        values: list[ex.Expr] = [ex.Num(str(self.index[it.node]))]
-        for e in self.events:
-            values.append(ex.Bool(False))
-            if e in self.typed:
-                values.append(_zero(self.typed[e]))
-        for x, d in self.machine.variables.items():
-            values.append(_constant(it.variables[x], type_of(d.type)))
-        values += [ex.Num("0") for _ in self.machine.clocks]
-        return c.Assign(tuple(f.name for f in self.fields), tuple(values))
-
-    def read(self) -> c.Action:
-        p = self.prefix
-        receive: list[c.Action] = []
-        for e in self.events:
-            if e in self.typed:
-                comm = c.Comm("registerRead", e, (c.In(f"{e}_in"), c.In(f"{e}_value_in")))
-                then = c.Assign((f"{p}_{e}", f"{p}_{e}_value"),
-                                (_name(f"{e}_in"), _name(f"{e}_value_in")))
-            else:
-                comm = c.Comm("registerRead", e, (c.In(f"{e}_in"),))
-                then = c.Assign((f"{p}_{e}",), (_name(f"{e}_in"),))
-            receive.append(c.Prefix(comm, then))
-        return _seq(receive)
+        values = [_constant(it.variables[x], type_of(d.type))
+                  for x, d in self.machine.variables.items()]
+        return ex.Num(str(self.index[it.node])), values + [ex.Num("0")
+                                                           for _ in self.machine.clocks]
 
     # ----- one cycle
     def start(self) -> c.Action:
@@ -288,7 +276,7 @@ class _Cycle:
                                            f"write the guard as $" + event + "?" + n.binding +
                                            " /\\ …")
                     if event in self.typed:
-                        bound[n.binding] = f"{self.prefix}_{event}_value"
+                        bound[n.binding] = f"{self.name}_{event}_value"
                         bindings.append(c.Assign((f"{self.prefix}_{n.binding}",),
                                                  (_name(bound[n.binding]),)))
                     elif event in self.events:  # (an event not mapped never occurs)
@@ -311,7 +299,7 @@ class _Cycle:
             event = e.name[-1]
             if event not in self.events:  # not mapped: it never occurs
                 return ex.Bool(False)
-            return ex.BinOp("==", _name(f"{self.prefix}_{event}"), ex.Bool(True))
+            return ex.BinOp("==", _name(f"{self.name}_{event}"), ex.Bool(True))
         if isinstance(e, ex.Bool):
             return e
         if isinstance(e, ex.Name) and e.text in self.machine.variables and \
@@ -420,23 +408,60 @@ def _constant(value: object, type_: c.Type) -> ex.Expr:
     return literal(float(value), type_)  # type: ignore[arg-type]
 
 
-def cycle_process(name: str, interpreter: MachineInterpreter,
+def cycle_process(name: str, interpreters: list[MachineInterpreter],
                   reads: dict[str, tuple[c.Type, ...]],
                   writes: dict[str, tuple[c.Type, ...]]) -> c.BasicProcess:
-    """``D`` for one machine (see the module docstring): ``reads`` are the mapped
-    input events with their ``registerRead`` payload types (``(bool,)`` or ``(bool, T)``),
-    ``writes`` the mapped calls with their parameters' types. Raises :class:`MachineError`
-    with what cannot be written, ``ValueError`` naming a call the mapping does not map."""
-    t = _Cycle(name, interpreter, reads, writes)
+    """``D`` for the module's machines (see the module docstring; several run in the
+    module's order each cycle, on the events read once, as
+    :class:`~cyphy.semantics.machines.parallel.ModuleInterpreter` runs them): ``reads``
+    are the mapped input events with their ``registerRead`` payload types (``(bool,)`` or
+    ``(bool, T)``), ``writes`` the mapped calls with their parameters' types. Raises
+    :class:`MachineError` with what cannot be written, ``ValueError`` naming a call the
+    mapping does not map."""
+    same_cycle(interpreters)
+    several = len(interpreters) > 1
+    cycles = [_Cycle(name, f"{name}_{it.machine.name}" if several else name, it, reads, writes)
+              for it in interpreters]
+    events = {f.name: f for t in cycles for f in t.event_fields()}
+    starts = [t.initial() for t in cycles]
+    fields = [c.SchemaField(t.mode, c.NAT) for t in cycles] + list(events.values()) + \
+        [f for t in cycles for f in t.own_fields()]
+    names = [f.name for f in fields]
+    clash = next((n for n in names if names.count(n) > 1), None)
+    if clash is not None:
+        raise cycles[0]._refuse(f"two parts of D's state would both be named {clash} (an "
+                                "event, a variable or a clock of one name, or one named "
+                                f"'{MODE}' or '<event>_value')", hint="rename one of them")
+    values = [mode for mode, _ in starts] + [_zero(f.type) for f in events.values()] + \
+        [v for _, own in starts for v in own]
+    read_events = list(dict.fromkeys(e for t in cycles for e in t.events))
+    typed = {e for t in cycles for e in t.typed}
     p = name
-    defs = [c.ActionDef(f"{p}Init", (), t.init()), c.ActionDef(f"{p}Read", (), t.read()),
-            c.ActionDef(f"{p}Start", (), t.start()), c.ActionDef(f"{p}Step", (), t.step())]
+    defs = [c.ActionDef(f"{p}Init", (), c.Assign(tuple(names), tuple(values))),
+            c.ActionDef(f"{p}Read", (), _read(name, read_events, typed)),
+            c.ActionDef(f"{p}Start", (), _seq([t.start() for t in cycles])),
+            c.ActionDef(f"{p}Step", (), _seq([t.step() for t in cycles]))]
     call: Callable[[str], c.Call] = lambda suffix: c.Call(f"{p}{suffix}")
     wait = c.Wait(_name("cycle"))
     main = c.Seq((call("Init"), call("Read"), call("Start"), wait,
                   c.Mu("X", c.Seq((call("Read"), call("Step"), wait, c.Call("X"))))))
-    return c.BasicProcess(name, (), c.Schema(f"{p}State", tuple(t.fields)),
+    return c.BasicProcess(name, (), c.Schema(f"{p}State", tuple(fields)),
                           c.Schema(f"{p}Local", ()), tuple(defs), main)
+
+
+def _read(name: str, events: list[str], typed: set[str]) -> c.Action:
+    """``<D>Read``: each mapped event the machines read, its value too if typed."""
+    receive: list[c.Action] = []
+    for e in events:
+        if e in typed:
+            comm = c.Comm("registerRead", e, (c.In(f"{e}_in"), c.In(f"{e}_value_in")))
+            then = c.Assign((f"{name}_{e}", f"{name}_{e}_value"),
+                            (_name(f"{e}_in"), _name(f"{e}_value_in")))
+        else:
+            comm = c.Comm("registerRead", e, (c.In(f"{e}_in"),))
+            then = c.Assign((f"{name}_{e}",), (_name(f"{e}_in"),))
+        receive.append(c.Prefix(comm, then))
+    return _seq(receive)
 
 
 def is_cycle_process(process: c.BasicProcess) -> bool:
