@@ -100,32 +100,36 @@ def test_ranger_d_is_the_machine_cycle_by_hand() -> None:
     assert [f.name for f in d.state.fields] == ["RangerSoftware_mode", "RangerSoftware_echo",
                                                 "RangerSoftware_echo_value",
                                                 "RangerSoftware_seen"]
-    init = actions["RangerSoftwareInit"]
-    assert init == c.Assign(tuple(f.name for f in d.state.fields),
-                            (ex.Num("0"), ex.Bool(False), ex.Num("0"), ex.Num("0.0")))
-    start = actions["RangerSoftwareStart"]
-    assert isinstance(start, c.Seq)
-    call, mode = start.items
-    assert isinstance(call, c.Prefix) and call.comm.tag == "roll"
-    assert call.comm.fields[0].value.text == "0.4"  # type: ignore[union-attr]
-    assert isinstance(mode, c.Assign) and mode.values[0].text == "1"  # type: ignore[attr-defined]
-    step = actions["RangerSoftwareStep"]
-    assert isinstance(step, c.Cond) and step.cond.right.text == "1"  # type: ignore[union-attr]
-    rolling = step.then
-    assert isinstance(rolling, c.Cond) and rolling.cond.left.text == "RangerSoftware_echo"  # type: ignore[union-attr]
-    bind, look = rolling.then.items  # type: ignore[union-attr]
-    assert bind == c.Assign(("RangerSoftware_seen",), (ex.Name(("RangerSoftware_echo_value",)),))
-    assert isinstance(look, c.Cond) and look.cond.op == ">="  # type: ignore[union-attr]
-    halt_call, halt_mode = look.then.items  # type: ignore[union-attr]
-    assert halt_call.comm.fields[0].value.text == "0.0"  # type: ignore[union-attr]
-    assert halt_mode.values[0].text == "3"  # type: ignore[union-attr]
-    back = look.orelse
-    assert isinstance(back, c.Cond) and back.cond.op == "<"  # type: ignore[union-attr]
-    assert back.then.comm.fields[0].value.text == "0.4"  # type: ignore[union-attr]
-    assert back.orelse == c.Assign(("RangerSoftware_mode",), (ex.Num("2"),))  # rests at Look
-    assert isinstance(rolling.orelse, c.Skip)  # no echo: Rolling rests
-    from_look = step.orelse
-    assert isinstance(from_look, c.Cond) and from_look.cond.right.text == "2"  # type: ignore[union-attr]
+    assert actions["RangerSoftwareInit"] == c.Assign(
+        tuple(f.name for f in d.state.fields),
+        (ex.Num("0"), ex.Bool(False), ex.Num("0"), ex.Num("0.0")))
+
+    def name(text: str) -> ex.Name:
+        return ex.Name((text,))
+
+    def roll(v: str) -> c.Action:
+        return c.Prefix(c.Comm("registerWrite", "roll", (c.Out(ex.Num(v)),)), c.Skip())
+
+    def mode(n: str) -> c.Action:
+        return c.Assign(("RangerSoftware_mode",), (ex.Num(n),))
+
+    def at(n: str) -> ex.Expr:
+        return ex.BinOp("==", name("RangerSoftware_mode"), ex.Num(n))
+
+    near = ex.BinOp(">=", name("RangerSoftware_seen"), ex.Num("1.0"))
+    far = ex.BinOp("<", name("RangerSoftware_seen"), ex.Num("1.0"))
+    # entering Look in a cycle from Rolling: Halted (its entry), or Rolling again (its
+    # entry; the exec transition waits), or resting at Look when neither guard holds
+    look = c.Cond(near, c.Seq((roll("0.0"), mode("3"))), c.Cond(far, roll("0.4"), mode("2")))
+    from_rolling = c.Cond(ex.BinOp("==", name("RangerSoftware_echo"), ex.Bool(True)),
+                          c.Seq((c.Assign(("RangerSoftware_seen",),
+                                          (name("RangerSoftware_echo_value"),)), look)),
+                          c.Skip())
+    from_look = c.Cond(near, c.Seq((roll("0.0"), mode("3"))),
+                       c.Cond(far, c.Seq((roll("0.4"), mode("1"))), c.Skip()))
+    assert actions["RangerSoftwareStart"] == c.Seq((roll("0.4"), mode("1")))
+    assert actions["RangerSoftwareStep"] == c.Cond(at("1"), from_rolling,
+                                                   c.Cond(at("2"), from_look, c.Skip()))
 
 
 @pytest.mark.parametrize("dialect", DIALECTS)

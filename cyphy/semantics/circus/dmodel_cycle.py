@@ -51,7 +51,11 @@ input of two fields ``c?(b)?(v)`` is utp-main c9122f14's mixed prefix
 (``theories/circus/utp_circus_prefix.thy:41, 58-59``: ``_mixed_prefix`` to ``_pattern x y``,
 then ``InputCSP``, ``theories/sf_rdes/utp_sfrd_prog.thy:864``), and Ax_CyPhyCircus's
 ``c\\<^bold>?(b, v)``, a ``pttrn`` (Circus_Toolkit 97811b8 ``IsaCircus_Syntax.thy:68, 90``);
-conditionals, assignments and output prefixes as in the automaton's ``D``.
+a call's argument over the state, ``c!(&d * «0.5»)``, is an output prefix whose value is a
+UTP expression (``utp_circus_prefix.thy:31, 53-54, 63``: ``outp_constraint v`` is ``«x» =\\<^sub>u
+v`` for any ``v`` over the state), in Ax_CyPhyCircus ``c\\<^bold>!(d * 0.5)``, an ``expr`` over
+the state (``IsaCircus_Syntax.thy:48, 75, 94``: ``OutputPrefix c (e)\\<^sub>e P``);
+conditionals and assignments as in the automaton's ``D``.
 
 Composite states run as the interpreter runs them: the during actions of the states around
 the one the machine rests in (outermost first), their transitions before those of the states
@@ -273,8 +277,7 @@ class _Cycle:
                         raise self._refuse(f"transition {t.name} binds {n.binding} from "
                                            f"${event} outside a conjunct of its guard: the "
                                            "value is bound only when the event occurs", n.span,
-                                           f"write the guard as $" + event + "?" + n.binding +
-                                           " /\\ …")
+                                           f"write the guard as ${event}?{n.binding} /\\ …")
                     if event in self.typed:
                         bound[n.binding] = f"{self.name}_{event}_value"
                         bindings.append(c.Assign((f"{self.prefix}_{n.binding}",),
