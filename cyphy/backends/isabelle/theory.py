@@ -22,8 +22,8 @@ from cyphy import codes
 from cyphy.backends.isabelle.names import RESERVED, IsabelleNames, is_identifier
 from cyphy.backends.isabelle.terms import (HOL_FUNCTIONS, IsabellePrinter, Symbols, UnsupportedNode,
                                      bound_identifier)
-from cyphy.semantics.circus.dmodel_cycle import is_cycle_process
 from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.dmodel_cycle import is_cycle_process
 from cyphy.semantics.circus.names import NameTable, identifier
 from cyphy.semantics.circus.rules import DEVIATIONS, REGISTER_CHANNELS, functions
 from cyphy.semantics.circus.walk import action_nodes
