@@ -241,21 +241,21 @@ def test_follower_animated_demand_is_the_reading_times_k(tmp_path: Path,
 
 
 def test_a_typed_machine_d_cannot_write_is_refused_with_the_reason(tmp_path: Path) -> None:
-    """``wait(1)`` in an entry action (the cycle would end inside the action) in a machine
-    that reads a typed event: D stays opaque with the reason at the statement
-    (W-SEMANTICS-DMODEL), and gen still writes the rest."""
+    """A vector variable in a machine that reads a typed event: D stays opaque with the
+    reason at the declaration (W-SEMANTICS-DMODEL), and gen still writes the rest."""
     software = (FOLLOW / "FollowSoftware.rsm").read_text()
-    waiting = software.replace("state Track {}", "state Track {\n\t\tentry wait(1)\n\t}")
-    assert waiting != software
-    (tmp_path / "FollowSoftware.rsm").write_text(waiting)
+    vector = software.replace("\tvar d: real = 0\n",
+                              "\tvar d: real = 0\n\tvar w: vector(real, 2)\n")
+    assert vector != software
+    (tmp_path / "FollowSoftware.rsm").write_text(vector)
     (tmp_path / "Mapping.rsm").write_text((FOLLOW / "Mapping.rsm").read_text())
     checked = api.check([RANGER / "RangerBase.rsm", tmp_path],
                         api.CheckOptions(neighbours_as_targets=True))
     sem = build_semantics(checked.workspace, checked.resolution, checked.report)
     assert sem is not None and isinstance(sem.program.dmodel, c.OpaqueProcess)
     [warning] = [d for d in checked.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
-    assert "SFollow" in warning.message and "wait inside an action" in warning.message
-    assert warning.span.line == waiting.splitlines().index("\t\tentry wait(1)") + 1
+    assert "SFollow" in warning.message and "variable w is not a number" in warning.message
+    assert warning.span.line == vector.splitlines().index("\tvar w: vector(real, 2)") + 1
 
 
 # ---------------------------------------------------------------- a second construction
@@ -312,3 +312,37 @@ def test_typed_variant_animates_as_the_automaton_d_of_the_untyped_model(
     assert runs["typed"].keys() == runs["untyped"].keys() and len(runs["typed"]) > 10
     for col, values in runs["untyped"].items():
         assert np.max(np.abs(runs["typed"][col] - values)) < 1e-9, col
+
+
+PULSE = HERE / "data" / "typed_pulse"
+
+
+def test_actions_that_end_cycles_run_as_the_automaton_d_runs_them(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``wait(3)`` inside an entry action and ``exec`` inside a transition's action: the
+    rest of the action resumes in a later cycle (a mode of its own in D). Typed, D is the
+    cycle written out; untyped (the same machine, the event's value dropped), the
+    automaton: animated on the ranger's cart for 3 s, position and demand agree at every
+    cycle, and the demands are the machine's: 0.4, three cycles later 0.2, then 0.3 when
+    echo occurs, 0.05 and Rest's 0.1 in the next cycle."""
+    untyped = tmp_path / "untyped"
+    untyped.mkdir()
+    for f in PULSE.glob("*.rsm"):
+        text = f.read_text().replace("event echo: real", "event echo")
+        text = text.replace("input event echo ? r {", "input event echo {")
+        text = re.sub(r"\n\t\tequation r == .*", "", text)
+        (untyped / f.name).write_text(text)
+    runs = {}
+    for name, folder in (("typed", PULSE), ("untyped", untyped)):
+        out = tmp_path / f"{name}-thy"
+        assert main(["gen", "--isabelle", str(RANGER / "RangerBase.rsm"), str(folder), "-o",
+                     str(out), "-q"]) == 0
+        assert ("PulseSoftwareStart = " in (out / "RangerBase_CyPhyCircus.thy").read_text()) \
+            == (name == "typed")
+        assert main(["check-theory", str(out)]) == 0
+        anim = animate(out, 3.0, consts={"tscale": TSCALE}, samples=31)
+        runs[name] = _columns(anim, ["Carriage_theta", "Push_dls"])
+    for col, values in runs["untyped"].items():
+        assert np.max(np.abs(runs["typed"][col] - values)) < 1e-9, col
+    assert list(np.round(runs["typed"]["Push_dls"][:7], 9)) == [0.4, 0.4, 0.4, 0.2, 0.3, 0.1,
+                                                                   0.1]

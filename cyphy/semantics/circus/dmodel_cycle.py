@@ -15,7 +15,8 @@ be built. Here the values stay symbolic: ``D``'s state is
   runs them);
 - ``<D>_<e>`` (a Boolean) per input event the mapping maps, and ``<D>_<e>_value`` for a
   typed one: what ``registerRead.e?b?v`` read at the cycle's start (P's side offers
-  ``registerRead.e!true!p`` or ``!false!p``, :func:`cyphy.semantics.circus.rules.rule4_input_event`);
+  ``registerRead.e!true!p`` or ``!false!p``,
+  :func:`cyphy.semantics.circus.rules.rule4_input_event`);
 - ``<D>_<x>`` per variable of the machine, at its initial value;
 - ``<D>_<C>`` per clock: the cycles counted since ``#C`` (``since(C)`` is the count times
   the machine's cycle, as in the interpreter), a whole number held as a real: it is
@@ -61,10 +62,16 @@ Composite states run as the interpreter runs them: the during actions of the sta
 the one the machine rests in (outermost first), their transitions before those of the states
 inside, exits innermost first, and a composite target entered through its initial junction.
 
-What is refused (``W-SEMANTICS-DMODEL``, with the reason): operation
-definitions, ``exec`` and ``wait`` inside actions, vector variables, a name bound by ``$e?x``
-outside a conjunct of its guard, and a cycle that passes more than
-:data:`MAX_DEPTH` nodes (a loop of transitions without ``exec``).
+``exec`` inside an action ends the cycle there, as in the interpreter: the rest of the
+action (and what follows it: the target's entry, …) is a mode of its own, numbered after the
+nodes, whose ``<D>Step`` branch runs that rest in the next cycle (the during action again
+unless a state is entered, then the transitions, exec ones excluded); ``wait(n)``, ``n`` a
+constant, is ``n`` such ends.
+
+What is refused (``W-SEMANTICS-DMODEL``, with the reason): operation definitions, vector
+variables, ``wait(n)`` with ``n`` not a constant, a name bound by ``$e?x`` outside a
+conjunct of its guard, machines of one module with different cycles, and a cycle that
+passes more than :data:`MAX_DEPTH` nodes (a loop of transitions without ``exec``).
 """
 
 from __future__ import annotations
@@ -104,6 +111,11 @@ def _conjuncts(e: ex.Expr) -> list[ex.Expr]:
     return [e]
 
 
+#: A pending step of the interpreter: ``("stmt", statement)``, ``("do", action)`` (a binding
+#: already translated), ``("end", None)`` (exec: the cycle ends) or ``("enter", node)``.
+_Item = tuple[str, object]
+
+
 class _Cycle:
     """The translation of one machine (see the module docstring)."""
 
@@ -123,6 +135,8 @@ class _Cycle:
         self.typed = {e: reads[e][1] for e in self.events if len(reads[e]) == 2}
         self.conditionals = 0
         self.rest: list[str] = []  # nodes the machine may rest in, in the order found
+        #: the rests of actions cut by exec (pending steps, and the node), in the order found
+        self.resumes: list[tuple[tuple[_Item, ...], str]] = []
         self._refuse_unsupported()
 
     # ----- what the translation refuses
@@ -177,29 +191,87 @@ class _Cycle:
     def start(self) -> c.Action:
         it = self.interpreter
         it.reset()
-        return self._select(it.node, resting=False, here=it.node, depth=0)
+        return _seq(self._run((), it.node, it.node, 0, during_done=False, resting=False))
 
     def step(self) -> c.Action:
         clocks = [c.Assign((f"{self.prefix}_{k}",),
                            (ex.BinOp("+", _name(f"{self.prefix}_{k}"), ex.Num("1")),))
                   for k in self.machine.clocks]
-        branches: list[tuple[str, c.Action]] = []
-        done: set[str] = set()
-        while len(done) < len(self.rest):
-            key = next(k for k in self.rest if k not in done)
-            done.add(key)
-            node = self.machine.nodes[key]
-            during = self._statements([s for k in self._ancestors(key)
-                                       for s in self.machine.nodes[k].actions("during")]
-                                      ) if node.kind == "state" else []
-            body = _seq([*during, self._select(key, resting=True, here=key, depth=0)])
-            if not isinstance(body, c.Skip):
-                branches.append((key, body))
+        branches: list[tuple[int, c.Action]] = []
+        nodes_done: set[str] = set()
+        resumes_done = 0
+        while len(nodes_done) < len(self.rest) or resumes_done < len(self.resumes):
+            for key in [k for k in self.rest if k not in nodes_done]:
+                nodes_done.add(key)  # rested there: its during action, then its transitions
+                body = _seq(self._run((), key, key, 0, during_done=False, resting=True))
+                if not isinstance(body, c.Skip):
+                    branches.append((self.index[key], body))
+            while resumes_done < len(self.resumes):  # the rest of an action cut by exec
+                items, node = self.resumes[resumes_done]
+                branches.append((len(self.index) + resumes_done, _seq(
+                    self._run(items, node, None, 0, during_done=False, resting=False))))
+                resumes_done += 1
         cases: c.Action = c.Skip()
-        for key, body in sorted(branches, key=lambda kb: self.index[kb[0]], reverse=True):
-            cases = self._cond(ex.BinOp("==", _name(self.mode), ex.Num(str(self.index[key]))),
+        for number, body in sorted(branches, key=lambda nb: nb[0], reverse=True):
+            cases = self._cond(ex.BinOp("==", _name(self.mode), ex.Num(str(number))),
                                body, cases)
         return _seq([*clocks, cases])
+
+    def _items(self, statements: tuple[ast.Statement, ...] | list[ast.Statement]
+               ) -> list[_Item]:
+        """Statements as the interpreter's pending steps: ``exec`` ends the cycle, and
+        ``wait(n)`` is ``n`` such ends."""
+        out: list[_Item] = []
+        for st in statements:
+            if isinstance(st, ast.ExecStatement):
+                out.append(("end", None))
+            elif isinstance(st, ast.WaitStatement):
+                out += [("end", None)] * self._cycles(st)
+            else:
+                out.append(("stmt", st))
+        return out
+
+    def _cycles(self, st: ast.WaitStatement) -> int:
+        try:
+            n = self.interpreter._value(st.cycles, self.interpreter.constants)
+        except MachineError:
+            n = None
+        if isinstance(n, bool) or not isinstance(n, (int, float)) or n < 0 or n != int(n):
+            raise self._refuse("wait(n) is written in D only with n a constant natural "
+                               "number", st.span)
+        return int(n)
+
+    def _run(self, items: tuple[_Item, ...], node: str, here: str | None, depth: int,
+             during_done: bool, resting: bool) -> list[c.Action]:
+        """The interpreter's loop from ``node`` with ``items`` pending (its cycle's step 3):
+        the pending steps in order (an ``end`` cuts the cycle: the rest resumes in the next
+        one, a mode of its own), then the during action unless a state was entered, then the
+        transitions (``here``: the node the cycle began resting in, None when it resumed)."""
+        out: list[c.Action] = []
+        for n, (kind, item) in enumerate(items):
+            if kind == "end":
+                resume = self._resume(items[n + 1:], node)
+                return [*out, c.Assign((self.mode,), (ex.Num(str(resume)),))]
+            if kind == "do":
+                out.append(item)  # type: ignore[arg-type]
+            elif kind == "stmt":
+                out.append(self._statement(item))  # type: ignore[arg-type]
+            else:
+                key = str(item)
+                return [*out, *self._enter(key, items[n + 1:], here, depth + 1)]
+        if not during_done:
+            during = [st for k in self._ancestors(node)
+                      for st in self.machine.nodes[k].actions("during")] \
+                if self.machine.nodes[node].kind == "state" else []
+            return [*out, *self._run(tuple(self._items(during)), node, here, depth, True,
+                                     resting)]
+        return [*out, self._select(node, resting, here, depth)]
+
+    def _resume(self, items: tuple[_Item, ...], node: str) -> int:
+        """The mode of the rest of a cut action (the same rest at the same node: one)."""
+        if (items, node) not in self.resumes:
+            self.resumes.append((items, node))
+        return len(self.index) + self.resumes.index((items, node))
 
     def _cond(self, cond: ex.Expr, then: c.Action, orelse: c.Action) -> c.Action:
         self.conditionals += 1
@@ -209,7 +281,7 @@ class _Cycle:
                                "junctions, or end them with exec")
         return c.Cond(cond, then, orelse)
 
-    def _select(self, key: str, resting: bool, here: str, depth: int) -> c.Action:
+    def _select(self, key: str, resting: bool, here: str | None, depth: int) -> c.Action:
         """The machine at ``key`` after its during action: its first enabled transition
         taken, else it rests at ``key`` (``here``: where the cycle began)."""
         if depth > MAX_DEPTH:
@@ -233,9 +305,11 @@ class _Cycle:
             leaving = chain[chain.index(source):]  # exited innermost first
             exits = [s for k in reversed(leaving)
                      for s in self.machine.nodes[k].actions("exit")]
-            taken = _seq([*bindings, *self._statements(exits),
-                          *self._statements(t.decl.action or ()),
-                          *self._arrive(t.target, here, depth + 1)])
+            pending: list[_Item] = [("do", b) for b in bindings]
+            pending += [*self._items(exits), *self._items(t.decl.action or ()),
+                        ("enter", t.target)]
+            taken = _seq(self._run(tuple(pending), key, here, depth, during_done=True,
+                                   resting=False))
             action = taken if n == always else self._cond(guard, taken, action)
         return action
 
@@ -246,21 +320,28 @@ class _Cycle:
             out.insert(0, self.machine.nodes[out[0]].parent)  # type: ignore[arg-type]
         return out
 
-    def _arrive(self, key: str, here: str, depth: int) -> list[c.Action]:
+    def _enter(self, key: str, rest: tuple[_Item, ...], here: str | None, depth: int
+               ) -> list[c.Action]:
         """Entering ``key``: a state's entry action, then a composite state's initial
-        junction, or a simple state's during action; then its transitions."""
+        junction, or a simple state's during action; then, the pending steps done, its
+        transitions."""
         node = self.machine.nodes[key]
-        steps: list[c.Action] = []
+        if depth > MAX_DEPTH:
+            raise self._refuse(f"a cycle from {here} passes more than {MAX_DEPTH} nodes: a "
+                               "loop of transitions without exec?", node.span,
+                               "mark the end of the cycle with exec")
+        items: list[_Item] = []
         if node.kind == "state":
-            steps += self._statements(node.actions("entry"))
+            items += self._items(node.actions("entry"))
             if node.composite:
                 inner = self.machine.initial(key)
                 if inner is None:
                     raise self._refuse(f"state {key} has no initial junction", node.span,
                                        "add 'initial i0' inside it (see STM2)")
-                return [*steps, *self._arrive(inner.key, here, depth + 1)]
-            steps += self._statements(node.actions("during"))
-        return [*steps, self._select(key, resting=False, here=here, depth=depth)]
+                items.append(("enter", inner.key))
+            else:
+                items += self._items(node.actions("during"))
+        return self._run((*items, *rest), key, here, depth, during_done=True, resting=False)
 
     # ----- guards and expressions
     def _guard(self, t: ast.Transition) -> tuple[ex.Expr, list[c.Action]]:
@@ -346,10 +427,6 @@ class _Cycle:
         return out
 
     # ----- statements
-    def _statements(self, statements: tuple[ast.Statement, ...] | list[ast.Statement]
-                    ) -> list[c.Action]:
-        return [self._statement(s) for s in statements]
-
     def _statement(self, s: ast.Statement) -> c.Action:
         p = self.prefix
         if isinstance(s, ast.Assign):
@@ -363,9 +440,6 @@ class _Cycle:
             return c.Assign((f"{p}_{s.clock}",), (ex.Num("0"),))
         if isinstance(s, ast.SkipStatement):
             return c.Skip()
-        if isinstance(s, (ast.ExecStatement, ast.WaitStatement)):
-            raise self._refuse("exec and wait inside an action are not written in D for "
-                               "typed events (the cycle would end inside the action)", s.span)
         if isinstance(s, ast.SendStatement):
             name = s.event.name[-1] if isinstance(s.event, ex.PlatformRef) else "?"
             return self._send(name, (s.value,), s)
