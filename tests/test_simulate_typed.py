@@ -243,6 +243,37 @@ def test_a_value_the_equations_do_not_determine_is_refused_at_the_mapping(
     assert "hint: give the parameter of echo one value" in err
 
 
+@pytest.mark.parametrize("edits, where, message", [
+    ({"RangerSoftware.rsm": [("event echo: real", "event echo: vector(real, 2)"),
+                             ("var seen: real = 0", "var seen: vector(real, 2)"),
+                             ("seen >= close", "seen[1] >= close"),
+                             ("seen < close", "seen[1] < close")]},
+     ("RangerSoftware.rsm", "$echo?seen"),
+     "the input event echo carries a vector(real, 2): simulate computes an event's value "
+     "as one number"),
+    ({"Mapping.rsm": [(EQUATION, "\t\tequation r == [| Rail::Carriage::Eye.voltage, 0 |]\n")]},
+     ("Mapping.rsm", "input event echo"),
+     "the value of the input event echo: the equation r == [|Eye_voltage, 0|] is not "
+     "between numbers"),
+], ids=["vector-event", "vector-equation"])
+def test_a_value_that_is_not_one_number_is_refused(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], edits: dict[str, list[tuple[str, str]]],
+        where: tuple[str, str], message: str) -> None:
+    """A vector-typed event (which check accepts), or a real one given a vector (check
+    accepts it too, today): refused with the place, not an internal error."""
+    folder = _variant(tmp_path, edits)
+    text = (folder / where[0]).read_text().splitlines()
+    line = next(i for i, s in enumerate(text, 1) if where[1] in s)
+    column = text[line - 1].index(where[1]) + 1 if where[1].startswith("$") else 2
+    capsys.readouterr()
+    code = main(["simulate", str(folder), "--scenario", str(folder / "approach.toml"),
+                 "-o", str(tmp_path / "sim.csv")])
+    err = capsys.readouterr().err
+    assert code == 1 and "Traceback" not in err and "internal error" not in err
+    assert f"{where[0]}:{line}:{column}: ERROR E-FLOWSTAR: {message}" in err, err
+    assert not (tmp_path / "sim.csv").exists()
+
+
 def test_flowstar_still_refuses_typed_events_and_names_simulate(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     folder = _variant(tmp_path, {"approach.toml": [
@@ -255,3 +286,98 @@ def test_flowstar_still_refuses_typed_events_and_names_simulate(
     assert "RangerSoftware.rsm:32:1: ERROR E-FLOWSTAR: state machine SRanger: the typed " \
         "input event echo cannot be written for Flow*" in err
     assert "hint: `cyphy simulate` runs this machine with the events' values" in err
+
+
+REVERSE = """
+controller Reverse {
+	cycleDef cycle == 1
+	requires MoveI
+	sref sm = SBack
+}
+
+stm SBack {
+	cycleDef cycle == 1
+	clock C
+	output context { requires MoveI }
+	initial i0
+	state Wait { }
+	state Back {
+		entry $roll(-0.2)
+	}
+	transition t0 { from i0 to Wait }
+	transition t1 { from Wait to Back exec condition since(C) >= 25 }
+}
+"""
+
+
+def test_a_module_with_a_typed_reader_runs_all_its_machines_on_the_interpreter(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A second controller (SBack, no events: it backs the cart off at 0.2 m/s from cycle
+    25) beside SRanger: the module's machines run together every cycle, on the
+    interpreter, SRanger's calls then SBack's; before this change the module was refused
+    as SRanger alone was (its automaton could not be compiled, so neither the product)."""
+    folder = _variant(tmp_path, {"RangerSoftware.rsm": [
+        ("\tcref ctrl = Ranger\n", "\tcref ctrl = Ranger\n\tcref back = Reverse\n")]})
+    with (folder / "RangerSoftware.rsm").open("a") as f:
+        f.write(REVERSE)
+    assert main(["check", str(folder)]) == 0, capsys.readouterr().err
+    stopped: list[int] = []
+
+    def decide(k: int, theta: float) -> float | None:
+        if k == 0:
+            return 0.4
+        if k == 25:
+            return -0.2  # SRanger rests in Halted (no call): SBack's call holds
+        if stopped or voltage(theta) < 0.4:
+            return None
+        if voltage(theta) >= 1.0:
+            stopped.append(k)
+            return 0.0
+        return 0.4
+
+    t, theta = _cart_by_hand(4.0, 41, decide)
+    simulated = _simulate(folder, "--samples", "41", "--t-end", "4")
+    assert stopped == [19]
+    assert np.max(np.abs(simulated["Carriage_theta"] - theta)) < 1e-6
+    assert simulated["Carriage_v"][-1] == pytest.approx(-0.2, abs=0.02)  # backing off
+
+
+def test_the_documented_ranger_run_prints_what_the_page_shows(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """docs/commands/simulate.md shows the ranger's run in a plain block (test_docs runs
+    its pages in a copy of examples/, which has no tests/data): run here from the checkout."""
+    import re
+    import shlex
+
+    root = Path(__file__).resolve().parent.parent
+    page = (root / "docs" / "commands" / "simulate.md").read_text()
+    block = re.search(r"```text\n\$ (cyphy simulate tests/data/heldout/ranger[^\n]*)\n"
+                      r"(.*?)```", page, re.S)
+    assert block is not None
+    argv = shlex.split(block[1])[1:]
+    argv = [str(root / a) if a.startswith("tests/") else a for a in argv]
+    argv[argv.index("-o") + 1] = str(tmp_path / "ranger.csv")
+    capsys.readouterr()
+    assert main(argv) == 0
+    assert capsys.readouterr().err.splitlines() == block[2].splitlines()
+    assert (tmp_path / "ranger.csv").read_text().count("\n") == 32  # header and 31 rows
+
+
+def test_a_machine_failing_on_a_value_at_run_time_is_reported_at_its_statement(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A value the machine cannot use (here 1/(seen − seen) once echo occurs, at t = 0.8 s)
+    stops the run with E-MACHINE at the expression, exit 1, nothing written: it was an
+    internal error (a MachineError escaped simulate)."""
+    folder = _variant(tmp_path, {"RangerSoftware.rsm": [
+        ("transition t3 { from Look to Rolling condition seen < close }",
+         "transition t3 { from Look to Rolling condition seen < close action "
+         "$roll(1 / (seen - seen)) }")]})
+    text = (folder / "RangerSoftware.rsm").read_text().splitlines()
+    line = next(i for i, s in enumerate(text, 1) if "1 / (seen - seen)" in s)
+    capsys.readouterr()
+    code = main(["simulate", str(folder), "--scenario", str(folder / "approach.toml"),
+                 "-o", str(tmp_path / "sim.csv")])
+    err = capsys.readouterr().err
+    assert code == 1 and "internal error" not in err and not (tmp_path / "sim.csv").exists()
+    assert f"RangerSoftware.rsm:{line}:" in err and "ERROR E-MACHINE: state machine SRanger: " \
+        in err, err

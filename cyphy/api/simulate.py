@@ -133,6 +133,7 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
     its interpreter (:mod:`cyphy.semantics.machines.cycle`) when the scenario has none."""
     # lazy: NumPy, SciPy, SymPy: `cyphy check` must not pay for it
     from cyphy.backends import simulate as sim
+    from cyphy.semantics.machines.cycle import MACHINE, MachineError
     from cyphy.verify.flowstar.build import build_problem
     from cyphy.verify.flowstar.problem import CLOCK, TIMER, symbol
 
@@ -200,6 +201,10 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
             getattr(controller, "observable", frozenset()))
     except sim.OptionError as err:
         report.report(codes.OPTION, err.message, Span.unknown("<command line>"), err.hint)
+    except MachineError as err:  # the machine's cycle at run time (a division by zero, …)
+        name = getattr(getattr(problem.machine, "machine", None), "name", None)
+        report.report(MACHINE, f"state machine {name}: {err.message}" if name else
+                      err.message, err.span, err.hint)
     except (sim.SimulationError, ValueError) as err:
         report.report(sim.SIMULATE, getattr(err, "message", str(err)),
                       scenario.span("controller"), getattr(err, "hint", ""))

@@ -407,16 +407,18 @@ class _Builder:
         """Each input event a transition names (a machine run uncompiled: each it reads),
         as its mapping predicate (mangled names); a typed event of an uncompiled machine
         also gets its value's equations (``self.typed``)."""
+        from cyphy.lang import ast
+        from cyphy.lang.notation import type_to_notation
         from cyphy.semantics.dynamics.equations import input_event_predicate
 
         wanted = self._machine_events() if self.uncompiled else \
-            [(name, t.span) for t in self.s.transitions for name, _ in t.literals]
+            [(name, t.span, None) for t in self.s.transitions for name, _ in t.literals]
         if not wanted:
             return {}
         mapping = self._mapping()
         available = {e.name: e for e in mapping.events if e.direction == "input"}
         out: dict[str, tuple[ex.Expr, Span]] = {}
-        for name, span in wanted:
+        for name, span, type_ in wanted:
             if name in out:
                 continue
             event = available.get(name)
@@ -425,6 +427,12 @@ class _Builder:
                                 span, did_you_mean(name, available) or
                                 f"input events: {', '.join(sorted(available)) or '(none)'}")
             if self.uncompiled and event.param is not None:
+                if not (isinstance(type_, ast.PrimitiveType) and
+                        type_.name in ("real", "int", "nat")):
+                    raise self.fail(
+                        f"the input event {name} carries a {type_to_notation(type_)}: "
+                        "simulate computes an event's value as one number", span,
+                        "give the event a real, int or nat type (one event per number)")
                 self.typed[name] = _typed_event(self.model, mapping, event)
                 pred = self.typed[name].predicate
             else:
@@ -435,20 +443,21 @@ class _Builder:
             out[name] = (pred, span)
         return out
 
-    def _machine_events(self) -> list[tuple[str, Span]]:
+    def _machine_events(self) -> list[tuple[str, Span, Any]]:
         """The input events the machines (and the operation definitions they call) read,
-        each with where it is first read, in the order read."""
+        each with where it is first read and its declared type, in the order read."""
         from cyphy.model.machines import expressions
 
-        out: dict[str, Span] = {}
+        out: dict[str, tuple[str, Span, Any]] = {}
         for part in self.machine.parts:
             for m in [part.machine, *part.operations.values()]:
                 for e, _where in expressions(m):
                     for node in e.walk():
-                        if isinstance(node, ex.PlatformRef) and \
-                                node.name[-1] in m.platform.input_events:
-                            out.setdefault(node.name[-1], node.span)
-        return list(out.items())
+                        decl = m.platform.input_events.get(node.name[-1]) \
+                            if isinstance(node, ex.PlatformRef) else None
+                        if decl is not None:
+                            out.setdefault(node.name[-1], (node.name[-1], node.span, decl.type))
+        return list(out.values())
 
     def _probes(self, system: Any, exprs: list[ex.Expr]) -> dict[str, str]:
         """For each model variable the predicates mention, a probe state ``p' = v``: the
@@ -518,6 +527,7 @@ class _TypedEvent:
     name: str
     mapping: str
     param: str
+    written: str  # the parameter as the mapping names it, for messages
     locals: tuple[str, ...]
     equations: tuple[ex.Expr, ...]
     predicate: ex.Expr | None
@@ -530,7 +540,7 @@ def _typed_event(model: Any, mapping: Any, event: Any) -> _TypedEvent:
     param = f"cyphy_event_{event.name}"
     members = member_equations(model, mapping, event, {event.param: ex.Name((param,))})
     preds = [p.expr for p in members.predicates]
-    return _TypedEvent(event.name, mapping.name, param, tuple(members.locals),
+    return _TypedEvent(event.name, mapping.name, param, event.param, tuple(members.locals),
                        tuple(e.expr for e in members.equations),
                        ex.conjunction(preds) if preds else None, event.span)
 
@@ -558,10 +568,17 @@ class _Scope:
         sensor outputs they read replaced by their solutions; also the substitution of the
         parameter and the locals solved, for the predicate. Refused unless the equations
         give the parameter exactly one value (simulate needs the one the machine reads)."""
-        from cyphy.lang.notation import to_notation
+        from cyphy.lang.notation import to_notation as notation
         from cyphy.translate.to_sympy import UnsupportedNode, to_sympy
 
         what = f"the value of the input event {t.name}"
+
+        def to_notation(e: ex.Expr) -> str:  # the parameter as written
+            def back(node: ex.Expr) -> ex.Expr | None:
+                return ex.Name((t.written,)) if isinstance(node, ex.Name) and \
+                    node.text == t.param else None
+            return notation(ex.transform(e, back))
+
         hint = (f"give the parameter of {t.name} one value with an equation over sensor "
                 "outputs, locals and constants (equation r == Link::Joint::Sensor.output)")
         consts = {symbol(n): sympy.Rational(repr(float(v))) for n, v in b.s.consts.items()
@@ -570,14 +587,21 @@ class _Scope:
         for e in t.equations:
             try:
                 rel = to_sympy(e, symbols=self.names)
+                if rel is sympy.true:
+                    continue
+                if not isinstance(rel, sympy.Equality):
+                    raise b.fail(f"{what}: the equation {to_notation(e)} cannot hold", t.span,
+                                 hint)
+                difference = sympy.expand(rel.lhs - rel.rhs)
             except UnsupportedNode as err:
                 raise b.fail(f"{what}: {err}", t.span, hint) from None
-            if rel is sympy.true:
-                continue
-            if not isinstance(rel, sympy.Equality):
-                raise b.fail(f"{what}: the equation {to_notation(e)} cannot hold", t.span,
-                             hint)
-            relations.append(self._in_states(sympy.expand(rel.lhs - rel.rhs).xreplace(consts)))
+            except TypeError:  # SymPy's: a vector or record where a number is meant
+                raise b.fail(f"{what}: the equation {to_notation(e)} is not between numbers",
+                             t.span, hint) from None
+            if not isinstance(difference, sympy.Expr):
+                raise b.fail(f"{what}: the equation {to_notation(e)} is not between numbers",
+                             t.span, hint)
+            relations.append(self._in_states(difference.xreplace(consts)))
         param = symbol(t.param)
         unknowns = [param, *(symbol(n) for n in t.locals)]
         try:
