@@ -8,9 +8,8 @@ Every refusal is an ``E-FLOWSTAR`` diagnostic at the scenario's line.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import sympy
 
@@ -23,6 +22,9 @@ from cyphy.verify.flowstar.printer import FUNCTIONS, NotExpressible, valid_name
 from cyphy.verify.flowstar.problem import CLOCK, TIMER, Problem, symbol
 from cyphy.verify.flowstar.scenario import EXPORT, Scenario
 from cyphy.verify.flowstar.time_functions import replace_time_functions
+
+if TYPE_CHECKING:
+    from cyphy.verify.flowstar.typed_events import TypedEvent
 
 
 def build_problem(paths: Sequence[str | Path], scenario: Scenario, report: Report,
@@ -75,7 +77,7 @@ class _Builder:
         self.call_effects: dict[str, dict[str, Any]] = {}
         # a machine run by its interpreter alone (typed input events): no automaton's modes
         self.uncompiled = machine is not None and not scenario.states
-        self.typed: dict[str, _TypedEvent] = {}
+        self.typed: dict[str, TypedEvent] = {}
 
     def fail(self, message: str, span: Span, hint: str = "") -> _Stop:
         self.report.report(EXPORT, message, span, hint)
@@ -407,11 +409,11 @@ class _Builder:
         """Each input event a transition names (a machine run uncompiled: each it reads),
         as its mapping predicate (mangled names); a typed event of an uncompiled machine
         also gets its value's equations (``self.typed``)."""
-        from cyphy.lang import ast
-        from cyphy.lang.notation import type_to_notation
         from cyphy.semantics.dynamics.equations import input_event_predicate
+        from cyphy.verify.flowstar.typed_events import machine_events, not_one_number, \
+            typed_event
 
-        wanted = self._machine_events() if self.uncompiled else \
+        wanted = machine_events(self.machine) if self.uncompiled else \
             [(name, t.span, None) for t in self.s.transitions for name, _ in t.literals]
         if not wanted:
             return {}
@@ -427,13 +429,10 @@ class _Builder:
                                 span, did_you_mean(name, available) or
                                 f"input events: {', '.join(sorted(available)) or '(none)'}")
             if self.uncompiled and event.param is not None:
-                if not (isinstance(type_, ast.PrimitiveType) and
-                        type_.name in ("real", "int", "nat")):
-                    raise self.fail(
-                        f"the input event {name} carries a {type_to_notation(type_)}: "
-                        "simulate computes an event's value as one number", span,
-                        "give the event a real, int or nat type (one event per number)")
-                self.typed[name] = _typed_event(self.model, mapping, event)
+                refused = not_one_number(name, type_)
+                if refused is not None:
+                    raise self.fail(refused.message, span, refused.hint)
+                self.typed[name] = typed_event(self.model, mapping, event)
                 pred = self.typed[name].predicate
             else:
                 pred = input_event_predicate(self.model, mapping, event)
@@ -442,22 +441,6 @@ class _Builder:
                                 f"{mapping.name}: its occurrence cannot be decided", span)
             out[name] = (pred, span)
         return out
-
-    def _machine_events(self) -> list[tuple[str, Span, Any]]:
-        """The input events the machines (and the operation definitions they call) read,
-        each with where it is first read and its declared type, in the order read."""
-        from cyphy.model.machines import expressions
-
-        out: dict[str, tuple[str, Span, Any]] = {}
-        for part in self.machine.parts:
-            for m in [part.machine, *part.operations.values()]:
-                for e, _where in expressions(m):
-                    for node in e.walk():
-                        decl = m.platform.input_events.get(node.name[-1]) \
-                            if isinstance(node, ex.PlatformRef) else None
-                        if decl is not None:
-                            out.setdefault(node.name[-1], (node.name[-1], node.span, decl.type))
-        return list(out.values())
 
     def _probes(self, system: Any, exprs: list[ex.Expr]) -> dict[str, str]:
         """For each model variable the predicates mention, a probe state ``p' = v``: the
@@ -517,34 +500,6 @@ class _Builder:
                             "or [low, high]): " + ", ".join(f"{x} = 0" for x in missing))
 
 
-@dataclass(frozen=True)
-class _TypedEvent:
-    """A typed input event's mapping in the model's names: its parameter (``? r``, renamed
-    ``cyphy_event_<event>`` so that it names nothing of the model), its locals
-    (``<event>_<local>``), the equations that give the parameter its value (actions'
-    assignments as equations) and the predicate, which may read both."""
-
-    name: str
-    mapping: str
-    param: str
-    written: str  # the parameter as the mapping names it, for messages
-    locals: tuple[str, ...]
-    equations: tuple[ex.Expr, ...]
-    predicate: ex.Expr | None
-    span: Span  # the mapping of the event
-
-
-def _typed_event(model: Any, mapping: Any, event: Any) -> _TypedEvent:
-    from cyphy.semantics.dynamics.equations import member_equations
-
-    param = f"cyphy_event_{event.name}"
-    members = member_equations(model, mapping, event, {event.param: ex.Name((param,))})
-    preds = [p.expr for p in members.predicates]
-    return _TypedEvent(event.name, mapping.name, param, event.param, tuple(members.locals),
-                       tuple(e.expr for e in members.equations),
-                       ex.conjunction(preds) if preds else None, event.span)
-
-
 class _Scope:
     """The names a predicate may use: states, actuator inputs, the clocks, and algebraic
     variables (replaced by their solutions)."""
@@ -554,7 +509,7 @@ class _Scope:
         self.variables = set(self.names.values())
         self.outputs = {symbol(n): v for n, v in outputs.items()}
 
-    def _in_states(self, value: Any) -> Any:
+    def in_states(self, value: Any) -> Any:
         for _ in range(8):  # outputs may be written in terms of other outputs
             replaced = value.xreplace(self.outputs)
             if replaced == value:
@@ -562,67 +517,17 @@ class _Scope:
             value = replaced
         return value
 
-    def value(self, b: _Builder, t: _TypedEvent) -> tuple[Any, dict[Any, Any]]:
-        """The typed event's value as a function of the states and inputs: its mapping's
-        equations (Rule 5: ``{ p | ∃ locals • equations }``) solved for the parameter, the
-        sensor outputs they read replaced by their solutions; also the substitution of the
-        parameter and the locals solved, for the predicate. Refused unless the equations
-        give the parameter exactly one value (simulate needs the one the machine reads)."""
-        from cyphy.lang.notation import to_notation as notation
-        from cyphy.translate.to_sympy import UnsupportedNode, to_sympy
+    def value(self, b: _Builder, t: "TypedEvent") -> tuple[Any, dict[Any, Any]]:
+        """The typed event's value over the states and inputs, and the substitution of its
+        parameter and solved locals for the predicate (:func:`typed_events.solve_value`)."""
+        from cyphy.verify.flowstar.typed_events import ValueRefused, solve_value
 
-        what = f"the value of the input event {t.name}"
-
-        def to_notation(e: ex.Expr) -> str:  # the parameter as written
-            def back(node: ex.Expr) -> ex.Expr | None:
-                return ex.Name((t.written,)) if isinstance(node, ex.Name) and \
-                    node.text == t.param else None
-            return notation(ex.transform(e, back))
-
-        hint = (f"give the parameter of {t.name} one value with an equation over sensor "
-                "outputs, locals and constants (equation r == Link::Joint::Sensor.output)")
-        consts = {symbol(n): sympy.Rational(repr(float(v))) for n, v in b.s.consts.items()
-                  if isinstance(v, (int, float)) and not isinstance(v, bool) and "::" not in n}
-        relations = []
-        for e in t.equations:
-            try:
-                rel = to_sympy(e, symbols=self.names)
-                if rel is sympy.true:
-                    continue
-                if not isinstance(rel, sympy.Equality):
-                    raise b.fail(f"{what}: the equation {to_notation(e)} cannot hold", t.span,
-                                 hint)
-                difference = sympy.expand(rel.lhs - rel.rhs)
-            except UnsupportedNode as err:
-                raise b.fail(f"{what}: {err}", t.span, hint) from None
-            except TypeError:  # SymPy's: a vector or record where a number is meant
-                raise b.fail(f"{what}: the equation {to_notation(e)} is not between numbers",
-                             t.span, hint) from None
-            if not isinstance(difference, sympy.Expr):
-                raise b.fail(f"{what}: the equation {to_notation(e)} is not between numbers",
-                             t.span, hint)
-            relations.append(self._in_states(difference.xreplace(consts)))
-        param = symbol(t.param)
-        unknowns = [param, *(symbol(n) for n in t.locals)]
+        consts = {n: v for n, v in b.s.consts.items() if isinstance(v, (int, float))
+                  and not isinstance(v, bool) and "::" not in n}
         try:
-            solutions = sympy.solve(relations, unknowns, dict=True) if relations else []
-        except NotImplementedError:
-            solutions = []
-        determined = [s for s in solutions if param in s and
-                      not s[param].free_symbols - self.variables]
-        if len(solutions) != 1 or not determined:
-            found = "no equation gives it" if not relations else \
-                "its equations have no solution" if not solutions else \
-                f"its equations allow {len(solutions)} values" if len(solutions) > 1 else \
-                "its equations leave it open"
-            raise b.fail(f"{what} is not determined by mapping {t.mapping}: "
-                         f"{found}, and the machine reads one", t.span, hint)
-        value = determined[0][param]
-        if value.has(sympy.zoo, sympy.oo, -sympy.oo, sympy.nan):
-            raise b.fail(f"{what} is undefined (a division by zero, or an infinite value)",
-                         t.span, hint)
-        return value, {k: v for k, v in determined[0].items()
-                       if not v.free_symbols - self.variables}
+            return solve_value(t, self.names, self.variables, self.in_states, consts)
+        except ValueRefused as err:
+            raise b.fail(err.message, t.span, err.hint) from None
 
     def predicate(self, b: _Builder, e: ex.Expr, span: Span, what: str,
                   given: dict[Any, Any] | None = None) -> Any:
@@ -632,7 +537,7 @@ class _Scope:
             value = to_sympy(e, symbols=self.names)
         except UnsupportedNode as err:
             raise b.fail(f"{what}: {err}", span) from None
-        value = self._in_states(value.xreplace(given or {}))
+        value = self.in_states(value.xreplace(given or {}))
         if value.has(sympy.zoo, sympy.oo, -sympy.oo, sympy.nan):
             raise b.fail(f"{what} is undefined (a division by zero, or an infinite value)",
                          span, "write a comparison of finite polynomials")
