@@ -108,6 +108,8 @@ def test_ranger_stops_at_the_cycle_the_reading_first_reaches_close() -> None:
 
     t, theta = _cart_by_hand(3.0, 31, decide)
     simulated = _simulate(RANGER, "--samples", "31")
+    chosen = _simulate(RANGER, "--samples", "31", "--machine", "SRanger")  # named: the same
+    assert np.array_equal(chosen["Carriage_theta"], simulated["Carriage_theta"])
     assert np.allclose(simulated["t"], t)
     assert np.max(np.abs(simulated["Carriage_theta"] - theta)) < 1e-6
     # the stop: cycle 19 (t = 1.9 s), the first with a reading of 1 V or more
