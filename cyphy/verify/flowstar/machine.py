@@ -6,7 +6,10 @@
 structure a ``[controller]`` table gives, so the export treats both alike. The interpreter
 itself is returned too: ``cyphy simulate`` runs it, cycle by cycle, as the sampled controller.
 The operation definitions the machine calls run inside it; its output events that the
-mapping maps act like calls, the others are observable only (``interpreter.observable``)."""
+mapping maps act like calls, the others are observable only (``interpreter.observable``).
+A machine that reads typed input events has no automaton (it knows events as present or
+absent): ``reach`` refuses it, ``simulate`` runs its interpreter alone
+(:mod:`cyphy.verify.flowstar.typed_events`)."""
 
 from __future__ import annotations
 
@@ -118,8 +121,8 @@ def _call_text(name: str, args: tuple[float, ...]) -> str:
 
 
 def typed_events(interpreters: "list[MachineInterpreter]") -> list[str]:
-    """The typed input events the machines (or the operation definitions they call) read,
-    in the order first declared."""
+    """The typed input events of the input contexts of the machines (and of the operation
+    definitions they call), in the order first declared."""
     out: dict[str, None] = {}
     for i in interpreters:
         for m in [i.machine, *i.operations.values()]:
