@@ -89,11 +89,22 @@ def _variant(tmp_path: Path, edits: dict[str, list[tuple[str, str]]]) -> Path:
 
 
 # ------------------------------------------------------------------------------ ranger
-def test_ranger_stops_at_the_cycle_the_reading_first_reaches_close() -> None:
+THROUGH_LOCAL = [("\t\tpredicate Rail::Carriage::Eye.voltage >= 0.4\n"
+                  "\t\tequation r == Rail::Carriage::Eye.voltage\n",
+                  "\t\tvar w: real\n\t\tpredicate w >= 0.4\n"
+                  "\t\tequation w == Rail::Carriage::Eye.voltage\n\t\tequation r == w\n")]
+
+
+@pytest.mark.parametrize("edits", [{}, {"Mapping.rsm": THROUGH_LOCAL}],
+                         ids=["as-written", "predicate-and-value-through-a-local"])
+def test_ranger_stops_at_the_cycle_the_reading_first_reaches_close(
+        tmp_path: Path, edits: dict[str, list[tuple[str, str]]]) -> None:
     """The cart rolls at 0.4 m/s; from θ ≥ 0.26 (voltage ≥ 0.4) echo occurs every cycle
     carrying the voltage, and SRanger halts at the first cycle it reads ``seen >= close``
     (1.0 V: θ ≥ 0.71). Before this change simulate refused the model (E-FLOWSTAR, "the
-    automaton models events as present or absent")."""
+    automaton models events as present or absent"). The second mapping reads the voltage
+    into a local w that both the predicate and the value read."""
+    model = _variant(tmp_path, edits) if edits else RANGER
     stopped: list[int] = []
 
     def decide(k: int, theta: float) -> float | None:
@@ -107,8 +118,8 @@ def test_ranger_stops_at_the_cycle_the_reading_first_reaches_close() -> None:
         return 0.4  # Look → Rolling: its entry calls roll(cruise) again
 
     t, theta = _cart_by_hand(3.0, 31, decide)
-    simulated = _simulate(RANGER, "--samples", "31")
-    chosen = _simulate(RANGER, "--samples", "31", "--machine", "SRanger")  # named: the same
+    simulated = _simulate(model, "--samples", "31")
+    chosen = _simulate(model, "--samples", "31", "--machine", "SRanger")  # named: the same
     assert np.array_equal(chosen["Carriage_theta"], simulated["Carriage_theta"])
     assert np.allclose(simulated["t"], t)
     assert np.max(np.abs(simulated["Carriage_theta"] - theta)) < 1e-6
