@@ -373,7 +373,9 @@ def test_the_documented_ranger_run_prints_what_the_page_shows(
     capsys.readouterr()
     assert main(argv) == 0
     assert capsys.readouterr().err.splitlines() == block[2].splitlines()
-    assert (tmp_path / "ranger.csv").read_text().count("\n") == 32  # header and 31 rows
+    first = (tmp_path / "ranger.csv").read_bytes()
+    assert first.count(b"\n") == 32  # header and 31 rows
+    assert main(argv) == 0 and (tmp_path / "ranger.csv").read_bytes() == first  # byte-identical
 
 
 def test_a_machine_failing_on_a_value_at_run_time_is_reported_at_its_statement(
