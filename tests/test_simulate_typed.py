@@ -131,8 +131,8 @@ def test_ranger_stops_at_the_cycle_the_reading_first_reaches_close(
     assert simulated["Carriage_v"][k] == pytest.approx(0.3977, abs=1e-3)  # still cruising
     assert float(np.max(np.abs(simulated["Carriage_v"][t >= 2.5]))) < 0.03  # stopped
     assert 0.75 < simulated["Carriage_theta"][-1] < 0.76  # 0.24 m before the wall
-    # the value matters: had the machine read `True` (1) for seen, it would have stopped at
-    # the first echo (θ ≥ 0.26, t ≈ 0.8 s); had it read nothing, never
+    # the value matters: with seen = 1 at every echo the cart would stop at the first one
+    # (θ ≥ 0.26, t ≈ 0.8 s); with seen left at 0, never
     assert simulated["Carriage_theta"][int(np.argmin(np.abs(t - 1.2)))] > 0.4
 
 
