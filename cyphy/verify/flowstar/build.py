@@ -96,7 +96,7 @@ class _Builder:
             raise self.fail(err.message, err.span, err.hint) from None
         self._environment(system)
         effects, frame = self._effects()
-        operation_effects = {}
+        operation_effects: dict[str, tuple[tuple[Any, ...], dict[str, Any]]] = {}
         if self.uncompiled:  # the inputs are those the operations the machine may call set
             operation_effects = self._operation_effects(None)
             frame = sorted({u for _, solved in operation_effects.values() for u in solved})
