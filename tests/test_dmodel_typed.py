@@ -9,6 +9,8 @@ IR sensor) integrated with SciPy, sampled each cycle by the machine's interprete
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import re
 from pathlib import Path
@@ -346,3 +348,37 @@ def test_actions_that_end_cycles_run_as_the_automaton_d_runs_them(
         assert np.max(np.abs(runs["typed"][col] - values)) < 1e-9, col
     assert list(np.round(runs["typed"]["Push_dls"][:7], 9)) == [0.4, 0.4, 0.4, 0.2, 0.3, 0.1,
                                                                    0.1]
+
+
+def _simulated(paths: list[Path], t_end: float, samples: int) -> dict[str, np.ndarray]:
+    """``cyphy simulate``'s trajectories (the model's equations and the machine's
+    interpreter, never the theory), JSON on stdout, under approach.toml (tscale 0.1, the
+    cart at rest at the start: the theory's Init)."""
+    out = io.StringIO()
+    argv = ["simulate", *map(str, paths), "--scenario", str(RANGER / "approach.toml"),
+            "--t-end", str(t_end), "--samples", str(samples), "--format", "json", "-q"]
+    with contextlib.redirect_stdout(out):
+        assert main(argv) == 0
+    doc = json.loads(out.getvalue())
+    return {"t": np.array(doc["t"]), **{k: np.array(v) for k, v in doc["columns"].items()}}
+
+
+@pytest.mark.parametrize("dialect", DIALECTS)
+@pytest.mark.parametrize("paths, t_end, samples", [
+    (RANGER_PATHS, 3.0, 31),     # the halt at t = 1.9 s
+    (FOLLOW_PATHS, 1.5, 16),     # the demand the reading times k
+])
+def test_animate_agrees_with_simulate(tmp_path: Path, dialect: str, paths: list[Path],
+                                      t_end: float, samples: int) -> None:
+    """The theory's D, animated, and ``cyphy simulate`` (the machine on its interpreter,
+    the event carrying the mapping's value) give the same cart: every state both report
+    within 1e-6 at every sample."""
+    folder, _, _ = _generate(paths, tmp_path / dialect, dialect)
+    anim = animate(folder, t_end, consts={"tscale": TSCALE}, samples=samples)
+    sim = _simulated(paths, t_end, samples)
+    rows = np.array(anim.rows)
+    assert np.allclose(rows[:, 0], sim["t"])
+    common = [c for c in anim.columns[1:] if c in sim]
+    assert {"Carriage_theta", "Carriage_v", "Push_i", "Eye_voltage"} <= set(common)
+    for col in common:
+        assert np.max(np.abs(rows[:, anim.columns.index(col)] - sim[col])) < 1e-6, col
