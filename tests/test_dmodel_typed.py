@@ -382,3 +382,27 @@ def test_animate_agrees_with_simulate(tmp_path: Path, dialect: str, paths: list[
     assert {"Carriage_theta", "Carriage_v", "Push_i", "Eye_voltage"} <= set(common)
     for col in common:
         assert np.max(np.abs(rows[:, anim.columns.index(col)] - sim[col])) < 1e-6, col
+
+
+MIXED = HERE / "data" / "typed_mixed"
+
+
+@pytest.mark.parametrize("dialect", DIALECTS)
+def test_mixed_types_check(tmp_path: Path, dialect: str) -> None:
+    """An ``int`` variable in real arithmetic (``0.1 * n``), a Boolean variable under
+    ``not``, ``since(C)`` under ``cycleDef cycle == 2``: D holds the numbers as reals (UTP
+    expressions do not convert int to real), the clock's count times 2, and the theory
+    passes check-theory (an int-typed field there was a type error)."""
+    folder, theory, diagnostics = _generate([RANGER / "RangerBase.rsm", MIXED],
+                                            tmp_path / dialect, dialect)
+    assert not [d for d in diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
+    assert "  SmokeSoftware_n :: real\n" in theory and "  SmokeSoftware_seen :: bool\n" in theory
+    step = _definition(theory, "SmokeSoftwareStep")
+    if dialect == "utp":
+        assert "((&SmokeSoftware_C * \\<guillemotleft>2.0\\<guillemotright>) \\<ge>\\<^sub>u 4)" \
+            in step
+        assert "(\\<not> (&SmokeSoftware_seen =\\<^sub>u true))" in step
+    else:
+        assert "((SmokeSoftware_C * 2.0) \\<ge> 4)" in step
+        assert "(\\<not> (SmokeSoftware_seen = True))" in step
+    assert main(["check-theory", str(folder)]) == 0

@@ -17,7 +17,8 @@ be built. Here the values stay symbolic: ``D``'s state is
   typed one: what ``registerRead.e?b?v`` read at the cycle's start (P's side offers
   ``registerRead.e!true!p`` or ``!false!p``,
   :func:`cyphy.semantics.circus.rules.rule4_input_event`);
-- ``<D>_<x>`` per variable of the machine, at its initial value;
+- ``<D>_<x>`` per variable of the machine, at its initial value (a number held as a real,
+  :func:`_held`);
 - ``<D>_<C>`` per clock: the cycles counted since ``#C`` (``since(C)`` is the count times
   the machine's cycle, as in the interpreter), a whole number held as a real: it is
   compared with real constants (``since(C) >= pause``), and utp-main's UTP expressions have
@@ -69,7 +70,8 @@ unless a state is entered, then the transitions, exec ones excluded); ``wait(n)`
 constant, is ``n`` such ends.
 
 What is refused (``W-SEMANTICS-DMODEL``, with the reason): operation definitions, vector
-variables, ``wait(n)`` with ``n`` not a constant, a name bound by ``$e?x`` outside a
+variables, an ``int`` or ``nat`` event value or call argument computed from the state (D
+holds numbers as reals, :func:`_held`), ``wait(n)`` with ``n`` not a constant, a name bound by ``$e?x`` outside a
 conjunct of its guard, machines of one module with different cycles, and a cycle that
 passes more than :data:`MAX_DEPTH` nodes (a loop of transitions without ``exec``).
 """
@@ -157,9 +159,11 @@ class _Cycle:
             if type_of(decl.type) not in _SCALARS:
                 raise self._refuse(f"variable {name} is not a number or a Boolean", decl.span)
         for e, t in self.typed.items():
-            if t not in _SCALARS:
-                raise self._refuse(f"the event {e} carries a value that is not a number or "
-                                   "a Boolean")
+            if t not in (c.REAL, c.BOOL):
+                raise self._refuse(f"the event {e} carries a value that is not real or "
+                                   "Boolean: D holds the machine's numbers as reals, and an "
+                                   f"{'int' if t == c.INT else 'nat' if t == c.NAT else 'other'}"
+                                   " value would need a conversion it does not write")
 
     # ----- the state
     def event_fields(self) -> list[c.SchemaField]:
@@ -174,7 +178,7 @@ class _Cycle:
     def own_fields(self) -> list[c.SchemaField]:
         """The machine's variables and clocks (its mode is :attr:`mode`)."""
         p = self.prefix
-        return [c.SchemaField(f"{p}_{x}", type_of(d.type))
+        return [c.SchemaField(f"{p}_{x}", _held(d.type))
                 for x, d in self.machine.variables.items()] + \
             [c.SchemaField(f"{p}_{k}", c.REAL) for k in self.machine.clocks]
 
@@ -182,7 +186,7 @@ class _Cycle:
         """The mode's initial value (the initial junction) and the own fields'."""
         it = self.interpreter
         it.reset()
-        values = [_constant(it.variables[x], type_of(d.type))
+        values = [_constant(it.variables[x], _held(d.type))
                   for x, d in self.machine.variables.items()]
         return ex.Num(str(self.index[it.node])), values + [ex.Num("0")
                                                            for _ in self.machine.clocks]
@@ -433,7 +437,7 @@ class _Cycle:
             if not isinstance(s.target, ex.Name) or s.target.text not in self.machine.variables:
                 raise self._refuse("only a variable of the machine can be assigned", s.span)
             decl = self.machine.variables[s.target.text]
-            value = self._predicate(s.value, {}) if type_of(decl.type) == c.BOOL \
+            value = self._predicate(s.value, {}) if _held(decl.type) == c.BOOL \
                 else self._expr(s.value)
             return c.Assign((f"{p}_{s.target.text}",), (value,))
         if isinstance(s, ast.ClockReset):
@@ -472,7 +476,19 @@ class _Cycle:
                 value = None
             if isinstance(value, (int, float)) and not isinstance(value, bool):
                 return literal(float(value), type_)
+        if type_ in (c.INT, c.NAT):
+            raise self._refuse(f"an argument of {'int' if type_ == c.INT else 'nat'} type is "
+                               "computed from the machine's state, which D holds as reals: "
+                               "the conversion is not written", a.span)
         return translated
+
+
+def _held(t: ast.TypeRef | None) -> c.Type:
+    """How D holds a machine variable: a Boolean as one, any number as a real (the
+    interpreter computes on numbers alike, ``n / 2`` of an ``int`` is a half; and UTP
+    expressions have no implicit conversion from ``int`` or ``nat`` to ``real``, so mixed
+    arithmetic over declared types would not type-check)."""
+    return c.BOOL if type_of(t) == c.BOOL else c.REAL
 
 
 def _zero(type_: c.Type) -> ex.Expr:
