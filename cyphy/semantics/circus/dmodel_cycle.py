@@ -71,9 +71,10 @@ constant, is ``n`` such ends.
 
 What is refused (``W-SEMANTICS-DMODEL``, with the reason): operation definitions, vector
 variables, an ``int`` or ``nat`` event value or call argument computed from the state (D
-holds numbers as reals, :func:`_held`), ``wait(n)`` with ``n`` not a constant, a name bound by ``$e?x`` outside a
-conjunct of its guard, machines of one module with different cycles, and a cycle that
-passes more than :data:`MAX_DEPTH` nodes (a loop of transitions without ``exec``).
+holds numbers as reals, :func:`_held`), ``wait(n)`` with ``n`` not a constant, a name bound
+by ``$e?x`` outside a conjunct of its guard, machines of one module with different cycles,
+and a cycle that passes more than :data:`MAX_DEPTH` nodes (a loop of transitions without
+``exec``).
 """
 
 from __future__ import annotations
