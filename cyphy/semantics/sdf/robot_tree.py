@@ -23,7 +23,7 @@ from cyphy.lang.workspace import Workspace
 from cyphy.model.elements import ElaboratedModel, FixedJoint
 from cyphy.model.poses import Pose
 from cyphy.semantics.sdf.rules import translate
-from cyphy.semantics.sdf.topology import loop_cuts
+from cyphy.semantics.sdf.orientation import tree_shape
 from cyphy.semantics.sdf.translation import SdfOptions
 from cyphy.semantics.sdf.tree import Node
 
@@ -138,7 +138,7 @@ def build_robot(model: ElaboratedModel, ws: Workspace, report: Report, target: s
     trees = [_tree(m, qualified, driven) for m in models]
     sdf_name = {q: n for n, q in qualified.items()}
     cuts = []
-    for c in loop_cuts(model):
+    for c in tree_shape(model).cuts:
         assert c.parent is not None and c.child is not None
         if isinstance(c, FixedJoint):
             name, kind, frame = f"{c.parent.name}::fixedJoint::{c.child.name}", "fixed", \
