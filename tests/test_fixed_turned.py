@@ -289,3 +289,59 @@ def test_a_loop_through_two_hinges_is_still_cut(tmp_path: Path,
     assert err.count("W-SDF-CUT") == 1
     weld = ET.parse(tmp_path / "mjcf" / "Hand.xml").getroot().find("equality/weld")
     assert (weld.get("body1"), weld.get("body2")) == ("Fingers_1__Bone", "Bar")
+
+
+def _zyx(rotation: np.ndarray) -> np.ndarray:
+    """ZYX Euler angles (yaw, pitch, roll) of a rotation, away from pitch ±π/2."""
+    return np.array([np.arctan2(rotation[1, 0], rotation[0, 0]), -np.arcsin(rotation[2, 0]),
+                     np.arctan2(rotation[2, 1], rotation[2, 2])])
+
+
+@pytest.mark.parametrize("folder, model", CASES, ids=["pincer", "hand"])
+def test_the_free_hand_s_base_is_the_palm_in_simulate_and_in_mujoco(
+        folder: Path | None, model: str, tmp_path: Path,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """``simulate --floating-base`` names and places the base at the palm, as ``--mjcf
+    --mjcf-free-base`` gives the palm the free joint (the base used to be the last finger's
+    root, ``Root_x``): 0.5 s of free fall from rest, constant torques on the knuckles
+    swinging the fingers and turning the palm in reaction, the palm's displacement and ZYX
+    angles and the knuckles agree with MuJoCo (RK4 at 0.1 ms, contacts off) to 1e-5."""
+    mujoco = pytest.importorskip("mujoco")
+    folder = folder or _hand(tmp_path)
+    capsys.readouterr()
+    torques = (0.002, -0.001)
+    assert main(["simulate", str(folder), "--model", model, "--numeric", "--floating-base",
+                 "--t-end", "0.5", "--samples", "6", "--rtol", "1e-10", "--atol", "1e-12",
+                 *(f"--input=Fingers{i}_Root_Knuckle_tau={t}" for i, t in enumerate(torques))
+                 ]) == 0
+    ours = _csv(capsys.readouterr().out)
+    capsys.readouterr()
+    assert main(["gen", str(folder), "--mjcf", "--mjcf-free-base", "--model", model,
+                 "-o", str(tmp_path / "free")]) == 0
+    m = mujoco.MjModel.from_xml_path(str(tmp_path / "free" / f"{model}.xml"))
+    assert m.njnt == 3 and mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, 0) == "Palm__free"
+    m.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    m.opt.timestep = 1e-4
+    m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+    d = mujoco.MjData(m)
+    for i, torque in enumerate(torques):
+        d.ctrl[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR,
+                                 f"Fingers_{i}__Root__Knuckle__motor")] = torque
+    rest = np.empty(9)
+    mujoco.mju_quat2Mat(rest, m.qpos0[3:7])
+    for _ in range(5000):
+        mujoco.mj_step(m, d)
+    turned = np.empty(9)
+    mujoco.mju_quat2Mat(turned, d.qpos[3:7])
+    angles = _zyx(turned.reshape(3, 3) @ rest.reshape(3, 3).T)
+    want = {"Palm_x": d.qpos[0] - m.qpos0[0], "Palm_y": d.qpos[1] - m.qpos0[1],
+            "Palm_z": d.qpos[2] - m.qpos0[2], "Palm_yaw": angles[0], "Palm_pitch": angles[1],
+            "Palm_roll": angles[2]}
+    for i in range(2):
+        joint = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"Fingers_{i}__Root__Knuckle")
+        want[f"Fingers{i}_Root_Knuckle_theta"] = d.qpos[m.jnt_qposadr[joint]]
+    for name, value in want.items():
+        assert abs(ours[name][-1] - value) < 1e-5, (name, ours[name][-1], value)
+    assert ours["Palm_z"][-1] < -1.0  # it fell
+    assert abs(ours["Palm_pitch"][-1]) > 1e-3  # the palm turned in reaction
+    assert abs(ours["Fingers0_Root_Knuckle_theta"][-1]) > 0.1  # and the fingers swung

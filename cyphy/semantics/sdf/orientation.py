@@ -18,18 +18,19 @@ The procedure, so that a model that is already a forest keeps what it had:
    bodies it joins (links joined by fixed connections) is moved by a joint: otherwise the
    two trees are both held by the world or by joints and the connection closes a genuine
    loop (a four-bar, a chain closed by moving joints), cut with ``W-SDF-CUT``;
-3. each tree is rooted in its one body that no joint moves, at the link a user expects: the
-   shallowest in the model's parts (the palm, the model's own link, before a finger's root),
-   then the link that was the root before, then the first in the model's order; every edge
-   then points away from the root, and the fixed connections that point the other way are
-   the turned ones.
+3. each tree is rooted in its one body that no joint moves, at the link a user expects
+   (:func:`~cyphy.model.roots.preferred_root`: the shallowest in the model's parts, the
+   palm before a finger's root, then the link that was the root before, then the first in
+   the model's order); every edge then points away from the root, and the fixed
+   connections that point the other way are the turned ones.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from cyphy.model.elements import ElaboratedModel, FixedJoint, Link, is_index_value
+from cyphy.model.elements import ElaboratedModel, FixedJoint, Link
+from cyphy.model.roots import preferred_root
 from cyphy.semantics.sdf.topology import Connection, loop_cuts
 
 
@@ -107,18 +108,12 @@ def _turned(model: ElaboratedModel, edges: list[Connection], trees: _Groups,
     """The fixed connections that point towards each tree's chosen root."""
     declared_child = {id(c.child) for c in edges}
     order = {id(link): i for i, link in enumerate(model.links)}
-
-    def preference(link: Link) -> tuple[int, int, int]:
-        depth = sum(1 for part in link.qname if not is_index_value(part))
-        return depth, int(id(link) in declared_child), order[id(link)]
-
-    roots: dict[int, Link] = {}
+    candidates: dict[int, list[Link]] = {}
     for link in model.links:
-        if bodies.find(id(link)) in moved:
-            continue
-        tree = trees.find(id(link))
-        if tree not in roots or preference(link) < preference(roots[tree]):
-            roots[tree] = link
+        if bodies.find(id(link)) not in moved:
+            candidates.setdefault(trees.find(id(link)), []).append(link)
+    roots = {tree: preferred_root(links, declared_child, order)
+             for tree, links in candidates.items()}
     around: dict[int, list[Connection]] = {}
     for c in edges:
         around.setdefault(id(c.parent), []).append(c)

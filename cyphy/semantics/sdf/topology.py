@@ -111,8 +111,9 @@ def check_tree(t: Translation, kept: list[tuple[Link, Link]], split: bool) -> No
     if problems:
         hint = "connect every link to one root by exactly one joint or fixed connection"
         if shared or circling:
-            hint += " (or generate with --target pybullet, which leaves out the connections " \
-                    "that close loops)"
+            hint += " (or generate with --target pybullet, --urdf or --mjcf, which turn a " \
+                    "fixed connection round where that makes a tree and leave out the " \
+                    "connections that close loops)"
         elif len(roots) > 1 and not split:
             hint += " (or write one model per tree with --split-trees)"
         t.report.report(NOT_TREE, f"the links of {t.model.name} do not form "
