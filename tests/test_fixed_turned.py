@@ -182,6 +182,7 @@ def test_one_urdf_tree_rooted_at_the_palm_with_the_model_s_poses(
     assert fixed == {f"Fingers_{i}__Root__fixed__Palm": ("Palm", f"Fingers_{i}__Root")
                      for i in range(2)}
     assert all(j.find("axis") is None for j in robot.iter("joint") if j.get("type") == "fixed")
+    assert urdf.read_text().count(", turned round: the parent is its target") == 2
     # Pinocchio places every visual of the URDF; cyphy's elaboration every body.
     pmodel = pin.buildModelFromUrdf(str(urdf))
     geometry = pin.buildGeomFromUrdf(pmodel, str(urdf), pin.GeometryType.VISUAL)

@@ -77,6 +77,7 @@ class RobotJoint:
     stiffness: float = 0.0  # the axis's spring_stiffness, about spring_reference
     spring_reference: float = 0.0
     driven: bool = False  # an actuator sits in the joint (the joint's aref)
+    turned: bool = False  # a fixed connection written from its target (sdf/orientation.py)
 
     @property
     def bounded(self) -> bool:
@@ -255,9 +256,12 @@ def _joint(node: Node, links: dict[str, RobotLink], qualified: dict[str, str],
     child = str(_value(node, "child"))
     local = _value(node, "pose")
     frame = links[child].pose.compose(local if isinstance(local, Pose) else Pose.identity())
+    declared = qualified.get(name, name).split("::fixedJoint::")[0]
     joint = RobotJoint(name, qualified.get(name, name), node.attrs["type"],
                        str(_value(node, "parent")), child, frame,
-                       driven=qualified.get(name, name) in driven)
+                       driven=qualified.get(name, name) in driven,
+                       turned=node.attrs["type"] == "fixed"
+                       and declared == qualified.get(child, child))
     rotation = np.array(frame.rotation)
     for tag in ("axis", "axis2"):
         axis = node.find(tag)
