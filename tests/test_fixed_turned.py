@@ -241,6 +241,22 @@ def _csv(text: str) -> dict[str, np.ndarray]:
     return {name: data[:, k] for k, name in enumerate(rows[0])}
 
 
+def _run_mujoco(m, seconds: float, controls: dict[str, float] | None = None):  # type: ignore[no-untyped-def]
+    """MuJoCo's data after ``seconds`` from rest: RK4 at 0.1 ms, contacts off, the motors
+    held at ``controls`` (actuator name → value, default 0)."""
+    import mujoco  # the callers skip without it
+
+    m.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    m.opt.timestep = 1e-4
+    m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+    d = mujoco.MjData(m)
+    for name, value in (controls or {}).items():
+        d.ctrl[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, name)] = value
+    for _ in range(round(seconds / m.opt.timestep)):
+        mujoco.mj_step(m, d)
+    return d
+
+
 @pytest.mark.parametrize("folder, model", CASES, ids=["pincer", "hand"])
 def test_the_fingers_swing_in_mujoco_as_simulate_numeric(
         folder: Path | None, model: str, tmp_path: Path,
@@ -257,12 +273,7 @@ def test_the_fingers_swing_in_mujoco_as_simulate_numeric(
     _gen(folder, "--mjcf", tmp_path / "mjcf", model, capsys)
     m = mujoco.MjModel.from_xml_path(str(tmp_path / "mjcf" / f"{model}.xml"))
     assert m.neq == 0
-    m.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
-    m.opt.timestep = 1e-4
-    m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
-    d = mujoco.MjData(m)
-    for _ in range(10000):
-        mujoco.mj_step(m, d)
+    d = _run_mujoco(m, 1.0)
     for i in range(2):
         joint = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"Fingers_{i}__Root__Knuckle")
         theirs = d.qpos[m.jnt_qposadr[joint]]
@@ -321,17 +332,10 @@ def test_the_free_hand_s_base_is_the_palm_in_simulate_and_in_mujoco(
                  "-o", str(tmp_path / "free")]) == 0
     m = mujoco.MjModel.from_xml_path(str(tmp_path / "free" / f"{model}.xml"))
     assert m.njnt == 3 and mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, 0) == "Palm__free"
-    m.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
-    m.opt.timestep = 1e-4
-    m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
-    d = mujoco.MjData(m)
-    for i, torque in enumerate(torques):
-        d.ctrl[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR,
-                                 f"Fingers_{i}__Root__Knuckle__motor")] = torque
+    d = _run_mujoco(m, 0.5, {f"Fingers_{i}__Root__Knuckle__motor": torque
+                             for i, torque in enumerate(torques)})
     rest = np.empty(9)
     mujoco.mju_quat2Mat(rest, m.qpos0[3:7])
-    for _ in range(5000):
-        mujoco.mj_step(m, d)
     turned = np.empty(9)
     mujoco.mju_quat2Mat(turned, d.qpos[3:7])
     angles = _zyx(turned.reshape(3, 3) @ rest.reshape(3, 3).T)
