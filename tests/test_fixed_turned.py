@@ -22,11 +22,14 @@ import io
 import json
 import shutil
 import subprocess
+import tempfile
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
 
 from cyphy import api
 from cyphy.cli import main
@@ -350,3 +353,79 @@ def test_the_free_hand_s_base_is_the_palm_in_simulate_and_in_mujoco(
     assert ours["Palm_z"][-1] < -1.0  # it fell
     assert abs(ours["Palm_pitch"][-1]) > 1e-3  # the palm turned in reaction
     assert abs(ours["Fingers0_Root_Knuckle_theta"][-1]) > 0.1  # and the fingers swung
+
+
+@st.composite
+def _graphs(draw: st.DrawFn) -> tuple[int, list[tuple[str, int, int]]]:
+    """A number of links and connections between them: ``("joint" | "fixed", parent,
+    child)``, any graph (second parents, cycles, loops through the world)."""
+    n = draw(st.integers(2, 6))
+    pairs = st.tuples(st.integers(0, n - 1), st.integers(0, n - 1)).filter(lambda p: p[0] != p[1])
+    edges = draw(st.lists(st.tuples(st.sampled_from(("joint", "fixed")), pairs), max_size=8))
+    return n, [(kind, a, b) for kind, (a, b) in edges]
+
+
+def _text(n: int, edges: list[tuple[str, int, int]]) -> str:
+    links = []
+    for i in range(n):
+        inside = []
+        for k, (kind, a, b) in enumerate(edges):
+            if a != i:
+                continue
+            inside.append(f"local joint J{k} {{ def {{ annotation Revolute {{ axis = Axis {{ "
+                          f"xyz = (|0,0,1|) }} }} }} flexibly connected to L{b} }}"
+                          if kind == "joint" else f"fixed to L{b}")
+        links.append(f"local link L{i} {{ def {{ inertial information {{ mass 1 }} }} "
+                     + " ".join(inside) + " }")
+    return ("package g\nimport physmod::sdf::annotations::*\nimport physmod::math::*\n"
+            "pmodel G {\n" + "\n".join(links) + "\n}\n")
+
+
+@settings(max_examples=60, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(_graphs())
+def test_the_tree_shape_of_any_graph(tmp_path: Path, graph) -> None:  # type: ignore[no-untyped-def]
+    """On any graph of joints and fixed connections, checked with NetworkX: what is kept,
+    fixed connections turned, is a forest (one parent at most, no cycle); no joint is turned;
+    every tree's root is in a body no joint moves; and every connection cut is one a tree
+    cannot hold (a joint into a link or rigid body that already has a parent, or that closes
+    a cycle; a fixed connection whose ends are already joined or whose two rigid bodies are
+    both moved by joints), so nothing is cut that turning could have kept."""
+    import networkx as nx
+
+    from cyphy.model.elements import FixedJoint
+    from cyphy.semantics.sdf.orientation import tree_shape
+
+    n, edges = graph
+    folder = Path(tempfile.mkdtemp(dir=tmp_path))  # one per example
+    (folder / "G.rsm").write_text(_text(n, edges))
+    model = api.elaborate([folder], api.ElaborateOptions("G")).model
+    assume(model is not None)  # a model with errors (the same fixed connection twice)
+    shape = tree_shape(model)
+    cut = {id(c) for c in shape.cuts}
+    connections = [c for c in [*model.joints, *model.fixed]]
+    assert len(connections) == len(edges)
+    kept = nx.MultiDiGraph()
+    kept.add_nodes_from(link.name for link in model.links)
+    for c in connections:
+        if id(c) not in cut:
+            parent, child = shape.ends(c)
+            kept.add_edge(parent.name, child.name, moving=not isinstance(c, FixedJoint))
+    assert nx.is_forest(nx.Graph(kept)) and kept.number_of_edges() == nx.Graph(kept).number_of_edges()
+    assert all(kept.in_degree(node) <= 1 for node in kept.nodes)
+    assert not {id(c) for c in model.joints} & shape.turned
+    rigid = nx.Graph()
+    rigid.add_nodes_from(kept.nodes)
+    rigid.add_edges_from((a, b) for a, b, moving in kept.edges(data="moving") if not moving)
+    body = {name: k for k, names in enumerate(nx.connected_components(rigid)) for name in names}
+    moved = {body[b] for _, b, moving in kept.edges(data="moving") if moving}
+    for node in kept.nodes:
+        if kept.in_degree(node) == 0:
+            assert body[node] not in moved, node  # a root stands on the world
+    joined = nx.Graph(kept)
+    for c in shape.cuts:
+        a, b = c.parent.name, c.child.name
+        if isinstance(c, FixedJoint):
+            assert nx.has_path(joined, a, b) or (body[a] in moved and body[b] in moved), c.name
+        else:
+            assert nx.has_path(joined, a, b) or body[b] in moved, c.name

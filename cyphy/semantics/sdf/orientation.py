@@ -13,11 +13,13 @@ The procedure, so that a model that is already a forest keeps what it had:
 
 1. :func:`~cyphy.semantics.sdf.topology.loop_cuts` cuts, as before, every second parent and
    one connection of every directed cycle;
-2. a cut **fixed** connection is kept again when its ends lie in two different trees of what
-   is left (it closes no loop of the undirected graph) and at most one of the two rigid
-   bodies it joins (links joined by fixed connections) is moved by a joint: otherwise the
-   two trees are both held by the world or by joints and the connection closes a genuine
-   loop (a four-bar, a chain closed by moving joints), cut with ``W-SDF-CUT``;
+2. a cut connection whose ends lie in two different trees of what is left (it closes no
+   loop of the undirected graph) is kept again when a tree can hold it: a **fixed**
+   connection when at most one of the two rigid bodies it joins (links joined by fixed
+   connections) is moved by a joint, a joint when its child's body is moved by none (a
+   second parent set aside in step 1 whose first was then cut to open a cycle). Otherwise
+   it closes a genuine loop (a four-bar, a chain closed by moving joints, two joints into
+   one body), cut with ``W-SDF-CUT``;
 3. each tree is rooted in its one body that no joint moves, at the link a user expects
    (:func:`~cyphy.model.roots.preferred_root`: the shallowest in the model's parts, the
    palm before a finger's root, then the link that was the root before, then the first in
@@ -85,18 +87,23 @@ def tree_shape(model: ElaboratedModel) -> TreeShape:
     moved = {bodies.find(id(c.child)) for c in kept if not isinstance(c, FixedJoint)}
     restored: set[int] = set()
     for c in cuts:
-        if not isinstance(c, FixedJoint) or c.parent is c.child:
+        if c.parent is c.child:
             continue
         a, b = id(c.parent), id(c.child)
         if trees.find(a) == trees.find(b):
             continue  # closes a loop of the undirected graph
         body_a, body_b = bodies.find(a), bodies.find(b)
-        if body_a in moved and body_b in moved:
-            continue  # two bodies each moved by a joint: a loop through the world
+        if isinstance(c, FixedJoint):
+            if body_a in moved and body_b in moved:
+                continue  # two bodies each moved by a joint: a loop through the world
+            joined = bodies.union(a, b)
+            if body_a in moved or body_b in moved:
+                moved.add(joined)
+        else:
+            if body_b in moved:
+                continue  # the child's body already hangs on a joint
+            moved.add(body_b)  # its tree was rooted there: now it hangs on this joint
         trees.union(a, b)
-        joined = bodies.union(a, b)
-        if body_a in moved or body_b in moved:
-            moved.add(joined)
         restored.add(id(c))
     edges = kept + [c for c in cuts if id(c) in restored]
     return TreeShape(tuple(c for c in cuts if id(c) not in restored),
