@@ -66,6 +66,32 @@ DC_MAP, DC_SW, DC_BASE = "Mapping.rsm", "DCMotorSoftware.rsm", "DCMotorBase.rsm"
 NEAR = "\tinput event near {\n\t\tpredicate Bench::Range.range <= 1.0\n\t}\n"
 STOP = "\toperation stop {\n\t\tequation Bench::Shaft::Motor.das == 0\n\t}\n"
 HEADER = "map BenchMapping"
+T3 = "action $stop() }"
+#: Output events for the motor bench, typed (``beep: real``, ``flag: boolean``) and not
+#: (``tick``): declared, on the platform, connected, in the machine's output context and
+#: mapped; the machine sends them with ``T3`` (a mutant's own text).
+BEEPS = (
+    (DC_SW, "interface NearI {\n\tevent near\n}",
+     "interface NearI {\n\tevent near\n}\n\ninterface BeepI {\n\tevent beep: real\n"
+     "\tevent flag: boolean\n\tevent tick\n}"),
+    (DC_SW, "\t\tuses NearI\n\t}", "\t\tuses NearI\n\t\tuses BeepI\n\t}"),
+    (DC_SW, "connection Bench on near to ctrl on near (_async)",
+     "connection Bench on near to ctrl on near (_async)\n"
+     + "".join(f"\tconnection ctrl on {e} to Bench on {e} (_async)\n"
+               for e in ("beep", "flag", "tick"))),
+    (DC_SW, "\tuses NearI\n\trequires SpeedI", "\tuses NearI\n\tuses BeepI\n\trequires SpeedI"),
+    (DC_SW, "connection SpeedController on near to sm on near",
+     "connection SpeedController on near to sm on near\n"
+     + "".join(f"\tconnection sm on {e} to SpeedController on {e}\n"
+               for e in ("beep", "flag", "tick"))),
+    (DC_SW, "output context { requires SpeedI }", "output context { requires SpeedI uses BeepI }"),
+    (DC_MAP, "\tinput event near {",
+     "\toutput event beep ? b {\n\t\tequation Bench::Shaft::Motor.das == b\n\t}\n"
+     "\toutput event flag ? f {\n\t\tequation Bench::Shaft::Motor.das == 0\n\t}\n"
+     "\toutput event tick {\n\t\tequation Bench::Shaft::Motor.das == 0\n\t}\n"
+     "\tinput event near {"),
+)
+SENDS = "$beep!1.0; $flag!true; $tick"
 
 MUTANTS: tuple[Mutant, ...] = (
     # ---- platform mappings (PMap) -----------------------------------------------------------
@@ -200,6 +226,31 @@ MUTANTS: tuple[Mutant, ...] = (
     M("controller-event-unknown", "dcmotor", DC_SW,
       "connection SpeedController on near to sm on near",
       "connection SpeedController on near to sm on nearr", "S1"),
+    M("stm-sends-events", "dcmotor", DC_SW, T3, f"action $stop(); {SENDS} }}", ACCEPTED,
+      also=BEEPS),
+    M("stm-sends-int-on-real-event", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep!1; $flag!(wref > 1.0); $tick }", ACCEPTED, also=BEEPS),
+    M("stm-sends-boolean-on-real-event", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep!true; $flag!true; $tick }", "STM8", also=BEEPS),
+    M("stm-sends-number-on-boolean-event", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep!1.0; $flag!1.5; $tick }", "STM8", also=BEEPS),
+    M("stm-sends-vector-on-real-event", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep!(|1.0, 2.0|); $flag!true; $tick }", "STM8", also=BEEPS),
+    M("stm-sends-value-on-untyped-event", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep!1.0; $flag!true; $tick!1 }", "STM4", also=BEEPS),
+    M("stm-sends-typed-event-without-value", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep; $flag!true; $tick }", "STM4", also=BEEPS),
+    M("stm-binds-untyped-event", "dcmotor", DC_SW, "condition $near action",
+      "condition $near?x action", "STM4",
+      also=((DC_SW, "const wref: real = 10.0", "const wref: real = 10.0\n\tvar x: real"),)),
+    M("stm-binds-into-constant", "ranger", "RangerSoftware.rsm", "$echo?seen",
+      "$echo?cruise", "STM4"),
+    M("stm-binds-real-into-boolean", "ranger", "RangerSoftware.rsm", "$echo?seen",
+      "$echo?armed", "STM8",
+      also=(("RangerSoftware.rsm", "var seen: real = 0",
+             "var seen: real = 0\n\tvar armed: boolean = false"),)),
+    M("stm-binds-real-into-int", "ranger", "RangerSoftware.rsm", "var seen: real = 0",
+      "var seen: int = 0", "STM8", at="$echo?seen"),
     M("stm-speed-changed", "dcmotor", DC_SW, "wref: real = 10.0", "wref: real = 5.0",
       ACCEPTED, shows=r"registerWrite_drive!(\<guillemotleft>5.0\<guillemotright>)"),
     M("stm-bound-changed", "pendulum", "PendulumSoftware.rsm", "tmax: real = 0.3",
