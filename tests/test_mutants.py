@@ -92,6 +92,9 @@ BEEPS = (
      "\tinput event near {"),
 )
 SENDS = "$beep!1.0; $flag!true; $tick"
+SONAR = "\t\t\tpose { x = 0.2m y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }\n"
+PAD = "\t\t\t\tinertial information { mass 0.02kg }\n\t\t\t}\n\t\t}\n"
+PLATE = "\t\t\t\tinertial information { mass 0.3kg }\n\t\t\t}\n\t\t}\n"
 
 MUTANTS: tuple[Mutant, ...] = (
     # ---- platform mappings (PMap) -----------------------------------------------------------
@@ -299,6 +302,15 @@ MUTANTS: tuple[Mutant, ...] = (
              "\t\tfixed to Head\n\t}\n\tlocal link LWheel {"),)),
     M("negative-size", "dcmotor", DC_BASE, "radius = 0.1m", "radius = -0.1m", "V2"),
     M("mass-changed", "rover", "RoverBase.rsm", "mass 0.1kg", "mass 0.15kg", ACCEPTED),
+    M("relation-names-every-copy", "tracks", "TracksBase.rsm", SONAR,
+      SONAR + "\t\t\trelation Range.distance == Axle.theta\n", "E-RELATION",
+      at="Axle.theta"),
+    M("relation-in-a-part-names-its-copy", "pincer", "PincerBase.rsm", PAD,
+      PAD + "\t\tsref Tip = AngleEncoder {\n\t\t\trelation Tip.angle == Knuckle.theta\n"
+      "\t\t}\n", ACCEPTED),
+    M("relation-outside-a-part-names-its-joint", "pincer", "PincerBase.rsm", PLATE,
+      PLATE + "\t\tsref Tip = AngleEncoder {\n\t\t\trelation Tip.angle == Knuckle.theta\n"
+      "\t\t}\n", "S1", at="relation Tip.angle"),
 )
 
 
