@@ -95,6 +95,13 @@ SENDS = "$beep!1.0; $flag!true; $tick"
 SONAR = "\t\t\tpose { x = 0.2m y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }\n"
 PAD = "\t\t\t\tinertial information { mass 0.02kg }\n\t\t\t}\n\t\t}\n"
 PLATE = "\t\t\t\tinertial information { mass 0.3kg }\n\t\t\t}\n\t\t}\n"
+LTREEL = "\t\tinstantiation DEPTH = 0.03m\n\t}\n\tpart RTreel"
+
+
+def in_ltreel(line: str) -> str:
+    """``LTREEL`` with ``line`` added to the left treel's part."""
+    return LTREEL.replace("\t}", f"\t\t{line}\n\t}}")
+
 
 MUTANTS: tuple[Mutant, ...] = (
     # ---- platform mappings (PMap) -----------------------------------------------------------
@@ -300,6 +307,14 @@ MUTANTS: tuple[Mutant, ...] = (
       also=(("RoverBase.rsm", "\tlocal link LWheel {",
              "\tlocal link Tail {\n\t\tdef { inertial information { mass 0.1 } }\n"
              "\t\tfixed to Head\n\t}\n\tlocal link LWheel {"),)),
+    M("fixed-cycle-through-a-part", "marxbot", "marXbotBase.rsm", LTREEL,
+      in_ltreel("link Track fixed to Core"), "Fix4", at="link Track fixed to Core"),
+    M("fixed-triangle-through-parts", "marxbot", "marXbotBase.rsm", LTREEL,
+      in_ltreel("link Track fixed to Track in RTreel"), "Fix4",
+      at="link Track fixed to Track in RTreel"),
+    M("fixed-cycle-through-indexed-part-copies", "pincer", "PincerBase.rsm",
+      "\t\tlocal body Plate {", "\t\tfixed to Root in Fingers\n\t\tlocal body Plate {", "Fix4",
+      at="link Root fixed to Palm"),
     M("negative-size", "dcmotor", DC_BASE, "radius = 0.1m", "radius = -0.1m", "V2"),
     M("mass-changed", "rover", "RoverBase.rsm", "mass 0.1kg", "mass 0.15kg", ACCEPTED),
     M("relation-names-every-copy", "tracks", "TracksBase.rsm", SONAR,
