@@ -95,6 +95,9 @@ SENDS = "$beep!1.0; $flag!true; $tick"
 SONAR = "\t\t\tpose { x = 0.2m y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }\n"
 PAD = "\t\t\t\tinertial information { mass 0.02kg }\n\t\t\t}\n\t\t}\n"
 PLATE = "\t\t\t\tinertial information { mass 0.3kg }\n\t\t\t}\n\t\t}\n"
+#: The marXbot's ring of proximity sensors sized by a constant without a value.
+OPEN_NP = (("marXbotBase.rsm", "index j : [0,24)", "index j : [0,NP)"),
+           ("marXbotBase.rsm", "pmodel marXbotBase {", "pmodel marXbotBase {\n\tconst NP: nat"))
 LTREEL = "\t\tinstantiation DEPTH = 0.03m\n\t}\n\tpart RTreel"
 
 
@@ -192,6 +195,14 @@ MUTANTS: tuple[Mutant, ...] = (
       "Proximity[30]", "IX5", also=(("marXbotBase.rsm", "index j : [0,24)", "index j : [0,NP)"),
                                     ("marXbotBase.rsm", "pmodel marXbotBase {",
                                      "pmodel marXbotBase {\n\tconst NP: nat = 24"))),
+    # NP has no value: check warns that it cannot decide (gen refuses: the ring's size is
+    # open); the scenario gives NP = 24, and simulate refuses the index with IX5
+    M("index-past-an-open-bound", "marxbot", "Mapping.rsm", "Proximity[1]", "Proximity[30]",
+      "IX5", also=OPEN_NP + (("obstacle_stop.toml", "[consts]\n", "[consts]\nNP = 24\n"),),
+      runs=()),
+    M("index-within-an-open-bound", "marxbot", "obstacle_stop.toml", "[consts]\n",
+      "[consts]\nNP = 24\n", "IX5", at="Proximity[1]", at_file="Mapping.rsm", also=OPEN_NP,
+      runs=("simulate",)),
     M("indexed-joint-out-of-range", "tracks", "Mapping.rsm",
       "Chassis::Axle[1].Motor.das == -w", "Chassis::Axle[2].Motor.das == -w", "IX5"),
     M("indexed-part-out-of-range", "pincer", "Mapping.rsm",
@@ -394,3 +405,26 @@ def test_mutant(mutant: Mutant, tmp_path: Path, capsys: pytest.CaptureFixture[st
                            "0.2", "-o", str(trajectories)], capsys)
     assert (status == 0) == ("simulate" in runs), err
     assert trajectories.exists() == ("simulate" in runs)
+
+
+def test_an_index_past_an_open_bound_is_refused_once_the_bound_is_given(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``Proximity[30]`` of ``index j : [0,NP)``, NP without a value: ``check`` cannot tell
+    (a warning, exit 0); given NP = 24, by ``--const`` (``check``, ``gen``) or the scenario's
+    ``[consts]`` (``simulate``, ``reach``), each refuses the index with IX5 at it."""
+    mutant = next(m for m in MUTANTS if m.name == "index-past-an-open-bound")
+    folder = mutate(mutant, tmp_path)
+    line = expected_line(mutant, folder)
+    at = f"Mapping.rsm:{line}:29: "
+    status, _, err = _run(["check", str(folder)], capsys)
+    assert status == 0 and at + "WARNING IX5:" in err and "NP has no value" in err, err
+    scenario = str(folder / "obstacle_stop.toml")
+    runs = (["check", str(folder), "--const", "NP=24"],
+            ["gen", str(folder), "--sdf", "-o", str(tmp_path / "sdf"), "--const", "NP=24"],
+            ["simulate", str(folder), "--scenario", scenario, "-o", str(tmp_path / "t.csv")],
+            ["reach", str(folder), "--scenario", scenario])
+    for argv in runs:
+        status, _, err = _run(argv, capsys)
+        assert status in (1, 2) and at + "ERROR IX5: the mapping of input event obstacle " \
+            "reads copy 30 of Proximity, whose index j ranges over 0..23" in err, (argv, err)
+    assert not (tmp_path / "sdf").exists() and not (tmp_path / "t.csv").exists()
