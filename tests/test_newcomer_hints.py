@@ -76,3 +76,34 @@ def test_pytest_prints_its_summary_line(tmp_path: Path) -> None:
                           timeout=120)
     assert done.returncode == 0, done.stdout + done.stderr
     assert done.stdout.strip().splitlines()[-1].startswith("1 passed")
+
+
+_SKO_MODEL = ("package t\nimport physmod::SKO::joints::Revolute_y\npmodel T {\n\tlocal link L {\n"
+              "\t\tdef { }\n\t\tjref J = Revolute_y { flexibly connected to M }\n\t}\n"
+              "\tlocal link M { def { } }\n}\n")
+
+
+def test_the_newer_library_is_named_not_misspelt(tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    """RoboTool's newer library (physmod::SKO, physmod::trivial, …) is not built in: the hint
+    says where it comes from and how to give it, not 'did you mean physmod::joints' (whose
+    Revolute has other ports); with its folder given by --path the model checks."""
+    err = _check(tmp_path, _SKO_MODEL, capsys)
+    assert "import from unknown package 'physmod::SKO::joints'" in err
+    assert "did you mean" not in err
+    # the joint it names is unknown for that reason, not for its spelling
+    assert "unknown joint definition 'Revolute_y'" in err
+    assert "it is imported from physmod::SKO::joints (line 2), which is not found" in err
+    assert "physmod::SKO is part of RoboTool's newer library, which cyphy does not build in: " \
+        "give its folder, `--path <physmod-libs>/lib/physmod/SKO`" in err
+    err = _check(tmp_path, _SKO_MODEL.replace("import physmod::SKO::joints::Revolute_y",
+                                              "import physmod::trivial::sensors::*"), capsys)
+    assert "import of unknown package 'physmod::trivial::sensors'" in err
+    assert "physmod::trivial is part of RoboTool's newer library" in err
+    # a user's own folder declaring the package, as the newer library's files do
+    library = tmp_path / "lib"
+    library.mkdir()
+    (library / "joints.pm").write_text(
+        "package physmod::SKO::joints\njoint Revolute_y {\n\tInOut theta: real\n}\n")
+    (tmp_path / "m.rsm").write_text(_SKO_MODEL)
+    assert main(["check", str(tmp_path / "m.rsm"), "--path", str(library)]) == 0

@@ -88,6 +88,14 @@ class CheckerBase:
             self.error(codes.S1, f"unknown package '{'::'.join(name[:-1])}' in '{text}'", span,
                        hint)
             return None
+        unfound = [imp for imp in self.file.imports if not imp.wildcard
+                   and imp.path[-1] == name[-1] and imp.path[:-1] not in self.ws.packages]
+        if len(name) == 1 and unfound:  # its import names a package that is not there: S5
+            package = "::".join(unfound[0].path[:-1])
+            self.error(codes.S1, f"unknown {what} '{text}'", span,
+                       f"it is imported from {package} (line {unfound[0].span.line}), which "
+                       f"is not found: {_unknown_package_hint(unfound[0].path[:-1], [])}")
+            return None
         visible = self.scopes.visible_names(self.file, candidates_accept or accept)
         hint = did_you_mean(name[-1], visible) or self._importable(
             name[-1], candidates_accept or accept) or (
@@ -119,15 +127,13 @@ class CheckerBase:
                 if imp.path not in self.ws.packages:
                     pkgs = ["::".join(p) for p in self.ws.packages if p]
                     self.error(codes.S5, f"import of unknown package '{'::'.join(imp.path)}'",
-                               imp.span, did_you_mean("::".join(imp.path), pkgs)
-                               or "check the package name, or add its folder with --path")
+                               imp.span, _unknown_package_hint(imp.path, pkgs))
                 continue
             pkg = self.ws.packages.get(imp.path[:-1])
             if pkg is None:
                 pkgs = ["::".join(p) for p in self.ws.packages if p]
                 self.error(codes.S5, f"import from unknown package '{'::'.join(imp.path[:-1])}'",
-                           imp.span, did_you_mean("::".join(imp.path[:-1]), pkgs)
-                           or "check the package name, or add its folder with --path")
+                           imp.span, _unknown_package_hint(imp.path[:-1], pkgs))
             elif imp.path[-1] not in pkg.members:
                 self.error(codes.S5, f"package '{'::'.join(imp.path[:-1])}' declares no "
                            f"'{imp.path[-1]}'", imp.span,
@@ -301,3 +307,21 @@ class CheckerBase:
             return  # a path through a block, checked where paths are understood
         self.error(codes.S1, f"unknown name '{'::'.join(name)}'", node.span,
                    "qualified names denote package members (pkg::NAME) or element paths")
+
+
+#: The packages of RoboTool's newer ``physmod`` library (spec notation.md §C.2: files in
+#: robotool-meta-physmod's ``physmod-libs``). cyphy builds in the older library only
+#: (spec library.md), so a model importing these needs the library's folder.
+NEWER_PHYSMOD = ("SKO", "trivial", "Featherstone", "CGA")
+
+
+def _unknown_package_hint(path: tuple[str, ...], known: list[str]) -> str:
+    """The hint of S5 for an import of an unknown package: for the newer library, where it
+    comes from (a spelling suggestion such as 'physmod::joints' for 'physmod::SKO::joints'
+    would send the user to a library whose elements have other names and ports); otherwise a
+    close package name, else the way to add a folder."""
+    if len(path) > 1 and path[0] == "physmod" and path[1] in NEWER_PHYSMOD:
+        return (f"physmod::{path[1]} is part of RoboTool's newer library, which cyphy does not "
+                f"build in: give its folder, `--path <physmod-libs>/lib/physmod/{path[1]}`")
+    return (did_you_mean("::".join(path), known)
+            or "check the package name, or add its folder with --path")
