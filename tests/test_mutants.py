@@ -98,6 +98,12 @@ PLATE = "\t\t\t\tinertial information { mass 0.3kg }\n\t\t\t}\n\t\t}\n"
 #: The marXbot's ring of proximity sensors sized by a constant without a value.
 OPEN_NP = (("marXbotBase.rsm", "index j : [0,24)", "index j : [0,NP)"),
            ("marXbotBase.rsm", "pmodel marXbotBase {", "pmodel marXbotBase {\n\tconst NP: nat"))
+#: The motor bench's mapping written a second time, in a file of its own.
+SECOND_MAPPING = ("package dcMotorMapping2\n\nimport dcMotorBase::*\n"
+                  "import dcMotorSoftware::*\n\n"
+                  f"{HEADER}2 dmodel DCMotorSoftware to pmodel DCMotorBase {{\n"
+                  "\toperation drive {\n\t\tequation Bench::Shaft::Motor.das == w\n\t}\n"
+                  f"{STOP}{NEAR}}}\n")
 LTREEL = "\t\tinstantiation DEPTH = 0.03m\n\t}\n\tpart RTreel"
 
 
@@ -214,6 +220,56 @@ MUTANTS: tuple[Mutant, ...] = (
       "to pmodel DCMotorBas", "S1"),
     M("pmap1-joint-unconnected", "dcmotor", DC_BASE, "\t\t\tflexibly connected to Flywheel\n",
       "", "PMap1", at="jref Shaft"),
+    # second round: what a mapping's members say, and faults a user plausibly writes
+    M("operation-parameter-unused", "dcmotor", DC_MAP, "Motor.das == w", "Motor.das == 10",
+      "PMap13", at="operation drive", runs=BOTH),
+    M("output-event-value-unused", "dcmotor", DC_SW, T3, f"action $stop(); {SENDS} }}",
+      "PMap13", at="b {", at_file=DC_MAP, runs=BOTH,
+      also=BEEPS + ((DC_MAP, "Motor.das == b", "Motor.das == 1"),)),
+    M("input-event-value-never-given", "ranger", "Mapping.rsm",
+      "equation r == Rail::Carriage::Eye.voltage",
+      "var v: real\n\t\tequation v == Rail::Carriage::Eye.voltage", "PMap14",
+      at="r {"),
+    M("mapping-twice-in-two-files", "dcmotor", "Mapping2.rsm", "", SECOND_MAPPING, "PMap15",
+      at=HEADER + "2"),
+    M("operation-writes-input-twice", "dcmotor", DC_MAP, "Bench::Shaft::Motor.das == w",
+      "Bench::Shaft::Motor.das == w\n\t\tequation Bench::Shaft::Motor.das == 2*w", "PMap16",
+      at="Bench::Shaft::Motor.das == 2*w"),
+    M("operation-assigns-input-twice", "dcmotor", DC_MAP,
+      "equation Bench::Shaft::Motor.das == w",
+      "action Bench::Shaft::Motor.das = w; Bench::Shaft::Motor.das = 0", "PMap16",
+      at="Bench::Shaft::Motor.das = 0"),
+    M("operation-same-equation-twice", "dcmotor", DC_MAP, "Bench::Shaft::Motor.das == w",
+      "Bench::Shaft::Motor.das == w\n\t\tequation Bench::Shaft::Motor.das == w", ACCEPTED),
+    M("operation-derivative-of-parameter", "dcmotor", DC_MAP, "Motor.das == w",
+      "Motor.das == derivative(w)", "PMap17", at="derivative(w)"),
+    M("operation-derivative-of-input", "dcmotor", DC_MAP, "Motor.das == w",
+      "Motor.das == w\n\t\tequation derivative(Bench::Shaft::Motor.das) == 0", "PMap17",
+      at="derivative(Bench"),
+    M("platform-requires-instead-of-provides", "dcmotor", DC_SW, "\t\tprovides SpeedI\n",
+      "\t\trequires SpeedI\n", "STM3", at="$drive(wref)"),
+    M("event-mapped-as-operation", "dcmotor", DC_MAP, "\tinput event near {",
+      "\toperation near {", "PMap4"),
+    M("event-value-from-actuator-input", "ranger", "Mapping.rsm",
+      "r == Rail::Carriage::Eye.voltage", "r == Rail::Carriage::Push.dls", "PMap7",
+      at="r == Rail::Carriage::Push.dls"),
+    M("event-reads-sensor-input", "ranger", "Mapping.rsm",
+      "Rail::Carriage::Eye.voltage >= 0.4", "Rail::Carriage::Eye.distance <= 0.7", "PMap12"),
+    M("mapping-names-a-controller", "dcmotor", DC_MAP, "dmodel DCMotorSoftware",
+      "dmodel SpeedController", "S1"),
+    M("operation-reads-actuator-output", "dcmotor", DC_MAP, "Motor.das == w",
+      "Motor.das == w - Bench::Shaft::Motor.av", "PMap9", at="Bench::Shaft::Motor.av"),
+    M("stm-calls-an-event", "dcmotor", DC_SW, T3, "action $near() }", "STM3"),
+    M("stm-reads-an-operation", "dcmotor", DC_SW, "condition not $near",
+      "condition not $stop", "STM4"),
+    M("operation-local", "dcmotor", DC_MAP, "\t\tequation Bench::Shaft::Motor.das == w",
+      "\t\tvar half: real\n\t\tequation half == w/2\n"
+      "\t\tequation Bench::Shaft::Motor.das == 2*half", ACCEPTED),
+    M("operation-mapping-constant", "dcmotor", DC_MAP, "\toperation drive {\n"
+      "\t\tequation Bench::Shaft::Motor.das == w", "\tconst K: real = 2.0\n\toperation drive {"
+      "\n\t\tequation Bench::Shaft::Motor.das == K*w", ACCEPTED),
+    M("event-always", "dcmotor", DC_MAP, "predicate Bench::Range.range <= 1.0",
+      "predicate true", ACCEPTED),
     # ---- d-models (state machines) ----------------------------------------------------------
     M("stm-unknown-event", "dcmotor", DC_SW, "condition not $near", "condition not $nearr",
       "STM4"),
@@ -342,12 +398,17 @@ MUTANTS: tuple[Mutant, ...] = (
 
 def mutate(mutant: Mutant, into: Path) -> Path:
     """A copy of the mutant's folder in ``into`` with its edits made (each ``old`` must occur
-    in the original exactly once, so a row cannot silently stop applying)."""
+    in the original exactly once, so a row cannot silently stop applying; an empty ``old``
+    adds the file ``new`` holds)."""
     source, _ = FOLDERS[mutant.folder]
     folder = into / mutant.folder
     shutil.copytree(source, folder, ignore=shutil.ignore_patterns("*-gen", "README.md"))
     for file, old, new in ((mutant.file, mutant.old, mutant.new), *mutant.also):
         path = folder / file
+        if not old:  # a file of the user's own, added to the folder
+            assert not path.exists(), f"{mutant.name}: {file} exists"
+            path.write_text(new, encoding="utf-8")
+            continue
         text = path.read_text(encoding="utf-8")
         assert text.count(old) == 1, f"{mutant.name}: {old!r} occurs {text.count(old)} times"
         path.write_text(text.replace(old, new), encoding="utf-8")
