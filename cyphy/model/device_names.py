@@ -5,6 +5,7 @@ the blocks declare are rewritten onto those names."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from os.path import commonprefix
 from typing import Callable, Sequence, TypeVar
 
 from cyphy import codes
@@ -73,20 +74,11 @@ def relation_target(candidates: Sequence[T], own: T | None,
     mine = qname(own) if own is not None else None
     if mine is None:
         return None
-    shared = [(_shared(mine, q), d) for d in candidates if (q := qname(d)) is not None]
+    shared = [(len(commonprefix([mine, q])), d) for d in candidates
+              if (q := qname(d)) is not None]
     best = max((n for n, _ in shared), default=0)
     nearest = [d for n, d in shared if n == best]
     return nearest[0] if len(nearest) == 1 else None
-
-
-def _shared(a: tuple[str, ...], b: tuple[str, ...]) -> int:
-    """How many leading components two qualified names share."""
-    n = 0
-    for x, y in zip(a, b):
-        if x != y:
-            break
-        n += 1
-    return n
 
 
 def _ambiguous(report: Report, node: ex.Member, name: str, copies: int) -> None:
