@@ -89,6 +89,9 @@ NOT_RUN: dict[tuple[str, str], str] = {
     ("docs/commands/gen-urdf-mjcf.md", "cyphy gen PATH... --urdf"): _SYNOPSIS,
     ("docs/commands/view.md", "cyphy view PATH..."): _SYNOPSIS,
     ("docs/commands/reach.md", "cyphy gen examples/marxbot --flowstar"): _SYNOPSIS,
+    ("docs/commands/simulate.md", "$ cyphy simulate tests/data/heldout/ranger"):
+        "reads tests/data/heldout, which the scratch copy of examples/ has not: "
+        "tests/test_simulate_typed.py runs it from the checkout and compares its output",
 }
 SHELL_LANGS = ("", "sh", "bash", "shell", "text")
 COMMAND = re.compile(r"\s*(\$ |(cyphy|python3?|bash|pip|ls|mkdocs|isabelle|git) )")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
@@ -132,7 +133,9 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
     its interpreter (:mod:`cyphy.semantics.machines.cycle`) when the scenario has none."""
     # lazy: NumPy, SciPy, SymPy: `cyphy check` must not pay for it
     from cyphy.backends import simulate as sim
+    from cyphy.semantics.machines.cycle import MACHINE, MachineError
     from cyphy.verify.flowstar.build import build_problem
+    from cyphy.verify.flowstar.problem import CLOCK, TIMER, symbol
 
     report = Report()
     empty = ElaborateResult(CheckResult(None, report), None)  # type: ignore[arg-type]
@@ -153,7 +156,8 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
     scenario.consts.update(options.consts)
     if options.default_inertial is not None:
         scenario.default_inertial = options.default_inertial
-    problem, sources = build_problem(paths, scenario, report, options.search_paths)
+    problem, sources = build_problem(paths, scenario, report, options.search_paths,
+                                     sampled=True)
     empty.check.sources.update(sources)
     if problem is None:
         return SimulateResult(empty)
@@ -167,12 +171,28 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
         controller = options.controller or problem.machine or ScenarioController(scenario)
         effects = CallEffects(problem.call_effects, scenario.consts, problem.operation_effects)
 
-        def events(_t: float, values: dict[str, float]) -> dict[str, object]:
+        def events(t: float, values: dict[str, float]) -> dict[str, object]:
+            """Each input event at the cycle's instant: ``None`` when its predicate is
+            false, else ``True`` or, typed, its value (``Problem.event_values``)."""
             import sympy
 
             subs = {sympy.Symbol(n, real=True): v for n, v in values.items()}
-            return {name: (True if bool(pred.xreplace(subs)) else None)
-                    for name, pred in problem.events.items()}
+            subs.update({symbol(CLOCK): t, symbol(TIMER): 0.0})  # a cycle's start
+            out: dict[str, object] = {}
+            for name, pred in problem.events.items():
+                value = problem.event_values.get(name)
+                if not bool(pred.xreplace(subs)):
+                    out[name] = None
+                elif value is None:
+                    out[name] = True
+                else:
+                    number = complex(value.xreplace(subs))
+                    if number.imag or not math.isfinite(number.real):
+                        raise ValueError(f"the input event {name} occurs at t = {t:g} with "
+                                         f"the value {value.xreplace(subs)}, not a finite "
+                                         "real number")
+                    out[name] = number.real
+            return out
 
         reduced = dataclasses.make_dataclass("Problem", ["states", "rhs", "inputs", "outputs"])(
             problem.states, problem.rhs, problem.inputs, problem.outputs)
@@ -181,6 +201,10 @@ def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions
             getattr(controller, "observable", frozenset()))
     except sim.OptionError as err:
         report.report(codes.OPTION, err.message, Span.unknown("<command line>"), err.hint)
+    except MachineError as err:  # the machine's cycle at run time (a division by zero, …)
+        name = getattr(getattr(problem.machine, "machine", None), "name", None)
+        report.report(MACHINE, f"state machine {name}: {err.message}" if name else
+                      err.message, err.span, err.hint)
     except (sim.SimulationError, ValueError) as err:
         report.report(sim.SIMULATE, getattr(err, "message", str(err)),
                       scenario.span("controller"), getattr(err, "hint", ""))

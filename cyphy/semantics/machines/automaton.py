@@ -80,9 +80,9 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
         raise MachineError(f"the typed input event{'s' if len(typed) > 1 else ''} "
                            f"{', '.join(typed)} of {m.name} cannot be compiled: the automaton "
                            "models events as present or absent, not their values",
-                           m.decl.span, "use untyped events: reach, simulate and the theory's "
-                           "D all run this automaton, which models an event as present or "
-                           "absent")
+                           m.decl.span, "use untyped events: reach and the theory's D run "
+                           "this automaton, which models an event as present or absent "
+                           "(simulate runs the machine itself, with the events' values)")
     events = tuple(m.platform.input_events)
     if len(events) > MAX_EVENTS:
         raise MachineError(f"{m.name} reads {len(events)} input events: more than "

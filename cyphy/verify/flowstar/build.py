@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import sympy
 
@@ -23,12 +23,23 @@ from cyphy.verify.flowstar.problem import CLOCK, TIMER, Problem, symbol
 from cyphy.verify.flowstar.scenario import EXPORT, Scenario
 from cyphy.verify.flowstar.time_functions import replace_time_functions
 
+if TYPE_CHECKING:
+    from cyphy.verify.flowstar.typed_events import TypedEvent
+
 
 def build_problem(paths: Sequence[str | Path], scenario: Scenario, report: Report,
-                  search_paths: tuple[str, ...] = ()) -> tuple[Problem | None, dict[str, str]]:
+                  search_paths: tuple[str, ...] = (), sampled: bool = False
+                  ) -> tuple[Problem | None, dict[str, str]]:
     """The model elaborated with the scenario's constants, reduced, and the scenario's
     controller, environment and property translated; None (with diagnostics) when any of
-    it cannot be done. Also returns the source texts for rendering diagnostics."""
+    it cannot be done. Also returns the source texts for rendering diagnostics.
+
+    ``sampled``: the problem is for ``simulate``, whose controller is the machine's
+    interpreter, so a machine reading typed input events is run, not compiled (see
+    :func:`cyphy.verify.flowstar.machine.machine_controller`): the problem then has no
+    modes, its inputs are those every operation the machine may call sets, its events those
+    the machine reads, and each typed event's value (``Problem.event_values``) is what the
+    mapping's equations give its parameter."""
     result = elaborate(paths, ElaborateOptions(scenario.model, dict(scenario.consts),
                                                search_paths,
                                                default_inertial=scenario.default_inertial,
@@ -43,7 +54,8 @@ def build_problem(paths: Sequence[str | Path], scenario: Scenario, report: Repor
     if not scenario.states:  # no [controller]: the d-model's state machine is the controller
         from cyphy.verify.flowstar.machine import machine_controller
 
-        machine = machine_controller(result.check, result.model.name, scenario, report)
+        machine = machine_controller(result.check, result.model.name, scenario, report,
+                                     sampled)
         if machine is None:
             return None, sources
     try:
@@ -63,6 +75,9 @@ class _Builder:
         self.s, self.report, self.machine = scenario, report, machine
         self.ports = _ports(self.model)
         self.call_effects: dict[str, dict[str, Any]] = {}
+        # a machine run by its interpreter alone (typed input events): no automaton's modes
+        self.uncompiled = machine is not None and not scenario.states
+        self.typed: dict[str, TypedEvent] = {}
 
     def fail(self, message: str, span: Span, hint: str = "") -> _Stop:
         self.report.report(EXPORT, message, span, hint)
@@ -81,6 +96,10 @@ class _Builder:
             raise self.fail(err.message, err.span, err.hint) from None
         self._environment(system)
         effects, frame = self._effects()
+        operation_effects: dict[str, tuple[tuple[Any, ...], dict[str, Any]]] = {}
+        if self.uncompiled:  # the inputs are those the operations the machine may call set
+            operation_effects = self._operation_effects(None)
+            frame = sorted({u for _, solved in operation_effects.values() for u in solved})
         free = sorted(system.inputs - set(frame))
         if free:
             raise self.fail(
@@ -93,6 +112,7 @@ class _Builder:
         unsafe_exprs = [(self.expression(text, span), span) for text, span in
                         ((t, s.span("unsafe", t.split()[0])) for t in s.unsafe)]
         probes = self._probes(system, [e for e, _ in event_exprs.values()] +
+                              [e for t in self.typed.values() for e in t.equations] +
                               [e for e, _ in unsafe_exprs])
         reduced = reduce_system(system)
         if reduced.obstacles:
@@ -123,14 +143,18 @@ class _Builder:
                                 "allowed), or the missing inputs in [environment]")
         self._check_names([*states, *inputs, *s.states])
         scope = _Scope(states, inputs, outputs)
-        events = {name: scope.predicate(self, e, span, f"event {name}")
+        values = {name: scope.value(self, t) for name, t in self.typed.items()}
+        events = {name: scope.predicate(self, e, span, f"event {name}",
+                                        values[name][1] if name in values else None)
                   for name, (e, span) in event_exprs.items()}
         unsafe = self._unsafe(scope, unsafe_exprs)
         problem = Problem(self.model.name, s, states, rhs, inputs, outputs,
                           effects, events, unsafe, {v: k for k, v in self.ports.items()} |
                           {a.name: a.meaning for a in auxiliary},
                           dict(self.call_effects), self.machine,
-                          self._operation_effects(frame) if self.machine else {})
+                          operation_effects if self.uncompiled else
+                          self._operation_effects(frame) if self.machine else {},
+                          {name: v for name, (v, _) in values.items()})
         self._check_init(problem)
         if problem.required_jumps > MAX_JUMPS:
             raise self.fail(
@@ -309,14 +333,14 @@ class _Builder:
         return sorted({n.text for e in eqs for n in e.walk() if isinstance(n, ex.Name)
                        and system.kinds.get(n.text) == "input"})
 
-    def _operation_effects(self, frame: list[str]
+    def _operation_effects(self, frame: list[str] | None
                            ) -> dict[str, tuple[tuple[Any, ...], dict[str, Any]]]:
         """Each operation the machine may call (and output event it may send) that the
         mapping defines, solved once for the actuator inputs with its arguments as symbols
         (``move(lv, av)`` → ``LMotor_das = (lv + 0.03*av)/0.025025``, …): the simulator
         evaluates it for whatever arguments a cycle computes. An operation whose equations do
-        not fix its inputs uniquely, or set inputs the export's frame lacks, is left out (a
-        call of it is then reported)."""
+        not fix its inputs uniquely, or set inputs the export's frame lacks (``None``: no
+        frame, the machine is not compiled), is left out (a call of it is then reported)."""
         from cyphy.translate.to_sympy import to_sympy
         from cyphy.semantics.dynamics.equations import AssemblyError, assemble, mapping_operation
 
@@ -338,7 +362,7 @@ class _Builder:
                 continue
             eqs = [eq.expr for eq in system.equations if eq.origin == f"mapping {op}"]
             solved = self._solve_equations(eqs, op, system, to_sympy, frozenset(args))
-            if solved is not None and set(solved) <= set(frame):
+            if solved is not None and (frame is None or set(solved) <= set(frame)):
                 out[op] = (tuple(symbol(a) for a in args), solved)
         return out
 
@@ -382,28 +406,40 @@ class _Builder:
                         self.s.span("controller"), "name the mapping file (or its folder) too")
 
     def _event_expressions(self) -> dict[str, tuple[ex.Expr, Span]]:
-        """Each input event a transition names, as its mapping predicate (mangled names)."""
+        """Each input event a transition names (a machine run uncompiled: each it reads),
+        as its mapping predicate (mangled names); a typed event of an uncompiled machine
+        also gets its value's equations (``self.typed``)."""
         from cyphy.semantics.dynamics.equations import input_event_predicate
+        from cyphy.verify.flowstar.typed_events import machine_events, not_one_number, \
+            typed_event
 
-        if not any(t.literals for t in self.s.transitions):
+        wanted = machine_events(self.machine) if self.uncompiled else \
+            [(name, t.span, None) for t in self.s.transitions for name, _ in t.literals]
+        if not wanted:
             return {}
         mapping = self._mapping()
         available = {e.name: e for e in mapping.events if e.direction == "input"}
         out: dict[str, tuple[ex.Expr, Span]] = {}
-        for t in self.s.transitions:
-            for name, _ in t.literals:
-                if name in out:
-                    continue
-                event = available.get(name)
-                if event is None:
-                    raise self.fail(f"mapping {mapping.name} has no input event '{name}'",
-                                    t.span, did_you_mean(name, available) or
-                                    f"input events: {', '.join(sorted(available)) or '(none)'}")
+        for name, span, type_ in wanted:
+            if name in out:
+                continue
+            event = available.get(name)
+            if event is None:
+                raise self.fail(f"mapping {mapping.name} has no input event '{name}'",
+                                span, did_you_mean(name, available) or
+                                f"input events: {', '.join(sorted(available)) or '(none)'}")
+            if self.uncompiled and event.param is not None:
+                refused = not_one_number(name, type_)
+                if refused is not None:
+                    raise self.fail(refused.message, span, refused.hint)
+                self.typed[name] = typed_event(self.model, mapping, event)
+                pred = self.typed[name].predicate
+            else:
                 pred = input_event_predicate(self.model, mapping, event)
-                if pred is None:
-                    raise self.fail(f"the input event {name} has no predicate in mapping "
-                                    f"{mapping.name}: its occurrence cannot be decided", t.span)
-                out[name] = (pred, t.span)
+            if pred is None:
+                raise self.fail(f"the input event {name} has no predicate in mapping "
+                                f"{mapping.name}: its occurrence cannot be decided", span)
+            out[name] = (pred, span)
         return out
 
     def _probes(self, system: Any, exprs: list[ex.Expr]) -> dict[str, str]:
@@ -473,18 +509,35 @@ class _Scope:
         self.variables = set(self.names.values())
         self.outputs = {symbol(n): v for n, v in outputs.items()}
 
-    def predicate(self, b: _Builder, e: ex.Expr, span: Span, what: str) -> Any:
+    def in_states(self, value: Any) -> Any:
+        for _ in range(8):  # outputs may be written in terms of other outputs
+            replaced = value.xreplace(self.outputs)
+            if replaced == value:
+                break
+            value = replaced
+        return value
+
+    def value(self, b: _Builder, t: "TypedEvent") -> tuple[Any, dict[Any, Any]]:
+        """The typed event's value over the states and inputs, and the substitution of its
+        parameter and solved locals for the predicate (:func:`typed_events.solve_value`)."""
+        from cyphy.verify.flowstar.typed_events import ValueRefused, solve_value
+
+        consts = {n: v for n, v in b.s.consts.items() if isinstance(v, (int, float))
+                  and not isinstance(v, bool) and "::" not in n}
+        try:
+            return solve_value(t, self.names, self.variables, self.in_states, consts)
+        except ValueRefused as err:
+            raise b.fail(err.message, t.span, err.hint) from None
+
+    def predicate(self, b: _Builder, e: ex.Expr, span: Span, what: str,
+                  given: dict[Any, Any] | None = None) -> Any:
         from cyphy.translate.to_sympy import UnsupportedNode, to_sympy
 
         try:
             value = to_sympy(e, symbols=self.names)
         except UnsupportedNode as err:
             raise b.fail(f"{what}: {err}", span) from None
-        for _ in range(8):  # outputs may be written in terms of other outputs
-            replaced = value.xreplace(self.outputs)
-            if replaced == value:
-                break
-            value = replaced
+        value = self.in_states(value.xreplace(given or {}))
         if value.has(sympy.zoo, sympy.oo, -sympy.oo, sympy.nan):
             raise b.fail(f"{what} is undefined (a division by zero, or an infinite value)",
                          span, "write a comparison of finite polynomials")

@@ -6,7 +6,10 @@
 structure a ``[controller]`` table gives, so the export treats both alike. The interpreter
 itself is returned too: ``cyphy simulate`` runs it, cycle by cycle, as the sampled controller.
 The operation definitions the machine calls run inside it; its output events that the
-mapping maps act like calls, the others are observable only (``interpreter.observable``)."""
+mapping maps act like calls, the others are observable only (``interpreter.observable``).
+A machine that reads typed input events has no automaton (it knows events as present or
+absent): ``reach`` refuses it, ``simulate`` runs its interpreter alone
+(:mod:`cyphy.verify.flowstar.typed_events`)."""
 
 from __future__ import annotations
 
@@ -20,11 +23,19 @@ if TYPE_CHECKING:
     from cyphy.semantics.machines.parallel import ModuleInterpreter
 
 
-def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Report
+def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Report,
+                       sampled: bool = False
                        ) -> "MachineInterpreter | ModuleInterpreter | None":
     """Fill the scenario's controller from the d-model's machine and return the machine's
     interpreter (reset to its start); None (with diagnostics) when there is none to choose,
-    or it cannot be compiled."""
+    or it cannot be compiled.
+
+    A machine that reads typed input events is not compiled: the automaton knows an event
+    as present or absent, not the value ``$e?x`` binds. With ``sampled`` (``simulate``,
+    whose controller is the interpreter itself) the interpreter is returned and the
+    scenario's controller is left empty (the caller then takes the events the machines read
+    and every operation they may call from the machines); without it (``reach``,
+    ``gen --flowstar``) the machine is refused."""
     from cyphy.lang.scopes import Scopes
     from cyphy.model.machines import select_machines
     from cyphy.semantics.machines.cycle import MachineError, interpreter_for, machine_constants
@@ -45,7 +56,17 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
         for machine in machines:
             interpreters.append(interpreter_for(machine, files, check.resolution,
                                                 Scopes(check.workspace), consts, pmodel))
-        automaton = compile_module(interpreters)
+        typed = typed_events(interpreters)
+        if typed and not sampled:
+            names = ", ".join(typed)
+            machine = next(i.machine for i in interpreters if typed_events([i]))
+            raise MachineError(
+                f"the typed input event{'s' if len(typed) > 1 else ''} {names} cannot be "
+                "written for Flow*: its automaton models an event as present or absent, not "
+                "the value the machine reads", machine.decl.span,
+                "`cyphy simulate` runs this machine with the events' values (its interpreter "
+                "is the controller); for reach, make the events untyped")
+        automaton = None if typed else compile_module(interpreters)
         # the module's machines run together, every cycle (one machine: itself)
         interpreter = interpreters[0] if len(interpreters) == 1 else \
             ModuleInterpreter(interpreters)
@@ -55,6 +76,9 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
         return None
     if not _same_cycle(interpreter, scenario, report):
         return None
+    if automaton is None:  # sampled: the interpreter alone is the controller
+        interpreter.reset()
+        return interpreter
     scenario.initial = automaton.initial
     scenario.states = {mode.name: tuple(_call_text(n, args) for n, args in mode.calls)
                        for mode in automaton.modes}
@@ -94,3 +118,14 @@ def _same_cycle(interpreter: "MachineInterpreter", scenario: Scenario, report: R
 
 def _call_text(name: str, args: tuple[float, ...]) -> str:
     return f"{name}({', '.join(repr(float(a)) for a in args)})"
+
+
+def typed_events(interpreters: "list[MachineInterpreter]") -> list[str]:
+    """The typed input events of the input contexts of the machines (and of the operation
+    definitions they call), in the order first declared."""
+    out: dict[str, None] = {}
+    for i in interpreters:
+        for m in [i.machine, *i.operations.values()]:
+            out.update((e, None) for e, d in m.platform.input_events.items()
+                       if d.type is not None)
+    return list(out)

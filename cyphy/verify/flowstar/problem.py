@@ -43,6 +43,9 @@ class Problem:
     machine: Any = None
     operation_effects: dict[str, tuple[tuple[Any, ...], dict[str, Any]]] = \
         field(default_factory=dict)
+    # A typed input event's value when it occurs (a machine run by its interpreter, not
+    # compiled): event → the mapping's parameter as a function of the states and inputs.
+    event_values: dict[str, Any] = field(default_factory=dict)
 
     @property
     def mode_inputs(self) -> list[str]:
