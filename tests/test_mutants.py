@@ -239,6 +239,10 @@ MUTANTS: tuple[Mutant, ...] = (
       "equation Bench::Shaft::Motor.das == w",
       "action Bench::Shaft::Motor.das = w; Bench::Shaft::Motor.das = 0", "PMap16",
       at="Bench::Shaft::Motor.das = 0"),
+    M("event-value-given-twice", "ranger", "Mapping.rsm",
+      "r == Rail::Carriage::Eye.voltage", "r == Rail::Carriage::Eye.voltage\n"
+      "\t\tequation r == Rail::Carriage::Eye.voltage + 1", "PMap16",
+      at="r == Rail::Carriage::Eye.voltage + 1"),
     M("operation-same-equation-twice", "dcmotor", DC_MAP, "Bench::Shaft::Motor.das == w",
       "Bench::Shaft::Motor.das == w\n\t\tequation Bench::Shaft::Motor.das == w", ACCEPTED),
     M("operation-derivative-of-parameter", "dcmotor", DC_MAP, "Motor.das == w",
