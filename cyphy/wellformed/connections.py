@@ -206,7 +206,9 @@ def check_Fix4_no_fixed_cycle(ctx: WFContext) -> None:
     closes a cycle is reported, once per cycle, in the p-model that writes one of the
     cycle's connections; a cycle wholly inside a part's p-model is that p-model's."""
     for _, pm in ctx.items(ast.PModel):
-        edges = list(_fixed_edges(ctx, pm))
+        edges: dict[tuple[Node, Node], Edge] = {}
+        for edge in _fixed_edges(ctx, pm):
+            edges.setdefault(edge[:2], edge)  # written twice: IX4's, welds once
         welded: dict[Node, dict[Node, None]] = {}  # the connections taken so far, both ways
         root: dict[Node, Node] = {}
 
@@ -217,7 +219,7 @@ def check_Fix4_no_fixed_cycle(ctx: WFContext) -> None:
             return n
 
         # a part's own connections first: a cycle that one of pm's closes is pm's to report
-        for source, target, c, own in sorted(edges, key=lambda e: e[3]):
+        for source, target, c, own in sorted(edges.values(), key=lambda e: e[3]):
             if find(source) == find(target):
                 if own:
                     _report_cycle(ctx, pm, c, source, target, _path(welded, target, source))
