@@ -1,8 +1,9 @@
 """RoboSim state machines: STM8, the types of a machine's behaviour; STM9, a positive cycle.
 
 S3 (expressions are well-typed) for what a machine does: a transition's condition is a
-boolean, an assignment gives a variable a value of its declared type, and a call passes each
-operation parameter a value of its type. Name resolution (STM5) and arities (STM3) are
+boolean, an assignment gives a variable a value of its declared type, a call passes each
+operation parameter a value of its type, ``$e!v`` sends a value of the event's type and
+``$e?x`` binds a variable of it. Name resolution (STM5) and arities (STM3) are
 checked by their own rules; here a name that does not resolve, a field, or a call with the
 wrong number of arguments has an unknown type and is passed over, so nothing is reported
 twice and nothing is guessed.
@@ -65,14 +66,16 @@ def _parameters(ctx: WFContext, m: Machine, call: ex.Call) -> tuple[str, tuple[a
     return name, op.params if op is not None else ()
 
 
-@rule("STM8", "a machine's conditions are booleans; assignments and operation arguments have "
-      "the declared types")
+@rule("STM8", "a machine's conditions are booleans; assignments, operation arguments and "
+      "events' values have the declared types")
 def check_STM8_machine_types(ctx: WFContext) -> None:
     """A transition's condition is a boolean (``condition speed`` is a number: the machine
     would never, or always, take it); an assignment ``x = e`` gives ``x`` a value of its
     declared type; ``$op(a, b)`` passes each parameter a value of its type. Any other
     expression of the behaviour is typed as S3 types equations (``not`` of a number, ``+``
-    of a boolean)."""
+    of a boolean). ``$e!v`` gives a typed output event a value of its type, ``$e?x`` binds
+    the value of a typed input event to a variable of its type (whether a value travels at
+    all is STM4's)."""
     for m in _machines(ctx):
         types = _MachineTypes(ctx, m, ctx.report)
         for t in m.transitions:
