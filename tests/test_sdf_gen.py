@@ -534,22 +534,41 @@ LOOPED = """
 """
 
 
-def test_pybullet_target_cuts_the_connection_that_closes_a_loop(tmp_path, sdf_checker,
-                                                                  pybullet_loader) -> None:
+def test_pybullet_target_turns_a_fixed_connection_into_a_moved_link_round(
+        tmp_path, sdf_checker, pybullet_loader) -> None:
+    """C has two parents, joint J from A and B's fixed connection; B has none. The fixed
+    connection carries no motion, so written from C to B the links are one tree that J
+    moves, as cyphy's dynamics has it (B rides on C): nothing is cut (it used to be, with
+    B a second tree fixed to the world, which welded C to the world through B)."""
     result, plain = generate(tmp_path, LOOPED)
     assert "W-SDF-TREE" in codes(result) and "W-SDF-CUT" not in codes(result)
     result, sdf = generate(tmp_path, LOOPED, target="pybullet")
+    assert "W-SDF-CUT" not in codes(result) and "W-SDF-TREE" not in codes(result)
+    (model,) = ET.fromstring(sdf.split("\n", 1)[1]).iter("model")
+    assert model.get("name") == "P"
+    joints = {j.get("name"): (j.findtext("parent"), j.findtext("child"))
+              for j in model.findall("joint")}
+    assert joints == {"A__J": ("A", "C"), "B__fixed__C": ("C", "B")}
+    assert "turned round for PyBullet (from P::C) to make a tree" in sdf
+    valid(sdf_checker, pybullet_loader, tmp_path / "out.sdf", 2)
+
+
+def test_pybullet_target_cuts_a_fixed_connection_between_two_moved_links(
+        tmp_path, sdf_checker, pybullet_loader) -> None:
+    """With B moved by a joint K of its own, C fixed to B closes a chain of moving joints
+    (A-J-C-B-K-A): a genuine loop, cut at the fixed connection (W-SDF-CUT)."""
+    moved = LOOPED.replace(
+        "flexibly connected to C }\n", "flexibly connected to C }\n"
+        "\t\tlocal joint K { def { annotation Revolute { axis = Axis { xyz = (|0,0,1|) "
+        "limit = Limit { lower = -1 upper = 1 } } } } flexibly connected to B }\n", 1)
+    result, sdf = generate(tmp_path, moved, target="pybullet")
     (cut,) = [d for d in result.report.diagnostics if d.code.id == "W-SDF-CUT"]
     assert "fixed connection from P::B to P::C closes a kinematic loop" in cut.message
-    assert cut.span.line == 14 and "W-SDF-TREE" not in codes(result)  # `fixed to C`
-    world = ET.fromstring(sdf.split("\n", 1)[1]).find("world")
-    models = {m.get("name"): m for m in world.findall("model")}
-    assert list(models) == ["P__A", "P__B"]  # C stays with A, by joint J; B is alone
-    assert [link.get("name") for link in models["P__A"].findall("link")] == ["A", "C"]
-    assert [j.get("name") for j in models["P__A"].findall("joint")] == ["A__J"]
-    assert models["P__B"].find("joint") is None
+    assert cut.span.line == 15 and "W-SDF-TREE" not in codes(result)  # `fixed to C`
+    (model,) = ET.fromstring(sdf.split("\n", 1)[1]).iter("model")
+    assert [j.get("name") for j in model.findall("joint")] == ["A__J", "A__K"]
     assert "closes a loop: left out for PyBullet" in sdf
-    valid(sdf_checker, pybullet_loader, tmp_path / "out.sdf", 1)
+    valid(sdf_checker, pybullet_loader, tmp_path / "out.sdf", 2)
 
 
 def test_pybullet_target_cuts_a_cycle_at_its_first_link(tmp_path) -> None:

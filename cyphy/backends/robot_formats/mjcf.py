@@ -37,7 +37,7 @@ import numpy as np
 
 from cyphy import codes
 from cyphy.backends.robot_formats.sdf_xml import number
-from cyphy.backends.robot_formats.urdf import MeshPaths
+from cyphy.backends.robot_formats.urdf import TURNED, MeshPaths
 from cyphy.diagnostics import Report, Span
 from cyphy.model.poses import Pose
 from cyphy.semantics.sdf.robot_tree import Robot, RobotJoint, RobotLink, Shape, Tree
@@ -133,7 +133,8 @@ def _tree(tree: Tree, meshes: MeshPaths, assets: Node, actuators: Node, report: 
 
 
 def _joints(body: Node, joint: RobotJoint, actuators: Node) -> None:
-    body.comment(f"joint {joint.qualified} ({joint.kind}) from {joint.parent}")
+    body.comment(f"joint {joint.qualified} ({joint.kind}) from {joint.parent}"
+                 + (TURNED if joint.turned else ""))
     if joint.kind == "fixed":
         return
     if joint.kind == "ball":

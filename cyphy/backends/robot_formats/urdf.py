@@ -35,6 +35,10 @@ SPLIT = codes.code("W-URDF-JOINT", codes.W,
                    "a joint type URDF lacks: written as revolute joints (ball, universal, "
                    "revolute2 through massless links; screw without its pitch)")
 
+#: The comment's note on a fixed connection written from its target (sdf/orientation.py).
+TURNED = ", turned round: the parent is its target, so that the links form a tree"
+
+
 @dataclass(frozen=True)
 class MeshPaths:
     """How mesh files are named in the export: relative to the output folder
@@ -155,7 +159,7 @@ def _joint_node(name: str, joint: RobotJoint, kind: str, parent: str, child: str
     if kind == "revolute" and not joint.bounded:
         kind = "continuous"
     node = Node("joint", {"name": name, "type": kind})
-    node.comment(f"joint {joint.qualified}")
+    node.comment(f"joint {joint.qualified}" + (TURNED if joint.turned else ""))
     _origin(node, origin)
     node.add("parent", link=parent)
     node.add("child", link=child)

@@ -26,6 +26,7 @@ import numpy as np
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
 from cyphy.model.inertia import Inertial, combine, tensor
 from cyphy.model.poses import Pose
+from cyphy.model.roots import preferred_root
 from cyphy.semantics.dynamics.errors import DynamicsError
 
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
@@ -193,7 +194,10 @@ def kinematic_tree(model: ElaboratedModel,
     the elaborated model's joint list. This is the order of ``q``, ``M``'s rows and ``h``.
 
     The root bodies are fixed to the world, or, with ``floating_base``, each moved by a
-    floating joint (six coordinates, first in its subtree) named after its first link.
+    floating joint (six coordinates, first in its subtree) named after its root link and in
+    that link's frame: of the links fixed together, the one a user expects
+    (:func:`~cyphy.model.roots.preferred_root`; the palm of a hand whose fingers' roots are
+    ``fixed to`` it, as ``gen --mjcf`` roots the tree there).
 
     Raises ``DynamicsError`` for a joint family the equations do not cover, a zero axis, a
     loop (a body moved by two joints, or a cycle), or a link without mass properties in a
@@ -233,6 +237,10 @@ def kinematic_tree(model: ElaboratedModel,
     members: dict[str, list[Link]] = {}
     for link in links:
         members.setdefault(find(link.name), []).append(link)
+    fixed_children = {id(c.child) for c in [*model.fixed, *model.joints]
+                      if c.child is not None and (isinstance(c, FixedJoint)
+                                                  or joint_kind(c) == "fixed")}
+    order = {id(link): i for i, link in enumerate(links)}
     children: dict[str, list[Joint]] = {}
     for joint in moving:
         children.setdefault(find(joint.parent.name), []).append(joint)  # type: ignore[union-attr]
@@ -259,8 +267,8 @@ def kinematic_tree(model: ElaboratedModel,
         if key in incoming or key in frame_of or key in body_index:
             continue
         parent = -1
-        if floating_base:  # the body's frame is its root link's (fixed connections' parent)
-            root = next(m for m in members[key] if m.name == key)
+        if floating_base:  # the body's frame is its root link's, the one a user expects
+            root = preferred_root(members[key], fixed_children, order)
             frame_of[key] = root.pose or Pose.identity()
             ordered.append(_floating_joint(root, frame_of[key], members[key]))
             parent = body_index[key] = len(ordered) - 1

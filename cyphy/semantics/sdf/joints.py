@@ -112,21 +112,27 @@ def _axis(t: Translation, joint: Joint, name: str) -> Node:
     return node
 
 
-def fixed_rule(t: Translation, fixed: FixedJoint) -> list[Node | Comment]:
+def fixed_rule(t: Translation, fixed: FixedJoint, turned: bool = False
+               ) -> list[Node | Comment]:
     """Rule 1, last line: a fixed connection instance is a ``fixed`` joint whose parent is the
-    link that declares ``fixed to`` and whose child is its target (sdf.md decision 10)."""
+    link that declares ``fixed to`` and whose child is its target (sdf.md decision 10).
+    ``turned`` (tree targets only, :mod:`~cyphy.semantics.sdf.orientation`): the same rigid
+    attachment written from the target to the declaring link, so that the links form a
+    tree; its pose stays the identity, which puts the joint at its new child's frame."""
     assert fixed.parent is not None and fixed.child is not None
     parent, child = t.names.link(fixed.parent), t.names.link(fixed.child)
     qualified = f"{fixed.parent.name}::fixedJoint::{fixed.child.name}"
     node = Node("joint", {"name": t.names.fixed(fixed.parent, fixed.child, qualified),
                           "type": "fixed"})
     node.add("pose", Pose.identity())
-    node.add("parent", parent)
-    node.add("child", child)
+    node.add("parent", child if turned else parent)
+    node.add("child", parent if turned else child)
     both = t.joined.get(frozenset((id(fixed.parent), id(fixed.child))))
     if both is not None:
         t.report.report(LOOP, f"links {fixed.parent.name} and {fixed.child.name} are connected "
                         f"by joint {both.name} and by a fixed connection", fixed.span,
                         "keep either the joint or the fixed connection")
-    return [Comment(f"fixed joint {qualified} from {fixed.parent.name} to {fixed.child.name}"),
-            node]
+    what = f"fixed joint {qualified} from {fixed.parent.name} to {fixed.child.name}"
+    if turned:
+        what += f", turned round for {t.simulator} (from {fixed.child.name}) to make a tree"
+    return [Comment(what), node]

@@ -23,7 +23,7 @@ from cyphy.lang.workspace import Workspace
 from cyphy.model.elements import ElaboratedModel, FixedJoint
 from cyphy.model.poses import Pose
 from cyphy.semantics.sdf.rules import translate
-from cyphy.semantics.sdf.topology import loop_cuts
+from cyphy.semantics.sdf.orientation import tree_shape
 from cyphy.semantics.sdf.translation import SdfOptions
 from cyphy.semantics.sdf.tree import Node
 
@@ -77,6 +77,7 @@ class RobotJoint:
     stiffness: float = 0.0  # the axis's spring_stiffness, about spring_reference
     spring_reference: float = 0.0
     driven: bool = False  # an actuator sits in the joint (the joint's aref)
+    turned: bool = False  # a fixed connection written from its target (sdf/orientation.py)
 
     @property
     def bounded(self) -> bool:
@@ -138,7 +139,7 @@ def build_robot(model: ElaboratedModel, ws: Workspace, report: Report, target: s
     trees = [_tree(m, qualified, driven) for m in models]
     sdf_name = {q: n for n, q in qualified.items()}
     cuts = []
-    for c in loop_cuts(model):
+    for c in tree_shape(model).cuts:
         assert c.parent is not None and c.child is not None
         if isinstance(c, FixedJoint):
             name, kind, frame = f"{c.parent.name}::fixedJoint::{c.child.name}", "fixed", \
@@ -255,9 +256,12 @@ def _joint(node: Node, links: dict[str, RobotLink], qualified: dict[str, str],
     child = str(_value(node, "child"))
     local = _value(node, "pose")
     frame = links[child].pose.compose(local if isinstance(local, Pose) else Pose.identity())
+    declared = qualified.get(name, name).split("::fixedJoint::")[0]
     joint = RobotJoint(name, qualified.get(name, name), node.attrs["type"],
                        str(_value(node, "parent")), child, frame,
-                       driven=qualified.get(name, name) in driven)
+                       driven=qualified.get(name, name) in driven,
+                       turned=node.attrs["type"] == "fixed"
+                       and declared == qualified.get(child, child))
     rotation = np.array(frame.rotation)
     for tag in ("axis", "axis2"):
         axis = node.find(tag)

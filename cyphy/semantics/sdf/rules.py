@@ -36,7 +36,8 @@ from cyphy.lang.workspace import Workspace
 from cyphy.model.elements import AnnotationValue, ElaboratedModel, Link
 from cyphy.semantics.sdf.joints import fixed_rule, joint_rule
 from cyphy.semantics.sdf.links import link_rule, parts_rule
-from cyphy.semantics.sdf.topology import check_tree, left_out, link_trees, loop_cuts
+from cyphy.semantics.sdf.orientation import TreeShape, tree_shape
+from cyphy.semantics.sdf.topology import check_tree, left_out, link_trees
 from cyphy.semantics.sdf.translation import NO_CHILD, SdfDocument, SdfOptions, Translation
 from cyphy.semantics.sdf.tree import Comment, Node
 
@@ -60,10 +61,13 @@ def pmodel_rule(t: Translation) -> Node:
     named after it holding one such ``<model>`` per tree: a tree-based simulator (PyBullet)
     loads each as a body, where it refuses a model with several root links, and libsdformat
     12 accepts a world of models where it refuses several models at the top. ``--target
-    pybullet`` splits trees and first cuts the connections that close loops (each reported),
-    as a tree-based simulator needs."""
+    pybullet`` (and the URDF and MJCF exports) splits trees and first cuts the connections
+    that close loops (each reported), turning round the fixed connections that would
+    otherwise give a link a second parent (:mod:`~cyphy.semantics.sdf.orientation`), as a
+    tree-based simulator needs."""
     model = t.model
-    cut = {id(j): j for j in loop_cuts(model)} if t.pybullet else {}
+    shape = tree_shape(model) if t.pybullet else TreeShape((), frozenset())
+    cut = {id(j): j for j in shape.cuts}
     pieces: list[tuple[Link | None, list[Node | Comment]]] = []
     for link in parts_rule(model):
         pieces.append((link, link_rule(t, link)))
@@ -78,8 +82,9 @@ def pmodel_rule(t: Translation) -> Node:
                        else joint_rule(t, joint)))
     for fixed in model.fixed:
         pieces.append((fixed.parent, left_out(t, fixed) if id(fixed) in cut
-                       else fixed_rule(t, fixed)))
-    kept = [j for j in [*model.joints, *model.fixed] if id(j) not in cut]
+                       else fixed_rule(t, fixed, id(fixed) in shape.turned)))
+    kept = [shape.ends(j) for j in [*model.joints, *model.fixed]
+            if id(j) not in cut and j.parent is not None and j.child is not None]
     split = t.options.split_trees or t.pybullet
     trees = link_trees(model, cut) if split else []
     check_tree(t, kept, split=len(trees) > 1)

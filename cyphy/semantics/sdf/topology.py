@@ -76,7 +76,7 @@ def left_out(t: Translation, j: Connection) -> list[Node | Comment]:
                     f"for {t.simulator}")]
 
 
-def check_tree(t: Translation, kept: list[Connection], split: bool) -> None:
+def check_tree(t: Translation, kept: list[tuple[Link, Link]], split: bool) -> None:
     """SDF allows any graph of links; PyBullet, URDF and MuJoCo need one tree (each link
     but one root with exactly one parent, every link reachable from the root). Say where
     the model is not one, leaving out the several roots that ``split`` has made trees.
@@ -87,10 +87,9 @@ def check_tree(t: Translation, kept: list[Connection], split: bool) -> None:
         return
     parents: dict[int, int] = {}
     children: dict[int, list[Link]] = {}
-    for j in kept:
-        if j.parent is not None and j.child is not None:
-            parents[id(j.child)] = parents.get(id(j.child), 0) + 1
-            children.setdefault(id(j.parent), []).append(j.child)
+    for parent, child in kept:  # (parent, child) as written, fixed connections turned
+        parents[id(child)] = parents.get(id(child), 0) + 1
+        children.setdefault(id(parent), []).append(child)
     roots = [link for link in links if id(link) not in parents]
     shared = [link for link in links if parents.get(id(link), 0) > 1]
     reached = {id(r) for r in roots}
@@ -112,8 +111,9 @@ def check_tree(t: Translation, kept: list[Connection], split: bool) -> None:
     if problems:
         hint = "connect every link to one root by exactly one joint or fixed connection"
         if shared or circling:
-            hint += " (or generate with --target pybullet, which leaves out the connections " \
-                    "that close loops)"
+            hint += " (or generate with --target pybullet, --urdf or --mjcf, which turn a " \
+                    "fixed connection round where that makes a tree and leave out the " \
+                    "connections that close loops)"
         elif len(roots) > 1 and not split:
             hint += " (or write one model per tree with --split-trees)"
         t.report.report(NOT_TREE, f"the links of {t.model.name} do not form "
