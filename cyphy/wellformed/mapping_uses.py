@@ -1,4 +1,4 @@
-"""Platform mappings, cyphy's own conditions on what a mapping's members say (PMap13-PMap16).
+"""Platform mappings, cyphy's own conditions on what a mapping's members say (PMap13-PMap17).
 
 The paper's PMap conditions judge which names a member may read and write; these judge
 whether it says what the software means: a value the software passes that nothing reads
@@ -6,7 +6,8 @@ whether it says what the software means: a value the software passes that nothin
 input event whose value nothing gives, two mappings of one module onto one p-model (which
 one would ``gen`` use?), and one member writing the same input twice (``das == w`` and
 ``das == 2*w``: no value satisfies both unless ``w = 0``; ``simulate`` refused them with
-"does not determine Motor_das uniquely", far from the cause).
+"does not determine Motor_das uniquely", far from the cause), and a derivative, which the
+instant a mapping holds at does not have.
 """
 
 from __future__ import annotations
@@ -21,9 +22,9 @@ from cyphy.wellformed.platform_services import (
 from cyphy.wellformed.registry import WFContext, rule
 
 
-def _reads(member: MemberMapping) -> set[str]:
-    """The simple names the member's equations, predicates and actions mention."""
-    return {node.parts[0] for e in ast.expressions_in(member.members) for node in e.walk()
+def _names_in(members: object) -> set[str]:
+    """The simple names the given equations, predicates and actions mention."""
+    return {node.parts[0] for e in ast.expressions_in(members) for node in e.walk()
             if isinstance(node, ex.Name) and len(node.parts) == 1}
 
 
@@ -55,7 +56,7 @@ def check_PMap13_passed_values_read(ctx: WFContext) -> None:
         for member in members_of(site.mapping):
             if not member.members:
                 continue  # PMap6
-            read = _reads(member)
+            read = _names_in(member.members)
             for name, where in _passed(site, member):
                 if name not in read:
                     ctx.error(
@@ -78,10 +79,7 @@ def check_PMap14_input_value_given(ctx: WFContext) -> None:
             if not (isinstance(member, ast.EventMapping) and member.direction == "input"
                     and member.param and (member.equations or member.actions)):
                 continue
-            mentioned = {node.parts[0] for e in ast.expressions_in(
-                (*member.equations, *member.actions)) for node in e.walk()
-                if isinstance(node, ex.Name) and len(node.parts) == 1}
-            if member.param not in mentioned:
+            if member.param not in _names_in((*member.equations, *member.actions)):
                 ctx.error("PMap14", member.param_span or member,
                           f"the mapping of {label_of(member)} never gives its value "
                           f"'{member.param}': no equation or action mentions it",
