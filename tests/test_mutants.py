@@ -330,6 +330,8 @@ MUTANTS: tuple[Mutant, ...] = (
       "$echo?armed", "STM8",
       also=(("RangerSoftware.rsm", "var seen: real = 0",
              "var seen: real = 0\n\tvar armed: boolean = false"),)),
+    M("stm-reads-typed-event-without-binding", "ranger", "RangerSoftware.rsm",
+      "condition $echo?seen", "condition $echo", ACCEPTED),
     M("stm-binds-real-into-int", "ranger", "RangerSoftware.rsm", "var seen: real = 0",
       "var seen: int = 0", "STM8", at="$echo?seen"),
     M("stm-speed-changed", "dcmotor", DC_SW, "wref: real = 10.0", "wref: real = 5.0",
