@@ -66,6 +66,51 @@ DC_MAP, DC_SW, DC_BASE = "Mapping.rsm", "DCMotorSoftware.rsm", "DCMotorBase.rsm"
 NEAR = "\tinput event near {\n\t\tpredicate Bench::Range.range <= 1.0\n\t}\n"
 STOP = "\toperation stop {\n\t\tequation Bench::Shaft::Motor.das == 0\n\t}\n"
 HEADER = "map BenchMapping"
+T3 = "action $stop() }"
+#: Output events for the motor bench, typed (``beep: real``, ``flag: boolean``) and not
+#: (``tick``): declared, on the platform, connected, in the machine's output context and
+#: mapped; the machine sends them with ``T3`` (a mutant's own text).
+BEEPS = (
+    (DC_SW, "interface NearI {\n\tevent near\n}",
+     "interface NearI {\n\tevent near\n}\n\ninterface BeepI {\n\tevent beep: real\n"
+     "\tevent flag: boolean\n\tevent tick\n}"),
+    (DC_SW, "\t\tuses NearI\n\t}", "\t\tuses NearI\n\t\tuses BeepI\n\t}"),
+    (DC_SW, "connection Bench on near to ctrl on near (_async)",
+     "connection Bench on near to ctrl on near (_async)\n"
+     + "".join(f"\tconnection ctrl on {e} to Bench on {e} (_async)\n"
+               for e in ("beep", "flag", "tick"))),
+    (DC_SW, "\tuses NearI\n\trequires SpeedI", "\tuses NearI\n\tuses BeepI\n\trequires SpeedI"),
+    (DC_SW, "connection SpeedController on near to sm on near",
+     "connection SpeedController on near to sm on near\n"
+     + "".join(f"\tconnection sm on {e} to SpeedController on {e}\n"
+               for e in ("beep", "flag", "tick"))),
+    (DC_SW, "output context { requires SpeedI }", "output context { requires SpeedI uses BeepI }"),
+    (DC_MAP, "\tinput event near {",
+     "\toutput event beep ? b {\n\t\tequation Bench::Shaft::Motor.das == b\n\t}\n"
+     "\toutput event flag ? f {\n\t\tequation Bench::Shaft::Motor.das == 0\n\t}\n"
+     "\toutput event tick {\n\t\tequation Bench::Shaft::Motor.das == 0\n\t}\n"
+     "\tinput event near {"),
+)
+SENDS = "$beep!1.0; $flag!true; $tick"
+SONAR = "\t\t\tpose { x = 0.2m y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }\n"
+PAD = "\t\t\t\tinertial information { mass 0.02kg }\n\t\t\t}\n\t\t}\n"
+PLATE = "\t\t\t\tinertial information { mass 0.3kg }\n\t\t\t}\n\t\t}\n"
+#: The marXbot's ring of proximity sensors sized by a constant without a value.
+OPEN_NP = (("marXbotBase.rsm", "index j : [0,24)", "index j : [0,NP)"),
+           ("marXbotBase.rsm", "pmodel marXbotBase {", "pmodel marXbotBase {\n\tconst NP: nat"))
+#: The motor bench's mapping written a second time, in a file of its own.
+SECOND_MAPPING = ("package dcMotorMapping2\n\nimport dcMotorBase::*\n"
+                  "import dcMotorSoftware::*\n\n"
+                  f"{HEADER}2 dmodel DCMotorSoftware to pmodel DCMotorBase {{\n"
+                  "\toperation drive {\n\t\tequation Bench::Shaft::Motor.das == w\n\t}\n"
+                  f"{STOP}{NEAR}}}\n")
+LTREEL = "\t\tinstantiation DEPTH = 0.03m\n\t}\n\tpart RTreel"
+
+
+def in_ltreel(line: str) -> str:
+    """``LTREEL`` with ``line`` added to the left treel's part."""
+    return LTREEL.replace("\t}", f"\t\t{line}\n\t}}")
+
 
 MUTANTS: tuple[Mutant, ...] = (
     # ---- platform mappings (PMap) -----------------------------------------------------------
@@ -156,6 +201,14 @@ MUTANTS: tuple[Mutant, ...] = (
       "Proximity[30]", "IX5", also=(("marXbotBase.rsm", "index j : [0,24)", "index j : [0,NP)"),
                                     ("marXbotBase.rsm", "pmodel marXbotBase {",
                                      "pmodel marXbotBase {\n\tconst NP: nat = 24"))),
+    # NP has no value: check warns that it cannot decide (gen refuses: the ring's size is
+    # open); the scenario gives NP = 24, and simulate refuses the index with IX5
+    M("index-past-an-open-bound", "marxbot", "Mapping.rsm", "Proximity[1]", "Proximity[30]",
+      "IX5", also=OPEN_NP + (("obstacle_stop.toml", "[consts]\n", "[consts]\nNP = 24\n"),),
+      runs=()),
+    M("index-within-an-open-bound", "marxbot", "obstacle_stop.toml", "[consts]\n",
+      "[consts]\nNP = 24\n", "IX5", at="Proximity[1]", at_file="Mapping.rsm", also=OPEN_NP,
+      runs=("simulate",)),
     M("indexed-joint-out-of-range", "tracks", "Mapping.rsm",
       "Chassis::Axle[1].Motor.das == -w", "Chassis::Axle[2].Motor.das == -w", "IX5"),
     M("indexed-part-out-of-range", "pincer", "Mapping.rsm",
@@ -167,6 +220,60 @@ MUTANTS: tuple[Mutant, ...] = (
       "to pmodel DCMotorBas", "S1"),
     M("pmap1-joint-unconnected", "dcmotor", DC_BASE, "\t\t\tflexibly connected to Flywheel\n",
       "", "PMap1", at="jref Shaft"),
+    # second round: what a mapping's members say, and faults a user plausibly writes
+    M("operation-parameter-unused", "dcmotor", DC_MAP, "Motor.das == w", "Motor.das == 10",
+      "PMap13", at="operation drive", runs=BOTH),
+    M("output-event-value-unused", "dcmotor", DC_SW, T3, f"action $stop(); {SENDS} }}",
+      "PMap13", at="b {", at_file=DC_MAP, runs=BOTH,
+      also=BEEPS + ((DC_MAP, "Motor.das == b", "Motor.das == 1"),)),
+    M("input-event-value-never-given", "ranger", "Mapping.rsm",
+      "equation r == Rail::Carriage::Eye.voltage",
+      "var v: real\n\t\tequation v == Rail::Carriage::Eye.voltage", "PMap14",
+      at="r {"),
+    M("mapping-twice-in-two-files", "dcmotor", "Mapping2.rsm", "", SECOND_MAPPING, "PMap15",
+      at=HEADER + "2"),
+    M("operation-writes-input-twice", "dcmotor", DC_MAP, "Bench::Shaft::Motor.das == w",
+      "Bench::Shaft::Motor.das == w\n\t\tequation Bench::Shaft::Motor.das == 2*w", "PMap16",
+      at="Bench::Shaft::Motor.das == 2*w"),
+    M("operation-assigns-input-twice", "dcmotor", DC_MAP,
+      "equation Bench::Shaft::Motor.das == w",
+      "action Bench::Shaft::Motor.das = w; Bench::Shaft::Motor.das = 0", "PMap16",
+      at="Bench::Shaft::Motor.das = 0"),
+    M("event-value-given-twice", "ranger", "Mapping.rsm",
+      "r == Rail::Carriage::Eye.voltage", "r == Rail::Carriage::Eye.voltage\n"
+      "\t\tequation r == Rail::Carriage::Eye.voltage + 1", "PMap16",
+      at="r == Rail::Carriage::Eye.voltage + 1"),
+    M("operation-same-equation-twice", "dcmotor", DC_MAP, "Bench::Shaft::Motor.das == w",
+      "Bench::Shaft::Motor.das == w\n\t\tequation Bench::Shaft::Motor.das == w", ACCEPTED),
+    M("operation-derivative-of-parameter", "dcmotor", DC_MAP, "Motor.das == w",
+      "Motor.das == derivative(w)", "PMap17", at="derivative(w)"),
+    M("operation-derivative-of-input", "dcmotor", DC_MAP, "Motor.das == w",
+      "Motor.das == w\n\t\tequation derivative(Bench::Shaft::Motor.das) == 0", "PMap17",
+      at="derivative(Bench"),
+    M("platform-requires-instead-of-provides", "dcmotor", DC_SW, "\t\tprovides SpeedI\n",
+      "\t\trequires SpeedI\n", "STM3", at="$drive(wref)"),
+    M("event-mapped-as-operation", "dcmotor", DC_MAP, "\tinput event near {",
+      "\toperation near {", "PMap4"),
+    M("event-value-from-actuator-input", "ranger", "Mapping.rsm",
+      "r == Rail::Carriage::Eye.voltage", "r == Rail::Carriage::Push.dls", "PMap7",
+      at="r == Rail::Carriage::Push.dls"),
+    M("event-reads-sensor-input", "ranger", "Mapping.rsm",
+      "Rail::Carriage::Eye.voltage >= 0.4", "Rail::Carriage::Eye.distance <= 0.7", "PMap12"),
+    M("mapping-names-a-controller", "dcmotor", DC_MAP, "dmodel DCMotorSoftware",
+      "dmodel SpeedController", "S1"),
+    M("operation-reads-actuator-output", "dcmotor", DC_MAP, "Motor.das == w",
+      "Motor.das == w - Bench::Shaft::Motor.av", "PMap9", at="Bench::Shaft::Motor.av"),
+    M("stm-calls-an-event", "dcmotor", DC_SW, T3, "action $near() }", "STM3"),
+    M("stm-reads-an-operation", "dcmotor", DC_SW, "condition not $near",
+      "condition not $stop", "STM4"),
+    M("operation-local", "dcmotor", DC_MAP, "\t\tequation Bench::Shaft::Motor.das == w",
+      "\t\tvar half: real\n\t\tequation half == w/2\n"
+      "\t\tequation Bench::Shaft::Motor.das == 2*half", ACCEPTED),
+    M("operation-mapping-constant", "dcmotor", DC_MAP, "\toperation drive {\n"
+      "\t\tequation Bench::Shaft::Motor.das == w", "\tconst K: real = 2.0\n\toperation drive {"
+      "\n\t\tequation Bench::Shaft::Motor.das == K*w", ACCEPTED),
+    M("event-always", "dcmotor", DC_MAP, "predicate Bench::Range.range <= 1.0",
+      "predicate true", ACCEPTED),
     # ---- d-models (state machines) ----------------------------------------------------------
     M("stm-unknown-event", "dcmotor", DC_SW, "condition not $near", "condition not $nearr",
       "STM4"),
@@ -200,6 +307,33 @@ MUTANTS: tuple[Mutant, ...] = (
     M("controller-event-unknown", "dcmotor", DC_SW,
       "connection SpeedController on near to sm on near",
       "connection SpeedController on near to sm on nearr", "S1"),
+    M("stm-sends-events", "dcmotor", DC_SW, T3, f"action $stop(); {SENDS} }}", ACCEPTED,
+      also=BEEPS),
+    M("stm-sends-int-on-real-event", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep!1; $flag!(wref > 1.0); $tick }", ACCEPTED, also=BEEPS),
+    M("stm-sends-boolean-on-real-event", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep!true; $flag!true; $tick }", "STM8", also=BEEPS),
+    M("stm-sends-number-on-boolean-event", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep!1.0; $flag!1.5; $tick }", "STM8", also=BEEPS),
+    M("stm-sends-vector-on-real-event", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep!(|1.0, 2.0|); $flag!true; $tick }", "STM8", also=BEEPS),
+    M("stm-sends-value-on-untyped-event", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep!1.0; $flag!true; $tick!1 }", "STM4", also=BEEPS),
+    M("stm-sends-typed-event-without-value", "dcmotor", DC_SW, T3,
+      "action $stop(); $beep; $flag!true; $tick }", "STM4", also=BEEPS),
+    M("stm-binds-untyped-event", "dcmotor", DC_SW, "condition $near action",
+      "condition $near?x action", "STM4",
+      also=((DC_SW, "const wref: real = 10.0", "const wref: real = 10.0\n\tvar x: real"),)),
+    M("stm-binds-into-constant", "ranger", "RangerSoftware.rsm", "$echo?seen",
+      "$echo?cruise", "STM4"),
+    M("stm-binds-real-into-boolean", "ranger", "RangerSoftware.rsm", "$echo?seen",
+      "$echo?armed", "STM8",
+      also=(("RangerSoftware.rsm", "var seen: real = 0",
+             "var seen: real = 0\n\tvar armed: boolean = false"),)),
+    M("stm-reads-typed-event-without-binding", "ranger", "RangerSoftware.rsm",
+      "condition $echo?seen", "condition $echo", ACCEPTED),
+    M("stm-binds-real-into-int", "ranger", "RangerSoftware.rsm", "var seen: real = 0",
+      "var seen: int = 0", "STM8", at="$echo?seen"),
     M("stm-speed-changed", "dcmotor", DC_SW, "wref: real = 10.0", "wref: real = 5.0",
       ACCEPTED, shows=r"registerWrite_drive!(\<guillemotleft>5.0\<guillemotright>)"),
     M("stm-bound-changed", "pendulum", "PendulumSoftware.rsm", "tmax: real = 0.3",
@@ -246,19 +380,41 @@ MUTANTS: tuple[Mutant, ...] = (
       also=(("RoverBase.rsm", "\tlocal link LWheel {",
              "\tlocal link Tail {\n\t\tdef { inertial information { mass 0.1 } }\n"
              "\t\tfixed to Head\n\t}\n\tlocal link LWheel {"),)),
+    M("fixed-cycle-through-a-part", "marxbot", "marXbotBase.rsm", LTREEL,
+      in_ltreel("link Track fixed to Core"), "Fix4", at="link Track fixed to Core"),
+    M("fixed-triangle-through-parts", "marxbot", "marXbotBase.rsm", LTREEL,
+      in_ltreel("link Track fixed to Track in RTreel"), "Fix4",
+      at="link Track fixed to Track in RTreel"),
+    M("fixed-cycle-through-indexed-part-copies", "pincer", "PincerBase.rsm",
+      "\t\tlocal body Plate {", "\t\tfixed to Root in Fingers\n\t\tlocal body Plate {", "Fix4",
+      at="link Root fixed to Palm"),
     M("negative-size", "dcmotor", DC_BASE, "radius = 0.1m", "radius = -0.1m", "V2"),
     M("mass-changed", "rover", "RoverBase.rsm", "mass 0.1kg", "mass 0.15kg", ACCEPTED),
+    M("relation-names-every-copy", "tracks", "TracksBase.rsm", SONAR,
+      SONAR + "\t\t\trelation Range.distance == Axle.theta\n", "E-RELATION",
+      at="Axle.theta"),
+    M("relation-in-a-part-names-its-copy", "pincer", "PincerBase.rsm", PAD,
+      PAD + "\t\tsref Tip = AngleEncoder {\n\t\t\trelation Tip.angle == Knuckle.theta\n"
+      "\t\t}\n", ACCEPTED),
+    M("relation-outside-a-part-names-its-joint", "pincer", "PincerBase.rsm", PLATE,
+      PLATE + "\t\tsref Tip = AngleEncoder {\n\t\t\trelation Tip.angle == Knuckle.theta\n"
+      "\t\t}\n", "S1", at="relation Tip.angle"),
 )
 
 
 def mutate(mutant: Mutant, into: Path) -> Path:
     """A copy of the mutant's folder in ``into`` with its edits made (each ``old`` must occur
-    in the original exactly once, so a row cannot silently stop applying)."""
+    in the original exactly once, so a row cannot silently stop applying; an empty ``old``
+    adds the file ``new`` holds)."""
     source, _ = FOLDERS[mutant.folder]
     folder = into / mutant.folder
     shutil.copytree(source, folder, ignore=shutil.ignore_patterns("*-gen", "README.md"))
     for file, old, new in ((mutant.file, mutant.old, mutant.new), *mutant.also):
         path = folder / file
+        if not old:  # a file of the user's own, added to the folder
+            assert not path.exists(), f"{mutant.name}: {file} exists"
+            path.write_text(new, encoding="utf-8")
+            continue
         text = path.read_text(encoding="utf-8")
         assert text.count(old) == 1, f"{mutant.name}: {old!r} occurs {text.count(old)} times"
         path.write_text(text.replace(old, new), encoding="utf-8")
@@ -316,3 +472,26 @@ def test_mutant(mutant: Mutant, tmp_path: Path, capsys: pytest.CaptureFixture[st
                            "0.2", "-o", str(trajectories)], capsys)
     assert (status == 0) == ("simulate" in runs), err
     assert trajectories.exists() == ("simulate" in runs)
+
+
+def test_an_index_past_an_open_bound_is_refused_once_the_bound_is_given(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``Proximity[30]`` of ``index j : [0,NP)``, NP without a value: ``check`` cannot tell
+    (a warning, exit 0); given NP = 24, by ``--const`` (``check``, ``gen``) or the scenario's
+    ``[consts]`` (``simulate``, ``reach``), each refuses the index with IX5 at it."""
+    mutant = next(m for m in MUTANTS if m.name == "index-past-an-open-bound")
+    folder = mutate(mutant, tmp_path)
+    line = expected_line(mutant, folder)
+    at = f"Mapping.rsm:{line}:29: "
+    status, _, err = _run(["check", str(folder)], capsys)
+    assert status == 0 and at + "WARNING IX5:" in err and "NP has no value" in err, err
+    scenario = str(folder / "obstacle_stop.toml")
+    runs = (["check", str(folder), "--const", "NP=24"],
+            ["gen", str(folder), "--sdf", "-o", str(tmp_path / "sdf"), "--const", "NP=24"],
+            ["simulate", str(folder), "--scenario", scenario, "-o", str(tmp_path / "t.csv")],
+            ["reach", str(folder), "--scenario", scenario])
+    for argv in runs:
+        status, _, err = _run(argv, capsys)
+        assert status in (1, 2) and at + "ERROR IX5: the mapping of input event obstacle " \
+            "reads copy 30 of Proximity, whose index j ranges over 0..23" in err, (argv, err)
+    assert not (tmp_path / "sdf").exists() and not (tmp_path / "t.csv").exists()

@@ -24,8 +24,11 @@ MACHINES = _ids("STM", 9)
 # Conditions of issue 27, beyond wellformedness.md: indexed connections (element i to
 # element i), unique qualified names, a non-zero joint axis, units (docs/modelling-checks.md);
 # and of the mutation sweep: a mapping's index within its element's copies, no cycle of fixed
-# connections.
-OWN = ["IX3", "IX4", "V6", "U1", "IX5", "Fix4"]
+# connections; and of its second round: what a mapping's members say (a passed value never
+# read, a typed input event's value never given, two mappings of one module and p-model, an
+# input written twice, a derivative).
+OWN = ["IX3", "IX4", "V6", "U1", "IX5", "Fix4", "PMap13", "PMap14", "PMap15", "PMap16",
+       "PMap17"]
 SPEC = ROOT.parent / "shared" / "spec" / "wellformedness.md"
 
 

@@ -4,7 +4,9 @@ the blocks declare are rewritten onto those names."""
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
+from os.path import commonprefix
+from typing import Callable, Sequence, TypeVar
 
 from cyphy import codes
 from cyphy import expr as ex
@@ -12,6 +14,7 @@ from cyphy.diagnostics import Report
 from cyphy.lang import ast
 from cyphy.model.elements import Device, ElaboratedModel, glued
 
+T = TypeVar("T")
 RELATION = codes.code("E-RELATION", codes.E, "a relation names a block with several copies "
                       "from outside every one of them")
 
@@ -55,17 +58,78 @@ def name_devices(model: ElaboratedModel, device_names: list[tuple[Device, tuple[
     _rename_relations(model, renamed, relation_queue, report)
 
 
-def _enclosing(candidates: list[Device], own: Device | None,
-               qnames: dict[int, tuple[str, ...]]) -> Device | None:
-    """The one candidate whose element encloses the relation's own: inside copy 0 of an
-    indexed ``jref Axle``, the motor's ``Axle.tau`` is copy 0's, whose qualified name
-    (``…::Axle::0``) begins the motor's (``…::Axle::0::Motor``)."""
-    mine = qnames.get(id(own)) if own is not None else None
+def relation_target(candidates: Sequence[T], own: T | None,
+                    qname: Callable[[T], tuple[str, ...] | None]) -> T | None:
+    """The element ``Block.port`` names in a relation written in ``own``: ``own`` itself,
+    the only element named ``Block``, or the one candidate nearest the relation's own, the
+    one whose qualified name shares the longest beginning with its: inside copy 0 of an
+    indexed ``jref Axle``, the motor's ``Axle.tau`` is copy 0's (``…::Axle::0`` begins
+    ``…::Axle::0::Motor``); in copy 0 of an indexed part, a sensor's ``Knuckle.theta`` is
+    that copy's knuckle (``…::Fingers::0::Root`` is shared with it, only ``…::Fingers`` with
+    copy 1's). None: the relation does not say which (it is outside every copy)."""
+    if own is not None and own in candidates:
+        return own
+    if len(candidates) == 1:
+        return candidates[0]
+    mine = qname(own) if own is not None else None
     if mine is None:
         return None
-    around = [d for d in candidates
-              if (q := qnames.get(id(d))) is not None and mine[:len(q)] == q]
-    return around[0] if len(around) == 1 else None
+    shared = [(len(commonprefix([mine, q])), d) for d in candidates
+              if (q := qname(d)) is not None]
+    best = max((n for n, _ in shared), default=0)
+    nearest = [d for n, d in shared if n == best]
+    return nearest[0] if len(nearest) == 1 else None
+
+
+def _ambiguous(report: Report, node: ex.Member, name: str, copies: int) -> None:
+    report.report(RELATION, f"the relation names {name}.{node.name}, but {name} has "
+                  f"{copies} copies: a relation says which one only inside one of them",
+                  node.span, "write the relation inside the indexed block (each copy then "
+                  f"relates its own {name}), or relate an element that is not indexed")
+
+
+def _block_port(node: ex.Expr) -> str | None:
+    """``Block`` of ``Block.port`` (a relation's name of another element's port)."""
+    if isinstance(node, ex.Member) and isinstance(node.base, ex.Name) \
+            and len(node.base.parts) == 1:
+        return node.base.parts[0]
+    return None
+
+
+@dataclass
+class RelationSites:
+    """What E-RELATION needs when a model is elaborated without devices (``check``): every
+    joint, sensor and actuator by name, with its qualified name and block, and each relation
+    with its element's. Whether a block has a device (ports or equations) is asked only of
+    the blocks a relation names or is written in; the choice is :func:`relation_target`'s
+    over the elements with devices, as naming the devices makes it, so ``check`` refuses
+    what ``gen`` refuses without building the devices."""
+
+    by_name: dict[str, list[tuple[tuple[str, ...], ast.Block]]] = field(default_factory=dict)
+    relations: list[tuple[ex.Expr, tuple[str, ...], ast.Block]] = field(default_factory=list)
+
+    def add(self, qname: tuple[str, ...], block: ast.Block) -> None:
+        self.by_name.setdefault(block.name, []).append((qname, block))
+        self.relations += [(r.expr, qname, block) for r in block.relations]
+
+    def check(self, report: Report, has_device: Callable[[ast.Block], bool]) -> None:
+        known: dict[int, bool] = {}
+
+        def device(block: ast.Block) -> bool:
+            if id(block) not in known:
+                known[id(block)] = has_device(block)
+            return known[id(block)]
+
+        for expr, qname, block in self.relations:
+            own = qname if device(block) else None
+            for node in expr.walk():
+                name = _block_port(node)
+                if name is None:
+                    continue
+                candidates = [q for q, b in self.by_name.get(name, []) if device(b)]
+                if relation_target(candidates, own, lambda q: q) is None:
+                    assert isinstance(node, ex.Member)
+                    _ambiguous(report, node, name, len(candidates))
 
 
 def _rename_relations(model: ElaboratedModel, renamed: dict[int, Device],
@@ -85,23 +149,13 @@ def _rename_relations(model: ElaboratedModel, renamed: dict[int, Device],
         def paths(node: ex.Expr, own: Device | None = own) -> ex.Expr | None:
             """``Block.port`` first, so that a block named like a port of this device
             (joint ``J``, motor constant ``J``) is still read as the block."""
-            if isinstance(node, ex.Member) and isinstance(node.base, ex.Name) \
-                    and len(node.base.parts) == 1:
-                candidates = by_name.get(node.base.parts[0], [])
-                if own is not None and own in candidates:
-                    target: Device | None = own
-                elif len(candidates) == 1:
-                    target = candidates[0]
-                else:
-                    target = _enclosing(candidates, own, qnames)
-                    if target is None:  # left as written, it would name no port at all
-                        name = node.base.parts[0]
-                        report.report(RELATION, f"the relation names {name}.{node.name}, "
-                                      f"but {name} has {len(candidates)} copies: a relation "
-                                      "says which one only inside one of them", node.span,
-                                      "write the relation inside the indexed block (each "
-                                      f"copy then relates its own {name}), or relate an "
-                                      "element that is not indexed")
+            name = _block_port(node)
+            if name is not None:
+                assert isinstance(node, ex.Member)
+                candidates = by_name.get(name, [])
+                target = relation_target(candidates, own, lambda d: qnames.get(id(d)))
+                if target is None:  # left as written, it would name no port at all
+                    _ambiguous(report, node, name, len(candidates))
                 port = target.port(node.name) if target is not None else None
                 if port is not None:
                     return ex.Name((port.mangled,), span=node.span)

@@ -27,7 +27,7 @@ from cyphy.limits import max_copies
 from cyphy.model import inertia as inertia_math
 from cyphy.model.body_inertia import distribute_mass, solid_inertia
 from cyphy.model.choose import choose_pmodel
-from cyphy.model.device_names import name_devices
+from cyphy.model.device_names import RelationSites, name_devices
 from cyphy.model.elements import (
     Actuator, AnnotationValue, Body, Device, ElaboratedModel, FixedJoint, Joint, Link, Port,
     Sensor,
@@ -123,6 +123,7 @@ class _Elaborator:
             int, tuple[ast.TemplateInstance, AnnotationValue, bool | None]] = {}
         self.relation_queue: list[tuple[ex.Expr, ast.Block, Device | None,
                                         dict[str, int]]] = []
+        self.sites = RelationSites()  # without devices: E-RELATION from names alone
         self.copies = 0  # of indexed blocks and parts, against limits.max_copies()
         self.part_index: dict[int, dict[int, dict[str, int]]] = {}  # see _target_values
         self.too_many = False
@@ -136,6 +137,8 @@ class _Elaborator:
             progress.step(f"{len(self.model.links)} links: naming the devices")
             name_devices(self.model, self.device_names, self.index_values,
                          self.relation_queue, self.ctx.report)
+        else:
+            self.sites.check(self.ctx.report, self._has_device)
         self.model.constants = dict(sorted(self.ctx.constants.items()))
         self.model.missing = dict(sorted(self.ctx.missing.items()))
         return self.model
@@ -176,8 +179,7 @@ class _Elaborator:
             if m.kind is ast.BlockKind.JOINT:  # p-model+ files (Pendulum.pm)
                 for values, joint_env in self._copies(m, env):
                     self._joint(m, None, inst, values, joint_env, prefix)
-            elif m.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR) \
-                    and self.devices:  # fragments
+            elif m.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR):  # fragments
                 for values, block_env in self._copies(m, env):
                     self._device_block(m, None, None, values, block_env,
                                        inst.frame or Pose.identity(), prefix)
@@ -287,8 +289,7 @@ class _Elaborator:
             for cvalues, cenv in self._copies(child, env):
                 if child.kind is ast.BlockKind.BODY:
                     self._body(child, link, cvalues, cenv)
-                elif child.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR) \
-                        and self.devices:
+                elif child.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR):
                     self._device_block(child, link, None, cvalues, cenv, Pose.identity(),
                                        qname)
                 elif child.kind is ast.BlockKind.JOINT:
@@ -367,8 +368,11 @@ class _Elaborator:
     # ----- devices: joints, sensors, actuators
     def _device_block(self, block: ast.Block, link: Link | None, joint: Joint | None,
                       values: dict[str, int], env: Env, frame: Pose, base: tuple[str, ...]
-                      ) -> Sensor:
+                      ) -> Sensor | None:
         qname = self._qname(base, block, values)
+        if not self.devices:  # only the names its relations need
+            self._relations(block, None, env, values, qname)
+            return None
         env = self._block_env(block, env, qname)
         cls = Sensor if block.kind is ast.BlockKind.SENSOR else Actuator
         element = cls(qname, block.span, dict(values), link=link, joint=joint)
@@ -378,7 +382,7 @@ class _Elaborator:
         element.device = self._device(block, env, qname, values)
         definition = self._definition(block)
         element.definition = definition.name if definition is not None else None
-        self._relations(block, element.device, env, values)
+        self._relations(block, element.device, env, values, qname)
         owner: Joint | Link | None = joint or link
         if isinstance(element, Actuator):
             if owner is not None:
@@ -401,11 +405,10 @@ class _Elaborator:
         definition = self._definition(block)
         joint.definition = definition.name if definition is not None else None
         joint.axis = self._axis(block, env)
-        self._relations(block, joint.device, env, values)
+        self._relations(block, joint.device, env, values, qname)
         frame = joint.local_pose or Pose.identity()
         for child in block.blocks:
-            if child.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR) and link \
-                    and self.devices:
+            if child.kind in (ast.BlockKind.SENSOR, ast.BlockKind.ACTUATOR) and link:
                 for cvalues, cenv in self._copies(child, env):
                     self._device_block(child, link, joint, cvalues, cenv, frame, qname)
         connections = block.flexible
@@ -451,9 +454,17 @@ class _Elaborator:
         return device
 
     def _relations(self, block: ast.Block, device: Device | None, env: Env,
-                   values: dict[str, int]) -> None:
+                   values: dict[str, int], qname: tuple[str, ...]) -> None:
+        if not self.devices:
+            self.sites.add(qname, block)
+            return
         for rel in block.relations:
             self.relation_queue.append((rel.expr, block, device, values))
+
+    def _has_device(self, block: ast.Block) -> bool:
+        """Whether :meth:`_device` makes a device of the block (ports or equations)."""
+        return bool(self._port_declarations(block)) or any(
+            isinstance(m, ast.Equation) for m in self._members(block) + list(block.equations))
 
     def _annotation(self, block: ast.Block, env: Env) -> AnnotationValue | None:
         """The block's own annotation wins over its definition's (sdf-robotool.md 1.4)."""

@@ -48,8 +48,10 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
     # lazy: NumPy: `cyphy check` must not pay for it
     from cyphy.model.elaborate import elaborate as run
 
+    # With the constants given (--const, a scenario's [consts]): the checks that need a
+    # constant's value (IX5's index ranges, STM9's cycle, the value checks) decide then.
     checked = check(paths, CheckOptions(search_paths=options.search_paths,
-                                        find_in_folder="pmodel"))
+                                        consts=dict(options.consts), find_in_folder="pmodel"))
     if checked.resolution is None or (checked.report.has_errors and not (
             options.despite_value_errors
             and all(_value_error(d) for d in checked.report.errors))):

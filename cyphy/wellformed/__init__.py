@@ -17,6 +17,7 @@ from cyphy.wellformed import replication  # noqa: E402,F401
 from cyphy.wellformed import annotations  # noqa: E402,F401
 from cyphy.wellformed import mappings  # noqa: E402,F401
 from cyphy.wellformed import mapping_indices  # noqa: E402,F401
+from cyphy.wellformed import mapping_uses  # noqa: E402,F401
 from cyphy.wellformed import values  # noqa: E402,F401
 from cyphy.wellformed import units  # noqa: E402,F401
 from cyphy.wellformed import machines  # noqa: E402,F401

@@ -11,7 +11,7 @@ already gave for the same connection is never repeated.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from graphlib import CycleError, TopologicalSorter
+from typing import Union
 
 from cyphy.diagnostics import did_you_mean
 from cyphy.lang import ast
@@ -151,33 +151,115 @@ def check_Fix3_part_fixed_target(ctx: WFContext) -> None:
                            f"the fixed connection of link {c.link} of part {part.name}")
 
 
-@rule("Fix4", "the fixed connections between a p-model's links form no cycle")
+#: A link of an instance: the path of parts that leads to it (``("Fingers",)``), and its name.
+Node = tuple[str, ...]
+#: A fixed connection: from a link, to a link, the connection, and whether the p-model being
+#: checked writes it (a link of its own, or a part of its own) rather than a part's p-model.
+Edge = tuple[Node, Node, Union[ast.FixedConnection, ast.PartFixed], bool]
+
+
+def _link_node(ctx: WFContext, pm: ast.PModel, path: Node, target: str,
+               part: str | None) -> Node | None:
+    """The node of ``target`` (``in part``) seen from ``pm`` at ``path``; None when it names
+    no link there (Fix1/Fix3 and S1 report that)."""
+    if part is None:
+        return path + (target,) if target in _links(pm) else None
+    found, sub = _part_pmodel(ctx, pm, part)
+    return path + (part, target) if found and sub is not None and target in _links(sub) \
+        else None
+
+
+def _fixed_edges(ctx: WFContext, pm: ast.PModel, path: Node = (),
+                 within: tuple[int, ...] = ()) -> Iterator[Edge]:
+    """Every fixed connection of ``pm`` with its parts expanded, each part once (the copies
+    of an indexed part are fixed alike: a connection names a part, never one copy, so a
+    cycle through one copy is a cycle through each). A p-model that contains itself through
+    its parts (P1's business) is not entered twice."""
+    own = not path
+    for name, link in _links(pm).items():
+        for c in link.fixed:
+            target = _link_node(ctx, pm, path, c.target, c.part)
+            if target is not None and target != path + (name,):
+                yield path + (name,), target, c, own
+    for part in pm.parts:
+        sub = ctx.target(part)
+        if not isinstance(sub, ast.PModel) or id(sub) in within or sub is pm:
+            continue
+        for pc in part.fixed:
+            target = _link_node(ctx, pm, path, pc.target, pc.part)
+            source = path + (part.name, pc.link)
+            if pc.link in _links(sub) and target is not None and target != source:
+                yield source, target, pc, own
+        yield from _fixed_edges(ctx, sub, path + (part.name,), within + (id(pm),))
+
+
+@rule("Fix4", "the fixed connections between a p-model's links, its parts' included, form no "
+      "cycle")
 def check_Fix4_no_fixed_cycle(ctx: WFContext) -> None:
-    """Links fixed to one another in a cycle (``A fixed to B``, ``B fixed to A``) weld a link
-    to itself through the others: a closed chain, which each command meets differently (the
-    SDF gets a loop of joints, ``simulate`` refuses it, the semantics drops the motion). The
-    connection that closes the cycle is reported, once per cycle."""
+    """Links fixed to one another in a cycle (``A fixed to B``, ``B fixed to A``; or ``A``
+    fixed to ``B`` and ``C``, ``B`` fixed to ``C``) weld a link to itself through the others:
+    a closed chain, which each command meets differently (the SDF gets a loop of joints, a
+    link the child of two, ``simulate`` refuses it, the semantics drops the motion). A
+    fixed joint welds both ways, so the cycle is one of the undirected graph. It may pass
+    through parts: ``Palm fixed to Root in F`` and ``part F = Finger { link Root fixed to
+    Palm }``, or through the links of a part's p-model. The connection written last that
+    closes a cycle is reported, once per cycle, in the p-model that writes one of the
+    cycle's connections; a cycle wholly inside a part's p-model is that p-model's."""
     for _, pm in ctx.items(ast.PModel):
-        links = _links(pm)
-        edges: dict[tuple[str, str], ast.FixedConnection] = {}
-        for name, link in links.items():
-            for c in link.fixed:
-                if c.part is None and c.target in links and c.target != name:
-                    edges.setdefault((name, c.target), c)
-        while edges:
-            graph: dict[str, set[str]] = {}
-            for source, target in edges:
-                graph.setdefault(source, set()).add(target)
-            try:
-                TopologicalSorter(graph).prepare()
-                break
-            except CycleError as err:
-                cycle = list(reversed(err.args[1]))  # graphlib lists it against the edges
-                closing = edges.pop((cycle[-2], cycle[-1]))
-                ctx.error("Fix4", closing, f"link {cycle[-2]} fixed to {cycle[-1]} closes a cycle "
-                          f"of fixed connections ({' → '.join(cycle)}) in p-model {pm.name}",
-                          "remove one fixed connection of the cycle: fixed links are one rigid "
-                          "body, joined once")
+        edges: dict[tuple[Node, Node], Edge] = {}
+        for edge in _fixed_edges(ctx, pm):
+            edges.setdefault(edge[:2], edge)  # written twice: IX4's, welds once
+        welded: dict[Node, dict[Node, None]] = {}  # the connections taken so far, both ways
+        root: dict[Node, Node] = {}
+
+        def find(n: Node) -> Node:
+            while root.setdefault(n, n) != n:
+                root[n] = root[root[n]]
+                n = root[n]
+            return n
+
+        # a part's own connections first: a cycle that one of pm's closes is pm's to report
+        for source, target, c, own in sorted(edges.values(), key=lambda e: e[3]):
+            if find(source) == find(target):
+                if own:
+                    _report_cycle(ctx, pm, c, source, target, _path(welded, target, source))
+                continue
+            root[find(source)] = find(target)
+            welded.setdefault(source, {})[target] = None
+            welded.setdefault(target, {})[source] = None
+
+
+def _path(welded: dict[Node, dict[Node, None]], start: Node, goal: Node) -> list[Node]:
+    """The links from ``start`` to ``goal`` through the connections taken (a forest: the
+    path is unique)."""
+    before: dict[Node, Node | None] = {start: None}
+    todo = [start]
+    while todo:
+        n = todo.pop()
+        if n == goal:
+            break
+        for m in welded.get(n, {}):
+            if m not in before:
+                before[m] = n
+                todo.append(m)
+    path: list[Node] = []
+    at: Node | None = goal
+    while at is not None:
+        path.append(at)
+        at = before[at]
+    return path[::-1]
+
+
+def _report_cycle(ctx: WFContext, pm: ast.PModel, c: ast.FixedConnection | ast.PartFixed,
+                  source: Node, target: Node, back: list[Node]) -> None:
+    def name(n: Node) -> str:
+        return "::".join(n)
+
+    cycle = " → ".join(name(n) for n in [source, *back])
+    ctx.error("Fix4", c, f"link {name(source)} fixed to {name(target)} closes a cycle of "
+              f"fixed connections ({cycle}) in p-model {pm.name}",
+              "remove one fixed connection of the cycle: fixed links are one rigid body, "
+              "joined once")
 
 
 # --------------------------------------------------------------------------- flexible

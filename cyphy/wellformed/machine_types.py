@@ -1,8 +1,9 @@
 """RoboSim state machines: STM8, the types of a machine's behaviour; STM9, a positive cycle.
 
 S3 (expressions are well-typed) for what a machine does: a transition's condition is a
-boolean, an assignment gives a variable a value of its declared type, and a call passes each
-operation parameter a value of its type. Name resolution (STM5) and arities (STM3) are
+boolean, an assignment gives a variable a value of its declared type, a call passes each
+operation parameter a value of its type, ``$e!v`` sends a value of the event's type and
+``$e?x`` binds a variable of it. Name resolution (STM5) and arities (STM3) are
 checked by their own rules; here a name that does not resolve, a field, or a call with the
 wrong number of arguments has an unknown type and is passed over, so nothing is reported
 twice and nothing is guessed.
@@ -13,9 +14,10 @@ from __future__ import annotations
 from cyphy import expr as ex
 from cyphy.diagnostics import Report
 from cyphy.lang import ast
+from cyphy.lang.notation import type_to_notation
 from cyphy.lang.scopes import is_value
-from cyphy.lang.typing import BOOL, ANY, TypeChecker, Ty, type_of_declared
-from cyphy.model.machines import Machine, called_operation, statements
+from cyphy.lang.typing import BOOL, ANY, Kind, TypeChecker, Ty, same_shape, type_of_declared
+from cyphy.model.machines import Machine, called_operation, expressions, statements
 from cyphy.wellformed.indexing import evaluate_in
 from cyphy.wellformed.machines import _machines
 from cyphy.wellformed.registry import RULES, WFContext, rule
@@ -64,14 +66,16 @@ def _parameters(ctx: WFContext, m: Machine, call: ex.Call) -> tuple[str, tuple[a
     return name, op.params if op is not None else ()
 
 
-@rule("STM8", "a machine's conditions are booleans; assignments and operation arguments have "
-      "the declared types")
+@rule("STM8", "a machine's conditions are booleans; assignments, operation arguments and "
+      "events' values have the declared types")
 def check_STM8_machine_types(ctx: WFContext) -> None:
     """A transition's condition is a boolean (``condition speed`` is a number: the machine
     would never, or always, take it); an assignment ``x = e`` gives ``x`` a value of its
     declared type; ``$op(a, b)`` passes each parameter a value of its type. Any other
     expression of the behaviour is typed as S3 types equations (``not`` of a number, ``+``
-    of a boolean)."""
+    of a boolean). ``$e!v`` gives a typed output event a value of its type, ``$e?x`` binds
+    the value of a typed input event to a variable of its type (whether a value travels at
+    all is STM4's)."""
     for m in _machines(ctx):
         types = _MachineTypes(ctx, m, ctx.report)
         for t in m.transitions:
@@ -90,11 +94,71 @@ def check_STM8_machine_types(ctx: WFContext) -> None:
                     types.expect_type(arg, type_of_declared(param.type),
                                       f"{where}: parameter '{param.name}' of {name}")
             elif isinstance(s, ast.SendStatement):
-                types.infer(s.value)
+                _check_sent(types, m, s, where)
+        for e, where in expressions(m):
+            for node in e.walk():
+                if isinstance(node, ex.PlatformRef) and node.binding is not None:
+                    _check_bound(types, m, node, where)
+
+
+def _event_type(events: dict[str, ast.EventDecl], ref: ex.Expr) -> Ty | None:
+    """The type of the typed event ``ref`` names (None: not such an event, STM4's)."""
+    if not isinstance(ref, ex.PlatformRef):
+        return None
+    event = events.get(ref.name[-1])
+    return type_of_declared(event.type) if event is not None and event.type is not None \
+        else None
+
+
+def _check_sent(types: _MachineTypes, m: Machine, s: ast.SendStatement, where: str) -> None:
+    """``$e!v``: ``v`` has the type of ``e`` (a number where a boolean is declared is what
+    the platform's mapping cannot read; an int where a real is declared is fine)."""
+    want = _event_type(m.platform.output_events, s.event)
+    if want is None:
+        types.infer(s.value)
+    else:
+        types.expect_type(s.value, want, f"{where}: the value of event "
+                          f"{_text(s.event)}")
+
+
+def _check_bound(types: _MachineTypes, m: Machine, ref: ex.PlatformRef, where: str) -> None:
+    """``$e?x``: the variable ``x`` holds values of the type of ``e``, as an assignment
+    ``x = value`` would need."""
+    want = _event_type(m.platform.input_events, ref)
+    var = m.variables.get(ref.binding or "")
+    if want is None or var is None:
+        return  # STM4 reports an untyped event or a binding that is no variable
+    held = type_of_declared(var.type)
+    if Kind.ANY in (want.kind, held.kind):
+        return
+    if want.kind is not held.kind or not same_shape(want.shape, held.shape) or \
+            _narrower(var.type, _event_decl(m, ref).type):
+        sent, kept = (type_to_notation(d.type) for d in (_event_decl(m, ref), var))
+        types.error(ref, f"{where}: '${_text(ref)}?{ref.binding}' binds the value of event "
+                    f"{_text(ref)} ({sent}) to '{ref.binding}', a variable of type {kept}",
+                    f"bind a variable of type {sent} (a nat is an int, an int a real)")
+
+
+#: RoboChart's numeric types, each a subtype of the next: a nat is an int, an int a real.
+_NUMERIC_RANK = {"nat": 0, "int": 1, "real": 2}
+
+
+def _narrower(held: ast.TypeRef | None, sent: ast.TypeRef | None) -> bool:
+    """A variable of ``held`` cannot take every value of ``sent`` (a real bound to an int,
+    an int to a nat). Both types are declared, so this is exact, unlike an expression's
+    kind, which STM8 infers without telling the numbers apart."""
+    if not (isinstance(held, ast.PrimitiveType) and isinstance(sent, ast.PrimitiveType)):
+        return False
+    h, s = _NUMERIC_RANK.get(held.name), _NUMERIC_RANK.get(sent.name)
+    return h is not None and s is not None and h < s
+
+
+def _event_decl(m: Machine, ref: ex.PlatformRef) -> ast.EventDecl:
+    return m.platform.input_events[ref.name[-1]]
 
 
 def _text(e: ex.Expr) -> str:
-    return e.text if isinstance(e, ex.Name) else "the target"
+    return e.text if isinstance(e, (ex.Name, ex.PlatformRef)) else "the target"
 
 
 @rule("STM9", "a cycleDef gives the cycle a positive period")

@@ -19,7 +19,7 @@ from typing import Any, Iterator
 from cyphy import expr as ex
 from cyphy.diagnostics import Severity, did_you_mean
 from cyphy.lang import ast
-from cyphy.lang.notation import to_notation
+from cyphy.lang.notation import to_notation, type_to_notation
 from cyphy.lang.scopes import is_constant, is_function, is_machine
 from cyphy.model.evaluate import MATH_FUNCTIONS
 from cyphy.model.machines import (Machine, called_operation, expressions, machines_of,
@@ -192,9 +192,13 @@ def check_STM3_operation_calls(ctx: WFContext) -> None:
 def check_STM4_events(ctx: WFContext) -> None:
     """``$e`` in a condition or trigger names an input event (an event of an interface the
     input context ``uses``) and ``$e!v`` an output event; when a module's controller runs
-    the machine, its robotic platform uses the input events. ``$e?x`` binds a variable."""
+    the machine, its robotic platform uses the input events. ``$e?x`` binds a variable.
+    A value travels only with a typed event: ``$e!v`` and ``$e?x`` name typed events, and a
+    typed output event is sent with its value (``$e!v``, not ``$e``); the value's type is
+    STM8's."""
     for m in _machines(ctx):
         sent = {id(s.event) for s, _ in statements(m) if isinstance(s, ast.SendStatement)}
+        _check_event_values(ctx, m)
         called = {id(s.call.func) for s, _ in statements(m) if isinstance(s, ast.CallStatement)
                   and isinstance(s.call, ex.Call)}
         for e, where in expressions(m):
@@ -227,6 +231,38 @@ def check_STM4_events(ctx: WFContext) -> None:
                                   f"{platform.platform.name} of module {module.name} has no "
                                   f"event {name}", "add 'uses I' to the platform, with the "
                                   f"interface that declares event {name}")
+
+
+def _check_event_values(ctx: WFContext, m: Machine) -> None:
+    """STM4's shape of a communication: a value on an untyped event, none on a typed one
+    (the platform's mapping of a typed event has a parameter, PMap5, that nothing would
+    define; an untyped one has nowhere to put the value)."""
+    for s, where in statements(m):
+        if isinstance(s, ast.SendStatement) and isinstance(s.event, ex.PlatformRef):
+            name = s.event.name[-1]
+            event = m.platform.output_events.get(name)
+            if event is not None and event.type is None:
+                ctx.error("STM4", s, f"{where}: '${name}!…' sends a value, but the event "
+                          f"{name} has no type", f"write '${name}' to send it, or declare "
+                          f"'event {name}: TYPE'")
+        elif isinstance(s, ast.CallStatement) and isinstance(s.call, ex.PlatformRef):
+            name = s.call.name[-1]
+            event = m.platform.output_events.get(name)
+            if event is not None and event.type is not None and \
+                    name not in m.platform.input_events:
+                ctx.error("STM4", s, f"{where}: '${name}' sends no value, but the event "
+                          f"{name} carries a value of type {type_to_notation(event.type)}",
+                          f"write '${name}!VALUE'")
+    for e, where in expressions(m):
+        for node in e.walk():
+            if not isinstance(node, ex.PlatformRef) or node.binding is None:
+                continue
+            name = node.name[-1]
+            event = m.platform.input_events.get(name)
+            if event is not None and event.type is None:
+                ctx.error("STM4", node, f"{where}: '${name}?{node.binding}' binds the value "
+                          f"of {name}, but the event has no type", f"read it as '${name}', "
+                          f"or declare 'event {name}: TYPE'")
 
 
 @rule("STM5", "the names of a machine's expressions and statements resolve")

@@ -18,6 +18,7 @@ from cyphy import progress
 from cyphy.diagnostics import Code, Report, Severity
 from cyphy.lang import ast
 from cyphy.model.choose import top_level_pmodels
+from cyphy.model.device_names import RELATION
 from cyphy.model.elaborate import INDEX, elaborate_pmodel
 from cyphy.model.environment import EVAL
 from cyphy.model.inertia import is_physical
@@ -54,6 +55,9 @@ def _models(ctx: WFContext) -> list[Any]:
             if not any(d.severity is Severity.ERROR for d in ctx.report.reported_since(0)):
                 ctx.report.extend(d for d in scratch.reported_since(0)
                                   if d.code is EVAL or d.code is INDEX)
+            # A relation that names every copy of a block (E-RELATION) is structural: no
+            # other error causes it, and gen refuses it whatever else holds.
+            ctx.report.extend(d for d in scratch.reported_since(0) if d.code is RELATION)
         ctx.cache["elaborated"] = models
     return ctx.cache["elaborated"]
 
