@@ -18,9 +18,10 @@ interface SenseI { event near event far }
 interface OtherI { beep() }
 module Mod {
   robotic platform P { provides MoveI uses SenseI }
-  cref c = Ctrl
+  cref c = Ctrl connection P on near to c on near connection P on far to c on far
 }
-controller Ctrl { uses SenseI requires MoveI sref s = M }
+controller Ctrl { uses SenseI requires MoveI sref s = M
+  connection Ctrl on near to s on near connection Ctrl on far to s on far }
 """
 HEADER_LINES = HEADER.count("\n")
 
@@ -170,7 +171,7 @@ def test_junction_conditions_are_checked_only_with_consistency(tmp_path):
 def test_rules_are_listed(capsys):
     assert main(["check", "--list-rules"]) == 0
     listed = [line.split()[0] for line in capsys.readouterr().out.splitlines()]
-    assert [r for r in listed if r.startswith("STM")] == [f"STM{i}" for i in range(1, 10)]
+    assert [r for r in listed if r.startswith("STM")] == [f"STM{i}" for i in range(1, 12)]
 
 
 @pytest.mark.parametrize("rule", ["STM6", "STM7"])

@@ -20,7 +20,9 @@ from cyphy.wellformed import mapping_indices  # noqa: E402,F401
 from cyphy.wellformed import mapping_uses  # noqa: E402,F401
 from cyphy.wellformed import values  # noqa: E402,F401
 from cyphy.wellformed import units  # noqa: E402,F401
+from cyphy.wellformed import mapping_units  # noqa: E402,F401
 from cyphy.wellformed import machines  # noqa: E402,F401
 from cyphy.wellformed import machine_types  # noqa: E402,F401
+from cyphy.wellformed import modules  # noqa: E402,F401
 
 __all__ = ["RULES", "WFContext", "check_wellformed", "rule"]

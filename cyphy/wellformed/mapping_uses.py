@@ -175,3 +175,27 @@ def check_PMap17_no_derivative(ctx: WFContext) -> None:
                                   "has no rate", "map the value itself, and write the rate "
                                   "in the actuator's equations (its definition in the "
                                   "p-model)")
+
+
+@rule("PMap18", "a mapping declares its locals inside the member that uses them")
+def check_PMap18_locals_in_members(ctx: WFContext) -> None:
+    """The semantics gives a mapping's locals one meaning: each member's are existentially
+    quantified over that member's equations and named ``<member>_<name>`` (semantics.md,
+    "Local schema" and "Names"); a ``var`` at the top of the mapping belongs to no member,
+    so it has no name and no quantifier there, and ``gen --isabelle`` and ``simulate``
+    refuse an equation that uses it. ``check`` refuses it where it is declared."""
+    for site in sites(ctx):
+        if not in_user_file(ctx, site.mapping):
+            continue
+        users = {}
+        for member in members_of(site.mapping):
+            for name in _names_in(member.members):
+                users.setdefault(name, label_of(member))
+        for decl in site.mapping.declarations:
+            used = users.get(decl.name)
+            where = f"the mapping of {used}" if used else "the operation's or event's mapping"
+            ctx.error("PMap18", decl, f"'{decl.name}' is declared at the top of mapping "
+                      f"{site.mapping.name}: a mapping's local belongs to one operation, "
+                      "event or variable mapping, which quantifies it over its equations",
+                      f"move 'var {decl.name}: …' into {where} (one copy per member that "
+                      "uses it)")

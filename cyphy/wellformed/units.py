@@ -74,8 +74,8 @@ def dimension_of(e: ex.Expr, named: NameDimension = lambda n: None) -> Dimension
     """The dimension of ``e`` from its unit suffixes (``named`` gives a name's: that of the
     constant's value); None when no unit decides it (plain numbers, calls, constants written
     without a unit). Raises :class:`_Mixed` for ``2m + 3kg``."""
-    if isinstance(e, ex.Name):
-        return named(e)
+    if isinstance(e, (ex.Name, ex.Member, ex.Index)):  # a mapping's element path too
+        return named(e)  # type: ignore[arg-type]
     if isinstance(e, ex.Quantity):
         unit = units().get(e.unit)
         inner = dimension_of(e.value, named)
@@ -196,6 +196,8 @@ def _constants(lookup: Lookup) -> NameDimension:
     busy: set[int] = set()
 
     def named(name: ex.Name) -> Dimension | None:
+        if not isinstance(name, ex.Name):
+            return None  # an element path: no constant
         decl = lookup(name)
         if not isinstance(decl, ast.VarDecl) or decl.kind is not ast.DeclKind.CONST \
                 or decl.value is None or id(decl) in busy:
