@@ -232,10 +232,13 @@ def test_PMap7_input_event_mentions_actuator_and_sensor_input(tmp_path: Path) ->
     obstacle = ("  input event obstacle { var x: real predicate Arm::S[1].voltage >= 3.0 "
                 "equation x == Base::J::M.das + Arm::S[1].distance }\n")
     diags = check(tmp_path, mapping=remap(OBSTACLE, obstacle))
-    assert ids(diags) == [("PMap7", OBSTACLE_LINE), ("PMap7", OBSTACLE_LINE)]
-    assert "input das of actuator M (Base::J::M.das)" in diags[0].message
-    assert "input distance of sensor S (Arm::S[1].distance)" in diags[1].message
-    assert "read an output of sensor S instead (voltage)" in diags[1].hint
+    # The sum also adds an angular speed (rad/s) to a length (m): U2.
+    assert sorted(ids(diags)) == [("PMap7", OBSTACLE_LINE), ("PMap7", OBSTACLE_LINE),
+                                  ("U2", OBSTACLE_LINE)]
+    access = [d for d in diags if d.code.id == "PMap7"]
+    assert "input das of actuator M (Base::J::M.das)" in access[0].message
+    assert "input distance of sensor S (Arm::S[1].distance)" in access[1].message
+    assert "read an output of sensor S instead (voltage)" in access[1].hint
 
 
 def test_PMap7_input_event_assigns_a_sensor_output(tmp_path: Path) -> None:

@@ -76,8 +76,8 @@ def _pairs(member: object) -> Iterator[tuple[ex.Expr, ex.Expr, ex.Expr]]:
         yield a.target, a.value, a.value
 
 
-@rule("U2", "a value with a unit in a platform mapping has the dimension of the port it "
-      "meets (Pint's units)")
+@rule("U2", "a platform mapping compares, adds and assigns values of one dimension: the "
+      "library's ports and values with units (Pint's units)")
 def check_U2_mapping_units(ctx: WFContext) -> None:
     """In a mapping's equations, predicates and actions, the two sides of a comparison or
     assignment, and the terms of a sum, have one dimension wherever both are known: a
