@@ -407,16 +407,21 @@ def test_rover_one_machine_by_name_still_leaves_the_other_out(tmp_path: Path) ->
     assert "registerWrite_drive!" in text and "registerWrite_pan!" not in text
 
 
-def test_rover_machines_with_different_cycles_are_refused(tmp_path: Path) -> None:
+def test_rover_machines_with_different_cycles_are_refused_by_check(tmp_path: Path) -> None:
     for f in ROVER.glob("*.rsm"):
         text = f.read_text()
         if f.name == "RoverSoftware.rsm":  # SScan's own cycle: two time units
             head, tail = text.split("stm SScan {\n\tcycleDef cycle == 1")
             text = head + "stm SScan {\n\tcycleDef cycle == 2" + tail
         (tmp_path / f.name).write_text(text)
+    # ``check`` refuses it now, at SScan's cycleDef (STM10): the module has one cycle.
     generated = api.generate_isabelle([tmp_path], api.SemanticsGenOptions())
-    opaque = [d for d in generated.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
-    assert opaque and "SDrive, SScan run with different cycles (1, 2" in opaque[0].message
+    refused = [d for d in generated.report.diagnostics if d.code.id == "STM10"]
+    text = (tmp_path / "RoverSoftware.rsm").read_text()
+    line = text[:text.index("stm SScan {\n\tcycleDef cycle == 2")].count("\n") + 2
+    assert refused and refused[0].span.line == line, generated.report.diagnostics
+    assert "the cycle of machine SScan is 2 time units" in refused[0].message
+    assert generated.report.has_errors and not generated.files
 
 
 # ------------------------------------------------------------------------------ ranger
