@@ -183,7 +183,8 @@ def check_PMap18_locals_in_members(ctx: WFContext) -> None:
     quantified over that member's equations and named ``<member>_<name>`` (semantics.md,
     "Local schema" and "Names"); a ``var`` at the top of the mapping belongs to no member,
     so it has no name and no quantifier there, and ``gen --isabelle`` and ``simulate``
-    refuse an equation that uses it. ``check`` refuses it where it is declared."""
+    refuse an equation that uses it. ``check`` refuses it where it is declared. (A
+    ``const`` at the top is the mapping's, and every member may read it.)"""
     for site in sites(ctx):
         if not in_user_file(ctx, site.mapping):
             continue
@@ -192,6 +193,8 @@ def check_PMap18_locals_in_members(ctx: WFContext) -> None:
             for name in _names_in(member.members):
                 users.setdefault(name, label_of(member))
         for decl in site.mapping.declarations:
+            if decl.kind is ast.DeclKind.CONST:
+                continue  # a constant of the whole mapping: every member may read it
             used = users.get(decl.name)
             where = f"the mapping of {used}" if used else "the operation's or event's mapping"
             ctx.error("PMap18", decl, f"'{decl.name}' is declared at the top of mapping "
