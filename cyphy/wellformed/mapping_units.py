@@ -19,14 +19,13 @@ from cyphy import expr as ex
 from cyphy.lang import ast
 from cyphy.lang.ast.core import fields_of
 from cyphy.lang.resolve import steps_of
-from cyphy.model.units import Dimension, units
+from cyphy.model.units import Dimension
 from cyphy.wellformed.mapping_names import Names
 from cyphy.wellformed.platform_services import in_user_file, label_of, members_of, sites
 from cyphy.wellformed.registry import WFContext, rule
 from cyphy.wellformed.units import (FORCE, LENGTH, TIME, _dimension, _how, _Mixed, _written,
                                     dimension_of)
 
-_VOLT = units()["V"].dimension if "V" in units() else None
 #: The ports of the library's sensors and actuators, with the units its comments give
 #: (cyphy/lang/library/physmod: angular speeds in rad/s, lengths in m, torques in N m).
 LIBRARY_PORTS: dict[str, dict[str, Dimension]] = {
@@ -34,7 +33,7 @@ LIBRARY_PORTS: dict[str, dict[str, Dimension]] = {
     "LinearSpeedControlMotor": {"dls": LENGTH / TIME, "F": FORCE},
     "TorqueControlMotor": {"TorqueIn": FORCE * LENGTH, "TorqueOut": FORCE * LENGTH},
     "Sonar": {"distance": LENGTH, "range": LENGTH},
-    "IR": {"distance": LENGTH, **({"voltage": _VOLT} if _VOLT is not None else {})},
+    "IR": {"distance": LENGTH},  # its voltage: the notation has no volt suffix
 }
 _COMPARISONS = ("==", "!=", "<", "<=", ">", ">=")
 

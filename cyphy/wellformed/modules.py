@@ -27,10 +27,6 @@ from cyphy.wellformed.indexing import evaluate_in
 from cyphy.wellformed.machines import _machines
 from cyphy.wellformed.registry import WFContext, rule
 
-#: A controller or machine as its container names it: (name in the container, the node).
-Named = tuple[str, object]
-
-
 def _cycle(holder: object) -> ex.Expr | None:
     """``e`` of the holder's ``cycleDef cycle == e`` (None without one)."""
     for c in getattr(holder, "members", ()):
@@ -83,23 +79,23 @@ def check_STM10_one_cycle(ctx: WFContext) -> None:
     """Each controller's and machine's ``cycleDef`` gives the module's period (or, when the
     module has none, the first one given): the semantics has one cycle per module."""
     for _, module in _modules(ctx):
-        reference = (_period(ctx, module, module), f"module {module.name}")
+        period = _period(ctx, module, module)
+        owner = f"module {module.name}"
         for _, ctrl in _controllers(ctx, module):
-            for holder in (ctrl, *(stm for _, stm in _machines_of(ctx, ctrl))):
-                period = _period(ctx, holder, ctrl)
+            holders: list[ast.Controller | ast.StateMachine] = [ctrl]
+            holders += [stm for _, stm in _machines_of(ctx, ctrl)]
+            for holder in holders:
+                own = _period(ctx, holder, ctrl)
+                if own is None or own == period:
+                    continue
                 if period is None:
+                    period, owner = own, f"{_kind(holder)} {holder.name}"
                     continue
-                if reference[0] is None:
-                    reference = (period, f"{_kind(holder)} {holder.name}")  # type: ignore
-                    continue
-                if period != reference[0]:
-                    e = _cycle(holder)
-                    ctx.error("STM10", e, f"the cycle of {_kind(holder)} "
-                              f"{holder.name} is {period:g} time units, but {reference[1]}'s "  # type: ignore
-                              f"is {reference[0]:g}: module {module.name} runs its "
-                              "controllers and machines with one cycle",
-                              f"write 'cycleDef cycle == {reference[0]:g}', and count longer "
-                              "periods with a clock or wait(n)")
+                ctx.error("STM10", _cycle(holder), f"the cycle of {_kind(holder)} "
+                          f"{holder.name} is {own:g} time units, but {owner}'s is "
+                          f"{period:g}: module {module.name} runs its controllers and "
+                          "machines with one cycle", f"write 'cycleDef cycle == {period:g}', "
+                          "and count longer periods with a clock or wait(n)")
 
 
 def _kind(holder: object) -> str:
