@@ -179,3 +179,69 @@ def test_behaviour_rules_are_warnings(rule):
     from cyphy.wellformed import RULES
 
     assert RULES[rule].code.severity.value == "WARNING"
+
+
+# ---------------------------------------------------------------- STM10, STM11: the module
+TWO = """\
+const PERIOD: real = {period}
+interface SenseI { event near }
+module Mod {
+  {module_cycle}
+  robotic platform P { uses SenseI }
+  cref c = Ctrl
+  connection P on near to c on near
+}
+controller Ctrl {
+  uses SenseI
+  {controller_links}
+  stm A {
+    cycleDef cycle == 1
+    input context { uses SenseI }
+    initial i0 state S {} transition t0 { from i0 to S }
+    transition t1 { from S to S condition $near }
+  }
+  stm B {
+    cycleDef cycle == PERIOD
+    input context { uses SenseI }
+    initial i0 state S {} transition t0 { from i0 to S }
+  }
+}
+"""
+LINKS = "connection Ctrl on near to A on near"
+
+
+def _module(tmp_path: Path, module_cycle: str = "", period: str = "1",
+            controller_links: str = LINKS) -> list[tuple[str, int, int, str]]:
+    f = tmp_path / "m.rst"
+    f.write_text(TWO.replace("{module_cycle}", module_cycle).replace("{period}", period)
+                 .replace("{controller_links}", controller_links), encoding="utf-8")
+    return [(d.code.id, d.span.line, d.span.column, d.message)
+            for d in api.check([str(f)]).report.diagnostics]
+
+
+def test_machines_of_one_cycle_pass(tmp_path):
+    assert _module(tmp_path) == []
+    assert _module(tmp_path, "cycleDef cycle == 1", "1.0") == []
+
+
+def test_a_machine_whose_period_constant_differs_is_refused_at_its_cycledef(tmp_path):
+    """Without a module cycleDef the first machine's period is the reference; B's period
+    is a constant of the package, evaluated."""
+    found = _module(tmp_path, period="3")
+    assert [(c, line, col) for c, line, col, _ in found] == [("STM10", 19, 23)]
+    assert "machine B is 3 time units, but machine A's is 1" in found[0][3]
+
+
+def test_a_module_cycle_is_the_reference(tmp_path):
+    found = _module(tmp_path, "cycleDef cycle == 2", "2")
+    assert [(c, line) for c, line, *_ in found] == [("STM10", 13)]
+    assert "machine A is 1 time units, but module Mod's is 2" in found[0][3]
+
+
+def test_an_event_the_controller_does_not_pass_on_is_a_warning_at_the_read(tmp_path):
+    found = _module(tmp_path, controller_links="")
+    assert [(c, line, col) for c, line, col, _ in found] == [("STM11", 16, 43)]
+    assert "controller Ctrl has no connection" in found[0][3]
+    from cyphy.wellformed import RULES
+
+    assert RULES["STM11"].code.severity.value == "WARNING"
