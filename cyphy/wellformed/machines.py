@@ -269,12 +269,17 @@ def _check_event_values(ctx: WFContext, m: Machine) -> None:
 def check_STM5_names(ctx: WFContext) -> None:
     """Expressions name the machine's constants, variables and parameters, constants and
     functions in scope, and clocks only as ``since(C)``; ``#C`` names a clock; an assignment
-    changes a variable."""
+    changes a variable. A variable of an interface the machine ``requires`` is the robotic
+    platform's, which must provide it."""
     for m in _machines(ctx):
         known = set(m.constants) | set(m.variables)
+        shared = set(m.platform.written) - known
         for e, where in expressions(m):
             for node in _free_names(e):
                 name = node.text
+                if name in shared:
+                    _check_provided(ctx, m, node, name, where)
+                    continue
                 if name in known or ctx.scopes.lookup(m.file, node.parts, is_constant):
                     continue
                 if name in m.clocks:
@@ -293,6 +298,17 @@ def check_STM5_names(ctx: WFContext) -> None:
                 if root is not None and root in m.constants:
                     ctx.error("STM5", s, f"{where}: '{root}' is a constant; it cannot be "
                               "assigned", f"declare it with 'var {root}: …'")
+
+
+def _check_provided(ctx: WFContext, m: Machine, node: ex.Name, name: str, where: str) -> None:
+    """A variable of a required interface is the robotic platform's: each module whose
+    controller runs the machine has a platform that provides it (else nothing holds it)."""
+    for module, platform in _module_platforms(ctx, m):
+        if name not in platform.variables:
+            ctx.error("STM5", node, f"{where}: the robotic platform {platform.platform.name} "
+                      f"of module {module.name} does not provide the variable {name}",
+                      "add 'provides I' to the platform, with the interface that declares "
+                      f"var {name}")
 
 
 def _root(e: ex.Expr) -> str | None:
