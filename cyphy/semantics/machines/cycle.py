@@ -126,6 +126,7 @@ class Configuration:
     clocks: tuple[tuple[str, int], ...]
     running: str | None = None
     stack: tuple[Frame, ...] = ()
+    platform: tuple[tuple[str, Any], ...] = ()  # the platform variables' last values
 
 
 def _frozen(v: Any) -> Any:
@@ -217,6 +218,9 @@ class MachineInterpreter:
         self.stack: list[Frame] = []
         self.during_done = False
         self.cycles = 0
+        self.platform_values: dict[str, object] = {
+            n: self._initial_value(d, {}) for m in [self.machine, *self.operations.values()]
+            for n, d in m.platform.written.items()}
 
     @property
     def current(self) -> Machine:
@@ -229,13 +233,15 @@ class MachineInterpreter:
                              _frozen_vars(self.variables), tuple(sorted(self.clocks.items())),
                              self.running,
                              tuple(Frame(f.running, f.node, f.resting, f.pending, f.variables,
-                                         f.clocks) for f in self.stack))
+                                         f.clocks) for f in self.stack),
+                             _frozen_vars(self.platform_values))
 
     def restore(self, c: Configuration, cycles: int = 1) -> None:
         self.node, self.resting, self.pending = c.node, c.resting, list(c.pending)
         self.variables = _thawed_vars(c.variables)
         self.clocks = dict(c.clocks)
         self.running, self.stack = c.running, list(c.stack)
+        self.platform_values.update(_thawed_vars(c.platform))
         self.cycles = cycles
 
     def saturate(self, caps: Mapping[str | None, Mapping[str, int]]) -> None:
@@ -467,6 +473,13 @@ class MachineInterpreter:
         self.during_done = f.during_done
 
     def _assign(self, target: ex.Expr, value: object) -> None:
+        if isinstance(target, ex.Name) and target.text not in self.variables and \
+                target.text in self.current.platform.written:
+            # a platform variable: an output of the cycle, in program order like a call
+            # (the mapping's ``variable`` effect), and the value later reads give
+            self.platform_values[target.text] = value
+            self.outputs.append((target.text, _floats(value, target.span)))
+            return
         if isinstance(target, ex.Name):
             self.variables[target.text] = value
             return
@@ -487,6 +500,8 @@ class MachineInterpreter:
     def _env(self, bindings: Mapping[str, object] | None = None) -> dict[str, object]:
         env: dict[str, object] = dict(
             self.constants if self.running is None else self.op_constants[self.running])
+        env.update({n: v for n, v in self.platform_values.items()
+                    if n in self.current.platform.written})
         env.update(self.variables)
         env.update({c: n * self.period for c, n in self.clocks.items()})
         for name in [*self.machine.platform.input_events,
@@ -560,8 +575,8 @@ def interpreter_for(machine: Machine, files: list[ast.SourceFile], resolution: A
 
 def observable_events(interpreter: MachineInterpreter, files: list[ast.SourceFile],
                       pmodel: str) -> frozenset[str]:
-    """The output events the machine (or an operation it calls) may send that the platform
-    mapping of ``pmodel`` gives no effect: no mapping (an event of the machine's output
+    """The output events the machine (or an operation it calls) may send, and the platform
+    variables it may write, that the platform mapping of ``pmodel`` gives no effect: no mapping (an event of the machine's output
     context that the robotic platform does not use), or one without equations or actions.
     They reach no input of the p-model: observable only (a simulation records them)."""
     mapped = {e.name for f in files for item in f.items
@@ -569,6 +584,13 @@ def observable_events(interpreter: MachineInterpreter, files: list[ast.SourceFil
               for e in item.events if e.direction == "output" and (e.equations or e.actions)}
     sent = {name for m in [interpreter.machine, *interpreter.operations.values()]
             for name in m.platform.output_events}
+    # a platform variable without a ``variable`` mapping (PMap3 allows it) is shared memory
+    # of the d-model: a write is kept for later reads and recorded, and reaches no input
+    mapped |= {v.name for f in files for item in f.items
+               if isinstance(item, ast.PlatformMapping) and item.pmodel[-1] == pmodel
+               for v in item.variables if v.equations or v.actions}
+    sent |= {name for m in [interpreter.machine, *interpreter.operations.values()]
+             for name in m.platform.written}
     return frozenset(sent - mapped)
 
 
