@@ -68,7 +68,8 @@ def test_the_model_checks_clean(capsys: pytest.CaptureFixture[str]) -> None:
 @pytest.mark.parametrize("old, new, code, message", [
     # the interface is not required: speed is no name of the machine's
     ("output context { requires SpeedI }", "output context { }", "STM5",
-     "unknown name 'speed'"),
+     "unknown name 'speed': the platform's variable speed (interface SpeedI) is not required "
+     "by SWheel"),
     # the platform does not provide it: nothing would hold the value
     ("\t\tprovides SpeedI\n", "\t\tvar level: real\n", "STM5",
      "the robotic platform Wheel of module WheelSoftware does not provide the variable speed"),

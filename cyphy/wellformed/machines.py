@@ -24,7 +24,7 @@ from cyphy.lang.scopes import is_constant, is_function, is_machine
 from cyphy.model.evaluate import MATH_FUNCTIONS
 from cyphy.model.machines import (Machine, called_operation, expressions, machines_of,
                                   statements)
-from cyphy.wellformed.platform_services import Platform, module_platform
+from cyphy.wellformed.platform_services import Platform, Service, module_platform
 from cyphy.wellformed.registry import WFContext, rule
 
 SINCE = "since"
@@ -285,6 +285,14 @@ def check_STM5_names(ctx: WFContext) -> None:
                 if name in m.clocks:
                     ctx.error("STM5", node, f"{where}: the clock {name} is read as a value",
                               f"write since({name}): the time since #{name}")
+                elif (service := _platform_variable(ctx, m, name)) is not None:
+                    ctx.error("STM5", node, f"{where}: unknown name '{name}': the platform's "
+                              f"variable {name} ({service.origin}) is not required by {m.name}",
+                              f"add 'requires {service.origin.split()[-1]}' to the output "
+                              f"context of {m.name}"
+                              if service.origin.startswith("interface ") else
+                              f"declare var {name} in an interface the platform provides and "
+                              f"{m.name} requires")
                 else:
                     ctx.error("STM5", node, f"{where}: unknown name '{name}'",
                               did_you_mean(name, known | set(m.clocks)) or
@@ -298,6 +306,15 @@ def check_STM5_names(ctx: WFContext) -> None:
                 if root is not None and root in m.constants:
                     ctx.error("STM5", s, f"{where}: '{root}' is a constant; it cannot be "
                               "assigned", f"declare it with 'var {root}: …'")
+
+
+def _platform_variable(ctx: WFContext, m: Machine, name: str) -> Service | None:
+    """The variable ``name`` of the robotic platform of a module that runs the machine, if
+    it has one (an unknown name that the machine meant as the platform's)."""
+    for _module, platform in _module_platforms(ctx, m):
+        if name in platform.variables:
+            return platform.variables[name]
+    return None
 
 
 def _check_provided(ctx: WFContext, m: Machine, node: ex.Name, name: str, where: str) -> None:
