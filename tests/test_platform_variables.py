@@ -166,3 +166,17 @@ def test_reach_brackets_the_hand_derived_peak(bound: float, verdict: str, status
     code, said, out = _reach(PVARS, PVARS / "spin.toml",
                              {"Motor_av >= 12": f"Motor_av >= {bound}"}, tmp_path, capsys)
     assert (code, said) == (status, verdict), out
+
+
+def test_an_operation_definition_writes_the_variable(tmp_path: Path,
+                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    """``Double()``, an operation definition that requires SpeedI, writes ``speed = 2 *
+    speed``: the caller's cycle outputs it as the machine's own write would be."""
+    folder = _copy(tmp_path, {SW: ("entry speed = 2 * speed\n", "entry Double()\n")})
+    with (folder / SW).open("a") as f:
+        f.write("\noperation Double() {\n\toutput context { requires SpeedI }\n\tinitial j0\n"
+                "\tfinal F\n\ttransition a { from j0 to F action speed = 2 * speed }\n}\n")
+    assert _check(folder, capsys) == (0, [])
+    simulated = _simulate(folder, folder / "spin.toml", "--samples", "11")
+    _t, want = _by_hand(1.0, 11)
+    assert np.max(np.abs(simulated["Motor_av"] - want[:, 0])) < 1e-4
