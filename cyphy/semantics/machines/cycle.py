@@ -59,6 +59,7 @@ from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.model.evaluate import MATH_FUNCTIONS, EvalError, evaluate
 from cyphy.model.machines import Machine, MachineTransition, global_constants, operation_definitions
+from cyphy.semantics.machines.observable import observable_events
 
 MACHINE = codes.code("E-MACHINE", codes.E, "the state machine cannot be run")
 
@@ -569,29 +570,9 @@ def interpreter_for(machine: Machine, files: list[ast.SourceFile], resolution: A
     interpreter = MachineInterpreter(machine, {**known, **(consts or {})},
                                      operations=operations)
     if pmodel is not None:
-        interpreter.observable = observable_events(interpreter, files, pmodel)
+        interpreter.observable = observable_events(
+            [machine, *operations.values()], files, pmodel)
     return interpreter
-
-
-def observable_events(interpreter: MachineInterpreter, files: list[ast.SourceFile],
-                      pmodel: str) -> frozenset[str]:
-    """The output events the machine (or an operation it calls) may send, and the platform
-    variables it may write, that the platform mapping of ``pmodel`` gives no effect: no mapping (an event of the machine's output
-    context that the robotic platform does not use), or one without equations or actions.
-    They reach no input of the p-model: observable only (a simulation records them)."""
-    mapped = {e.name for f in files for item in f.items
-              if isinstance(item, ast.PlatformMapping) and item.pmodel[-1] == pmodel
-              for e in item.events if e.direction == "output" and (e.equations or e.actions)}
-    sent = {name for m in [interpreter.machine, *interpreter.operations.values()]
-            for name in m.platform.output_events}
-    # a platform variable without a ``variable`` mapping (PMap3 allows it) is shared memory
-    # of the d-model: a write is kept for later reads and recorded, and reaches no input
-    mapped |= {v.name for f in files for item in f.items
-               if isinstance(item, ast.PlatformMapping) and item.pmodel[-1] == pmodel
-               for v in item.variables if v.equations or v.actions}
-    sent |= {name for m in [interpreter.machine, *interpreter.operations.values()]
-             for name in m.platform.written}
-    return frozenset(sent - mapped)
 
 
 def _frozen_vars(variables: Mapping[str, object]) -> tuple[tuple[str, Any], ...]:
