@@ -126,6 +126,11 @@ def test_an_unmapped_variable_is_shared_memory(tmp_path: Path,
     simulated = _simulate(folder, folder / "spin.toml", "--samples", "11")
     _t, want = _by_hand(1.0, 11)
     assert np.max(np.abs(simulated["Motor_av"] - want[:, 0])) < 1e-4
+    capsys.readouterr()
+    assert main(["simulate", str(folder), "--scenario", str(folder / "spin.toml"),
+                 "--format", "json", "-q"]) == 0
+    events = json.loads(capsys.readouterr().out)["events"]
+    assert events == [{"t": 0.4, "name": "count", "values": [1.0]}]  # recorded, not applied
     out = tmp_path / "gen"
     _session(folder, out, "utp")
     theory = (out / "WheelBase_CyPhyCircus.thy").read_text()

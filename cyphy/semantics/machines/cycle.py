@@ -487,6 +487,10 @@ class MachineInterpreter:
         if isinstance(target, ex.Index) and isinstance(target.base, ex.Name) and \
                 len(target.args) == 1:
             name = target.base.text
+            if name not in self.variables and name in self.current.platform.written:
+                raise MachineError(f"one entry of the platform variable {name} cannot be "
+                                   "written alone", target.span,
+                                   f"assign the whole vector ({name} = …)")
             vector = np.array(self.variables.get(name, np.zeros(0)), dtype=float)
             i = int(self._number(target.args[0])) - 1
             if not 0 <= i < vector.size:
