@@ -185,3 +185,24 @@ def test_an_operation_definition_writes_the_variable(tmp_path: Path,
     simulated = _simulate(folder, folder / "spin.toml", "--samples", "11")
     _t, want = _by_hand(1.0, 11)
     assert np.max(np.abs(simulated["Motor_av"] - want[:, 0])) < 1e-4
+
+
+def test_two_machines_sharing_a_variable_one_reading_it_are_refused(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A second machine of the controller writes ``speed`` while SWheel reads it: each
+    interpreter (and each automaton of the product) keeps its own value, so the run is
+    refused with the reason, not given wrong values."""
+    folder = _copy(tmp_path, {SW: ("\tsref sm = SWheel\n", "\tsref sm = SWheel\n"
+                                   "\tsref idle = SIdle\n")})
+    with (folder / SW).open("a") as f:
+        f.write("\nstm SIdle {\n\tcycleDef cycle == 1\n\toutput context { requires SpeedI }\n"
+                "\tinitial i0\n\tstate Off { entry speed = 0 }\n"
+                "\ttransition t0 { from i0 to Off }\n}\n")
+    assert _check(folder, capsys) == (0, [])
+    code = main(["simulate", str(folder), "--scenario", str(folder / "spin.toml"), "-q"])
+    err = capsys.readouterr().err
+    assert code != 0 and "Traceback" not in err
+    assert "SWheel and SIdle both use the platform variable speed" in err, err
+    generated = api.generate_isabelle([folder], api.SemanticsGenOptions())
+    assert any("both use the platform variable speed" in d.message
+               for d in generated.report.diagnostics)
