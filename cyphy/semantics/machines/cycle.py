@@ -21,8 +21,10 @@ paper's Section 2 / Fig. 3 for how a d-model drives a p-model):
    enabled (the machine rests in its state), or at an ``exec`` statement inside an action
    (the rest of the action, and the entry of the target, run at the start of the next
    cycle); ``wait(n)`` is ``n`` such ends.
-4. **Outputs.** The operation calls (``$op(args)``) and output events (``$e!v``, ``$e``)
-   performed in the cycle are returned in order; the caller writes them to the platform
+4. **Outputs.** The operation calls (``$op(args)``), output events (``$e!v``, ``$e``) and
+   assignments to platform variables (``speed = v``, a variable of an interface the
+   machine requires: ``("speed", (v,))``, read back as the last value written, at first
+   the interface's initial value, else 0) performed in the cycle are returned in order; the caller writes them to the platform
    through the mapping (an output event the mapping does not map is observable only),
    then waits ``cycle × tscale`` seconds.
 

@@ -1,7 +1,8 @@
 """Several state machines of one module run together: RoboSim's module runs each of its
 controllers' machines every cycle, on the same input events read at the cycle's start (spec
 semantics.md; the paper's module process is the controllers in parallel, synchronised on
-the cycle). The machines share no variables, so a cycle of the module is each machine's
+the cycle). The machines share no variables (a platform variable that one reads and
+another uses is refused: :func:`unshared`), so a cycle of the module is each machine's
 cycle in turn, in the order the module's controllers are declared, the calls of all of them
 made in that order (as the theory's ``ReceiveFromDModel`` takes them: in sequence, a later
 call to the same actuator input winning).
