@@ -74,7 +74,8 @@ def test_the_model_checks_clean(capsys: pytest.CaptureFixture[str]) -> None:
     ("\t\tprovides SpeedI\n", "\t\tvar level: real\n", "STM5",
      "the robotic platform Wheel of module WheelSoftware does not provide the variable speed"),
     # the value's type is not the variable's
-    ("entry speed = slow", "entry speed = true", "STM8", "speed is a number, but it is given a boolean"),
+    ("entry speed = slow", "entry speed = true", "STM8",
+     "speed is a number, but it is given a boolean"),
     # a constant of the interface is not assigned (today's error)
     ("var speed: real", "const speed: real = 1", "STM5", "unknown name 'speed'"),
 ])
@@ -101,6 +102,20 @@ def test_simulate_follows_the_machine_and_the_hand_derivation() -> None:
     # the demand is the variable mapping's effect: das = speed, 5 then 10 from t = 0.4
     assert np.allclose(simulated["Motor_e"] + simulated["Motor_av"],
                        np.where(t < 0.4 - 1e-9, 5.0, 10.0))
+
+
+def test_the_dollar_form_names_the_same_variable(tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    """``$speed = slow`` and ``$speed = 2 * $speed`` (RoboSim's ``$`` for the platform's
+    elements): the same run. It checked clean before, then failed in ``simulate``
+    ("only a variable or one entry of a vector can be assigned")."""
+    folder = _copy(tmp_path, {SW: ("entry speed = 2 * speed", "entry $speed = 2 * $speed")})
+    text = (folder / SW).read_text().replace("entry speed = slow", "entry $speed = slow")
+    (folder / SW).write_text(text)
+    assert _check(folder, capsys) == (0, [])
+    simulated = _simulate(folder, folder / "spin.toml", "--samples", "11")
+    _t, want = _by_hand(1.0, 11)
+    assert np.max(np.abs(simulated["Motor_av"] - want[:, 0])) < 1e-4
 
 
 def test_an_interface_initial_value_is_read_before_the_first_write(tmp_path: Path) -> None:

@@ -214,7 +214,10 @@ def check_STM4_events(ctx: WFContext) -> None:
                                   or "add 'output context { uses I }' with an interface I "
                                   f"that declares event {name}")
                     continue
-                if name not in m.platform.input_events and name not in m.platform.variables:
+                if name in m.platform.written and name not in m.platform.input_events:
+                    _check_provided(ctx, m, node, name, where)  # ``$speed``: as ``speed``
+                    continue
+                if name not in m.platform.input_events:
                     ctx.error("STM4", node, f"{where}: '{name}' is not an input event of "
                               f"{m.name}", did_you_mean(name, m.platform.input_events) or
                               "add 'input context { uses I }' with an interface I that "

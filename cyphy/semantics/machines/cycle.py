@@ -22,11 +22,10 @@ paper's Section 2 / Fig. 3 for how a d-model drives a p-model):
    (the rest of the action, and the entry of the target, run at the start of the next
    cycle); ``wait(n)`` is ``n`` such ends.
 4. **Outputs.** The operation calls (``$op(args)``), output events (``$e!v``, ``$e``) and
-   assignments to platform variables (``speed = v``, a variable of an interface the
-   machine requires: ``("speed", (v,))``, read back as the last value written, at first
-   the interface's initial value, else 0) performed in the cycle are returned in order; the caller writes them to the platform
-   through the mapping (an output event the mapping does not map is observable only),
-   then waits ``cycle × tscale`` seconds.
+   assignments to platform variables (``speed = v``, ``$speed = v``: reads give the last
+   value written, at first the interface's, else 0) of the cycle are returned in order;
+   the caller writes them to the platform through the mapping (an output event or a
+   variable it does not map is observable only), then waits ``cycle × tscale`` seconds.
 
 **Operation definitions** (``operation op(x: real) { … }``, called as ``op(e)`` without
 ``$``) run inline, in the caller's cycle: the call binds the parameters to the arguments'
@@ -476,12 +475,13 @@ class MachineInterpreter:
         self.during_done = f.during_done
 
     def _assign(self, target: ex.Expr, value: object) -> None:
-        if isinstance(target, ex.Name) and target.text not in self.variables and \
-                target.text in self.current.platform.written:
-            # a platform variable: an output of the cycle, in program order like a call
-            # (the mapping's ``variable`` effect), and the value later reads give
-            self.platform_values[target.text] = value
-            self.outputs.append((target.text, _floats(value, target.span)))
+        name = target.name[-1] if isinstance(target, ex.PlatformRef) else target.text \
+            if isinstance(target, ex.Name) and target.text not in self.variables else None
+        if name in self.current.platform.written:
+            # a platform variable (``speed`` or ``$speed``): an output of the cycle, in
+            # program order like a call (the mapping's ``variable`` effect), read back later
+            self.platform_values[name] = value
+            self.outputs.append((name, _floats(value, target.span)))
             return
         if isinstance(target, ex.Name):
             self.variables[target.text] = value
@@ -491,8 +491,7 @@ class MachineInterpreter:
             name = target.base.text
             if name not in self.variables and name in self.current.platform.written:
                 raise MachineError(f"one entry of the platform variable {name} cannot be "
-                                   "written alone", target.span,
-                                   f"assign the whole vector ({name} = …)")
+                                   "written alone", target.span, f"assign all of {name}")
             vector = np.array(self.variables.get(name, np.zeros(0)), dtype=float)
             i = int(self._number(target.args[0])) - 1
             if not 0 <= i < vector.size:
@@ -507,8 +506,9 @@ class MachineInterpreter:
     def _env(self, bindings: Mapping[str, object] | None = None) -> dict[str, object]:
         env: dict[str, object] = dict(
             self.constants if self.running is None else self.op_constants[self.running])
-        env.update({n: v for n, v in self.platform_values.items()
-                    if n in self.current.platform.written})
+        for n, v in self.platform_values.items():
+            if n in self.current.platform.written:
+                env[n] = env["$" + n] = v
         env.update(self.variables)
         env.update({c: n * self.period for c, n in self.clocks.items()})
         for name in [*self.machine.platform.input_events,

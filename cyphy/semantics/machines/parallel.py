@@ -80,8 +80,9 @@ def unshared(interpreters: Sequence[MachineInterpreter]) -> None:
     for i in interpreters:
         machines = [i.machine, *i.operations.values()]
         written = {n for m in machines for n in m.platform.written}
-        read = {node.text for m in machines for e in _read(m) for node in e.walk()
-                if isinstance(node, ex.Name) and node.text in written}
+        read = {name for m in machines for e in _read(m) for node in e.walk()
+                for name in [node.text if isinstance(node, ex.Name) else node.name[-1]
+                             if isinstance(node, ex.PlatformRef) else ""] if name in written}
         uses.append((i, written, read))
     for (a, wa, ra), (b, wb, rb) in itertools.combinations(uses, 2):
         shared = sorted((ra | rb) & wa & wb)
@@ -98,7 +99,7 @@ def _read(m: Machine) -> list[ex.Expr]:
     read."""
     out = [e for t in m.transitions for e in (t.decl.trigger, t.decl.condition) if e]
     for s, _ in statements(m):
-        if isinstance(s, ast.Assign) and isinstance(s.target, ex.Name):
+        if isinstance(s, ast.Assign) and isinstance(s.target, (ex.Name, ex.PlatformRef)):
             out.append(s.value)
         else:
             out.extend(statement_expressions(s))
