@@ -221,3 +221,16 @@ def test_two_machines_sharing_a_variable_one_reading_it_are_refused(
     generated = api.generate_isabelle([folder], api.SemanticsGenOptions())
     assert any("both use the platform variable speed" in d.message
                for d in generated.report.diagnostics)
+
+
+@pytest.mark.parametrize("target, write, receive", [
+    ("--cyphycircus", "registerWrite.speed!10.0", "SpeedFromDModel ≙ registerWrite.speed?speed"),
+    ("--latex", "registerWrite\\_speed!10\\decimalpoint 0",
+     "SpeedFromDModel \\circdef registerWrite\\_speed?speed"),
+])
+def test_the_text_and_latex_printers_write_the_variable(
+        target: str, write: str, receive: str, tmp_path: Path,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["gen", str(PVARS), target, "-o", str(tmp_path), "-q"]) == 0
+    text = "".join(p.read_text() for p in tmp_path.iterdir() if p.suffix in (".cpc", ".tex"))
+    assert write in text and receive in text
