@@ -76,6 +76,9 @@ def test_the_model_checks_clean(capsys: pytest.CaptureFixture[str]) -> None:
     # the value's type is not the variable's
     ("entry speed = slow", "entry speed = true", "STM8",
      "speed is a number, but it is given a boolean"),
+    # one entry of a vector platform variable: a write is one output with the whole value
+    ("entry speed = slow", "entry speed = slow ; pair[1] = 1", "STM5",
+     "one part of the platform variable pair cannot be written alone"),
     # a constant of the interface is not assigned (today's error)
     ("var speed: real", "const speed: real = 1", "STM5", "unknown name 'speed'"),
 ])
@@ -83,6 +86,9 @@ def test_faults_are_refused_at_the_assignment(old: str, new: str, code: str, mes
                                               tmp_path: Path,
                                               capsys: pytest.CaptureFixture[str]) -> None:
     folder = _copy(tmp_path, {SW: (old, new)})
+    text = (folder / SW).read_text().replace("\tvar speed: real\n",
+                                             "\tvar speed: real\n\tvar pair: vector(real, 2)\n")
+    (folder / SW).write_text(text)
     text = (folder / SW).read_text()
     line = text[:text.index("entry speed = ")].count("\n") + 1
     status, diags = _check(folder, capsys)

@@ -309,6 +309,10 @@ def check_STM5_names(ctx: WFContext) -> None:
                 if root is not None and root in m.constants:
                     ctx.error("STM5", s, f"{where}: '{root}' is a constant; it cannot be "
                               "assigned", f"declare it with 'var {root}: …'")
+                elif root in shared and not isinstance(s.target, ex.Name):
+                    # a write is one output with the whole value: the mapping's effect
+                    ctx.error("STM5", s.target, f"{where}: one part of the platform variable "
+                              f"{root} cannot be written alone", f"assign all of {root}")
 
 
 def _platform_variable(ctx: WFContext, m: Machine, name: str) -> Service | None:
