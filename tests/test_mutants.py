@@ -36,6 +36,7 @@ FOLDERS = {
     "rover": (HELDOUT / "rover", "bump.toml"),
     "tracks": (HELDOUT / "tracks", "clear.toml"),
     "pincer": (HELDOUT / "pincer", "squeeze.toml"),
+    "pvars": (ROOT / "tests" / "data" / "pvars", "spin.toml"),
 }
 
 
@@ -295,6 +296,19 @@ MUTANTS: tuple[Mutant, ...] = (
     M("event-always", "dcmotor", DC_MAP, "predicate Bench::Range.range <= 1.0",
       "predicate true", ACCEPTED),
     # ---- d-models (state machines) ----------------------------------------------------------
+    M("pvars-variable-not-required", "pvars", "WheelSoftware.rsm",
+      "output context { requires SpeedI }", "output context { }", "STM5",
+      at="entry speed = slow"),
+    M("pvars-platform-does-not-provide", "pvars", "WheelSoftware.rsm", "\t\tprovides SpeedI\n",
+      "\t\tvar level: real\n", "STM5", at="entry speed = slow"),
+    M("pvars-value-of-wrong-type", "pvars", "WheelSoftware.rsm", "entry speed = slow",
+      "entry speed = true", "STM8"),
+    M("pvars-constant-assigned", "pvars", "WheelSoftware.rsm", "var speed: real",
+      "const speed: real = 1", "STM5", at="entry speed = slow"),
+    M("pvars-unmapped-variable-is-shared", "pvars", "WheelSoftware.rsm",
+      "entry speed = 2 * speed", "entry speed = 2 * speed ; count = count + 1", ACCEPTED,
+      also=(("WheelSoftware.rsm", "\tvar speed: real\n", "\tvar speed: real\n\tvar count: int\n"),),
+      shows="registerWrite_speed"),
     M("stm-unknown-event", "dcmotor", DC_SW, "condition not $near", "condition not $nearr",
       "STM4"),
     M("stm-operation-wrong-arity", "dcmotor", DC_SW, "$drive(wref)", "$drive(wref, 1.0)",

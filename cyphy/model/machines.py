@@ -68,6 +68,10 @@ class Platform:
     output_events: dict[str, ast.EventDecl] = field(default_factory=dict)
     operations: dict[str, ast.OperationSig] = field(default_factory=dict)
     variables: dict[str, ast.VarDecl] = field(default_factory=dict)
+    # The variables of the interfaces the machine ``requires`` (RoboChart's rule: a required
+    # variable is the context's, here the robotic platform's): it reads and assigns them,
+    # and each assignment is an output of the cycle, written to the platform's mapping.
+    written: dict[str, ast.VarDecl] = field(default_factory=dict)
 
 
 @dataclass
@@ -177,6 +181,8 @@ def machine_platform(stm: ast.StateMachine, resolution: Resolution) -> Platform:
                 p.operations.setdefault(op.name, op)
             for v in interface.variables:
                 p.variables.setdefault(v.name, v)
+                if use.relation == "requires" and v.kind is ast.DeclKind.VAR:
+                    p.written.setdefault(v.name, v)
     return p
 
 

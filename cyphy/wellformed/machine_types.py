@@ -29,7 +29,7 @@ class _MachineTypes(TypeChecker):
     variable: its type)."""
 
     def __init__(self, ctx: WFContext, m: Machine, report: Report) -> None:
-        own: dict[str, object] = {**m.constants, **m.variables,
+        own: dict[str, object] = {**m.platform.written, **m.constants, **m.variables,
                                   **{p.name: p for p in m.decl.params}}
 
         def lookup(name: ex.Name) -> object | None:

@@ -24,7 +24,7 @@ from cyphy.lang.scopes import is_constant, is_function, is_machine
 from cyphy.model.evaluate import MATH_FUNCTIONS
 from cyphy.model.machines import (Machine, called_operation, expressions, machines_of,
                                   statements)
-from cyphy.wellformed.platform_services import Platform, module_platform
+from cyphy.wellformed.platform_services import Platform, Service, module_platform
 from cyphy.wellformed.registry import WFContext, rule
 
 SINCE = "since"
@@ -214,7 +214,10 @@ def check_STM4_events(ctx: WFContext) -> None:
                                   or "add 'output context { uses I }' with an interface I "
                                   f"that declares event {name}")
                     continue
-                if name not in m.platform.input_events and name not in m.platform.variables:
+                if name in m.platform.written and name not in m.platform.input_events:
+                    _check_provided(ctx, m, node, name, where)  # ``$speed``: as ``speed``
+                    continue
+                if name not in m.platform.input_events:
                     ctx.error("STM4", node, f"{where}: '{name}' is not an input event of "
                               f"{m.name}", did_you_mean(name, m.platform.input_events) or
                               "add 'input context { uses I }' with an interface I that "
@@ -269,17 +272,30 @@ def _check_event_values(ctx: WFContext, m: Machine) -> None:
 def check_STM5_names(ctx: WFContext) -> None:
     """Expressions name the machine's constants, variables and parameters, constants and
     functions in scope, and clocks only as ``since(C)``; ``#C`` names a clock; an assignment
-    changes a variable."""
+    changes a variable. A variable of an interface the machine ``requires`` is the robotic
+    platform's, which must provide it."""
     for m in _machines(ctx):
         known = set(m.constants) | set(m.variables)
+        shared = set(m.platform.written) - known
         for e, where in expressions(m):
             for node in _free_names(e):
                 name = node.text
+                if name in shared:
+                    _check_provided(ctx, m, node, name, where)
+                    continue
                 if name in known or ctx.scopes.lookup(m.file, node.parts, is_constant):
                     continue
                 if name in m.clocks:
                     ctx.error("STM5", node, f"{where}: the clock {name} is read as a value",
                               f"write since({name}): the time since #{name}")
+                elif (service := _platform_variable(ctx, m, name)) is not None:
+                    ctx.error("STM5", node, f"{where}: unknown name '{name}': the platform's "
+                              f"variable {name} ({service.origin}) is not required by {m.name}",
+                              f"add 'requires {service.origin.split()[-1]}' to the output "
+                              f"context of {m.name}"
+                              if service.origin.startswith("interface ") else
+                              f"declare var {name} in an interface the platform provides and "
+                              f"{m.name} requires")
                 else:
                     ctx.error("STM5", node, f"{where}: unknown name '{name}'",
                               did_you_mean(name, known | set(m.clocks)) or
@@ -293,6 +309,30 @@ def check_STM5_names(ctx: WFContext) -> None:
                 if root is not None and root in m.constants:
                     ctx.error("STM5", s, f"{where}: '{root}' is a constant; it cannot be "
                               "assigned", f"declare it with 'var {root}: …'")
+                elif root in shared and not isinstance(s.target, ex.Name):
+                    # a write is one output with the whole value: the mapping's effect
+                    ctx.error("STM5", s.target, f"{where}: one part of the platform variable "
+                              f"{root} cannot be written alone", f"assign all of {root}")
+
+
+def _platform_variable(ctx: WFContext, m: Machine, name: str) -> Service | None:
+    """The variable ``name`` of the robotic platform of a module that runs the machine, if
+    it has one (an unknown name that the machine meant as the platform's)."""
+    for _module, platform in _module_platforms(ctx, m):
+        if name in platform.variables:
+            return platform.variables[name]
+    return None
+
+
+def _check_provided(ctx: WFContext, m: Machine, node: ex.Name, name: str, where: str) -> None:
+    """A variable of a required interface is the robotic platform's: each module whose
+    controller runs the machine has a platform that provides it (else nothing holds it)."""
+    for module, platform in _module_platforms(ctx, m):
+        if name not in platform.variables:
+            ctx.error("STM5", node, f"{where}: the robotic platform {platform.platform.name} "
+                      f"of module {module.name} does not provide the variable {name}",
+                      "add 'provides I' to the platform, with the interface that declares "
+                      f"var {name}")
 
 
 def _root(e: ex.Expr) -> str | None:

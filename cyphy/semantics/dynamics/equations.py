@@ -348,9 +348,10 @@ def motion(model: ElaboratedModel,
 def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.PlatformMapping,
                       call: ex.Call, params: tuple[str, ...]) -> None:
     name = call.func.text if isinstance(call.func, ex.Name) else ""
-    op: ast.OperationMapping | ast.EventMapping | None = next(
+    op: ast.OperationMapping | ast.EventMapping | ast.VariableMapping | None = next(
         (o for o in mapping.operations if o.name == name), None) or next(
-        (e for e in mapping.events if e.direction == "output" and e.name == name), None)
+        (e for e in mapping.events if e.direction == "output" and e.name == name), None) or next(
+        (v for v in mapping.variables if v.name == name), None)
     if op is None:
         raise AssemblyError(f"mapping {mapping.name} has no operation '{name}'", call.span,
                             "name an operation of the mapping: " +
@@ -559,6 +560,8 @@ def mapping_operation(ws: Any, resolution: Any, model: ElaboratedModel, text: st
                      None)
         if event is not None:
             params = (event.param,) if event.param else ()
+    if params is None and any(v.name == name for v in mapping.variables):
+        params = (name,)  # a machine's write of a platform variable: its mapping's effect
     if params is None:
         raise AssemblyError(f"the d-model provides no operation '{name}'", call.span,
                             "call an operation of the robotic platform")

@@ -21,10 +21,11 @@ paper's Section 2 / Fig. 3 for how a d-model drives a p-model):
    enabled (the machine rests in its state), or at an ``exec`` statement inside an action
    (the rest of the action, and the entry of the target, run at the start of the next
    cycle); ``wait(n)`` is ``n`` such ends.
-4. **Outputs.** The operation calls (``$op(args)``) and output events (``$e!v``, ``$e``)
-   performed in the cycle are returned in order; the caller writes them to the platform
-   through the mapping (an output event the mapping does not map is observable only),
-   then waits ``cycle × tscale`` seconds.
+4. **Outputs.** The operation calls (``$op(args)``), output events (``$e!v``, ``$e``) and
+   assignments to platform variables (``speed = v``, ``$speed = v``: reads give the last
+   value written, at first the interface's, else 0) of the cycle are returned in order;
+   the caller writes them to the platform through the mapping (an output event or a
+   variable it does not map is observable only), then waits ``cycle × tscale`` seconds.
 
 **Operation definitions** (``operation op(x: real) { … }``, called as ``op(e)`` without
 ``$``) run inline, in the caller's cycle: the call binds the parameters to the arguments'
@@ -59,6 +60,7 @@ from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.model.evaluate import MATH_FUNCTIONS, EvalError, evaluate
 from cyphy.model.machines import Machine, MachineTransition, global_constants, operation_definitions
+from cyphy.semantics.machines.observable import observable_events
 
 MACHINE = codes.code("E-MACHINE", codes.E, "the state machine cannot be run")
 
@@ -126,6 +128,7 @@ class Configuration:
     clocks: tuple[tuple[str, int], ...]
     running: str | None = None
     stack: tuple[Frame, ...] = ()
+    platform: tuple[tuple[str, Any], ...] = ()  # the platform variables' last values
 
 
 def _frozen(v: Any) -> Any:
@@ -217,6 +220,9 @@ class MachineInterpreter:
         self.stack: list[Frame] = []
         self.during_done = False
         self.cycles = 0
+        self.platform_values: dict[str, object] = {
+            n: self._initial_value(d, {}) for m in [self.machine, *self.operations.values()]
+            for n, d in m.platform.written.items()}
 
     @property
     def current(self) -> Machine:
@@ -229,13 +235,15 @@ class MachineInterpreter:
                              _frozen_vars(self.variables), tuple(sorted(self.clocks.items())),
                              self.running,
                              tuple(Frame(f.running, f.node, f.resting, f.pending, f.variables,
-                                         f.clocks) for f in self.stack))
+                                         f.clocks) for f in self.stack),
+                             _frozen_vars(self.platform_values))
 
     def restore(self, c: Configuration, cycles: int = 1) -> None:
         self.node, self.resting, self.pending = c.node, c.resting, list(c.pending)
         self.variables = _thawed_vars(c.variables)
         self.clocks = dict(c.clocks)
         self.running, self.stack = c.running, list(c.stack)
+        self.platform_values.update(_thawed_vars(c.platform))
         self.cycles = cycles
 
     def saturate(self, caps: Mapping[str | None, Mapping[str, int]]) -> None:
@@ -467,12 +475,23 @@ class MachineInterpreter:
         self.during_done = f.during_done
 
     def _assign(self, target: ex.Expr, value: object) -> None:
+        name = target.name[-1] if isinstance(target, ex.PlatformRef) else target.text \
+            if isinstance(target, ex.Name) and target.text not in self.variables else None
+        if name in self.current.platform.written:
+            # a platform variable (``speed`` or ``$speed``): an output of the cycle, in
+            # program order like a call (the mapping's ``variable`` effect), read back later
+            self.platform_values[name] = value
+            self.outputs.append((name, _floats(value, target.span)))
+            return
         if isinstance(target, ex.Name):
             self.variables[target.text] = value
             return
         if isinstance(target, ex.Index) and isinstance(target.base, ex.Name) and \
                 len(target.args) == 1:
             name = target.base.text
+            if name not in self.variables and name in self.current.platform.written:
+                raise MachineError(f"one entry of the platform variable {name} cannot be "
+                                   "written alone", target.span, f"assign all of {name}")
             vector = np.array(self.variables.get(name, np.zeros(0)), dtype=float)
             i = int(self._number(target.args[0])) - 1
             if not 0 <= i < vector.size:
@@ -487,6 +506,9 @@ class MachineInterpreter:
     def _env(self, bindings: Mapping[str, object] | None = None) -> dict[str, object]:
         env: dict[str, object] = dict(
             self.constants if self.running is None else self.op_constants[self.running])
+        for n, v in self.platform_values.items():
+            if n in self.current.platform.written:
+                env[n] = env["$" + n] = v
         env.update(self.variables)
         env.update({c: n * self.period for c, n in self.clocks.items()})
         for name in [*self.machine.platform.input_events,
@@ -554,22 +576,9 @@ def interpreter_for(machine: Machine, files: list[ast.SourceFile], resolution: A
     interpreter = MachineInterpreter(machine, {**known, **(consts or {})},
                                      operations=operations)
     if pmodel is not None:
-        interpreter.observable = observable_events(interpreter, files, pmodel)
+        interpreter.observable = observable_events(
+            [machine, *operations.values()], files, pmodel)
     return interpreter
-
-
-def observable_events(interpreter: MachineInterpreter, files: list[ast.SourceFile],
-                      pmodel: str) -> frozenset[str]:
-    """The output events the machine (or an operation it calls) may send that the platform
-    mapping of ``pmodel`` gives no effect: no mapping (an event of the machine's output
-    context that the robotic platform does not use), or one without equations or actions.
-    They reach no input of the p-model: observable only (a simulation records them)."""
-    mapped = {e.name for f in files for item in f.items
-              if isinstance(item, ast.PlatformMapping) and item.pmodel[-1] == pmodel
-              for e in item.events if e.direction == "output" and (e.equations or e.actions)}
-    sent = {name for m in [interpreter.machine, *interpreter.operations.values()]
-            for name in m.platform.output_events}
-    return frozenset(sent - mapped)
 
 
 def _frozen_vars(variables: Mapping[str, object]) -> tuple[tuple[str, Any], ...]:

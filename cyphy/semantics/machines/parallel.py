@@ -1,7 +1,8 @@
 """Several state machines of one module run together: RoboSim's module runs each of its
 controllers' machines every cycle, on the same input events read at the cycle's start (spec
 semantics.md; the paper's module process is the controllers in parallel, synchronised on
-the cycle). The machines share no variables, so a cycle of the module is each machine's
+the cycle). The machines share no variables (a platform variable that one reads and
+another uses is refused: :func:`unshared`), so a cycle of the module is each machine's
 cycle in turn, in the order the module's controllers are declared, the calls of all of them
 made in that order (as the theory's ``ReceiveFromDModel`` takes them: in sequence, a later
 call to the same actuator input winning).
@@ -16,7 +17,10 @@ from __future__ import annotations
 import itertools
 from typing import Mapping, Sequence
 
+from cyphy import expr as ex
 from cyphy.diagnostics import Span
+from cyphy.lang import ast
+from cyphy.model.machines import Machine, statement_expressions, statements
 from cyphy.semantics.machines.automaton import MAX_EVENTS, Automaton, assemble, \
     compile_machine, explore, minimise
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter, Output
@@ -32,6 +36,7 @@ class ModuleInterpreter:
 
     def __init__(self, interpreters: Sequence[MachineInterpreter]) -> None:
         same_cycle(interpreters)
+        unshared(interpreters)
         self.interpreters = list(interpreters)
         self.machine = interpreters[0].machine  # where the composition is reported
         self.period = interpreters[0].period
@@ -66,12 +71,48 @@ def same_cycle(interpreters: Sequence[MachineInterpreter]) -> None:
             "give the module's machines the same cycleDef, or choose one with --machine")
 
 
+def unshared(interpreters: Sequence[MachineInterpreter]) -> None:
+    """Raises :class:`MachineError` when a machine reads a platform variable that another
+    machine of the module also uses: each interpreter (and each automaton of the product)
+    keeps its own value, so the reader would not see the other's writes. Writes alone are
+    fine: each is an output, in the module's order, the later one winning."""
+    uses: list[tuple[MachineInterpreter, set[str], set[str]]] = []
+    for i in interpreters:
+        machines = [i.machine, *i.operations.values()]
+        written = {n for m in machines for n in m.platform.written}
+        read = {name for m in machines for e in _read(m) for node in e.walk()
+                for name in [node.text if isinstance(node, ex.Name) else node.name[-1]
+                             if isinstance(node, ex.PlatformRef) else ""] if name in written}
+        uses.append((i, written, read))
+    for (a, wa, ra), (b, wb, rb) in itertools.combinations(uses, 2):
+        shared = sorted((ra | rb) & wa & wb)
+        if shared:
+            raise MachineError(
+                f"the machines {a.machine.name} and {b.machine.name} both use the platform "
+                f"variable {shared[0]}, and one reads it: the machines of a module sharing a "
+                "variable is not modelled (each would read its own writes)",
+                a.machine.decl.span, "let one machine read it, or choose one with --machine")
+
+
+def _read(m: Machine) -> list[ex.Expr]:
+    """The expressions a machine evaluates: an assignment's plain target is written, not
+    read."""
+    out = [e for t in m.transitions for e in (t.decl.trigger, t.decl.condition) if e]
+    for s, _ in statements(m):
+        if isinstance(s, ast.Assign) and isinstance(s.target, (ex.Name, ex.PlatformRef)):
+            out.append(s.value)
+        else:
+            out.extend(statement_expressions(s))
+    return out
+
+
 def compile_module(interpreters: Sequence[MachineInterpreter]) -> Automaton:
     """One machine's automaton, or the product of several: a product mode is a mode of each,
     its calls theirs in the module's order; under each combination of the input events every
     machine moves along its own edge (or stays), and the product's edges are those moves
     written again as few conjunctions of event literals."""
     same_cycle(interpreters)
+    unshared(interpreters)
     automata = [compile_machine(i) for i in interpreters]
     if len(automata) == 1:
         return automata[0]

@@ -348,7 +348,8 @@ class _Builder:
         out: dict[str, tuple[tuple[Any, ...], dict[str, Any]]] = {}
         it = self.machine
         names = {name for part in it.parts for m in [part.machine, *part.operations.values()]
-                 for name in [*m.platform.operations, *m.platform.output_events]}
+                 for name in [*m.platform.operations, *m.platform.output_events,
+                              *m.platform.written]}
         for op in sorted(names - set(it.observable)):
             try:
                 params = mapping_operation(check.workspace, check.resolution, self.model,
