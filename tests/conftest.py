@@ -51,3 +51,25 @@ def flowstar_binary() -> Path | None:
 needs_flowstar = pytest.mark.skipif(
     flowstar_binary() is None,
     reason="no Flow* binary (.ci/install builds one from ../shared/tools/flowstar)")
+
+
+@pytest.fixture(autouse=True)
+def _fresh_rendering() -> None:
+    """Each test starts with the command line's rendering state at its defaults: an
+    in-process ``main([..., "-q"])`` sets ``RENDERING.quiet`` for whatever runs next in the
+    process (a real ``cyphy`` process runs one command), so a later test that expects
+    warnings or progress would depend on the order the tests run in."""
+    from cyphy.diagnostics import RENDERING, Rendering
+
+    for name, value in vars(Rendering()).items():
+        setattr(RENDERING, name, value)
+
+
+def sigint_as_at_a_terminal() -> None:
+    """``preexec_fn`` of a child that a test interrupts with SIGINT: the default disposition,
+    as a user's terminal gives. A runner started in the background by a shell without job
+    control ignores SIGINT, and its children inherit that across exec, so Ctrl-C would not
+    reach them at all."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)

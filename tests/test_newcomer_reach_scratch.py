@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import EXAMPLES, ROOT
+from conftest import EXAMPLES, ROOT, sigint_as_at_a_terminal
 
 SAFE = ("Computation completed: 3 flowpipe(s) computed.\n"
         "Result of the safety verification on the computed flowpipes: SAFE\n")
@@ -63,7 +63,8 @@ def test_an_interrupt_kills_every_flowstar_and_removes_the_scratch(signum: int,
         [sys.executable, "-m", "cyphy", "reach", str(EXAMPLES / "dcmotor"), "--scenario",
          str(EXAMPLES / "dcmotor" / "sampled_stop.toml"), "--flowstar-bin", str(binary),
          "--split", "2", "--jobs", "2"],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+        preexec_fn=sigint_as_at_a_terminal)
     try:
         deadline = time.monotonic() + 120
         while len(list(pids.iterdir())) < 2 and time.monotonic() < deadline:

@@ -10,7 +10,7 @@ import sys
 import time
 from pathlib import Path
 
-from conftest import EXAMPLES, ROOT
+from conftest import EXAMPLES, ROOT, sigint_as_at_a_terminal
 from cyphy.outputs import STAGING_PREFIX, remove_abandoned_staging, write_all
 
 ENV = {**os.environ, "PYTHONPATH": str(ROOT)}
@@ -71,7 +71,8 @@ def test_ctrl_c_ends_with_130_and_no_traceback(tmp_path: Path) -> None:
             "def slow(args):\n    print('RUNNING', flush=True)\n    time.sleep(60)\n"
             "    return 0\ncheck.run = slow\nsys.argv = ['cyphy', 'check', 'x.rsm']\ncli.run()\n")
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env=ENV, cwd=tmp_path)
+                            stderr=subprocess.PIPE, text=True, env=ENV, cwd=tmp_path,
+                            preexec_fn=sigint_as_at_a_terminal)
     assert proc.stdout is not None and proc.stdout.readline().strip() == "RUNNING"
     time.sleep(0.2)
     proc.send_signal(signal.SIGINT)
@@ -86,7 +87,7 @@ def test_ctrl_c_during_the_final_flush_ends_with_130(tmp_path: Path) -> None:
             "sys.stderr.flush(); time.sleep(60)\n"
             "sys.stdout = Slow()\ncli.run()\n")
     proc = subprocess.Popen([sys.executable, "-c", code], stderr=subprocess.PIPE, text=True,
-                            env=ENV, cwd=tmp_path)
+                            env=ENV, cwd=tmp_path, preexec_fn=sigint_as_at_a_terminal)
     assert proc.stderr is not None and proc.stderr.readline().strip() == "FLUSHING"
     time.sleep(0.2)
     proc.send_signal(signal.SIGINT)
