@@ -23,7 +23,7 @@ from cyphy.model.units import Dimension
 from cyphy.wellformed.mapping_names import Names
 from cyphy.wellformed.platform_services import in_user_file, label_of, members_of, sites
 from cyphy.wellformed.registry import WFContext, rule
-from cyphy.wellformed.units import (FORCE, LENGTH, TIME, _dimension, _how, _Mixed, _written,
+from cyphy.wellformed.units import (FORCE, LENGTH, TIME, dimension_text, unit_hint, MixedDimensions, written_text,
                                     dimension_of)
 
 #: The ports of the library's sensors and actuators, with the units its comments give
@@ -94,17 +94,17 @@ def check_U2_mapping_units(ctx: WFContext) -> None:
             for left, right, node in _pairs(member):
                 try:
                     sides = dimension_of(left, named), dimension_of(right, named)
-                except _Mixed as err:
+                except MixedDimensions as err:
                     ctx.error("U2", err.node.span, f"the mapping of {label_of(member)} adds "
-                              f"{_dimension(err.left)} to {_dimension(err.right)} "
-                              f"({_written(ctx, err.node.span)})", "write both terms in "
+                              f"{dimension_text(err.left)} to {dimension_text(err.right)} "
+                              f"({written_text(ctx, err.node.span)})", "write both terms in "
                               "units of one dimension, or as plain numbers in the port's "
                               "SI unit")
                     continue
                 if None in sides or sides[0] == sides[1]:
                     continue
                 ctx.error("U2", node.span, f"the mapping of {label_of(member)} relates "
-                          f"{_dimension(sides[0])} to {_dimension(sides[1])} "  # type: ignore
-                          f"({_written(ctx, node.span)})",
-                          _how(sides[0]) + ": a bare number is taken in the port's "  # type: ignore[arg-type]
+                          f"{dimension_text(sides[0])} to {dimension_text(sides[1])} "  # type: ignore
+                          f"({written_text(ctx, node.span)})",
+                          unit_hint(sides[0]) + ": a bare number is taken in the port's "  # type: ignore[arg-type]
                           "unit")

@@ -59,7 +59,7 @@ LIBRARY_CONSTANTS: dict[str, dict[str, Dimension]] = {
 }
 
 
-class _Mixed(Exception):
+class MixedDimensions(Exception):
     """An expression that adds or compares values of different dimensions."""
 
     def __init__(self, node: ex.Expr, left: Dimension, right: Dimension) -> None:
@@ -73,7 +73,7 @@ NameDimension = Callable[[ex.Name], "Dimension | None"]
 def dimension_of(e: ex.Expr, named: NameDimension = lambda n: None) -> Dimension | None:
     """The dimension of ``e`` from its unit suffixes (``named`` gives a name's: that of the
     constant's value); None when no unit decides it (plain numbers, calls, constants written
-    without a unit). Raises :class:`_Mixed` for ``2m + 3kg``."""
+    without a unit). Raises :class:`MixedDimensions` for ``2m + 3kg``."""
     if isinstance(e, (ex.Name, ex.Member, ex.Index)):  # a mapping's element path too
         return named(e)  # type: ignore[arg-type]
     if isinstance(e, ex.Quantity):
@@ -88,7 +88,7 @@ def dimension_of(e: ex.Expr, named: NameDimension = lambda n: None) -> Dimension
         left, right = dimension_of(e.left, named), dimension_of(e.right, named)
         if e.op in ("+", "-"):
             if left is not None and right is not None and left != right:
-                raise _Mixed(e, left, right)
+                raise MixedDimensions(e, left, right)
             return left if left is not None else right
         if e.op == "*":
             if left is None or right is None:
@@ -211,7 +211,7 @@ def _constants(lookup: Lookup) -> NameDimension:
     return named
 
 
-def _written(ctx: WFContext, span: Span) -> str:
+def written_text(ctx: WFContext, span: Span) -> str:
     """The expression as written (one line), for the message."""
     text = ctx.workspace.texts.get(span.file)
     if text is None or span.line != span.end_line or span.line < 1:
@@ -220,7 +220,7 @@ def _written(ctx: WFContext, span: Span) -> str:
     return line[span.column - 1:span.end_column - 1].strip()
 
 
-def _dimension(d: Dimension) -> str:
+def dimension_text(d: Dimension) -> str:
     return "dimensionless (an angle or a plain number)" if not d.exponents else str(d)
 
 
@@ -228,7 +228,7 @@ def _is(d: Dimension) -> str:
     return "is dimensionless (an angle)" if not d.exponents else f"has the dimension {d}"
 
 
-def _how(expected: Dimension) -> str:
+def unit_hint(expected: Dimension) -> str:
     """The suffixes (from Pint's table) that have the expected dimension."""
     fitting = sorted((n for n, u in units().items() if u.dimension == expected and len(n) <= 3),
                      key=lambda n: (units()[n].factor != 1.0, n))
@@ -249,15 +249,15 @@ def check_U1_unit_dimensions(ctx: WFContext) -> None:
             continue
         try:
             found = dimension_of(value, _constants(lookup()))
-        except _Mixed as err:
+        except MixedDimensions as err:
             if err.node.span in mixed:  # a constant's sum, met again where it is used
                 continue
             mixed.add(err.node.span)
-            ctx.error("U1", err.node.span, f"{what()} ({_written(ctx, err.node.span)}) adds "
-                      f"{_dimension(err.left)} to {_dimension(err.right)}; expected "
-                      f"{_dimension(expected)}", _how(expected))
+            ctx.error("U1", err.node.span, f"{what()} ({written_text(ctx, err.node.span)}) adds "
+                      f"{dimension_text(err.left)} to {dimension_text(err.right)}; expected "
+                      f"{dimension_text(expected)}", unit_hint(expected))
             continue
         if found is not None and found != expected:
-            ctx.error("U1", value.span, f"{what()} ({_written(ctx, value.span)}) {_is(found)}; "
-                      f"expected {_dimension(expected)}",
-                      _how(expected))
+            ctx.error("U1", value.span, f"{what()} ({written_text(ctx, value.span)}) {_is(found)}; "
+                      f"expected {dimension_text(expected)}",
+                      unit_hint(expected))
