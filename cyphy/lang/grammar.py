@@ -1,20 +1,79 @@
 """The RoboSim grammar (``robosim.lark``) as Lark's LALR parser, built once per process: the
-parser and the descriptions of parse errors both read it."""
+parser and the descriptions of parse errors both read it.
+
+Two engines run the same LALR tables. Lark's own pure-Python lexer and parser loop take more
+than half of a long file's parse; lark-cython (by Lark's author) runs the same contextual lexer
+and LALR loop in C and is used for every parse when it is installed (:func:`compiled`). It has
+no interactive parser of its own and its tokens are not ``str``, so a file with a syntax error
+is parsed again by pure Lark, whose errors :mod:`cyphy.lang.syntax_errors` describes: both give
+the same trees for correct files (``tests/test_parse_engines.py``).
+"""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 from lark import Lark, Token
+from lark.parsers.lalr_parser import ParseConf, ParserState
 
 from cyphy import progress
 
+try:  # optional: without it every parse runs in Lark's pure-Python lexer and loop
+    import lark_cython
+except ImportError:  # pragma: no cover - exercised by a test in a child process
+    lark_cython = None
+
 GRAMMAR = "robosim.lark"
+
+#: The classes of the tokens either engine makes (lark-cython's are not ``str``).
+TOKEN_TYPES: tuple[type, ...] = (Token,) if lark_cython is None else (Token, lark_cython.Token)
+
+
+@dataclass(frozen=True)
+class Engine:
+    """One way to run the grammar's LALR tables: the loaded ``Lark`` object and the classes
+    of its parser's configuration and state (Lark's, or lark-cython's C versions)."""
+
+    lark: Lark
+    parse_conf: type
+    parser_state: type
+
+    def parse(self, text: str, callbacks: dict[Any, Any]) -> Any:
+        """Run the parser over ``text`` with ``callbacks`` (one per rule) instead of the tree
+        builder the ``Lark`` object was loaded with; raises Lark's ``UnexpectedInput``."""
+        frontend = self.lark.parser
+        lalr = frontend.parser
+        state = self.parser_state(self.parse_conf(lalr._parse_table, callbacks, "start"),
+                                  frontend._make_lexer_thread(text))
+        return lalr.parser.parse_from_state(state)
 
 
 @lru_cache(maxsize=None)
 def grammar(strict: bool = False) -> Lark:
     """The LALR parser with the contextual lexer, built once per process."""
+    return _load(strict, {})
+
+
+@lru_cache(maxsize=None)
+def pure() -> Engine:
+    """Lark's own lexer and LALR loop: every parse when lark-cython is absent, and the
+    re-parse of a file with a syntax error (its errors are what the diagnostics describe)."""
+    return Engine(grammar(), ParseConf, ParserState)
+
+
+@lru_cache(maxsize=None)
+def compiled() -> Engine | None:
+    """The same tables run by lark-cython's contextual lexer and LALR loop, or None when
+    lark-cython is not installed."""
+    if lark_cython is None:
+        return None
+    module = lark_cython.lark_cython
+    return Engine(_load(False, lark_cython.plugins), module.ParseConf, module.ParserState)
+
+
+def _load(strict: bool, plugins: dict[str, Any]) -> Lark:
     return Lark.open_from_package(
         "cyphy.lang",
         GRAMMAR,
@@ -26,12 +85,13 @@ def grammar(strict: bool = False) -> Lark:
         maybe_placeholders=True,
         strict=strict,
         # Lark stores the LALR tables in a temporary file keyed by the grammar's hash: the
-        # analysis takes 0.7 s, loading the cache a few milliseconds.
+        # analysis takes 0.7 s, loading the cache a few milliseconds (either engine reads it).
         cache=not strict,
         lexer_callbacks={"LBRACE": _reached},  # progress through a long file, block by block
+        _plugins=plugins,
     )
 
 
-def _reached(token: Token) -> Token:
+def _reached(token: Any) -> Any:
     progress.step(f"line {token.line}")
     return token

@@ -12,44 +12,57 @@ from __future__ import annotations
 from functools import lru_cache
 from typing import Any
 
-from lark import Token, Tree
+from lark import Tree
 from lark.exceptions import UnexpectedInput
 
 from cyphy.lang import reductions
 from cyphy.lang.ast import ParseResult
 from cyphy.lang.builder import Builder
-from cyphy.lang.grammar import grammar
+from cyphy.lang.grammar import TOKEN_TYPES, Engine, compiled, grammar, pure
 from cyphy.lang.syntax_errors import syntax_diagnostic
 
 __all__ = ["ParseResult", "contains_lark_objects", "grammar", "parse_text"]
 
 
 def parse_text(text: str, path: str = "<string>") -> ParseResult:
-    """Parse one file's text. Never raises for bad input: problems come back as diagnostics."""
+    """Parse one file's text. Never raises for bad input: problems come back as diagnostics.
+
+    lark-cython parses when it is installed; a file it finds a syntax error in is parsed again
+    by pure Lark, which describes the error (:mod:`cyphy.lang.grammar`)."""
     if text.startswith("\ufeff"):
         text = text[1:]
-    builder = Builder(text, path)
-    # ``Lark.parse`` would call the tree builder's callbacks, made when the grammar was loaded;
-    # an interactive parser has a state of its own, so this parse gets the builder's instead.
-    parser = grammar().parse_interactive(text)
-    parser.parser_state.parse_conf.callbacks = reductions.callbacks(_shapes(), builder)
+    fast = compiled()
+    if fast is not None:
+        try:
+            return parse_with(fast, text, path)
+        except UnexpectedInput:
+            pass  # described below, by the engine whose errors the diagnostics read
     try:
-        result, _ = parser.resume_parse()
+        return parse_with(pure(), text, path)
     except UnexpectedInput as err:  # the builder's own diagnostics are of no use then
         return ParseResult(None, (syntax_diagnostic(err, text, path),))
+
+
+def parse_with(engine: Engine, text: str, path: str) -> ParseResult:
+    """One parse by ``engine``, the syntax tree built as it reduces; raises Lark's
+    ``UnexpectedInput`` on a syntax error. (``parse_text`` chooses the engine; the tests
+    compare the two.)"""
+    builder = Builder(text, path)
+    result, _ = engine.parse(text, reductions.callbacks(_shapes(engine.lark), builder))
     return ParseResult(result, tuple(builder.diagnostics))
 
 
 @lru_cache(maxsize=None)
-def _shapes() -> dict[Any, reductions.Shape]:
-    """What each rule keeps, worked out once per process (the callbacks are per parse: they
-    call one file's builder)."""
-    return reductions.shapes(grammar())
+def _shapes(lark: Any) -> dict[Any, reductions.Shape]:
+    """What each rule keeps, worked out once per engine (the callbacks are per parse: they
+    call one file's builder). Keyed by the engine's own rule objects, which its parser looks
+    up by identity first."""
+    return reductions.shapes(lark)
 
 
 def contains_lark_objects(node: object) -> bool:
-    """True when a Lark ``Tree`` or ``Token`` is reachable from ``node`` (a test helper that
-    guards the rule that no Lark object leaves this module)."""
+    """True when a Lark ``Tree`` or a token (of either engine) is reachable from ``node`` (a
+    test helper that guards the rule that no Lark object leaves this module)."""
     seen: set[int] = set()
     stack = [node]
     while stack:
@@ -57,7 +70,7 @@ def contains_lark_objects(node: object) -> bool:
         if id(x) in seen:
             continue
         seen.add(id(x))
-        if isinstance(x, (Tree, Token)):
+        if isinstance(x, (Tree, *TOKEN_TYPES)):
             return True
         if isinstance(x, (tuple, list)):
             stack.extend(x)

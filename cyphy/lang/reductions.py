@@ -30,7 +30,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable
 
-from lark import Lark, Token
+from lark import Lark
+
+from cyphy.lang.grammar import TOKEN_TYPES
 
 #: ``(line, column, end_line, end_column)`` of a rule's text, or None when it matched nothing.
 Pos = tuple[int, int, int, int] | None
@@ -119,7 +121,7 @@ def _callback(shape: Shape, method: Callable[[Pos, list[Any]], Any] | None) -> C
         if expand1 and len(children) == 1:
             only = children[0]
             # A lone token is passed on as it is (Lark does not move a token's position).
-            return only if isinstance(only, Token) else (only, pos)
+            return only if isinstance(only, TOKEN_TYPES) else (only, pos)
         if method is None:
             return (children, pos)
         return (method(pos, children), pos)

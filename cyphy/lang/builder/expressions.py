@@ -10,6 +10,7 @@ from lark import Token
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang.builder.base import QN, BuilderBase, Tagged, name_of, unescape
+from cyphy.lang.grammar import TOKEN_TYPES
 from cyphy.lang.reductions import Pos
 
 
@@ -74,7 +75,7 @@ class ExpressionRules(BuilderBase):
     def quantity(self, pos: Pos, c: list[Any]) -> ex.Quantity:
         value, unit = c
         span = self._span(pos)
-        if isinstance(value, Token):
+        if isinstance(value, TOKEN_TYPES):
             value = ex.Num(str(value), span=self._tok_span(value))
         return ex.Quantity(value, str(unit), span=span)
 
