@@ -9,6 +9,7 @@ from typing import Any, Union
 
 from cyphy.expr import Expr
 from cyphy.lang.ast.core import Annotation, Node, QName, T, TypeRef, VarDecl
+from cyphy.pickling import SeparatePickle
 from cyphy.records import record
 
 
@@ -243,7 +244,7 @@ class _Members:
 
 
 @record
-class Block(_Members, Node):
+class Block(SeparatePickle, _Members, Node):
     """A link, body, joint, sensor or actuator inside a p-model: local (``local link L {…}``)
     when ``ref`` is None, a reference (``jref LHinge = Revolute {…}``) otherwise."""
 

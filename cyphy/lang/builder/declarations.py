@@ -9,7 +9,7 @@ from lark import Token
 
 from cyphy import expr as ex
 from cyphy.lang import ast
-from cyphy.lang.builder.base import QN, BuilderBase, Tagged, name_of
+from cyphy.lang.builder.base import QN, BuilderBase, Tagged, name_of, text_of
 from cyphy.lang.reductions import Pos
 
 
@@ -62,7 +62,7 @@ class DeclarationRules(BuilderBase):
         return self._decls(ast.DeclKind.LOCAL, c)
 
     def prim_type(self, pos: Pos, c: list[Token]) -> ast.PrimitiveType:
-        return ast.PrimitiveType(str(c[0]), span=self._span(pos))
+        return ast.PrimitiveType(text_of(c[0]), span=self._span(pos))
 
     def vector_type(self, pos: Pos, c: list[Any]) -> ast.VectorType:
         return ast.VectorType(c[0], c[1], span=self._span(pos))

@@ -11,7 +11,7 @@ from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Diagnostic
 from cyphy.lang import ast
-from cyphy.lang.builder.base import BuilderBase, Tagged, name_of
+from cyphy.lang.builder.base import BuilderBase, Tagged, name_of, text_of
 from cyphy.lang.reductions import Pos
 
 
@@ -101,7 +101,7 @@ class DModelRules(BuilderBase):
         return ast.CycleDef(c[0], span=self._span(pos))
 
     def node_ref_kind(self, pos: Pos, c: list[Token]) -> str:
-        return str(c[0])
+        return text_of(c[0])
 
     def node_ref(self, pos: Pos, c: list[Any]) -> ast.NodeRef:
         return ast.NodeRef(c[0], name_of(c[1]), c[2].parts, span=self._span(pos))
@@ -119,7 +119,7 @@ class DModelRules(BuilderBase):
         return ast.Controller(name_of(c[0]), self._flat(c[1:]), span=self._span(pos))
 
     def machine_ref_kind(self, pos: Pos, c: list[Token]) -> str:
-        return str(c[0])
+        return text_of(c[0])
 
     def machine_ref(self, pos: Pos, c: list[Any]) -> ast.MachineRef:
         return ast.MachineRef(c[0], name_of(c[1]), c[2].parts, span=self._span(pos))
@@ -138,7 +138,7 @@ class DModelRules(BuilderBase):
         return ast.Terminates(span=self._span(pos))
 
     def context_kind(self, pos: Pos, c: list[Token]) -> str:
-        return str(c[0])
+        return text_of(c[0])
 
     def context(self, pos: Pos, c: list[Any]) -> ast.Context:
         return ast.Context(c[0], tuple(c[1:]), span=self._span(pos))
@@ -159,7 +159,7 @@ class DModelRules(BuilderBase):
         return ast.State(name_of(c[0]), self._flat(c[1:]), span=self._span(pos))
 
     def action_kind(self, pos: Pos, c: list[Token]) -> str:
-        return str(c[0])
+        return text_of(c[0])
 
     def state_action(self, pos: Pos, c: list[Any]) -> ast.StateAction:
         return ast.StateAction(c[0], c[1], span=self._span(pos))

@@ -9,7 +9,7 @@ from lark import Token
 
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
-from cyphy.lang.builder.base import QN, BuilderBase, Tagged, name_of, unescape
+from cyphy.lang.builder.base import QN, BuilderBase, Tagged, name_of, text_of, unescape
 from cyphy.lang.grammar import TOKEN_TYPES
 from cyphy.lang.reductions import Pos
 
@@ -19,12 +19,12 @@ class ExpressionRules(BuilderBase):
 
     # ----- expressions
     def binop(self, pos: Pos, c: list[Token]) -> str:
-        return str(c[0])
+        return text_of(c[0])
 
     sum_op = cmp_op = binop
 
     def prefix(self, pos: Pos, c: list[Token]) -> Tagged:
-        return Tagged("prefix", str(c[0]), self._tok_span(c[0]))
+        return Tagged("prefix", text_of(c[0]), self._tok_span(c[0]))
 
     def unit(self, pos: Pos, c: list[Any]) -> Tagged:
         return Tagged("unit", c, self._span(pos))
@@ -70,14 +70,14 @@ class ExpressionRules(BuilderBase):
         return ex.Member(c[0], name_of(c[1]), span=self._span(pos))
 
     def number(self, pos: Pos, c: list[Token]) -> ex.Num:
-        return ex.Num(str(c[0]), span=self._span(pos))
+        return ex.Num(text_of(c[0]), span=self._span(pos))
 
     def quantity(self, pos: Pos, c: list[Any]) -> ex.Quantity:
         value, unit = c
         span = self._span(pos)
         if isinstance(value, TOKEN_TYPES):
-            value = ex.Num(str(value), span=self._tok_span(value))
-        return ex.Quantity(value, str(unit), span=span)
+            value = ex.Num(text_of(value), span=self._tok_span(value))
+        return ex.Quantity(value, text_of(unit), span=span)
 
     def platform_ref(self, pos: Pos, c: list[Any]) -> ex.PlatformRef:
         return ex.PlatformRef(c[0].parts, name_of(c[1]) if c[1] is not None else None,

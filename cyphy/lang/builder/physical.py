@@ -10,7 +10,7 @@ from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Diagnostic, did_you_mean
 from cyphy.lang import ast
-from cyphy.lang.builder.base import BuilderBase, Tagged, name_of, unescape
+from cyphy.lang.builder.base import BuilderBase, Tagged, name_of, text_of, unescape
 from cyphy.lang.reductions import Pos
 
 POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
@@ -107,7 +107,7 @@ class PModelRules(BuilderBase):
 
     # ----- body properties
     def shape_kind(self, pos: Pos, c: list[Token]) -> str:
-        return str(c[0])
+        return text_of(c[0])
 
     def shape(self, pos: Pos, c: list[Any]) -> ast.Shape:
         return ast.Shape(c[0], self._flat(c[1:]), span=self._span(pos))
