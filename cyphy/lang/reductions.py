@@ -48,6 +48,10 @@ class Shape:
     nones_after: int
     expand1: bool
     size: int  # symbols reduced
+    #: whether the first and the last symbol reduced are terminals: a lexer token, whose
+    #: position is the rule's start (end), with no search for the first positioned symbol
+    starts_with_token: bool = False
+    ends_with_token: bool = False
 
 
 def shapes(parser: Lark) -> dict[Any, Shape]:
@@ -70,9 +74,11 @@ def shapes(parser: Lark) -> dict[Any, Shape]:
                 pending = 0
         name = rule.alias or options.template_source or rule.origin.name
         inlined = name.startswith("_")
+        expansion = rule.expansion
         out[rule] = Shape(None if inlined else name, tuple(include), pending + runs[-1],
-                           bool(options.expand1 and not rule.alias and not inlined),
-                           len(rule.expansion))
+                          bool(options.expand1 and not rule.alias and not inlined),
+                          len(expansion), bool(expansion) and expansion[0].is_term,
+                          bool(expansion) and expansion[-1].is_term)
     return out
 
 
@@ -98,12 +104,13 @@ def _callback(shape: Shape, method: Callable[[Pos, list[Any]], Any] | None) -> C
 
     simple = nones_after == 0 and all(not splice and not nones for _, splice, nones in include)
     indices = tuple(i for i, _, _ in include)
+    position = _positioner(shape)
 
     def reduce(symbols: list[Any]) -> Any:
-        pos = _position(symbols)
+        pos = position(symbols)
         if simple:
             children = [s if type(s) is not tuple else s[0]
-                        for s in (symbols[i] for i in indices)]
+                        for i in indices for s in (symbols[i],)]
         else:
             children = []
             for i, splice, nones in include:
@@ -131,6 +138,31 @@ def _callback(shape: Shape, method: Callable[[Pos, list[Any]], Any] | None) -> C
 
 def _first(symbols: list[Any]) -> Any:
     return symbols[0]
+
+
+def _positioner(shape: Shape) -> Callable[[list[Any]], Pos]:
+    """:func:`_position` for one rule: a rule that starts or ends with a token (a keyword,
+    a brace) takes that token's start or end, the rule's first or last positioned symbol."""
+    if shape.starts_with_token and shape.ends_with_token:
+        def both(symbols: list[Any]) -> Pos:
+            first, last = symbols[0], symbols[-1]
+            return (first.line, first.column, last.end_line, last.end_column)
+        return both
+    if shape.starts_with_token:
+        def start(symbols: list[Any]) -> Pos:
+            first = symbols[0]
+            end = _first_position(reversed(symbols))
+            assert end is not None  # the first symbol is positioned
+            return (first.line, first.column, end[2], end[3])
+        return start
+    if shape.ends_with_token:
+        def end(symbols: list[Any]) -> Pos:
+            start = _first_position(symbols)
+            assert start is not None  # the last symbol is positioned
+            last = symbols[-1]
+            return (start[0], start[1], last.end_line, last.end_column)
+        return end
+    return _position
 
 
 def _position(symbols: list[Any]) -> Pos:
