@@ -13,6 +13,12 @@ progress line still for at most 58 s. The 90k target is not met (docs/limits.md)
 After the parse cache's lighter pickling (docs/limits.md, the same load): 20,000 links
 79.5 s of CPU / 0.91 GiB cold, 22-25 s / 0.83 GiB warm; 40,000 links 156 s / 1.78 GiB cold,
 48.6 s / 1.63 GiB warm. ``--links 5000 10000 20000`` fits the growth exponents.
+With lark-cython's lexer and parser loop, the interned token texts and the blocks pickled
+separately (docs/limits.md; main measured alternately, load 3-5): 5,000 links 17.3-18.5 s of
+CPU / 0.19 GiB cold (main 23.8-24.6 s / 0.26 GiB); 20,000 links 71.0-73.6 s / 0.61 GiB cold,
+25.1 s / 0.67 GiB warm (main 90.1 s / 0.91 GiB cold, 24.7 s / 0.83 GiB warm); 90,198 links
+382 s / 2.37 GiB cold (load 5-7, 933 s of wall time). Not met: 6.4 times the time, 1.6 times
+the memory.
 
     python3 benchmarks/bench_large_check.py [--links N [N ...]] [--warm [--repeat K]]
 """
