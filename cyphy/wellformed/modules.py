@@ -22,6 +22,8 @@ from typing import Iterator
 from cyphy import expr as ex
 from cyphy.diagnostics import Severity
 from cyphy.lang import ast
+from cyphy.model.connections import (controllers_of, machines_of_controller,
+                                     missing_connection, module_machines)
 from cyphy.model.machines import expressions, statements
 from cyphy.wellformed.indexing import evaluate_in
 from cyphy.wellformed.machines import _machines
@@ -34,24 +36,6 @@ def _cycle(holder: object) -> ex.Expr | None:
                 c.expr.op == "==" and c.expr.left == ex.Name(("cycle",)):
             return c.expr.right
     return None
-
-
-def _controllers(ctx: WFContext, module: ast.Module) -> Iterator[tuple[str, ast.Controller]]:
-    for m in module.members:
-        if isinstance(m, ast.Controller):
-            yield m.name, m
-        elif isinstance(m, ast.NodeRef) and isinstance(ctx.target(m), ast.Controller):
-            yield m.name, ctx.target(m)
-
-
-def _machines_of(ctx: WFContext, ctrl: ast.Controller
-                 ) -> Iterator[tuple[str, ast.StateMachine]]:
-    for stm in ctrl.machines:
-        yield stm.name, stm
-    for ref in ctrl.machine_refs:
-        target = ctx.target(ref)
-        if isinstance(target, ast.StateMachine):
-            yield ref.name, target
 
 
 def _modules(ctx: WFContext) -> Iterator[tuple[ast.SourceFile, ast.Module]]:
@@ -81,9 +65,9 @@ def check_STM10_one_cycle(ctx: WFContext) -> None:
     for _, module in _modules(ctx):
         period = _period(ctx, module, module)
         owner = f"module {module.name}"
-        for _, ctrl in _controllers(ctx, module):
+        for _, ctrl in controllers_of(module, ctx.resolution):
             holders: list[ast.Controller | ast.StateMachine] = [ctrl]
-            holders += [stm for _, stm in _machines_of(ctx, ctrl)]
+            holders += [stm for _, stm in machines_of_controller(ctrl, ctx.resolution)]
             for holder in holders:
                 own = _period(ctx, holder, ctrl)
                 if own is None or own == period:
@@ -102,48 +86,30 @@ def _kind(holder: object) -> str:
     return "controller" if isinstance(holder, ast.Controller) else "machine"
 
 
-def _connected(container: object, source: str, event: str, target: str) -> bool:
-    return any(isinstance(c, ast.Connection) and c.source == source and
-               c.source_event == event and c.target == target
-               for c in getattr(container, "members", ()))
-
-
 @rule("STM11", "the platform's events a machine reads reach it along connections",
       Severity.WARNING)
 def check_STM11_events_connected(ctx: WFContext) -> None:
     """A machine reads ``$e`` of its platform: the module connects the platform's ``e`` to
     the machine's controller, and the controller connects its ``e`` to the machine."""
     machines = {id(m.decl): m for m in _machines(ctx)}
-    for _, module in _modules(ctx):
-        platform = module.platform
-        if platform is None:
+    for module, ctrl_name, ctrl, stm_name, stm in module_machines(ctx.files(), ctx.resolution):
+        m = machines.get(id(stm))
+        if m is None:
             continue
-        for ctrl_name, ctrl in _controllers(ctx, module):
-            for stm_name, stm in _machines_of(ctx, ctrl):
-                m = machines.get(id(stm))
-                if m is None:
+        sent = {id(s.event) for s, _ in statements(m) if isinstance(s, ast.SendStatement)}
+        warned: set[str] = set()
+        for e, where in expressions(m):
+            for node in e.walk():
+                if not isinstance(node, ex.PlatformRef) or id(node) in sent:
                     continue
-                sent = {id(s.event) for s, _ in statements(m)
-                        if isinstance(s, ast.SendStatement)}
-                warned: set[str] = set()
-                for e, where in expressions(m):
-                    for node in e.walk():
-                        if not isinstance(node, ex.PlatformRef) or id(node) in sent:
-                            continue
-                        name = node.name[-1]
-                        if name in warned or name not in m.platform.input_events:
-                            continue
-                        missing = None
-                        if not _connected(module, platform.name, name, ctrl_name):
-                            missing = (f"module {module.name}", f"{platform.name} on {name} "
-                                       f"to {ctrl_name} on {name} (_async)")
-                        elif not _connected(ctrl, ctrl.name, name, stm_name):
-                            missing = (f"controller {ctrl.name}", f"{ctrl.name} on {name} "
-                                       f"to {stm_name} on {name}")
-                        if missing is None:
-                            continue
-                        warned.add(name)
-                        ctx.error("STM11", node, f"{where}: machine {m.name} reads {name}, "
-                                  f"but {missing[0]} has no connection that carries it there: "
-                                  "the event never reaches the machine, which waits for it "
-                                  "forever", f"add 'connection {missing[1]}' to {missing[0]}")
+                name = node.name[-1]
+                if name in warned or name not in m.platform.input_events:
+                    continue
+                missing = missing_connection(module, ctrl_name, ctrl, stm_name, name)
+                if missing is None:
+                    continue
+                warned.add(name)
+                ctx.error("STM11", node, f"{where}: machine {m.name} reads {name}, but "
+                          f"{missing[0]} has no connection that carries it there: the event "
+                          "never occurs for the machine (simulate, reach and the theory's D "
+                          "take it as absent)", f"add 'connection {missing[1]}' to {missing[0]}")

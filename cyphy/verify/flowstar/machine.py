@@ -127,5 +127,5 @@ def typed_events(interpreters: "list[MachineInterpreter]") -> list[str]:
     for i in interpreters:
         for m in [i.machine, *i.operations.values()]:
             out.update((e, None) for e, d in m.platform.input_events.items()
-                       if d.type is not None)
+                       if d.type is not None and e not in i.machine.unconnected)
     return list(out)
