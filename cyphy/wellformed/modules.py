@@ -1,5 +1,5 @@
-"""A module and what it runs: one cycle (STM10), and the platform's events carried to the
-machines that read them (STM11).
+"""A module and what it runs: one cycle (STM10), the platform's events carried to the
+machines that read them (STM11), and the interfaces the controllers pass on (STM12).
 
 A module runs its controllers' machines together. cyphy's semantics has one ``cycle`` per
 module (semantics.md, Rule 1 and the main action: ``Wait(cycle)`` then ``Evolve`` until the
@@ -11,8 +11,13 @@ no place in the model): ``check`` refuses them at the ``cycleDef``.
 
 RoboChart delivers an event only along a connection: a platform event that no connection of
 the module carries to the controller (and no connection of the controller to the machine)
-never reaches the machine, which then waits for it forever; ``simulate`` and the theory
-would deliver it all the same. ``check`` warns at the machine's read.
+never reaches the machine: ``check`` warns at the machine's read, and every command takes
+the event as absent (:mod:`cyphy.model.connections`, shared with the semantics).
+
+A machine's ``requires I`` is met by its controller, which ``requires I`` of the platform
+in turn: a controller that does not require it gives the machine nothing to call or write
+(RoboChart's composition). ``check`` refuses the machine's first use of ``I``, with the
+controller's missing line as the hint.
 """
 
 from __future__ import annotations
@@ -24,9 +29,9 @@ from cyphy.diagnostics import Severity
 from cyphy.lang import ast
 from cyphy.model.connections import (controllers_of, machines_of_controller,
                                      missing_connection, module_machines)
-from cyphy.model.machines import expressions, statements
+from cyphy.model.machines import Machine, expressions, statements
 from cyphy.wellformed.indexing import evaluate_in
-from cyphy.wellformed.machines import _machines
+from cyphy.wellformed.machines import _machines, callee_of, root
 from cyphy.wellformed.registry import WFContext, rule
 
 def _cycle(holder: object) -> ex.Expr | None:
@@ -113,3 +118,68 @@ def check_STM11_events_connected(ctx: WFContext) -> None:
                           f"{missing[0]} has no connection that carries it there: the event "
                           "never occurs for the machine (simulate, reach and the theory's D "
                           "take it as absent)", f"add 'connection {missing[1]}' to {missing[0]}")
+
+
+def _requires(ctx: WFContext, holder: object) -> list[tuple[ast.InterfaceUse, ast.Interface]]:
+    """The interfaces a controller or machine ``requires`` (a machine's, in its output
+    context too), with the line that requires each."""
+    uses = [u for u in getattr(holder, "members", ()) if isinstance(u, ast.InterfaceUse)]
+    uses += [u for c in getattr(holder, "contexts", ()) for u in c.members
+             if isinstance(u, ast.InterfaceUse)]
+    return [(u, i) for u in uses if u.relation == "requires"
+            and isinstance(i := ctx.target(u), ast.Interface)]
+
+
+def _first_use(ctx: WFContext, m: Machine, interface: ast.Interface
+               ) -> tuple[object, str, str] | None:
+    """Where the machine first calls an operation of the interface or assigns or reads one
+    of its variables: the node, where it is, and what it does there."""
+    operations = {op.name for op in interface.operations}
+    variables = {v.name for v in interface.variables if v.kind is ast.DeclKind.VAR}
+    variables -= set(m.variables) | set(m.constants)
+    for s, where in statements(m):
+        if isinstance(s, ast.CallStatement) and isinstance(s.call, ex.Call):
+            callee = callee_of(ctx, m, s.call)
+            if callee is not None and callee[0] in operations:
+                return s, where, f"calls {callee[0]}"
+        elif isinstance(s, ast.Assign) and (name := _named(root(s.target))) in variables:
+            return s.target, where, f"writes the variable {name}"
+    for e, where in expressions(m):
+        for node in e.walk():
+            if (name := _named(node)) in variables:
+                return node, where, f"reads the variable {name}"
+    return None
+
+
+def _named(node: ex.Expr) -> str | None:
+    """The name ``x`` or ``$x`` stands for (None for another expression)."""
+    return node.name[-1] if isinstance(node, ex.PlatformRef) else \
+        node.text if isinstance(node, ex.Name) else None
+
+
+@rule("STM12", "a controller requires the interfaces whose operations and variables its "
+      "machines use")
+def check_STM12_controller_requires(ctx: WFContext) -> None:
+    """A machine's ``requires I`` reaches the platform through its controller: the
+    controller that runs it ``requires I`` too (RoboChart's composition; the corpus's
+    controllers all do). Reported at the machine's first call of an operation of ``I`` or
+    use of a variable of ``I``, with the controller's missing line as the hint."""
+    machines = {id(m.decl): m for m in _machines(ctx)}
+    for _, _, ctrl, _, stm in module_machines(ctx.files(), ctx.resolution):
+        m = machines.get(id(stm))
+        if m is None:
+            continue
+        held = {id(i) for _, i in _requires(ctx, ctrl)}
+        for use, interface in _requires(ctx, stm):
+            if id(interface) in held:
+                continue
+            held.add(id(interface))  # once per interface
+            found = _first_use(ctx, m, interface)
+            if found is None:
+                continue
+            node, where, what = found
+            ctx.error("STM12", node, f"{where}: machine {m.name} {what} of interface "
+                      f"{interface.name}, which its controller {ctrl.name} does not require: "
+                      "the controller passes the machine only what it requires itself",
+                      f"add 'requires {'::'.join(use.interface)}' to controller {ctrl.name}, "
+                      f"as machine {m.name} has it (line {use.span.line})")
