@@ -191,7 +191,7 @@ def test_junction_conditions_are_checked_only_with_consistency(tmp_path):
 def test_rules_are_listed(capsys):
     assert main(["check", "--list-rules"]) == 0
     listed = [line.split()[0] for line in capsys.readouterr().out.splitlines()]
-    assert [r for r in listed if r.startswith("STM")] == [f"STM{i}" for i in range(1, 13)]
+    assert [r for r in listed if r.startswith("STM")] == [f"STM{i}" for i in range(1, 14)]
 
 
 @pytest.mark.parametrize("rule", ["STM6", "STM7"])
@@ -218,7 +218,7 @@ controller Ctrl {
     cycleDef cycle == 1
     input context { uses SenseI }
     initial i0 state S {} transition t0 { from i0 to S }
-    transition t1 { from S to S condition $near }
+    transition t1 { from S to S exec condition $near }
   }
   stm B {
     cycleDef cycle == PERIOD
@@ -260,7 +260,7 @@ def test_a_module_cycle_is_the_reference(tmp_path):
 
 def test_an_event_the_controller_does_not_pass_on_is_a_warning_at_the_read(tmp_path):
     found = _module(tmp_path, controller_links="")
-    assert [(c, line, col) for c, line, col, _ in found] == [("STM11", 16, 43)]
+    assert [(c, line, col) for c, line, col, _ in found] == [("STM11", 16, 48)]
     assert "controller Ctrl has no connection" in found[0][3]
     from cyphy.wellformed import RULES
 

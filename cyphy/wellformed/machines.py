@@ -199,8 +199,8 @@ def check_STM4_events(ctx: WFContext) -> None:
     for m in _machines(ctx):
         sent = {id(s.event) for s, _ in statements(m) if isinstance(s, ast.SendStatement)}
         _check_event_values(ctx, m)
-        called = {id(s.call.func) for s, _ in statements(m) if isinstance(s, ast.CallStatement)
-                  and isinstance(s.call, ex.Call)}
+        called = {id(s.call.func) if isinstance(s.call, ex.Call) else id(s.call)
+                  for s, _ in statements(m) if isinstance(s, ast.CallStatement)}
         for e, where in expressions(m):
             for node in e.walk():
                 if not isinstance(node, ex.PlatformRef) or id(node) in called:
@@ -251,6 +251,17 @@ def _check_event_values(ctx: WFContext, m: Machine) -> None:
         elif isinstance(s, ast.CallStatement) and isinstance(s.call, ex.PlatformRef):
             name = s.call.name[-1]
             event = m.platform.output_events.get(name)
+            if event is None and name not in m.platform.operations:
+                # ``$e`` as a statement sends e: simulate would call an operation e
+                ctx.error("STM4", s, f"{where}: '${name}' as a statement sends {name}, but "
+                          f"{name} is not an output event of {m.name}" +
+                          (": it is an input event, which the machine reads in a condition"
+                           if name in m.platform.input_events else ""),
+                          f"read it in a condition ('condition ${name}')"
+                          if name in m.platform.input_events else
+                          did_you_mean(name, m.platform.output_events) or
+                          "add 'output context { uses I }' with an interface I that "
+                          f"declares event {name}")
             if event is not None and event.type is not None and \
                     name not in m.platform.input_events:
                 ctx.error("STM4", s, f"{where}: '${name}' sends no value, but the event "

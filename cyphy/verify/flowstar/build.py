@@ -437,10 +437,9 @@ class _Builder:
                 pred = self.typed[name].predicate
             else:
                 pred = input_event_predicate(self.model, mapping, event)
-            if pred is None:
-                raise self.fail(f"the input event {name} has no predicate in mapping "
-                                f"{mapping.name}: its occurrence cannot be decided", span)
-            out[name] = (pred, span)
+            # no predicate: the event occurs every cycle (PMap12's warning; the theory's
+            # Rule 4 with ``true``)
+            out[name] = (ex.Bool(True) if pred is None else pred, span)
         return out
 
     def _probes(self, system: Any, exprs: list[ex.Expr]) -> dict[str, str]:

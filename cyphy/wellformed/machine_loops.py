@@ -1,0 +1,95 @@
+"""A machine's cycle ends (STM13).
+
+Under RoboSim's cycle semantics a machine takes transitions until it rests in a state or
+meets ``exec``; the cycle's inputs (its events, its clocks' counts) do not change while it
+does. A loop of transitions none of which is an ``exec`` transition, through states whose
+actions neither ``exec``, ``wait``, nor change a variable or a clock, therefore runs forever
+once its conditions hold: their values cannot change before the loop comes round again.
+``simulate`` and ``reach`` refused such a machine at run time ("took 10000 steps without
+ending its cycle"), and ``gen --isabelle`` left ``D`` opaque; ``check`` refuses it at the
+loop's first transition. A loop whose actions change a variable or reset a clock may end (a
+counter): it is left alone.
+"""
+
+from __future__ import annotations
+
+from cyphy import expr as ex
+from cyphy.lang import ast
+from cyphy.model.machines import Machine, MachineTransition
+from cyphy.wellformed.machines import _machines
+from cyphy.wellformed.registry import WFContext, rule
+
+
+def _may_end(statements: tuple[ast.Statement, ...] | None) -> bool:
+    """Whether the actions may end the cycle or change what the loop's conditions read:
+    ``exec``, ``wait``, an assignment, a clock reset, or a call of an operation definition
+    (which may do any of these)."""
+    for s in statements or ():
+        if isinstance(s, (ast.ExecStatement, ast.WaitStatement, ast.Assign, ast.ClockReset)):
+            return True
+        if isinstance(s, ast.CallStatement) and not (
+                isinstance(s.call, ex.PlatformRef) or isinstance(s.call, ex.Call)
+                and isinstance(s.call.func, ex.PlatformRef)):
+            return True
+    return False
+
+
+def _node_may_end(m: Machine, key: str) -> bool:
+    node = m.nodes[key]
+    if node.kind == "final" or node.composite:
+        return True  # a final state ends the machine; a composite one enters its own
+    return any(_may_end(node.actions(kind)) for kind in ("entry", "during", "exit"))
+
+
+def _loop(m: Machine) -> list[MachineTransition] | None:
+    """A loop of transitions without ``exec`` through nodes whose actions cannot end it,
+    starting at the first such transition written that is on one; None without one."""
+    edges = [t for t in m.transitions if t.source is not None and t.target is not None
+             and not t.decl.exec and not _may_end(t.decl.action)
+             and not _node_may_end(m, t.source) and not _node_may_end(m, t.target)]
+    leaving: dict[str, list[MachineTransition]] = {}
+    for t in edges:
+        leaving.setdefault(str(t.source), []).append(t)
+    for first in edges:
+        if first.target == first.source:
+            return [first]
+        rest = _path(leaving, str(first.target), str(first.source), {str(first.target)})
+        if rest is not None:
+            return [first, *rest]
+    return None
+
+
+def _path(leaving: dict[str, list[MachineTransition]], start: str, goal: str,
+          seen: set[str]) -> list[MachineTransition] | None:
+    """Transitions from ``start`` to ``goal`` through nodes not yet ``seen`` (depth first)."""
+    for t in leaving.get(start, []):
+        if t.target == goal:
+            return [t]
+        if t.target in seen:
+            continue
+        seen.add(str(t.target))
+        rest = _path(leaving, str(t.target), goal, seen)
+        if rest is not None:
+            return [t, *rest]
+    return None
+
+
+@rule("STM13", "a machine's cycle ends: every loop of transitions has an exec, or an action "
+      "that may end it")
+def check_STM13_cycle_ends(ctx: WFContext) -> None:
+    """A loop of transitions without ``exec``, whose states' and transitions' actions neither
+    ``exec``, ``wait``, assign a variable, reset a clock nor call an operation definition,
+    never ends the cycle once its conditions hold (they read only what the cycle does not
+    change). Reported at its first transition, naming the loop."""
+    for m in _machines(ctx):
+        loop = _loop(m)
+        if loop is None:
+            continue
+        through = " → ".join([str(loop[0].source), *(str(t.target) for t in loop)])
+        names = ", ".join(t.name for t in loop)
+        ctx.error("STM13", loop[0].decl, f"transition{'s' if len(loop) > 1 else ''} {names} "
+                  f"of {m.name} loop ({through}) with no exec: once their conditions hold, "
+                  "the machine takes them for ever and its cycle never ends",
+                  f"mark one of them exec ('transition {loop[0].name} {{ from "
+                  f"{loop[0].decl.source} to {loop[0].decl.target} exec … }}'), so that "
+                  "the machine rests until the next cycle")
