@@ -191,7 +191,7 @@ def test_junction_conditions_are_checked_only_with_consistency(tmp_path):
 def test_rules_are_listed(capsys):
     assert main(["check", "--list-rules"]) == 0
     listed = [line.split()[0] for line in capsys.readouterr().out.splitlines()]
-    assert [r for r in listed if r.startswith("STM")] == [f"STM{i}" for i in range(1, 14)]
+    assert [r for r in listed if r.startswith("STM")] == [f"STM{i}" for i in range(1, 15)]
 
 
 @pytest.mark.parametrize("rule", ["STM6", "STM7"])

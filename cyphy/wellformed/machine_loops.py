@@ -3,12 +3,13 @@
 Under RoboSim's cycle semantics a machine takes transitions until it rests in a state or
 meets ``exec``; the cycle's inputs (its events, its clocks' counts) do not change while it
 does. A loop of transitions none of which is an ``exec`` transition, through states whose
-actions neither ``exec``, ``wait``, nor change a variable or a clock, therefore runs forever
-once its conditions hold: their values cannot change before the loop comes round again.
+actions neither ``exec``, ``wait``, nor change a variable (nor reset a clock the loop's
+conditions read), therefore runs forever once its conditions hold: their values cannot
+change before the loop comes round again.
 ``simulate`` and ``reach`` refused such a machine at run time ("took 10000 steps without
 ending its cycle"), and ``gen --isabelle`` left ``D`` opaque; ``check`` refuses it at the
-loop's first transition. A loop whose actions change a variable or reset a clock may end (a
-counter): it is left alone.
+loop's first transition. A loop whose actions change a variable may end (a counter): it is
+left alone.
 """
 
 from __future__ import annotations
@@ -22,10 +23,11 @@ from cyphy.wellformed.registry import WFContext, rule
 
 def _may_end(statements: tuple[ast.Statement, ...] | None) -> bool:
     """Whether the actions may end the cycle or change what the loop's conditions read:
-    ``exec``, ``wait``, an assignment, a clock reset, or a call of an operation definition
-    (which may do any of these)."""
+    ``exec``, ``wait``, an assignment, or a call of an operation definition (which may do
+    any of these). A clock reset changes ``since(C)`` once, to 0: it may end the loop only
+    when the loop's conditions read ``C`` (:func:`_resets_read`)."""
     for s in statements or ():
-        if isinstance(s, (ast.ExecStatement, ast.WaitStatement, ast.Assign, ast.ClockReset)):
+        if isinstance(s, (ast.ExecStatement, ast.WaitStatement, ast.Assign)):
             return True
         if isinstance(s, ast.CallStatement) and not (
                 isinstance(s.call, ex.PlatformRef) or isinstance(s.call, ex.Call)
@@ -51,12 +53,28 @@ def _loop(m: Machine) -> list[MachineTransition] | None:
     for t in edges:
         leaving.setdefault(str(t.source), []).append(t)
     for first in edges:
-        if first.target == first.source:
-            return [first]
-        rest = _path(leaving, str(first.target), str(first.source), {str(first.target)})
-        if rest is not None:
-            return [first, *rest]
+        loop = [first] if first.target == first.source else None
+        if loop is None:
+            rest = _path(leaving, str(first.target), str(first.source), {str(first.target)})
+            loop = None if rest is None else [first, *rest]
+        if loop is not None and not _resets_read(m, loop):
+            return loop
     return None
+
+
+def _resets_read(m: Machine, loop: list[MachineTransition]) -> bool:
+    """Whether the loop resets a clock that its conditions read (``#C`` and ``since(C)``):
+    the condition may then change once the clock is reset, and end the loop."""
+    actions = [s for t in loop for s in t.decl.action or ()]
+    for t in loop:
+        node = m.nodes[str(t.source)]
+        actions += [s for kind in ("entry", "during", "exit") for s in node.actions(kind)]
+    reset = {s.clock for s in actions if isinstance(s, ast.ClockReset)}
+    read = {n.args[0].text for t in loop for e in (t.decl.trigger, t.decl.condition)
+            if e is not None for n in e.walk() if isinstance(n, ex.Call) and
+            isinstance(n.func, ex.Name) and n.func.text == "since" and n.args and
+            isinstance(n.args[0], ex.Name)}
+    return bool(reset & read)
 
 
 def _path(leaving: dict[str, list[MachineTransition]], start: str, goal: str,
@@ -78,8 +96,8 @@ def _path(leaving: dict[str, list[MachineTransition]], start: str, goal: str,
       "that may end it")
 def check_STM13_cycle_ends(ctx: WFContext) -> None:
     """A loop of transitions without ``exec``, whose states' and transitions' actions neither
-    ``exec``, ``wait``, assign a variable, reset a clock nor call an operation definition,
-    never ends the cycle once its conditions hold (they read only what the cycle does not
+    ``exec``, ``wait``, assign a variable, reset a clock its conditions read, nor call an
+    operation definition, never ends the cycle once its conditions hold (they read only what the cycle does not
     change). Reported at its first transition, naming the loop."""
     for m in _machines(ctx):
         loop = _loop(m)
