@@ -1,5 +1,4 @@
-"""RoboSim state machines: STM8, the types of a machine's behaviour; STM9, a positive cycle;
-STM14, a natural number of cycles to wait.
+"""RoboSim state machines: STM8, the types of a machine's behaviour; STM9, a positive cycle.
 
 S3 (expressions are well-typed) for what a machine does: a transition's condition is a
 boolean, an assignment gives a variable a value of its declared type, a call passes each
@@ -186,23 +185,3 @@ def check_STM9_positive_cycle(ctx: WFContext) -> None:
                     ctx.error("STM9", e.right, f"the cycle of {holder.name} is {value:g}: a "
                               "cycle takes a positive time", "write 'cycleDef cycle == 1' "
                               "(one time unit), or the period in time units")
-
-
-@rule("STM14", "wait(n) waits a natural number of cycles")
-def check_STM14_wait_cycles(ctx: WFContext) -> None:
-    """``wait(n)`` ends the cycle ``n`` times: ``n`` is a whole number, not negative
-    (``simulate`` and ``reach`` refused ``wait(-1)`` or ``wait(0.5)`` when the machine
-    reached it). ``n`` is evaluated with the machine's constants and those in scope; one
-    that reads a variable, or a constant without a value, is left to the run."""
-    for m in _machines(ctx):
-        names = {**m.variables, **m.constants}
-        for s, where in statements(m):
-            if not isinstance(s, ast.WaitStatement):
-                continue
-            value, _ = evaluate_in(ctx, m.file, names, s.cycles)
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                continue
-            if value < 0 or value != int(value):
-                ctx.error("STM14", s.cycles, f"{where}: wait({value:g}) waits a number of "
-                          "cycles that is not a natural number", "write wait(n) with n a "
-                          "whole number of cycles, 0 or more")

@@ -1,4 +1,5 @@
-"""A machine's cycle ends (STM13).
+"""What ends a machine's cycle: an ``exec`` on every loop of transitions (STM13), a natural
+number of cycles to ``wait`` (STM14).
 
 Under RoboSim's cycle semantics a machine takes transitions until it rests in a state or
 meets ``exec``; the cycle's inputs (its events, its clocks' counts) do not change while it
@@ -16,7 +17,8 @@ from __future__ import annotations
 
 from cyphy import expr as ex
 from cyphy.lang import ast
-from cyphy.model.machines import Machine, MachineTransition
+from cyphy.model.machines import Machine, MachineTransition, statements
+from cyphy.wellformed.indexing import evaluate_in
 from cyphy.wellformed.machines import _machines
 from cyphy.wellformed.registry import WFContext, rule
 
@@ -111,3 +113,23 @@ def check_STM13_cycle_ends(ctx: WFContext) -> None:
                   f"mark one of them exec ('transition {loop[0].name} {{ from "
                   f"{loop[0].decl.source} to {loop[0].decl.target} exec … }}'), so that "
                   "the machine rests until the next cycle")
+
+
+@rule("STM14", "wait(n) waits a natural number of cycles")
+def check_STM14_wait_cycles(ctx: WFContext) -> None:
+    """``wait(n)`` ends the cycle ``n`` times: ``n`` is a whole number, not negative
+    (``simulate`` and ``reach`` refused ``wait(-1)`` or ``wait(0.5)`` when the machine
+    reached it). ``n`` is evaluated with the machine's constants and those in scope; one
+    that reads a variable, or a constant without a value, is left to the run."""
+    for m in _machines(ctx):
+        names = {**m.variables, **m.constants}
+        for s, where in statements(m):
+            if not isinstance(s, ast.WaitStatement):
+                continue
+            value, _ = evaluate_in(ctx, m.file, names, s.cycles)
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                continue
+            if value < 0 or value != int(value):
+                ctx.error("STM14", s.cycles, f"{where}: wait({value:g}) waits a number of "
+                          "cycles that is not a natural number", "write wait(n) with n a "
+                          "whole number of cycles, 0 or more")
