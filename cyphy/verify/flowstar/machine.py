@@ -73,8 +73,9 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
         interpreter = interpreters[0] if len(interpreters) == 1 else \
             ModuleInterpreter(interpreters)
     except MachineError as err:
-        report.report(EXPORT, f"state machine {machine.name}: {err.message}", err.span,
-                      err.hint)
+        # the compilation of a module reports at the machine it cannot compile
+        name = next((m.name for m in machines if m.decl.span == err.span), machine.name)
+        report.report(EXPORT, f"state machine {name}: {err.message}", err.span, err.hint)
         return None
     if not _same_cycle(interpreter, scenario, report):
         return None
