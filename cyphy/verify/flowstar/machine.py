@@ -96,6 +96,7 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
 def _compiled(interpreters: "list[MachineInterpreter]", sampled: bool) -> Any:
     """The module's automaton; for ``sampled``, None (the interpreter runs the machines)
     when they cannot be compiled, which a run of the interpreter does not need."""
+    # lazy: NumPy, as the rest of this module imports the machines' semantics
     from cyphy.semantics.machines.cycle import MachineError
     from cyphy.semantics.machines.parallel import compile_module
 
