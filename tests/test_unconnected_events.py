@@ -115,3 +115,57 @@ def test_reach_proves_the_cruise_of_an_unconnected_machine(tmp_path, capsys, con
                  str(exported), "-q"]) == 0
     model = next(exported.glob("*.model")).read_text(encoding="utf-8")
     assert ("Cruise -> Stopped" in model) == connected
+
+
+MODULE = """\
+interface SenseI { event near }
+interface GoI { go() }
+module Mod {
+  robotic platform P { uses SenseI provides GoI }
+  cref c = Ctrl
+  connection P on near to c on near
+}
+controller Ctrl {
+  uses SenseI requires GoI
+  sref a = M
+  stm B {
+    input context { uses SenseI }
+    output context { requires GoI }
+    initial i0 state S {} state T { entry $go() }
+    transition t0 { from i0 to S }
+    transition t1 { from S to T exec condition $near }
+  }
+  connection Ctrl on near to a on near
+}
+stm M {
+  input context { uses SenseI }
+  output context { requires GoI }
+  initial i0 state S {} state T { entry $go() }
+  transition t0 { from i0 to S }
+  transition t1 { from S to T exec condition $near }
+}
+"""
+
+
+def test_one_module_connects_the_event_to_one_machine_and_not_the_other(tmp_path):
+    """The controller passes near to its machine ``a`` (M) and not to B: the same event,
+    read by two identical machines of one controller, moves M and never B; the warning is
+    B's alone."""
+    from cyphy import api
+    from cyphy.model.machines import select_machine
+    from cyphy.semantics.machines.cycle import MachineInterpreter
+
+    f = tmp_path / "m.rst"
+    f.write_text(MODULE, encoding="utf-8")
+    checked = api.check([str(f)])
+    found = [(d.code.id, d.span.line) for d in checked.report.diagnostics]
+    assert found == [("STM11", 16)], [d.message for d in checked.report.diagnostics]
+    files = list(checked.workspace.user_files())
+    calls = {}
+    for name in ("M", "B"):
+        machine, _ = select_machine(files, checked.resolution, None, name)
+        assert machine is not None
+        it = MachineInterpreter(machine)
+        calls[name] = [it.cycle({"near": True}) for _ in range(3)]
+    assert calls["M"] == [(), (("go", ()),), ()]
+    assert calls["B"] == [(), (), ()]
