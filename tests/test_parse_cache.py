@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from conftest import EXAMPLES, ROOT
-from cyphy import api
+from cyphy import api, disk_cache
 from cyphy.lang import parse_cache
 from cyphy.lang.ast import ParseResult
 from cyphy.lang.parser import parse_text
@@ -55,8 +55,8 @@ def test_changed_text_or_other_path_is_parsed_again(cache: Path,
     parse_cache.parse(GOOD, "m.rsm")
     changed = GOOD.replace("link L", "link K")
     loads: list[object] = []
-    real_load = parse_cache.pickle.load
-    monkeypatch.setattr(parse_cache.pickle, "load", lambda f: loads.append(f) or real_load(f))
+    real_load = disk_cache.pickle.load
+    monkeypatch.setattr(disk_cache.pickle, "load", lambda f: loads.append(f) or real_load(f))
     file = parse_cache.parse(changed, "m.rsm").file
     assert loads == []  # the stale entry's hash is read, not its tree
     assert file is not None and "K" in repr(file) and " L " not in changed
@@ -88,7 +88,7 @@ def test_an_entry_others_may_write_is_not_unpickled(cache: Path,
     (entry,) = entries(cache)
     entry.chmod(0o666)
     loads: list[object] = []
-    monkeypatch.setattr(parse_cache.pickle, "load", lambda f: loads.append(f))
+    monkeypatch.setattr(disk_cache.pickle, "load", lambda f: loads.append(f))
     file = parse_cache.parse(GOOD, "m.rsm").file
     assert file == parse_text(GOOD, "m.rsm").file and loads == []
 
@@ -112,12 +112,12 @@ def test_stale_fingerprint_folders_are_removed(cache: Path) -> None:
     old, recent = cache / "parse-old", cache / "parse-recent"
     for folder in (old, recent):
         folder.mkdir(parents=True)
-        (folder / parse_cache.MARKER).write_text("Signature: 8a477f597d28d172789f06886806bc55")
+        (folder / disk_cache.MARKER).write_text("Signature: 8a477f597d28d172789f06886806bc55")
         (folder / "0123.pickle").write_bytes(b"x")
     os.utime(old, (0, 0))
     parse_cache.parse(GOOD, "m.rsm")
     assert not old.exists() and recent.exists()
-    assert (cache / f"parse-{parse_cache.fingerprint()}" / parse_cache.MARKER).is_file()
+    assert (cache / f"parse-{parse_cache.fingerprint()}" / disk_cache.MARKER).is_file()
 
 
 def test_cleanup_leaves_what_cyphy_did_not_make(cache: Path) -> None:
@@ -127,7 +127,7 @@ def test_cleanup_leaves_what_cyphy_did_not_make(cache: Path) -> None:
     theirs.mkdir(parents=True)
     (theirs / "data.csv").write_text("1,2\n")
     mixed.mkdir()
-    (mixed / parse_cache.MARKER).write_text("Signature: 8a477f597d28d172789f06886806bc55")
+    (mixed / disk_cache.MARKER).write_text("Signature: 8a477f597d28d172789f06886806bc55")
     (mixed / "0123.pickle").write_bytes(b"x")
     (mixed / "notes.txt").write_text("mine")
     for folder in (theirs, mixed):
@@ -162,10 +162,10 @@ def main_check_exit(cache_dir: Path) -> int:
 def test_the_cache_is_kept_under_its_size_limit(cache: Path,
                                                 monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("CYPHY_CACHE_MAX_MB", "0.004")  # about 4 kB: two or three entries
-    monkeypatch.setattr(parse_cache, "_sizes", {})
+    monkeypatch.setattr(disk_cache, "_sizes", {})
     for i in range(12):
         parse_cache.parse(GOOD, f"m{i}.rsm")
-        os.utime(entries(cache)[-1].parent / parse_cache.MARKER)
+        os.utime(entries(cache)[-1].parent / disk_cache.MARKER)
     total = sum(p.stat().st_size for p in entries(cache))
     assert 0 < total <= 4.1 * 1024 and len(entries(cache)) < 12
 
