@@ -37,7 +37,8 @@ _STALE_AFTER_S = 7 * 24 * 3600
 MARKER = "CACHEDIR.TAG"
 _MARKER_TEXT = ("Signature: 8a477f597d28d172789f06886806bc55\n"
                 "# This folder is a cache of cyphy (see cyphy/disk_cache.py).\n")
-_ENTRY_SUFFIXES = (".pickle", ".tmp")
+#: The files of cyphy's caches: pickles, Jinja2's compiled templates, temporary files.
+_ENTRY_SUFFIXES = (".pickle", ".jinja", ".tmp")
 _DEFAULT_MAX_MB = 512
 _sizes: dict[Path, int] = {}  # bytes in each folder written to by this process
 #: What :func:`load` returns when there is no usable entry (None may be a cached value).
@@ -82,7 +83,7 @@ def load(entry: Path, header: bytes, accept: Callable[[Any], bool]) -> Any:
     no unpickling."""
     try:
         with entry.open("rb") as f:
-            if _trusted(os.fstat(f.fileno())) and f.read(len(header)) == header:
+            if trusted(f) and f.read(len(header)) == header:
                 loaded = pickle.load(f)
                 if accept(loaded):
                     return loaded
@@ -104,10 +105,7 @@ def store(folder: Path, entry: Path, header: bytes, value: Any) -> None:
     """Write one entry atomically; a failure (an unwritable folder, a value too deep to
     pickle) leaves the cache as it was."""
     try:
-        if not (folder / MARKER).is_file():
-            folder.mkdir(parents=True, exist_ok=True)
-            (folder / MARKER).write_text(_MARKER_TEXT, encoding="utf-8")
-            _remove_stale(folder)
+        make_folder(folder)
         fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
         try:
             with os.fdopen(fd, "wb") as f:
@@ -121,6 +119,21 @@ def store(folder: Path, entry: Path, header: bytes, value: Any) -> None:
         _cap(folder, written)
     except (OSError, pickle.PicklingError, RecursionError):
         pass  # computed again next time
+
+
+def make_folder(folder: Path) -> None:
+    """Create ``folder`` (and its parents) with cyphy's marker, when it has none yet; the same
+    cache's folders of other fingerprints that nobody used for a week are then removed.
+    ``OSError`` when it cannot be made."""
+    if not (folder / MARKER).is_file():
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / MARKER).write_text(_MARKER_TEXT, encoding="utf-8")
+        _remove_stale(folder)
+
+
+def trusted(file: Any) -> bool:
+    """Whether the open ``file`` may be loaded as code or a pickle (:func:`_trusted`)."""
+    return _trusted(os.fstat(file.fileno()))
 
 
 def _entries(folder: Path) -> list[os.DirEntry[str]]:

@@ -123,6 +123,7 @@ def test_a_warm_gen_isabelle_writes_the_same_files_without_sympy(tmp_path: Path)
     cache = tmp_path / "cache"
     assert run_gen(cache, tmp_path / "cold") == "0 True"
     assert len(entries(cache)) == 1
+    assert len(list(cache.glob("jinja-*/*.jinja"))) == 3  # the theory's templates, compiled
     assert run_gen(cache, tmp_path / "warm") == "0 False"  # SymPy never imported
     assert run_gen(cache, tmp_path / "none", no_cache=True) == "0 True"
     cold = files(tmp_path / "cold")
