@@ -15,7 +15,6 @@ from cyphy.deep import deep
 from cyphy.diagnostics import Report
 from cyphy.pipeline.check import CheckOptions, CheckResult, check
 from cyphy.pipeline.generated import Generated
-from cyphy.verify.flowstar.scenario import load_scenario
 
 
 @dataclass(frozen=True)
@@ -50,6 +49,9 @@ def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = Semant
 
     scenario = None
     if options.scenario is not None:
+        # lazy: the scenario reader (TOML) only with a scenario
+        from cyphy.verify.flowstar.scenario import load_scenario
+
         loaded = Report()
         scenario = load_scenario(options.scenario, loaded, needs_unsafe=False)
         if scenario is None:  # the diagnostics quote the file's lines when it can be read
