@@ -9,7 +9,6 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from cyphy.backends.circus.latex import STYLE, program_to_latex
-from cyphy.backends.circus.pdf import PdfError, typeset
 from cyphy.backends.circus.text import program_to_text
 from cyphy.deep import deep
 from cyphy.diagnostics import Report
@@ -135,6 +134,9 @@ def generate_cyphycircus(paths: Sequence[str | Path], target: str,
         result.files[f"{stem}.tex"] = document
         result.files["cyphycircus.sty"] = STYLE
         if options.pdf:
+            # lazy: the typesetter (subprocess, pdflatex) only with --pdf
+            from cyphy.backends.circus.pdf import PdfError, typeset
+
             try:
                 result.files[f"{stem}.pdf"] = typeset(document, {"cyphycircus.sty": STYLE})
             except PdfError as err:
