@@ -56,14 +56,22 @@ def cache_root() -> Path | None:
     return (Path(xdg) if xdg else Path.home() / ".cache") / "cyphy"
 
 
-def fingerprint(package: Path, patterns: Iterable[str], extra: bytes = b"") -> str:
+def fingerprint(package: Path, patterns: Iterable[str], extra: bytes = b"") -> str | None:
     """A hash of the files of ``package`` that ``patterns`` name (a folder's modules in name
     order), of ``extra`` (versions of the libraries that decide an entry) and of the pickle
-    protocol that entries are written with."""
+    protocol that entries are written with; None when a pattern names no file or one cannot
+    be read (an installation without its sources: a changed cyphy would not be seen, so
+    nothing is cached)."""
     h = hashlib.sha256(str(pickle.HIGHEST_PROTOCOL).encode() + b"\0" + extra)
-    for pattern in patterns:
-        for source in sorted(package.glob(pattern)):
-            h.update(source.read_bytes())
+    try:
+        for pattern in patterns:
+            sources = sorted(package.glob(pattern))
+            if not sources:
+                return None
+            for source in sources:
+                h.update(source.read_bytes())
+    except OSError:
+        return None
     return h.hexdigest()[:20]
 
 

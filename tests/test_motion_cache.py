@@ -346,3 +346,20 @@ def test_every_input_of_the_derivation_changes_the_key(tmp_path: Path) -> None:
     assert motion_cache.key(dynamics.kinematic_tree(model, (0.0, 0.0, -1.62))) != base
     assert motion_cache.key(dynamics.kinematic_tree(model, floating_base=True)) != base
     assert len(seen) > 20
+
+
+def test_without_its_sources_nothing_is_cached(tmp_path: Path, cache: Path,
+                                               derivations: list[object],
+                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    """An installation without the modules the fingerprint reads could not tell a changed
+    cyphy from the one that wrote an entry: it derives every time."""
+    monkeypatch.setattr(motion_cache, "_SOURCES", (*motion_cache._SOURCES, "absent/*.py"))
+    motion_cache.fingerprint.cache_clear()
+    try:
+        model = elaborated(tmp_path / "m", ARM)
+        dynamics.motion_equations(model)
+        dynamics.motion_equations(model)
+        assert len(derivations) == 2 and entries(cache) == []
+    finally:
+        monkeypatch.undo()
+        motion_cache.fingerprint.cache_clear()

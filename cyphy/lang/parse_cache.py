@@ -47,8 +47,9 @@ _SOURCES = ("lang/robosim.lark", "lang/grammar.py", "lang/parser.py", "lang/redu
 
 
 @lru_cache(maxsize=1)
-def fingerprint() -> str:
-    """A hash of the sources that decide what a parse returns (and of the pickle protocol)."""
+def fingerprint() -> str | None:
+    """A hash of the sources that decide what a parse returns (and of the pickle protocol),
+    None without them (then nothing is cached)."""
     return disk_cache.fingerprint(_PACKAGE, _SOURCES)
 
 
@@ -58,14 +59,16 @@ def parse(text: str, path: str, store: bool = True) -> ParseResult:
     written to disk: an editor's unsaved text changes at every keystroke, and the saved
     file is what a later command reads."""
     root = disk_cache.cache_root()
-    if root is None:
+    sources = fingerprint() if root is not None else None
+    if root is None or sources is None:
         return _parse(text, path)
+    folder = disk_cache.folder(root, "parse", sources)
     if not _KEEP_RECENT:
-        return _parse_cached(root, text, path, store)
+        return _parse_cached(folder, text, path, store)
     recent = _RECENT.get(path)
     if recent is not None and recent[0] == text:
         return recent[1]
-    parsed = _parse_cached(root, text, path, store)
+    parsed = _parse_cached(folder, text, path, store)
     if len(_RECENT) >= _RECENT_MAX:
         _RECENT.clear()
     _RECENT[path] = (text, parsed)
@@ -87,8 +90,7 @@ def keep_recent() -> None:
     _KEEP_RECENT = True
 
 
-def _parse_cached(root: Path, text: str, path: str, store: bool) -> ParseResult:
-    folder = disk_cache.folder(root, "parse", fingerprint())
+def _parse_cached(folder: Path, text: str, path: str, store: bool) -> ParseResult:
     entry = disk_cache.entry_path(folder, path)
     digest = hashlib.sha256(text.encode()).digest()  # the header: the text's hash
     loaded = disk_cache.load(entry, digest, lambda value: isinstance(value, ParseResult))

@@ -44,11 +44,11 @@ def bytecode_cache(configured_in: str) -> TrustedBytecodeCache | None:
     """The cache for an environment whose options are set in the module ``configured_in``
     (a path under the package), or None when caching is off or its folder cannot be made."""
     root = disk_cache.cache_root()
-    if root is None:
-        return None
-    fingerprint = disk_cache.fingerprint(
+    fingerprint = None if root is None else disk_cache.fingerprint(
         _PACKAGE, (configured_in, "backends/isabelle/bytecode_cache.py"),
         jinja2.__version__.encode())
+    if root is None or fingerprint is None:
+        return None
     folder = disk_cache.folder(root, "jinja", fingerprint)
     try:
         disk_cache.make_folder(folder)

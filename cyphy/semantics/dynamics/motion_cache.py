@@ -63,8 +63,9 @@ Derived = list[tuple[ex.Expr, int]]
 
 
 @lru_cache(maxsize=1)
-def fingerprint() -> str:
-    """A hash of the sources and library versions that decide a derivation."""
+def fingerprint() -> str | None:
+    """A hash of the sources and library versions that decide a derivation; None without
+    the sources (then nothing is cached)."""
     versions = [sys.version, np.__version__]
     for name, file in _LIBRARIES:
         spec = importlib.util.find_spec(name)  # finds the package, imports nothing
@@ -80,10 +81,11 @@ def derived(tree: KinematicTree, derive: Callable[[], Derived]) -> Derived:
     """``derive()``'s equations of ``tree``, from the cache when these exact inputs were
     derived before; a miss derives and stores them."""
     root = disk_cache.cache_root()
-    digest = key(tree) if root is not None else None
-    if root is None or digest is None:
+    sources = fingerprint() if root is not None else None
+    digest = key(tree) if sources is not None else None
+    if root is None or sources is None or digest is None:
         return derive()
-    folder = disk_cache.folder(root, "motion", fingerprint())
+    folder = disk_cache.folder(root, "motion", sources)
     entry = disk_cache.entry_path(folder, digest.hex())
     loaded = disk_cache.load(entry, digest, lambda value: _valid(value, len(tree)))
     if loaded is not disk_cache.MISS:
