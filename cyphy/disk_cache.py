@@ -100,12 +100,14 @@ def load(entry: Path, header: bytes, accept: Callable[[Any], bool]) -> Any:
     return MISS
 
 
-def _trusted(stat: os.stat_result) -> bool:
-    """Only entries that this user wrote and nobody else can change are unpickled (a pickle
-    can run code): a cache folder shared with others is then ignored, not a risk."""
+def trusted(file: Any) -> bool:
+    """Whether the open ``file`` may be loaded: only entries that this user wrote and nobody
+    else can change are unpickled or run (a pickle, a compiled template, is code), so a cache
+    folder shared with others is ignored, not a risk."""
     getuid = getattr(os, "getuid", None)
     if getuid is None:  # Windows: the user's own profile folder
         return True
+    stat = os.fstat(file.fileno())
     return stat.st_uid == getuid() and not stat.st_mode & 0o022
 
 
@@ -137,11 +139,6 @@ def make_folder(folder: Path) -> None:
         folder.mkdir(parents=True, exist_ok=True)
         (folder / MARKER).write_text(_MARKER_TEXT, encoding="utf-8")
         _remove_stale(folder)
-
-
-def trusted(file: Any) -> bool:
-    """Whether the open ``file`` may be loaded as code or a pickle (:func:`_trusted`)."""
-    return _trusted(os.fstat(file.fileno()))
 
 
 def _entries(folder: Path) -> list[os.DirEntry[str]]:
