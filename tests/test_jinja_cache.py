@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Iterator
 
 import pytest
 from jinja2.bccache import Bucket
@@ -16,13 +17,11 @@ from cyphy.backends.isabelle import theory
 TEMPLATES = ("ROOT.j2", "theory.thy.j2", "README.j2")
 
 
-@pytest.fixture
-def cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    folder = tmp_path / "cache"
-    monkeypatch.setenv("CYPHY_CACHE_DIR", str(folder))
-    monkeypatch.delenv("CYPHY_NO_CACHE", raising=False)
+@pytest.fixture(autouse=True)
+def fresh_environment() -> Iterator[None]:
+    """Each test builds the Jinja2 environment under its own settings."""
     theory._environment.cache_clear()
-    yield folder
+    yield
     theory._environment.cache_clear()
 
 
@@ -54,30 +53,30 @@ def entries(folder: Path) -> list[Path]:
     return sorted(folder.glob("jinja-*/*.jinja"))
 
 
-def test_a_warm_environment_loads_the_compiled_templates(cache: Path, loads: list[str],
+def test_a_warm_environment_loads_the_compiled_templates(cyphy_cache: Path, loads: list[str],
                                                          monkeypatch: pytest.MonkeyPatch
                                                          ) -> None:
     first = sources()
-    assert len(entries(cache)) == len(TEMPLATES) and loads == []
+    assert len(entries(cyphy_cache)) == len(TEMPLATES) and loads == []
     assert sources() == first and len(loads) == len(TEMPLATES)
     monkeypatch.setenv("CYPHY_NO_CACHE", "1")
     assert sources() == first
 
 
 @pytest.mark.skipif(not hasattr(os, "getuid"), reason="POSIX permissions")
-def test_an_entry_others_may_write_is_not_loaded(cache: Path, loads: list[str]) -> None:
+def test_an_entry_others_may_write_is_not_loaded(cyphy_cache: Path, loads: list[str]) -> None:
     first = sources()
-    for entry in entries(cache):
+    for entry in entries(cyphy_cache):
         entry.chmod(0o666)
     assert sources() == first and loads == []
 
 
-def test_a_corrupt_entry_is_compiled_again(cache: Path, loads: list[str]) -> None:
+def test_a_corrupt_entry_is_compiled_again(cyphy_cache: Path, loads: list[str]) -> None:
     first = sources()
-    for entry in entries(cache):
+    for entry in entries(cyphy_cache):
         entry.write_bytes(b"j2 not bytecode")
     assert sources() == first and loads == []
-    assert all(e.read_bytes() != b"j2 not bytecode" for e in entries(cache))  # rewritten
+    assert all(e.read_bytes() != b"j2 not bytecode" for e in entries(cyphy_cache))  # rewritten
 
 
 def test_an_unusable_cache_folder_is_ignored(tmp_path: Path,
@@ -92,7 +91,7 @@ def test_an_unusable_cache_folder_is_ignored(tmp_path: Path,
         theory._environment.cache_clear()
 
 
-def test_a_cache_that_cannot_be_written_is_ignored(cache: Path,
+def test_a_cache_that_cannot_be_written_is_ignored(cyphy_cache: Path,
                                                     monkeypatch: pytest.MonkeyPatch) -> None:
     """A full disk or a read-only folder (root ignores permissions, so the write is made to
     fail where Jinja2 opens its temporary file)."""
@@ -102,4 +101,4 @@ def test_a_cache_that_cannot_be_written_is_ignored(cache: Path,
         raise PermissionError("read-only")
 
     monkeypatch.setattr(jinja2.bccache.tempfile, "NamedTemporaryFile", refuse)
-    assert "S" in sources()["render"] and entries(cache) == []
+    assert "S" in sources()["render"] and entries(cyphy_cache) == []

@@ -64,14 +64,6 @@ CHANGES = {
 
 
 @pytest.fixture
-def cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    folder = tmp_path / "cache"
-    monkeypatch.setenv("CYPHY_CACHE_DIR", str(folder))
-    monkeypatch.delenv("CYPHY_NO_CACHE", raising=False)
-    return folder
-
-
-@pytest.fixture
 def derivations(monkeypatch: pytest.MonkeyPatch) -> list[object]:
     """The trees derived with SymPy (the misses), in order."""
     calls: list[object] = []
@@ -120,12 +112,12 @@ def files(folder: Path) -> dict[str, bytes]:
 
 
 def test_a_warm_gen_isabelle_writes_the_same_files_without_sympy(tmp_path: Path) -> None:
-    cache = tmp_path / "cache"
-    assert run_gen(cache, tmp_path / "cold") == "0 True"
-    assert len(entries(cache)) == 1
-    assert len(list(cache.glob("jinja-*/*.jinja"))) == 3  # the theory's templates, compiled
-    assert run_gen(cache, tmp_path / "warm") == "0 False"  # SymPy never imported
-    assert run_gen(cache, tmp_path / "none", no_cache=True) == "0 True"
+    cyphy_cache = tmp_path / "cache"
+    assert run_gen(cyphy_cache, tmp_path / "cold") == "0 True"
+    assert len(entries(cyphy_cache)) == 1
+    assert len(list(cyphy_cache.glob("jinja-*/*.jinja"))) == 3  # the theory's templates, compiled
+    assert run_gen(cyphy_cache, tmp_path / "warm") == "0 False"  # SymPy never imported
+    assert run_gen(cyphy_cache, tmp_path / "none", no_cache=True) == "0 True"
     cold = files(tmp_path / "cold")
     assert any(name.endswith("_CyPhyCircus.thy") for name in cold)
     assert "LHinge_tau" in cold["marXbotBase_CyPhyCircus.thy"].decode()  # the equations
@@ -159,16 +151,16 @@ def _evaluated(equations, model, q, qd, qdd) -> list[float]:
 
 @pytest.mark.parametrize("change", sorted(CHANGES))
 def test_a_changed_number_misses_and_gives_the_new_equations(
-        change: str, tmp_path: Path, cache: Path, derivations: list[object],
+        change: str, tmp_path: Path, cyphy_cache: Path, derivations: list[object],
         monkeypatch: pytest.MonkeyPatch) -> None:
     old, new, gravity, damping = CHANGES[change]
     base_model = elaborated(tmp_path / "base", ARM)
     base = dynamics.motion_equations(base_model)
-    assert len(derivations) == 1 and len(entries(cache)) == 1
+    assert len(derivations) == 1 and len(entries(cyphy_cache)) == 1
     assert old in ARM
     model = elaborated(tmp_path / "base", ARM.replace(old, new))  # the same file, changed
     changed = dynamics.motion_equations(model, gravity)
-    assert len(derivations) == 2 and len(entries(cache)) == 2  # a miss, stored
+    assert len(derivations) == 2 and len(entries(cyphy_cache)) == 2  # a miss, stored
     monkeypatch.setenv("CYPHY_NO_CACHE", "1")
     assert [e for e, _ in dynamics.motion_equations(model, gravity)] == \
         [e for e, _ in changed]
@@ -186,7 +178,7 @@ def test_a_changed_number_misses_and_gives_the_new_equations(
     assert len(derivations) == calls  # the first model again: a hit
 
 
-def test_the_same_model_at_another_path_misses(tmp_path: Path, cache: Path,
+def test_the_same_model_at_another_path_misses(tmp_path: Path, cyphy_cache: Path,
                                                derivations: list[object]) -> None:
     """Spans name the file: the equations of a copy point at the copy."""
     first = dynamics.motion_equations(elaborated(tmp_path / "a", ARM))
@@ -196,24 +188,24 @@ def test_the_same_model_at_another_path_misses(tmp_path: Path, cache: Path,
     assert {e.span.file for e, _ in second} == {str(tmp_path / "b" / "arm.rsm")}
 
 
-def test_a_corrupt_entry_is_derived_again_and_replaced(tmp_path: Path, cache: Path,
+def test_a_corrupt_entry_is_derived_again_and_replaced(tmp_path: Path, cyphy_cache: Path,
                                                        derivations: list[object]) -> None:
     model = elaborated(tmp_path / "m", ARM)
     expected = [e for e, _ in dynamics.motion_equations(model)]
-    (entry,) = entries(cache)
+    (entry,) = entries(cyphy_cache)
     entry.write_bytes(b"not a pickle")
     entry.chmod(0o600)
     assert [e for e, _ in dynamics.motion_equations(model)] == expected
     assert len(derivations) == 2 and entry.read_bytes() != b"not a pickle"
 
 
-def test_an_entry_of_other_contents_is_a_miss(tmp_path: Path, cache: Path,
+def test_an_entry_of_other_contents_is_a_miss(tmp_path: Path, cyphy_cache: Path,
                                               derivations: list[object]) -> None:
     """The right header over a pickle that is not this tree's equations (a list of other
     things, a joint index past the tree)."""
     model = elaborated(tmp_path / "m", ARM)
     expected = [e for e, _ in dynamics.motion_equations(model)]
-    (entry,) = entries(cache)
+    (entry,) = entries(cyphy_cache)
     header = motion_cache.key(dynamics.kinematic_tree(model))
     assert header is not None and entry.read_bytes().startswith(header)
     first = pickle.loads(entry.read_bytes()[len(header):])
@@ -225,12 +217,12 @@ def test_an_entry_of_other_contents_is_a_miss(tmp_path: Path, cache: Path,
 
 
 @pytest.mark.skipif(not hasattr(os, "getuid"), reason="POSIX permissions")
-def test_an_entry_others_may_write_is_not_unpickled(tmp_path: Path, cache: Path,
+def test_an_entry_others_may_write_is_not_unpickled(tmp_path: Path, cyphy_cache: Path,
                                                     derivations: list[object],
                                                     monkeypatch: pytest.MonkeyPatch) -> None:
     model = elaborated(tmp_path / "m", ARM)
     expected = [e for e, _ in dynamics.motion_equations(model)]
-    (entry,) = entries(cache)
+    (entry,) = entries(cyphy_cache)
     entry.chmod(0o666)
     loads: list[object] = []
     monkeypatch.setattr(disk_cache.pickle, "load", lambda f: loads.append(f))
@@ -238,17 +230,17 @@ def test_an_entry_others_may_write_is_not_unpickled(tmp_path: Path, cache: Path,
     assert loads == [] and len(derivations) == 2
 
 
-def test_an_entry_another_user_owns_is_not_unpickled(tmp_path: Path, cache: Path,
+def test_an_entry_another_user_owns_is_not_unpickled(tmp_path: Path, cyphy_cache: Path,
                                                      derivations: list[object],
                                                      monkeypatch: pytest.MonkeyPatch) -> None:
     model = elaborated(tmp_path / "m", ARM)
     expected = [e for e, _ in dynamics.motion_equations(model)]
-    monkeypatch.setattr(os, "getuid", lambda: os.stat(entries(cache)[0]).st_uid + 1)
+    monkeypatch.setattr(os, "getuid", lambda: os.stat(entries(cyphy_cache)[0]).st_uid + 1)
     assert [e for e, _ in dynamics.motion_equations(model)] == expected
     assert len(derivations) == 2
 
 
-def test_errors_are_not_stored(tmp_path: Path, cache: Path,
+def test_errors_are_not_stored(tmp_path: Path, cyphy_cache: Path,
                                monkeypatch: pytest.MonkeyPatch) -> None:
     model = elaborated(tmp_path / "m", ARM)
 
@@ -258,18 +250,18 @@ def test_errors_are_not_stored(tmp_path: Path, cache: Path,
     monkeypatch.setattr(dynamics, "_derive", fails)
     with pytest.raises(DynamicsError):
         dynamics.motion_equations(model)
-    assert entries(cache) == []
+    assert entries(cyphy_cache) == []
 
 
-def test_no_cache_writes_nothing(tmp_path: Path, cache: Path,
+def test_no_cache_writes_nothing(tmp_path: Path, cyphy_cache: Path,
                                  monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("CYPHY_NO_CACHE", "1")
     assert dynamics.motion_equations(elaborated(tmp_path / "m", ARM))
-    assert not cache.exists()
+    assert not cyphy_cache.exists()
 
 
 def test_a_value_the_key_cannot_encode_is_derived_not_stored(
-        tmp_path: Path, cache: Path, derivations: list[object],
+        tmp_path: Path, cyphy_cache: Path, derivations: list[object],
         monkeypatch: pytest.MonkeyPatch) -> None:
     """Never keyed on less: an input of a kind the encoder does not know leaves the cache out."""
     model = elaborated(tmp_path / "m", ARM)
@@ -277,7 +269,7 @@ def test_a_value_the_key_cannot_encode_is_derived_not_stored(
     assert motion_cache.key(dynamics.kinematic_tree(model)) is None
     dynamics.motion_equations(model)
     dynamics.motion_equations(model)
-    assert len(derivations) == 2 and entries(cache) == []
+    assert len(derivations) == 2 and entries(cyphy_cache) == []
 
 
 def _perturbed(value: object) -> object:
@@ -348,7 +340,7 @@ def test_every_input_of_the_derivation_changes_the_key(tmp_path: Path) -> None:
     assert len(seen) > 20
 
 
-def test_without_its_sources_nothing_is_cached(tmp_path: Path, cache: Path,
+def test_without_its_sources_nothing_is_cached(tmp_path: Path, cyphy_cache: Path,
                                                derivations: list[object],
                                                monkeypatch: pytest.MonkeyPatch) -> None:
     """An installation without the modules the fingerprint reads could not tell a changed
@@ -359,7 +351,7 @@ def test_without_its_sources_nothing_is_cached(tmp_path: Path, cache: Path,
         model = elaborated(tmp_path / "m", ARM)
         dynamics.motion_equations(model)
         dynamics.motion_equations(model)
-        assert len(derivations) == 2 and entries(cache) == []
+        assert len(derivations) == 2 and entries(cyphy_cache) == []
     finally:
         monkeypatch.undo()
         motion_cache.fingerprint.cache_clear()
