@@ -135,7 +135,8 @@ def _pinocchio_efforts(model, gravity, damping: float, q, qd, qdd) -> np.ndarray
     robot = pinocchio_model(model, tree.names, False)
     robot.gravity = pin.Motion(np.array(gravity, dtype=float), np.zeros(3))
     tau = pin.rnea(robot, robot.createData(), q, qd, qdd)
-    tau[list(tree.names).index("Arm::Base::Shoulder")] += damping * qd[0]
+    shoulder = list(tree.names).index("Arm::Base::Shoulder")
+    tau[shoulder] += damping * qd[shoulder]
     return tau
 
 
