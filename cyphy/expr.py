@@ -8,6 +8,7 @@ new trees instead of mutating. Printers dispatch on the class name (``_print_Bin
 from __future__ import annotations
 
 from dataclasses import field, fields, replace
+from operator import attrgetter
 from typing import Any, Callable, Iterator
 
 from cyphy.diagnostics import Span
@@ -22,16 +23,7 @@ class Expr(FastPickle):
     """Base class of expressions; never instantiated itself."""
 
     def children(self) -> Iterator[Expr]:
-        for f in fields_of(type(self)):
-            value = getattr(self, f.name)
-            if isinstance(value, Expr):
-                yield value
-            elif isinstance(value, tuple):
-                for item in value:
-                    if isinstance(item, Expr):
-                        yield item
-                    elif isinstance(item, tuple):
-                        yield from (x for x in item if isinstance(x, Expr))
+        return iter(_children(self))
 
     def walk(self) -> Iterator[Expr]:
         """This node and all its descendants, parents first (iterative: expressions from
@@ -40,7 +32,10 @@ class Expr(FastPickle):
         while stack:
             node = stack.pop()
             yield node
-            stack.extend(reversed(list(node.children())))
+            found = _children(node)
+            if found:
+                found.reverse()
+                stack.extend(found)
 
 
 @record
@@ -222,6 +217,41 @@ def fields_of(cls: type) -> tuple[Any, ...]:
     if found is None:
         found = _FIELDS[cls] = fields(cls)
     return found
+
+
+#: Per class, the function that reads all its fields' values at once (``attrgetter`` reads
+#: them in C): walks visit every node of every expression, many times per command.
+_VALUES: dict[type, Callable[[Any], tuple[Any, ...]]] = {}
+
+
+def _field_values(cls: type) -> Callable[[Any], tuple[Any, ...]]:
+    names = [f.name for f in fields_of(cls)]
+    if not names:
+        return lambda node: ()
+    if len(names) == 1:
+        one = attrgetter(names[0])
+        return lambda node: (one(node),)
+    return attrgetter(*names)
+
+
+def _children(node: Expr) -> list[Expr]:
+    """The node's sub-expressions in field order: fields that hold one, tuples of them and
+    tuples of tuples of them (a record's fields, a matrix's rows)."""
+    cls = type(node)
+    values = _VALUES.get(cls)
+    if values is None:
+        values = _VALUES[cls] = _field_values(cls)
+    out: list[Expr] = []
+    for value in values(node):
+        if isinstance(value, Expr):
+            out.append(value)
+        elif isinstance(value, tuple):
+            for item in value:
+                if isinstance(item, Expr):
+                    out.append(item)
+                elif isinstance(item, tuple):
+                    out.extend(x for x in item if isinstance(x, Expr))
+    return out
 
 
 def transform(expr: Expr, fn: Callable[[Expr], Expr | None]) -> Expr:

@@ -53,6 +53,15 @@ needs_flowstar = pytest.mark.skipif(
     reason="no Flow* binary (.ci/install builds one from ../shared/tools/flowstar)")
 
 
+@pytest.fixture
+def cyphy_cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A cache folder of the test's own (``CYPHY_CACHE_DIR``, caching on), not made yet."""
+    folder = tmp_path / "cache"
+    monkeypatch.setenv("CYPHY_CACHE_DIR", str(folder))
+    monkeypatch.delenv("CYPHY_NO_CACHE", raising=False)
+    return folder
+
+
 @pytest.fixture(autouse=True)
 def _fresh_rendering() -> None:
     """Each test starts with the command line's rendering state at its defaults: an

@@ -108,6 +108,17 @@ SECOND_MAPPING = ("package dcMotorMapping2\n\nimport dcMotorBase::*\n"
 LTREEL = "\t\tinstantiation DEPTH = 0.03m\n\t}\n\tpart RTreel"
 
 
+#: The theory's D of the motor bench when near reaches no machine: read, and dropped.
+DROPPED = r"DCMotorSoftwareRead = (registerRead_near?(near_in) \<^bold>\<rightarrow> Skip)"
+#: A vector platform variable beside the wheel's speed.
+PAIR = (("WheelSoftware.rsm", "\tvar speed: real\n",
+         "\tvar speed: real\n\tvar pair: vector(real, 2)\n"),)
+DRIVE = "\t\tequation Bench::Shaft::Motor.das == w"
+#: The motor's speed passed through a vector local of the operation's mapping.
+VECTOR_LOCAL = ("\t\tvar g: vector(real, 2)\n\t\tequation g == (|w, 0|)\n"
+                "\t\tequation Bench::Shaft::Motor.das == g[1]")
+
+
 def in_ltreel(line: str) -> str:
     """``LTREEL`` with ``line`` added to the left treel's part."""
     return LTREEL.replace("\t}", f"\t\t{line}\n\t}}")
@@ -436,11 +447,50 @@ MUTANTS: tuple[Mutant, ...] = (
              "controller SpeedController {\n\tcycleDef cycle == 2"),
             (DC_SW, "stm SSpeed {\n\tcycleDef cycle == 1",
              "stm SSpeed {\n\tcycleDef cycle == 2"))),
+    # (the theory's D reads near and drops it: it never occurs for the machine)
     M("event-not-connected-to-controller", "dcmotor", DC_SW,
       "\tconnection Bench on near to ctrl on near (_async)\n", "", "STM11", at="not $near",
-      runs=BOTH),
+      runs=BOTH, shows=DROPPED),
     M("event-not-connected-to-machine", "dcmotor", DC_SW,
       "\tconnection SpeedController on near to sm on near\n", "", "STM11", at="not $near",
+      runs=BOTH, shows=DROPPED),
+    # ---- third sweep: controllers' interfaces, vector writes, cycles that end -------------
+    M("pvars-dollar-entry-of-vector-written", "pvars", "WheelSoftware.rsm",
+      "entry speed = slow", "entry speed = slow ; $pair[1] = 1", "STM5", at="$pair[1] = 1",
+      also=PAIR),
+    M("pvars-dollar-whole-vector-written", "pvars", "WheelSoftware.rsm",
+      "entry speed = slow", "entry speed = slow ; $pair = (|1, 2|)", ACCEPTED, also=PAIR),
+    M("pvars-controller-does-not-require", "pvars", "WheelSoftware.rsm",
+      "\trequires SpeedI\n\tsref", "\tsref", "STM12", at="entry speed = slow"),
+    M("controller-does-not-require-operations", "dcmotor", DC_SW,
+      "\tuses NearI\n\trequires SpeedI", "\tuses NearI", "STM12", at="$drive(wref)"),
+    M("operation-vector-local", "dcmotor", DC_MAP, DRIVE, VECTOR_LOCAL, ACCEPTED),
+    M("operation-vector-local-entry-agrees", "dcmotor", DC_MAP, DRIVE,
+      VECTOR_LOCAL + "\n\t\tequation g[1] == w", ACCEPTED),
+    M("operation-vector-local-entry-written-again", "dcmotor", DC_MAP, DRIVE,
+      VECTOR_LOCAL + "\n\t\tequation g[1] == 2*w", "PMap16", at="g[1] == 2*w"),
+    M("operation-vector-local-written-twice", "dcmotor", DC_MAP, DRIVE,
+      VECTOR_LOCAL + "\n\t\tequation g == (|2*w, 0|)", "PMap16", at="g == (|2*w, 0|)"),
+    M("stm-sends-an-input-event", "dcmotor", DC_SW, "entry $drive(wref)",
+      "entry $near; $drive(wref)", "STM4", at="$near; $drive"),
+    M("stm-sends-an-operation-without-parentheses", "dcmotor", DC_SW, T3, "action $stop }",
+      ACCEPTED),
+    M("stm-loop-without-exec", "dcmotor", DC_SW, "from Cruise to Check exec",
+      "from Cruise to Check", "STM13", at="transition t1"),
+    M("stm-loop-through-junction-without-exec", "lift", "LiftSoftware.rsm",
+      "from Rising to Top exec", "from Rising to Top", "STM13", at="transition t1"),
+    M("stm-wait-negative", "dcmotor", DC_SW, "entry $drive(wref)",
+      "entry wait(-1); $drive(wref)", "STM14", at="-1); $drive"),
+    M("stm-wait-a-constant-fraction", "dcmotor", DC_SW, "entry $drive(wref)",
+      "entry wait(wref / 4); $drive(wref)", "STM14", at="wref / 4"),
+    M("stm-wait-two-cycles", "dcmotor", DC_SW, "entry $drive(wref)",
+      "entry $drive(wref); wait(2)", ACCEPTED),
+    # the Flow* automaton cannot start in a mode the inputs choose (reach refuses it, the
+    # theory leaves D opaque); simulate runs the machine itself
+    M("stm-first-cycle-reads-an-event", "rover", "RoverSoftware.rsm",
+      "from Ahead to Turn exec condition", "from Ahead to Turn condition", ACCEPTED),
+    M("event-mapped-without-predicate", "dcmotor", DC_MAP,
+      "\t\tpredicate Bench::Range.range <= 1.0\n", "", "PMap12", at="input event near",
       runs=BOTH),
     M("negative-size", "dcmotor", DC_BASE, "radius = 0.1m", "radius = -0.1m", "V2"),
     M("mass-changed", "rover", "RoverBase.rsm", "mass 0.1kg", "mass 0.15kg", ACCEPTED),

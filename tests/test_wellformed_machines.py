@@ -45,9 +45,10 @@ stm M {
 """
 
 
-def diagnostics(tmp_path: Path, machine: str) -> list[tuple[str, int, int, str]]:
+def diagnostics(tmp_path: Path, machine: str, header: str = HEADER
+                ) -> list[tuple[str, int, int, str]]:
     f = tmp_path / "m.rst"
-    f.write_text(HEADER + machine, encoding="utf-8")
+    f.write_text(header + machine, encoding="utf-8")
     result = api.check([str(f)], api.CheckOptions(consistency=True))
     return [(d.code.id, d.span.line - HEADER_LINES, d.span.column, d.message)
             for d in result.report.diagnostics]
@@ -85,9 +86,28 @@ def test_stm2_no_initial_junction(tmp_path):
 def test_stm3_call_of_an_operation_the_platform_does_not_provide(tmp_path):
     machine = GOOD.replace("requires MoveI }", "requires MoveI requires OtherI }").replace(
         "entry $halt()", "entry $beep()")
-    found = diagnostics(tmp_path, machine)
+    header = HEADER.replace("requires MoveI sref", "requires MoveI requires OtherI sref")
+    found = diagnostics(tmp_path, machine, header)
     assert found == [("STM3", 9, 19, "entry action of B: the robotic platform P of module "
                       "Mod does not provide the operation beep")]
+
+
+def test_stm12_a_machine_calls_an_operation_its_controller_does_not_require(tmp_path):
+    """The machine requires OtherI, its controller does not (and the platform does not
+    provide it: STM3 too); the hint is the controller's missing line."""
+    machine = GOOD.replace("requires MoveI }", "requires MoveI requires OtherI }").replace(
+        "entry $halt()", "entry $beep()")
+    f = tmp_path / "m.rst"
+    f.write_text(HEADER + machine, encoding="utf-8")
+    diags = api.check([str(f)]).report.diagnostics
+    found = [(d.code.id, d.span.line - HEADER_LINES, d.span.column) for d in diags]
+    assert sorted(found) == [("STM12", 9, 19), ("STM3", 9, 19)]
+    stm12 = next(d for d in diags if d.code.id == "STM12")
+    assert stm12.message == ("entry action of B: machine M calls beep of interface OtherI, "
+                                "which its controller Ctrl does not require: the controller "
+                                "passes the machine only what it requires itself")
+    assert stm12.hint == "add 'requires OtherI' to controller Ctrl, as machine M has it " \
+        f"(line {HEADER_LINES + 6})"
 
 
 def test_stm3_call_outside_the_output_context_and_wrong_arity(tmp_path):
@@ -171,7 +191,7 @@ def test_junction_conditions_are_checked_only_with_consistency(tmp_path):
 def test_rules_are_listed(capsys):
     assert main(["check", "--list-rules"]) == 0
     listed = [line.split()[0] for line in capsys.readouterr().out.splitlines()]
-    assert [r for r in listed if r.startswith("STM")] == [f"STM{i}" for i in range(1, 12)]
+    assert [r for r in listed if r.startswith("STM")] == [f"STM{i}" for i in range(1, 15)]
 
 
 @pytest.mark.parametrize("rule", ["STM6", "STM7"])
@@ -198,7 +218,7 @@ controller Ctrl {
     cycleDef cycle == 1
     input context { uses SenseI }
     initial i0 state S {} transition t0 { from i0 to S }
-    transition t1 { from S to S condition $near }
+    transition t1 { from S to S exec condition $near }
   }
   stm B {
     cycleDef cycle == PERIOD
@@ -240,7 +260,7 @@ def test_a_module_cycle_is_the_reference(tmp_path):
 
 def test_an_event_the_controller_does_not_pass_on_is_a_warning_at_the_read(tmp_path):
     found = _module(tmp_path, controller_links="")
-    assert [(c, line, col) for c, line, col, _ in found] == [("STM11", 16, 43)]
+    assert [(c, line, col) for c, line, col, _ in found] == [("STM11", 16, 48)]
     assert "controller Ctrl has no connection" in found[0][3]
     from cyphy.wellformed import RULES
 

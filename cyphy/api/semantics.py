@@ -9,13 +9,11 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from cyphy.backends.circus.latex import STYLE, program_to_latex
-from cyphy.backends.circus.pdf import PdfError, typeset
 from cyphy.backends.circus.text import program_to_text
 from cyphy.deep import deep
 from cyphy.diagnostics import Report
 from cyphy.pipeline.check import CheckOptions, CheckResult, check
 from cyphy.pipeline.generated import Generated
-from cyphy.verify.flowstar.scenario import load_scenario
 
 
 @dataclass(frozen=True)
@@ -50,6 +48,9 @@ def semantics(paths: Sequence[str | Path], options: SemanticsGenOptions = Semant
 
     scenario = None
     if options.scenario is not None:
+        # lazy: the scenario reader (TOML) only with a scenario
+        from cyphy.verify.flowstar.scenario import load_scenario
+
         loaded = Report()
         scenario = load_scenario(options.scenario, loaded, needs_unsafe=False)
         if scenario is None:  # the diagnostics quote the file's lines when it can be read
@@ -133,6 +134,9 @@ def generate_cyphycircus(paths: Sequence[str | Path], target: str,
         result.files[f"{stem}.tex"] = document
         result.files["cyphycircus.sty"] = STYLE
         if options.pdf:
+            # lazy: the typesetter (subprocess, pdflatex) only with --pdf
+            from cyphy.backends.circus.pdf import PdfError, typeset
+
             try:
                 result.files[f"{stem}.pdf"] = typeset(document, {"cyphycircus.sty": STYLE})
             except PdfError as err:

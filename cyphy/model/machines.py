@@ -16,6 +16,7 @@ from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
+from cyphy.model.connections import machines_run_by, unconnected_events
 
 if TYPE_CHECKING:
     from cyphy.lang.scopes import Scopes
@@ -84,6 +85,9 @@ class Machine:
     constants: dict[str, ast.VarDecl]
     variables: dict[str, ast.VarDecl]
     clocks: dict[str, ast.ClockDecl]
+    #: The input events no connection of the module running the machine carries to it: they
+    #: never occur for it (RoboChart). Set by :func:`select_machine`, which knows the module.
+    unconnected: frozenset[str] = frozenset()
 
     @property
     def name(self) -> str:
@@ -320,14 +324,14 @@ def select_machine(files: list[ast.SourceFile], resolution: Resolution, pmodel: 
     if name is not None:
         chosen = [m for m in machines if m.name == name]
         if chosen:
-            return chosen[0], ("", "")
+            return _connect(chosen[0], files, resolution, pmodel), ("", "")
         return None, (f"no state machine '{name}' among the files",
                       did_you_mean(name, [m.name for m in machines]) or
                       "machines: " + (", ".join(m.name for m in machines) or "(none)"))
     running = run_by_mapped_module(files, resolution, pmodel) if pmodel else set()
     chosen = [m for m in machines if id(m.decl) in running] or machines
     if len(chosen) == 1:
-        return chosen[0], ("", "")
+        return _connect(chosen[0], files, resolution, pmodel), ("", "")
     if chosen:
         return None, (f"the d-model has several state machines "
                       f"({', '.join(m.name for m in chosen)})",
@@ -351,28 +355,34 @@ def select_machines(files: list[ast.SourceFile], resolution: Resolution, pmodel:
     by_id = {id(m.decl): m for m in machines_of(files, resolution)}
     chosen = [by_id[i] for i in running if i in by_id]
     if len(chosen) > 1:
-        return chosen, ("", "")
+        return [_connect(m, files, resolution, pmodel) for m in chosen], ("", "")
     return [], problem
 
 
-def run_by_mapped_module(files: list[ast.SourceFile], resolution: Any, pmodel: str
+def _connect(machine: Machine, files: list[ast.SourceFile], resolution: Resolution,
+             pmodel: str | None) -> Machine:
+    """The machine with the input events its module does not carry to it (in the module
+    mapped onto ``pmodel``, when there is one) marked ``unconnected``."""
+    mapped = {id(m) for m in _mapped_modules(files, resolution, pmodel)} if pmodel else set()
+    machine.unconnected = unconnected_events(files, resolution, machine.decl,
+                                             machine.platform.input_events, mapped or None)
+    return machine
+
+
+def _mapped_modules(files: list[ast.SourceFile], resolution: Resolution, pmodel: str
+                    ) -> Iterator[ast.Module]:
+    """The modules that the mappings onto ``pmodel`` map."""
+    for f in files:
+        for mapping in f.items:
+            if isinstance(mapping, ast.PlatformMapping) and mapping.pmodel[-1] == pmodel:
+                module = resolution.get(mapping)
+                if isinstance(module, ast.Module):
+                    yield module
+
+
+def run_by_mapped_module(files: list[ast.SourceFile], resolution: Resolution, pmodel: str
                           ) -> dict[int, None]:
     """Ids of the machines that the controllers of the module mapped onto ``pmodel`` run,
     in the order the module declares its controllers and they their machines."""
-    out: dict[int, None] = {}
-    for f in files:
-        for mapping in f.items:
-            if not (isinstance(mapping, ast.PlatformMapping) and mapping.pmodel[-1] == pmodel):
-                continue
-            module = resolution.get(mapping)
-            if not isinstance(module, ast.Module):
-                continue
-            controllers = [c for c in module.members if isinstance(c, ast.Controller)]
-            controllers += [resolution.get(r) for r in module.members
-                            if isinstance(r, ast.NodeRef) and r.kind == "cref"]
-            for c in controllers:
-                if not isinstance(c, ast.Controller):
-                    continue
-                out.update(dict.fromkeys(id(m) for m in c.machines))
-                out.update(dict.fromkeys(id(resolution.get(r)) for r in c.machine_refs))
-    return out
+    return dict.fromkeys(id(stm) for module in _mapped_modules(files, resolution, pmodel)
+                         for *_, stm in machines_run_by(module, resolution))

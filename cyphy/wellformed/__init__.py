@@ -24,5 +24,6 @@ from cyphy.wellformed import mapping_units  # noqa: E402,F401
 from cyphy.wellformed import machines  # noqa: E402,F401
 from cyphy.wellformed import machine_types  # noqa: E402,F401
 from cyphy.wellformed import modules  # noqa: E402,F401
+from cyphy.wellformed import machine_cycles  # noqa: E402,F401
 
 __all__ = ["RULES", "WFContext", "check_wellformed", "rule"]

@@ -130,7 +130,7 @@ def _module_platforms(ctx: WFContext, m: Machine) -> list[tuple[ast.Module, Plat
     return _platforms(ctx).get(id(m.decl), [])
 
 
-def _callee(ctx: WFContext, m: Machine, call: ex.Call) -> tuple[str, bool] | None:
+def callee_of(ctx: WFContext, m: Machine, call: ex.Call) -> tuple[str, bool] | None:
     """The operation a call statement names and whether it is written ``$op``; None for a
     call of a function or an operation definition (checked as an expression)."""
     func = call.func
@@ -164,7 +164,7 @@ def check_STM3_operation_calls(ctx: WFContext) -> None:
                 ctx.error("STM3", s, f"{where}: operation {defined.name} takes {n} argument"
                           f"{'s' if n != 1 else ''}, not {len(s.call.args)}",
                           f"write {defined.name}({', '.join(p.name for p in defined.params)})")
-            callee = _callee(ctx, m, s.call)
+            callee = callee_of(ctx, m, s.call)
             if callee is None:
                 continue
             name, _ = callee
@@ -199,8 +199,8 @@ def check_STM4_events(ctx: WFContext) -> None:
     for m in _machines(ctx):
         sent = {id(s.event) for s, _ in statements(m) if isinstance(s, ast.SendStatement)}
         _check_event_values(ctx, m)
-        called = {id(s.call.func) for s, _ in statements(m) if isinstance(s, ast.CallStatement)
-                  and isinstance(s.call, ex.Call)}
+        called = {id(s.call.func) if isinstance(s.call, ex.Call) else id(s.call)
+                  for s, _ in statements(m) if isinstance(s, ast.CallStatement)}
         for e, where in expressions(m):
             for node in e.walk():
                 if not isinstance(node, ex.PlatformRef) or id(node) in called:
@@ -251,6 +251,17 @@ def _check_event_values(ctx: WFContext, m: Machine) -> None:
         elif isinstance(s, ast.CallStatement) and isinstance(s.call, ex.PlatformRef):
             name = s.call.name[-1]
             event = m.platform.output_events.get(name)
+            if event is None and name not in m.platform.operations:
+                # ``$e`` as a statement sends e: simulate would call an operation e
+                ctx.error("STM4", s, f"{where}: '${name}' as a statement sends {name}, but "
+                          f"{name} is not an output event of {m.name}" +
+                          (": it is an input event, which the machine reads in a condition"
+                           if name in m.platform.input_events else ""),
+                          f"read it in a condition ('condition ${name}')"
+                          if name in m.platform.input_events else
+                          did_you_mean(name, m.platform.output_events) or
+                          "add 'output context { uses I }' with an interface I that "
+                          f"declares event {name}")
             if event is not None and event.type is not None and \
                     name not in m.platform.input_events:
                 ctx.error("STM4", s, f"{where}: '${name}' sends no value, but the event "
@@ -305,14 +316,14 @@ def check_STM5_names(ctx: WFContext) -> None:
                 ctx.error("STM5", s, f"{where}: '#{s.clock}' resets no clock of {m.name}",
                           did_you_mean(s.clock, m.clocks) or f"declare 'clock {s.clock}'")
             elif isinstance(s, ast.Assign):
-                root = _root(s.target)
-                if root is not None and root in m.constants:
-                    ctx.error("STM5", s, f"{where}: '{root}' is a constant; it cannot be "
-                              "assigned", f"declare it with 'var {root}: …'")
-                elif root in shared and not isinstance(s.target, ex.Name):
+                base = root(s.target)
+                if isinstance(base, ex.Name) and base.text in m.constants:
+                    ctx.error("STM5", s, f"{where}: '{base.text}' is a constant; it cannot be "
+                              "assigned", f"declare it with 'var {base.text}: …'")
+                elif (part := _platform_part(s.target, m, shared)) is not None:
                     # a write is one output with the whole value: the mapping's effect
                     ctx.error("STM5", s.target, f"{where}: one part of the platform variable "
-                              f"{root} cannot be written alone", f"assign all of {root}")
+                              f"{part} cannot be written alone", f"assign all of {part}")
 
 
 def _platform_variable(ctx: WFContext, m: Machine, name: str) -> Service | None:
@@ -335,10 +346,25 @@ def _check_provided(ctx: WFContext, m: Machine, node: ex.Name, name: str, where:
                       f"var {name}")
 
 
-def _root(e: ex.Expr) -> str | None:
+def root(e: ex.Expr) -> ex.Expr:
+    """The variable an assignment's target is part of: ``x`` of ``x[1]``, ``$x`` of
+    ``$x[1]``."""
     while isinstance(e, (ex.Index, ex.Member)):
         e = e.base
-    return e.text if isinstance(e, ex.Name) else None
+    return e
+
+
+
+def _platform_part(target: ex.Expr, m: Machine, shared: set[str]) -> str | None:
+    """The platform variable of which an assignment's target is one part: ``pair`` of
+    ``pair[1]`` (a name the machine does not declare) or of ``$pair[1]``; None for a whole
+    variable or a machine's own."""
+    if isinstance(target, (ex.Name, ex.PlatformRef)):
+        return None
+    target = root(target)
+    if isinstance(target, ex.PlatformRef):
+        return target.name[-1] if target.name[-1] in m.platform.written else None
+    return target.text if isinstance(target, ex.Name) and target.text in shared else None
 
 
 def _free_names(e: ex.Expr) -> Iterator[ex.Name]:

@@ -113,12 +113,13 @@ def check_PMap15_one_mapping(ctx: WFContext) -> None:
 
 
 def _written(member: MemberMapping) -> list[tuple[str, ex.Expr, ex.Expr, bool]]:
-    """Each ``target == value`` equation and ``target = value`` assignment of the member:
-    (target as written, target, value, whether by an action)."""
+    """Each ``target == value`` equation and ``target = value`` assignment of the member, a
+    target being a name, a port or one entry of either (``wrench[3]``): (target as written,
+    target, value, whether by an action)."""
     out: list[tuple[str, ex.Expr, ex.Expr, bool]] = []
     for eq in member.equations:
         e = eq.expr
-        if isinstance(e, ex.BinOp) and e.op == "==" and isinstance(e.left, (ex.Name, ex.Member)):
+        if isinstance(e, ex.BinOp) and e.op == "==" and _target(e.left):
             out.append((to_notation(e.left), e.left, e.right, False))
     for action in member.actions:
         for s in action.statements:
@@ -127,31 +128,76 @@ def _written(member: MemberMapping) -> list[tuple[str, ex.Expr, ex.Expr, bool]]:
     return out
 
 
+def _target(e: ex.Expr) -> bool:
+    """Whether ``e`` names what an equation writes: a name, a port, or an entry of one."""
+    if isinstance(e, ex.Index):
+        e = e.base
+    return isinstance(e, (ex.Name, ex.Member))
+
+
+def _cells(target: ex.Expr, value: ex.Expr) -> dict[tuple[str, int | None], str]:
+    """What a write sets, entry by entry: ``(vector, k)`` for an entry ``k`` (numbered from
+    1, as the notation numbers them) with the text of its value, ``(name, None)`` for the
+    whole of a name or port whose value is not written entry by entry."""
+    if isinstance(target, ex.Index) and len(target.args) == 1 and \
+            isinstance(target.args[0], ex.Num) and target.args[0].is_integer:
+        return {(to_notation(target.base), int(target.args[0].text)): to_notation(value)}
+    whole = to_notation(target)
+    if isinstance(value, ex.Vector) and len(value.rows) == 1:
+        return {(whole, k): to_notation(item) for k, item in enumerate(value.rows[0], 1)}
+    return {(whole, None): to_notation(value)}
+
+
+def _overlap(cells: dict[tuple[str, int | None], str],
+             before: dict[tuple[str, int | None], str]) -> tuple[bool, bool]:
+    """Whether two writes set a common entry, and whether they give it different values (an
+    entry written whole by one and by value by the other: different, unless both are whole
+    and equal)."""
+    common, differ = False, False
+    for (name, k), value in cells.items():
+        for (other, j), earlier in before.items():
+            if name != other or k is not None and j is not None and k != j:
+                continue
+            common = True
+            differ = differ or (k is None) != (j is None) or value != earlier
+    return common, differ
+
+
 @rule("PMap16", "a mapping writes each actuator input and local once")
 def check_PMap16_written_once(ctx: WFContext) -> None:
     """``equation Motor.das == w`` and ``equation Motor.das == 2*w`` in one member hold
     together only when ``w = 0``; ``action das = w; das = 0`` overwrites the first value
-    before the platform sees it. Either way one of the two is a mistake. (An equation
-    written twice word for word is harmless and passes.)"""
+    before the platform sees it. Either way one of the two is a mistake. The same holds of
+    a vector written whole and one of its entries (``wrench == (|0, 0, f, 0, 0, 0|)`` and
+    ``wrench[3] == 2*f``), or an entry written twice. (An equation written twice word for
+    word, or an entry given the value the whole vector's literal gives it, is harmless and
+    passes.)"""
     for site in sites(ctx):
         if not in_user_file(ctx, site.mapping):
             continue
         for member in members_of(site.mapping):
             if member.equations and member.actions:
                 continue  # PMap6: one or the other
-            seen: dict[str, tuple[ex.Expr, ex.Expr]] = {}
+            seen: list[tuple[ex.Expr, ex.Expr, dict[tuple[str, int | None], str]]] = []
             for text, target, value, action in _written(member):
-                if text not in seen:
-                    seen[text] = (target, value)
+                cells = _cells(target, value)
+                clash = None
+                for earlier, before, written in seen:
+                    common, differ = _overlap(cells, written)
+                    if common and (action or differ):
+                        clash = (earlier, before)
+                        break
+                seen.append((target, value, cells))
+                if clash is None:
                     continue
-                before = seen[text][1]
-                if not action and to_notation(before) == to_notation(value):
-                    continue
-                line = getattr(seen[text][0], "span").line
+                line = getattr(clash[0], "span").line
+                other, before = to_notation(clash[0]), to_notation(clash[1])
+                said = f"line {line} gives it {before}" if other == text else \
+                    f"line {line} gives {other} {before}"
                 ctx.error("PMap16", target, f"the mapping of {label_of(member)} writes {text} "
-                          f"again (line {line} gives it {to_notation(before)}, this line "
-                          f"{to_notation(value)})", "give each input one equation (or one "
-                          "assignment): combine the two, or write the other input you meant")
+                          f"again ({said}, this line {to_notation(value)})",
+                          "give each input one equation (or one assignment): combine the "
+                          "two, or write the other input you meant")
 
 
 @rule("PMap17", "a mapping's equations, predicates and actions hold at an instant: no "

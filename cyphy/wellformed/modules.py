@@ -1,5 +1,5 @@
-"""A module and what it runs: one cycle (STM10), and the platform's events carried to the
-machines that read them (STM11).
+"""A module and what it runs: one cycle (STM10), the platform's events carried to the
+machines that read them (STM11), and the interfaces the controllers pass on (STM12).
 
 A module runs its controllers' machines together. cyphy's semantics has one ``cycle`` per
 module (semantics.md, Rule 1 and the main action: ``Wait(cycle)`` then ``Evolve`` until the
@@ -11,8 +11,13 @@ no place in the model): ``check`` refuses them at the ``cycleDef``.
 
 RoboChart delivers an event only along a connection: a platform event that no connection of
 the module carries to the controller (and no connection of the controller to the machine)
-never reaches the machine, which then waits for it forever; ``simulate`` and the theory
-would deliver it all the same. ``check`` warns at the machine's read.
+never reaches the machine: ``check`` warns at the machine's read, and every command takes
+the event as absent (:mod:`cyphy.model.connections`, shared with the semantics).
+
+A machine's ``requires I`` is met by its controller, which ``requires I`` of the platform
+in turn: a controller that does not require it gives the machine nothing to call or write
+(RoboChart's composition). ``check`` refuses the machine's first use of ``I``, with the
+controller's missing line as the hint.
 """
 
 from __future__ import annotations
@@ -22,9 +27,11 @@ from typing import Iterator
 from cyphy import expr as ex
 from cyphy.diagnostics import Severity
 from cyphy.lang import ast
-from cyphy.model.machines import expressions, statements
+from cyphy.model.connections import (controllers_of, machines_of_controller,
+                                     missing_connection, module_machines)
+from cyphy.model.machines import Machine, expressions, statements
 from cyphy.wellformed.indexing import evaluate_in
-from cyphy.wellformed.machines import _machines
+from cyphy.wellformed.machines import _machines, callee_of, root
 from cyphy.wellformed.registry import WFContext, rule
 
 def _cycle(holder: object) -> ex.Expr | None:
@@ -34,24 +41,6 @@ def _cycle(holder: object) -> ex.Expr | None:
                 c.expr.op == "==" and c.expr.left == ex.Name(("cycle",)):
             return c.expr.right
     return None
-
-
-def _controllers(ctx: WFContext, module: ast.Module) -> Iterator[tuple[str, ast.Controller]]:
-    for m in module.members:
-        if isinstance(m, ast.Controller):
-            yield m.name, m
-        elif isinstance(m, ast.NodeRef) and isinstance(ctx.target(m), ast.Controller):
-            yield m.name, ctx.target(m)
-
-
-def _machines_of(ctx: WFContext, ctrl: ast.Controller
-                 ) -> Iterator[tuple[str, ast.StateMachine]]:
-    for stm in ctrl.machines:
-        yield stm.name, stm
-    for ref in ctrl.machine_refs:
-        target = ctx.target(ref)
-        if isinstance(target, ast.StateMachine):
-            yield ref.name, target
 
 
 def _modules(ctx: WFContext) -> Iterator[tuple[ast.SourceFile, ast.Module]]:
@@ -81,9 +70,9 @@ def check_STM10_one_cycle(ctx: WFContext) -> None:
     for _, module in _modules(ctx):
         period = _period(ctx, module, module)
         owner = f"module {module.name}"
-        for _, ctrl in _controllers(ctx, module):
+        for _, ctrl in controllers_of(module, ctx.resolution):
             holders: list[ast.Controller | ast.StateMachine] = [ctrl]
-            holders += [stm for _, stm in _machines_of(ctx, ctrl)]
+            holders += [stm for _, stm in machines_of_controller(ctrl, ctx.resolution)]
             for holder in holders:
                 own = _period(ctx, holder, ctrl)
                 if own is None or own == period:
@@ -102,48 +91,95 @@ def _kind(holder: object) -> str:
     return "controller" if isinstance(holder, ast.Controller) else "machine"
 
 
-def _connected(container: object, source: str, event: str, target: str) -> bool:
-    return any(isinstance(c, ast.Connection) and c.source == source and
-               c.source_event == event and c.target == target
-               for c in getattr(container, "members", ()))
-
-
 @rule("STM11", "the platform's events a machine reads reach it along connections",
       Severity.WARNING)
 def check_STM11_events_connected(ctx: WFContext) -> None:
     """A machine reads ``$e`` of its platform: the module connects the platform's ``e`` to
     the machine's controller, and the controller connects its ``e`` to the machine."""
     machines = {id(m.decl): m for m in _machines(ctx)}
-    for _, module in _modules(ctx):
-        platform = module.platform
-        if platform is None:
+    for module, ctrl_name, ctrl, stm_name, stm in module_machines(ctx.files(), ctx.resolution):
+        m = machines.get(id(stm))
+        if m is None:
             continue
-        for ctrl_name, ctrl in _controllers(ctx, module):
-            for stm_name, stm in _machines_of(ctx, ctrl):
-                m = machines.get(id(stm))
-                if m is None:
+        sent = {id(s.event) for s, _ in statements(m) if isinstance(s, ast.SendStatement)}
+        warned: set[str] = set()
+        for e, where in expressions(m):
+            for node in e.walk():
+                if not isinstance(node, ex.PlatformRef) or id(node) in sent:
                     continue
-                sent = {id(s.event) for s, _ in statements(m)
-                        if isinstance(s, ast.SendStatement)}
-                warned: set[str] = set()
-                for e, where in expressions(m):
-                    for node in e.walk():
-                        if not isinstance(node, ex.PlatformRef) or id(node) in sent:
-                            continue
-                        name = node.name[-1]
-                        if name in warned or name not in m.platform.input_events:
-                            continue
-                        missing = None
-                        if not _connected(module, platform.name, name, ctrl_name):
-                            missing = (f"module {module.name}", f"{platform.name} on {name} "
-                                       f"to {ctrl_name} on {name} (_async)")
-                        elif not _connected(ctrl, ctrl.name, name, stm_name):
-                            missing = (f"controller {ctrl.name}", f"{ctrl.name} on {name} "
-                                       f"to {stm_name} on {name}")
-                        if missing is None:
-                            continue
-                        warned.add(name)
-                        ctx.error("STM11", node, f"{where}: machine {m.name} reads {name}, "
-                                  f"but {missing[0]} has no connection that carries it there: "
-                                  "the event never reaches the machine, which waits for it "
-                                  "forever", f"add 'connection {missing[1]}' to {missing[0]}")
+                name = node.name[-1]
+                if name in warned or name not in m.platform.input_events:
+                    continue
+                missing = missing_connection(module, ctrl_name, ctrl, stm_name, name)
+                if missing is None:
+                    continue
+                warned.add(name)
+                ctx.error("STM11", node, f"{where}: machine {m.name} reads {name}, but "
+                          f"{missing[0]} has no connection that carries it there: the event "
+                          "never occurs for the machine (simulate, reach and the theory's D "
+                          "take it as absent)", f"add 'connection {missing[1]}' to {missing[0]}")
+
+
+def _requires(ctx: WFContext, holder: object) -> list[tuple[ast.InterfaceUse, ast.Interface]]:
+    """The interfaces a controller or machine ``requires`` (a machine's, in its output
+    context too), with the line that requires each."""
+    uses = [u for u in getattr(holder, "members", ()) if isinstance(u, ast.InterfaceUse)]
+    uses += [u for c in getattr(holder, "contexts", ()) for u in c.members
+             if isinstance(u, ast.InterfaceUse)]
+    return [(u, i) for u in uses if u.relation == "requires"
+            and isinstance(i := ctx.target(u), ast.Interface)]
+
+
+def _first_use(ctx: WFContext, m: Machine, interface: ast.Interface
+               ) -> tuple[object, str, str] | None:
+    """Where the machine first calls an operation of the interface or assigns or reads one
+    of its variables: the node, where it is, and what it does there."""
+    operations = {op.name for op in interface.operations}
+    variables = {v.name for v in interface.variables if v.kind is ast.DeclKind.VAR}
+    variables -= set(m.variables) | set(m.constants)
+    for s, where in statements(m):
+        if isinstance(s, ast.CallStatement) and isinstance(s.call, ex.Call):
+            callee = callee_of(ctx, m, s.call)
+            if callee is not None and callee[0] in operations:
+                return s, where, f"calls {callee[0]}"
+        elif isinstance(s, ast.Assign) and (name := _named(root(s.target))) in variables:
+            return s.target, where, f"writes the variable {name}"
+    for e, where in expressions(m):
+        for node in e.walk():
+            if (name := _named(node)) in variables:
+                return node, where, f"reads the variable {name}"
+    return None
+
+
+def _named(node: ex.Expr) -> str | None:
+    """The name ``x`` or ``$x`` stands for (None for another expression)."""
+    return node.name[-1] if isinstance(node, ex.PlatformRef) else \
+        node.text if isinstance(node, ex.Name) else None
+
+
+@rule("STM12", "a controller requires the interfaces whose operations and variables its "
+      "machines use")
+def check_STM12_controller_requires(ctx: WFContext) -> None:
+    """A machine's ``requires I`` reaches the platform through its controller: the
+    controller that runs it ``requires I`` too (RoboChart's composition; the corpus's
+    controllers all do). Reported at the machine's first call of an operation of ``I`` or
+    use of a variable of ``I``, with the controller's missing line as the hint."""
+    machines = {id(m.decl): m for m in _machines(ctx)}
+    for _, _, ctrl, _, stm in module_machines(ctx.files(), ctx.resolution):
+        m = machines.get(id(stm))
+        if m is None:
+            continue
+        held = {id(i) for _, i in _requires(ctx, ctrl)}
+        for use, interface in _requires(ctx, stm):
+            if id(interface) in held:
+                continue
+            held.add(id(interface))  # once per interface
+            found = _first_use(ctx, m, interface)
+            if found is None:
+                continue
+            node, where, what = found
+            ctx.error("STM12", node, f"{where}: machine {m.name} {what} of interface "
+                      f"{interface.name}, which its controller {ctrl.name} does not require: "
+                      "the controller passes the machine only what it requires itself",
+                      f"add 'requires {'::'.join(use.interface)}' to controller {ctrl.name}, "
+                      f"as machine {m.name} has it (line {use.span.line})")

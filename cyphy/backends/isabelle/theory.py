@@ -76,9 +76,14 @@ def _environment() -> Any:
     # lazy: Jinja is needed only when a theory is rendered, not to import the printer
     from jinja2 import Environment, PackageLoader, StrictUndefined
 
+    # lazy: imports Jinja2 too
+    from cyphy.backends.isabelle.bytecode_cache import bytecode_cache
+
+    # The options below decide the compiled code: the cache's folder is named for this module.
     return Environment(loader=PackageLoader("cyphy.backends.isabelle", "templates"),
                        undefined=StrictUndefined, keep_trailing_newline=True,
-                       trim_blocks=True, lstrip_blocks=True, autoescape=False)
+                       trim_blocks=True, lstrip_blocks=True, autoescape=False,
+                       bytecode_cache=bytecode_cache("backends/isabelle/theory.py"))
 
 
 @lru_cache(maxsize=1)

@@ -159,7 +159,7 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
             return cycle_process(program.dmodel.name, interpreters, reads, writes)
         # the module's machines together (the product), as simulate and reach run them
         automaton = compile_module(interpreters)
-        return dmodel_process(program.dmodel.name, automaton, tuple(reads), writes)
+        return dmodel_process(program.dmodel.name, automaton, reads, writes)
     except MachineError as err:
         report.report(OPAQUE_DMODEL, f"the d-model process is left opaque: state machine "
                       f"{machine.name}: {err.message}", err.span, err.hint)

@@ -8,7 +8,10 @@ made; its edges are guarded by input events present or absent. ``D`` keeps the m
 number, the mode's position in the automaton) and the events read in the cycle as its
 state, and each cycle:
 
-``<D>Read`` reads every input event the mapping maps (``registerRead.e?b → e := b``);
+``<D>Read`` reads every input event the mapping maps (``registerRead.e?b → e := b``;
+one the machine does not read, as one its module connects to no machine, is read and
+dropped, ``registerRead.e?b → Skip``: ``P`` offers it every cycle, and it never occurs for
+the machine);
 ``<D>Step`` moves to the mode the events lead to (``if mode = s ∧ e then mode := t …``;
 staying is the rest); ``<D>Write`` sends the mode's calls (``registerWrite.op!args``); then
 ``Wait(cycle)`` for the cycle's tocks. The first cycle reads the events and enters the
@@ -33,10 +36,11 @@ def _name(text: str) -> ex.Name:
     return ex.Name((text,))
 
 
-def dmodel_process(name: str, automaton: Automaton, reads: tuple[str, ...],
+def dmodel_process(name: str, automaton: Automaton, reads: dict[str, tuple[c.Type, ...]],
                    writes: dict[str, tuple[c.Type, ...]]) -> c.BasicProcess:
     """``D`` for the compiled machine: ``reads`` are the input events that the mapping maps
-    (``registerRead`` variants: an event it does not map never occurs), ``writes`` the
+    with their ``registerRead`` payload types (an event it does not map never occurs; one
+    it maps that the automaton does not read is dropped), ``writes`` the
     operations and output events it maps with their parameters' types. Raises ``ValueError`` naming a
     call the mapping has no ``registerWrite`` variant for (the rules report it)."""
     prefix = name  # D's names: <D>_mode, <D>_<event>, <D>Read, …
@@ -50,6 +54,7 @@ def dmodel_process(name: str, automaton: Automaton, reads: tuple[str, ...],
     receive: list[c.Action] = [
         c.Prefix(c.Comm("registerRead", e, (c.In(f"{e}_in"),)),
                  c.Assign((f"{prefix}_{e}",), (_name(f"{e}_in"),))) for e in read]
+    receive += [dropped_read(e, types) for e, types in reads.items() if e not in read]
     step: c.Action = c.Skip()
     for edge in reversed(automaton.edges):  # nested: the first edge is tested first
         if any(e not in read and not negated for e, negated in edge.guard):
@@ -87,6 +92,14 @@ def dmodel_process(name: str, automaton: Automaton, reads: tuple[str, ...],
                                    calls[f"{prefix}Write"], wait, c.Call("X"))))))
     return c.BasicProcess(name, (), c.Schema(f"{prefix}State", tuple(fields)),
                           c.Schema(f"{prefix}Local", ()), actions, main)
+
+
+def dropped_read(event: str, types: tuple[c.Type, ...]) -> c.Action:
+    """``registerRead.e?e_in[?e_value_in] → Skip``: an event ``P`` offers that no machine
+    of ``D`` reads (the module connects it to none), taken so that ``P`` is not blocked,
+    and dropped."""
+    fields = (c.In(f"{event}_in"),) + ((c.In(f"{event}_value_in"),) if len(types) == 2 else ())
+    return c.Prefix(c.Comm("registerRead", event, fields), c.Skip())
 
 
 def literal(value: float, type_: c.Type) -> ex.Expr:

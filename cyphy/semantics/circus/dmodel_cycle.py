@@ -28,7 +28,8 @@ and each cycle runs the interpreter's rules (:mod:`cyphy.semantics.machines.cycl
 3) written out as an action, unrolled from each node the machine can rest in:
 
 ``<D>Read``  reads every mapped input event: ``registerRead.e?e_in?e_value_in →
-(<D>_e, <D>_e_value := e_in, e_value_in)``;
+(<D>_e, <D>_e_value := e_in, e_value_in)``; one no machine reads (the module does not
+connect it to them) is read and dropped;
 
 ``<D>Step``  advances the clocks, then ``if <D>_mode = s then <cycle from s> else …``: the
 state's ``during`` action, then its transitions in the order written (exec ones too: the
@@ -84,7 +85,7 @@ from typing import Callable
 from cyphy import expr as ex
 from cyphy.lang import ast
 from cyphy.semantics.circus import ast as c
-from cyphy.semantics.circus.dmodel import MODE, literal
+from cyphy.semantics.circus.dmodel import MODE, dropped_read, literal
 from cyphy.semantics.circus.values import type_of, value_expr
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
 from cyphy.semantics.machines.parallel import same_cycle
@@ -134,7 +135,9 @@ class _Cycle:
         self.prefix = own
         self.mode = f"{own}_{MODE}"
         self.index = {key: i for i, key in enumerate(m.nodes)}
-        self.events = [e for e in m.platform.input_events if e in reads]
+        # an event the mapping does not map, or the module does not connect, never occurs
+        self.events = [e for e in m.platform.input_events
+                       if e in reads and e not in m.unconnected]
         self.typed = {e: reads[e][1] for e in self.events if len(reads[e]) == 2}
         self.conditionals = 0
         self.rest: list[str] = []  # nodes the machine may rest in, in the order found
@@ -532,7 +535,7 @@ def cycle_process(name: str, interpreters: list[MachineInterpreter],
     typed = {e for t in cycles for e in t.typed}
     p = name
     defs = [c.ActionDef(f"{p}Init", (), c.Assign(tuple(names), tuple(values))),
-            c.ActionDef(f"{p}Read", (), _read(name, read_events, typed)),
+            c.ActionDef(f"{p}Read", (), _read(name, read_events, typed, reads)),
             c.ActionDef(f"{p}Start", (), _seq([t.start() for t in cycles])),
             c.ActionDef(f"{p}Step", (), _seq([t.step() for t in cycles]))]
     call: Callable[[str], c.Call] = lambda suffix: c.Call(f"{p}{suffix}")
@@ -543,8 +546,10 @@ def cycle_process(name: str, interpreters: list[MachineInterpreter],
                           c.Schema(f"{p}Local", ()), tuple(defs), main)
 
 
-def _read(name: str, events: list[str], typed: set[str]) -> c.Action:
-    """``<D>Read``: each mapped event the machines read, its value too if typed."""
+def _read(name: str, events: list[str], typed: set[str],
+          reads: dict[str, tuple[c.Type, ...]]) -> c.Action:
+    """``<D>Read``: each mapped event the machines read, its value too if typed; then each
+    mapped event none reads (unconnected), read and dropped."""
     receive: list[c.Action] = []
     for e in events:
         if e in typed:
@@ -555,6 +560,7 @@ def _read(name: str, events: list[str], typed: set[str]) -> c.Action:
             comm = c.Comm("registerRead", e, (c.In(f"{e}_in"),))
             then = c.Assign((f"{name}_{e}",), (_name(f"{e}_in"),))
         receive.append(c.Prefix(comm, then))
+    receive += [dropped_read(e, types) for e, types in reads.items() if e not in events]
     return _seq(receive)
 
 

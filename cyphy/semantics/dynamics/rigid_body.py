@@ -26,8 +26,10 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from cyphy import expr as ex
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics.dynamics.errors import DynamicsError
+from cyphy.semantics.dynamics.motion_cache import derived
 from cyphy.semantics.dynamics.spatial import (ad, ad_numeric, euler_singularity, math_functions,
                                               motion_subspace, motion_subspace_rate,
                                               numeric_parent_to_child, parent_to_child,
@@ -266,12 +268,10 @@ def motion_equations(model: ElaboratedModel,
     joint, a floating base) with other joints: expanded, their products of sines and cosines
     swell past what SymPy expands in minutes (a ball joint and a universal joint in a chain,
     measured; the unexpanded recursion shares subterms that any printer writes out
-    exponentially often). Such a joint alone is written out."""
-    import sympy
+    exponentially often). Such a joint alone is written out.
 
-    from cyphy import expr as ex
-    from cyphy.translate.to_sympy import to_expr  # SymPy to the shared AST (no printer state)
-
+    The derivation (SymPy) is cached on disk (:mod:`cyphy.semantics.dynamics.motion_cache`),
+    keyed on everything it reads from the tree; the checks above run every time."""
     moving = [j for j in model.joints if j.parent is not None and j.child is not None
               and joint_kind(j) != "fixed"]
     for joint in moving:  # before the tree: a model whose joints cannot say it is left alone
@@ -302,6 +302,21 @@ def motion_equations(model: ElaboratedModel,
             "`cyphy solve` and `cyphy simulate` take trees of any size (the accelerations "
             "as named definitions); here, restrict the system to fewer "
             "joints (--element, --isabelle-element or the scenario's elements)")
+
+    return [(equation, tree.joints[i])
+            for equation, i in derived(tree, lambda: _derive(tree))]
+
+
+def _derive(tree: KinematicTree) -> list[tuple[Any, int]]:
+    """The tree's equations of motion written out (see :func:`motion_equations`), each with
+    the index of its joint in the tree: SymPy's Newton-Euler pass, expanded, back in the
+    expression AST. Reads the tree only (its joints' elements for their spans, devices and
+    annotations): :func:`cyphy.semantics.dynamics.motion_cache.key` names what it reads."""
+    # lazy: SymPy takes 0.5-0.9 s to import; a cached derivation never imports it
+    import sympy
+
+    # lazy: imports SymPy (the translator back to the shared AST, no printer state)
+    from cyphy.translate.to_sympy import to_expr
 
     variables: dict[str, ex.Expr] = {}  # scalar name → the model's expression for it
 
@@ -338,8 +353,8 @@ def motion_equations(model: ElaboratedModel,
     def model_names(node: ex.Expr) -> ex.Expr | None:
         return variables.get(node.text) if isinstance(node, ex.Name) else None
 
-    out = []
-    for joint, start in zip(tree.joints, tree.offsets):
+    out: list[tuple[Any, int]] = []
+    for i, (joint, start) in enumerate(zip(tree.joints, tree.offsets)):
         span = joint.element.span
         if joint.kind == "floating":
             for position, speed, acceleration in zip(
@@ -347,7 +362,7 @@ def motion_equations(model: ElaboratedModel,
                 for left, right in ((position, speed), (speed, acceleration)):
                     out.append((ex.BinOp("==", ex.Derivative(ex.Name((left,), span=span),
                                                              span=span),
-                                         ex.Name((right,), span=span), span=span), joint))
+                                         ex.Name((right,), span=span), span=span), i))
             lefts: list[ex.Expr] = [ex.Num("0", span=span)] * joint.dof
         else:
             scalars(joint, "tau")
@@ -355,7 +370,7 @@ def motion_equations(model: ElaboratedModel,
         for k, left in enumerate(lefts):
             rhs = _chop(sympy.expand(efforts[start + k]))
             right = ex.transform(to_expr(rhs, decimals=True), model_names)
-            out.append((ex.BinOp("==", left, right, span=span), joint))
+            out.append((ex.BinOp("==", left, right, span=span), i))
     return out
 
 

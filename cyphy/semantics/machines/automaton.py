@@ -75,7 +75,8 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
     """The automaton of the machine (see the module docstring); raises
     :class:`MachineError` when the machine cannot be compiled."""
     m = interpreter.machine
-    typed = [e for e, d in m.platform.input_events.items() if d.type is not None]
+    typed = [e for e, d in m.platform.input_events.items()
+             if d.type is not None and e not in m.unconnected]
     if typed:
         raise MachineError(f"the typed input event{'s' if len(typed) > 1 else ''} "
                            f"{', '.join(typed)} of {m.name} cannot be compiled: the automaton "
@@ -83,7 +84,7 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
                            m.decl.span, "use untyped events: reach and the theory's D run "
                            "this automaton, which models an event as present or absent "
                            "(simulate runs the machine itself, with the events' values)")
-    events = tuple(m.platform.input_events)
+    events = tuple(e for e in m.platform.input_events if e not in m.unconnected)
     if len(events) > MAX_EVENTS:
         raise MachineError(f"{m.name} reads {len(events)} input events: more than "
                            f"{MAX_EVENTS} make too many combinations", m.decl.span)

@@ -269,7 +269,7 @@ class MachineInterpreter:
                                 tuple((c, n + 1) for c, n in f.clocks)) for f in self.stack]
         self.cycles += 1
         self.events = {name: v for name, v in events.items() if v is not None and not (
-            v is False and self._untyped(name))}
+            v is False and self._untyped(name)) and name not in self.machine.unconnected}
         self.outputs: list[Output] = []
         steps = 0
         self.during_done = False

@@ -18,6 +18,7 @@ from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.pipeline.elaborate import ElaborateOptions, elaborate
 from cyphy.verify.flowstar.constraints import dnf
 from cyphy.verify.flowstar.limits import MAX_JUMPS
+from cyphy.verify.flowstar.mapping_vectors import per_component
 from cyphy.verify.flowstar.printer import FUNCTIONS, NotExpressible, valid_name
 from cyphy.verify.flowstar.problem import CLOCK, TIMER, Problem, symbol
 from cyphy.verify.flowstar.scenario import EXPORT, Scenario
@@ -378,9 +379,10 @@ class _Builder:
                        self.s.consts.items() if isinstance(v, (int, float))
                        and not isinstance(v, bool) and "::" not in n})
         frame = self._frame(eqs, system)
-        locals_ = sorted({n.text for e in eqs for n in e.walk() if isinstance(n, ex.Name)
-                          and n.text.startswith(f"{op}_") and system.kinds.get(n.text)
-                          == "local"})
+        split = per_component(eqs, system, op)  # a vector local as its components
+        if split is None:
+            return None
+        eqs, locals_ = split
         relations = []
         for e in eqs:
             rel = to_sympy(e)
@@ -437,10 +439,9 @@ class _Builder:
                 pred = self.typed[name].predicate
             else:
                 pred = input_event_predicate(self.model, mapping, event)
-            if pred is None:
-                raise self.fail(f"the input event {name} has no predicate in mapping "
-                                f"{mapping.name}: its occurrence cannot be decided", span)
-            out[name] = (pred, span)
+            # no predicate: the event occurs every cycle (PMap12's warning; the theory's
+            # Rule 4 with ``true``)
+            out[name] = (ex.Bool(True) if pred is None else pred, span)
         return out
 
     def _probes(self, system: Any, exprs: list[ex.Expr]) -> dict[str, str]:

@@ -35,11 +35,13 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
     whose controller is the interpreter itself) the interpreter is returned and the
     scenario's controller is left empty (the caller then takes the events the machines read
     and every operation they may call from the machines); without it (``reach``,
-    ``gen --flowstar``) the machine is refused."""
+    ``gen --flowstar``) the machine is refused. So is, for ``sampled``, a machine the
+    automaton cannot hold (a first cycle that reads the inputs, too many configurations):
+    the interpreter runs it."""
     from cyphy.lang.scopes import Scopes
     from cyphy.model.machines import select_machines
     from cyphy.semantics.machines.cycle import MachineError, interpreter_for, machine_constants
-    from cyphy.semantics.machines.parallel import ModuleInterpreter, compile_module
+    from cyphy.semantics.machines.parallel import ModuleInterpreter
 
     files = list(check.workspace.user_files())
     span = scenario.span("machine") if scenario.machine else Span(scenario.path, 1, 1, 1, 2)
@@ -66,13 +68,14 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
                 "the value the machine reads", machine.decl.span,
                 "`cyphy simulate` runs this machine with the events' values (its interpreter "
                 "is the controller); for reach, make the events untyped")
-        automaton = None if typed else compile_module(interpreters)
+        automaton = None if typed else _compiled(interpreters, sampled)
         # the module's machines run together, every cycle (one machine: itself)
         interpreter = interpreters[0] if len(interpreters) == 1 else \
             ModuleInterpreter(interpreters)
     except MachineError as err:
-        report.report(EXPORT, f"state machine {machine.name}: {err.message}", err.span,
-                      err.hint)
+        # the compilation of a module reports at the machine it cannot compile
+        name = next((m.name for m in machines if m.decl.span == err.span), machine.name)
+        report.report(EXPORT, f"state machine {name}: {err.message}", err.span, err.hint)
         return None
     if not _same_cycle(interpreter, scenario, report):
         return None
@@ -88,6 +91,21 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
         for e in automaton.edges]
     interpreter.reset()  # the compilation explored its configurations
     return interpreter
+
+
+def _compiled(interpreters: "list[MachineInterpreter]", sampled: bool) -> Any:
+    """The module's automaton; for ``sampled``, None (the interpreter runs the machines)
+    when they cannot be compiled, which a run of the interpreter does not need."""
+    # lazy: NumPy, as the rest of this module imports the machines' semantics
+    from cyphy.semantics.machines.cycle import MachineError
+    from cyphy.semantics.machines.parallel import compile_module
+
+    try:
+        return compile_module(interpreters)
+    except MachineError:
+        if not sampled:
+            raise
+        return None
 
 
 def _same_cycle(interpreter: "MachineInterpreter", scenario: Scenario, report: Report
@@ -127,5 +145,5 @@ def typed_events(interpreters: "list[MachineInterpreter]") -> list[str]:
     for i in interpreters:
         for m in [i.machine, *i.operations.values()]:
             out.update((e, None) for e, d in m.platform.input_events.items()
-                       if d.type is not None)
+                       if d.type is not None and e not in i.machine.unconnected)
     return list(out)
