@@ -485,8 +485,8 @@ MUTANTS: tuple[Mutant, ...] = (
       "entry wait(wref / 4); $drive(wref)", "STM14", at="wref / 4"),
     M("stm-wait-two-cycles", "dcmotor", DC_SW, "entry $drive(wref)",
       "entry $drive(wref); wait(2)", ACCEPTED),
-    # the Flow* automaton cannot start in a mode the inputs choose (reach refuses it, the
-    # theory leaves D opaque); simulate runs the machine itself
+    # the Flow* automaton cannot start in a mode the inputs choose (reach refuses it);
+    # simulate runs the machine itself, the theory writes its cycle out
     M("stm-first-cycle-reads-an-event", "rover", "RoverSoftware.rsm",
       "from Ahead to Turn exec condition", "from Ahead to Turn condition", ACCEPTED),
     M("event-mapped-without-predicate", "dcmotor", DC_MAP,

@@ -158,7 +158,15 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
         if _reads_typed(interpreters):  # values no automaton holds: the cycle written out
             return cycle_process(program.dmodel.name, interpreters, reads, writes)
         # the module's machines together (the product), as simulate and reach run them
-        automaton = compile_module(interpreters)
+        try:
+            automaton = compile_module(interpreters)
+        except MachineError as no_automaton:
+            # a first cycle that reads the inputs, or too many configurations: the cycle
+            # written out reads the events before its first cycle, as simulate runs it
+            try:
+                return cycle_process(program.dmodel.name, interpreters, reads, writes)
+            except MachineError:
+                raise no_automaton from None
         return dmodel_process(program.dmodel.name, automaton, reads, writes)
     except MachineError as err:
         report.report(OPAQUE_DMODEL, f"the d-model process is left opaque: state machine "

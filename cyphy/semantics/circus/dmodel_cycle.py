@@ -1,5 +1,7 @@
-"""``D`` for a state machine that reads **typed** input events: one cycle of the machine
-translated into Circus conditionals and assignments over the machine's own state.
+"""``D`` for a state machine that reads **typed** input events, or that the automaton
+cannot hold (its first cycle reads the inputs, or it has too many configurations): one cycle
+of the machine translated into Circus conditionals and assignments over the machine's own
+state.
 
 Why not the automaton (:mod:`cyphy.semantics.circus.dmodel`): the automaton's modes are the
 interpreter's configurations, found by running it under every combination of events present
@@ -47,7 +49,9 @@ clock advanced. ``<D>Main ≙ <D>Init ; <D>Read ; <D>Start ; Wait(cycle) ; μ X 
 
 So ``<D>Write`` has no part here: the calls are made inside the cycle, in the interpreter's
 order, interleaved with the assignments that precede them. A machine without typed input
-events keeps the automaton's ``D`` (its theory is unchanged).
+events keeps the automaton's ``D`` when the automaton can be built (its theory is unchanged);
+when it cannot, ``Read`` before ``Start`` gives the first cycle the events at t = 0, as
+``simulate``'s interpreter reads them.
 
 Isabelle constructs (the printers already use each for ``P`` or the automaton's ``D``): an
 input of two fields ``c?(b)?(v)`` is utp-main c9122f14's mixed prefix
