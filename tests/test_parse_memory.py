@@ -76,3 +76,19 @@ def test_writing_the_cache_does_not_hold_the_whole_tree_twice():
     finally:
         tracemalloc.stop()
     assert peak < 2.5 * len(data), (peak, len(data))
+
+
+def test_writing_many_blocks_reports_how_far_it_has_gone():
+    """The parse cache's write of a large tree moves the progress line: every
+    ``REPORT_EVERY`` separate pickles, the count so far (the 90k-link tree's write stood still
+    for tens of seconds). Nothing is reported outside :func:`reporting`."""
+    from cyphy import pickling
+
+    result = parse_text(tree_model(1200, 3), "big.pm")
+    counts: list[int] = []
+    with pickling.reporting(counts.append):
+        data = pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL)
+    assert counts == [500, 1000]  # 1,200 links, each its own pickle
+    pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL)
+    assert counts == [500, 1000]
+    assert canonical(pickle.loads(data)) == canonical(result)

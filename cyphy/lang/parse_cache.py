@@ -36,7 +36,7 @@ import hashlib
 from functools import lru_cache
 from pathlib import Path
 
-from cyphy import disk_cache, progress
+from cyphy import disk_cache, pickling, progress
 from cyphy.lang.ast import ParseResult
 
 _PACKAGE = Path(__file__).resolve().parent.parent
@@ -99,7 +99,8 @@ def _parse_cached(folder: Path, text: str, path: str, store: bool) -> ParseResul
     parsed = _parse(text, path)
     if store and parsed.file is not None:
         progress.step("writing the parse cache")
-        disk_cache.store(folder, entry, digest, parsed)
+        with pickling.reporting(lambda n: progress.step(f"writing the parse cache: {n} blocks")):
+            disk_cache.store(folder, entry, digest, parsed)
     return parsed
 
 
