@@ -254,6 +254,13 @@ def _children(node: Expr) -> list[Expr]:
     return out
 
 
+def conjuncts(e: Expr) -> list[Expr]:
+    """The operands of a conjunction ``a /\\ b /\\ …`` (``[e]`` when ``e`` is not one)."""
+    if isinstance(e, BinOp) and e.op == "/\\":
+        return conjuncts(e.left) + conjuncts(e.right)
+    return [e]
+
+
 def transform(expr: Expr, fn: Callable[[Expr], Expr | None]) -> Expr:
     """Rebuild ``expr`` bottom-up; ``fn`` may return a replacement for a node or ``None``."""
     changes: dict[str, object] = {}

@@ -477,6 +477,9 @@ MUTANTS: tuple[Mutant, ...] = (
       ACCEPTED),
     M("stm-loop-without-exec", "dcmotor", DC_SW, "from Cruise to Check exec",
       "from Cruise to Check", "STM13", at="transition t1"),
+    # a loop whose guards contradict each other is never completed in one cycle: valid
+    M("stm-loop-without-exec-guards-exclusive", "dcmotor", DC_SW, "from Cruise to Check exec",
+      "from Cruise to Check condition $near", ACCEPTED),
     M("stm-loop-through-junction-without-exec", "lift", "LiftSoftware.rsm",
       "from Rising to Top exec", "from Rising to Top", "STM13", at="transition t1"),
     M("stm-wait-negative", "dcmotor", DC_SW, "entry $drive(wref)",

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from cyphy import expr as ex
 from cyphy.lang import ast
+from cyphy.lang.notation import to_notation
 from cyphy.model.machines import Machine, MachineTransition, statements
 from cyphy.wellformed.indexing import evaluate_in
 from cyphy.wellformed.machines import _machines
@@ -59,9 +60,22 @@ def _loop(m: Machine) -> list[MachineTransition] | None:
         if loop is None:
             rest = _path(leaving, str(first.target), str(first.source), {str(first.target)})
             loop = None if rest is None else [first, *rest]
-        if loop is not None and not _resets_read(m, loop):
+        if loop is not None and not _resets_read(m, loop) and not _contradictory(loop):
             return loop
     return None
+
+
+def _contradictory(loop: list[MachineTransition]) -> bool:
+    """Whether the loop's guards cannot all hold in one cycle: one requires a literal (``$e``,
+    ``x > 1``) and another its negation (``not $e``), as written. The loop is then never
+    completed (A to B on ``$near``, B to A on ``not $near``), and the machine rests.
+    Contradictions that need arithmetic to see are not found (the loop is then reported)."""
+    texts = {to_notation(part) for t in loop for e in (t.decl.trigger, t.decl.condition)
+             if e is not None for part in ex.conjuncts(e)}
+    return any(isinstance(part, ex.UnaryOp) and part.op == "not" and
+               to_notation(part.operand) in texts
+               for t in loop for e in (t.decl.trigger, t.decl.condition) if e is not None
+               for part in ex.conjuncts(e))
 
 
 def _resets_read(m: Machine, loop: list[MachineTransition]) -> bool:
@@ -100,7 +114,9 @@ def check_STM13_cycle_ends(ctx: WFContext) -> None:
     """A loop of transitions without ``exec``, whose states' and transitions' actions neither
     ``exec``, ``wait``, assign a variable, reset a clock its conditions read, nor call an
     operation definition, never ends the cycle once its conditions hold (they read only what the cycle does not
-    change). Reported at its first transition, naming the loop."""
+    change). Reported at its first transition, naming the loop; a loop whose guards contradict
+    each other as written (``$e`` on one, ``not $e`` on another) is never completed and is
+    accepted."""
     for m in _machines(ctx):
         loop = _loop(m)
         if loop is None:

@@ -113,12 +113,6 @@ def _seq(actions: list[c.Action]) -> c.Action:
     return actions[0] if len(actions) == 1 else c.Seq(tuple(actions))
 
 
-def _conjuncts(e: ex.Expr) -> list[ex.Expr]:
-    if isinstance(e, ex.BinOp) and e.op == "/\\":
-        return _conjuncts(e.left) + _conjuncts(e.right)
-    return [e]
-
-
 #: A pending step of the interpreter: ``("stmt", statement)``, ``("do", action)`` (a binding
 #: already translated), ``("end", None)`` (exec: the cycle ends) or ``("enter", node)``.
 _Item = tuple[str, object]
@@ -362,7 +356,7 @@ class _Cycle:
         bound: dict[str, str] = {}
         bindings: list[c.Action] = []
         for part in parts:
-            top = set(map(id, _conjuncts(part)))
+            top = set(map(id, ex.conjuncts(part)))
             for n in part.walk():
                 if isinstance(n, ex.PlatformRef) and n.binding is not None:
                     event = n.name[-1]

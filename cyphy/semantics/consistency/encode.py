@@ -106,12 +106,6 @@ def label_of(member: Member) -> str:
     return f"operation {member.name}"
 
 
-def _conjuncts(e: ex.Expr) -> list[ex.Expr]:
-    if isinstance(e, ex.BinOp) and e.op == "/\\":
-        return _conjuncts(e.left) + _conjuncts(e.right)
-    return [e]
-
-
 class UnknownName(UnsupportedNode):
     """A name that denotes nothing (a misspelt port the earlier checks let through)."""
 
@@ -155,7 +149,7 @@ class Encoder:
                     enc.equations.append(Fact(printer.defined(part), eq.span, text + note))
             used: set[str] = set()
             for pred, original in zip(found.predicates, member.predicates):
-                for part, text in zip(_conjuncts(pred.expr), _conjuncts(original.expr)):
+                for part, text in zip(ex.conjuncts(pred.expr), ex.conjuncts(original.expr)):
                     for scalar, note in _components(scalars, part):
                         enc.predicate.append(Fact(printer.defined(scalar),
                                                   part.span if part.span.line else pred.span,
