@@ -16,8 +16,12 @@ automaton *is* the interpreter's behaviour, not a second reading of the rules:
 - modes with the same calls and the same successors are merged (partition refinement),
   and the input combinations leading from one mode to another are written as few
   conjunctions of event literals as a prime-implicant cover gives;
-- the automaton starts in the mode the first cycle leads to, which must not depend on the
-  inputs (the Flow* automaton samples inputs first at the end of the first cycle).
+- the automaton starts in the mode the first cycle leads to. When that mode depends on the
+  input events (the machine reads them before its first ``exec``), the compilation is
+  refused unless the caller asks for the first cycle's edges (``first_cycle``): then
+  ``Automaton.first`` holds, per input combination, the mode the first cycle ends in, as
+  edges from before the first cycle (the Flow* export starts in a mode of its own that takes
+  them at time 0, the events being the mapping's predicates at the initial state).
 
 Operation definitions the machine calls are part of the configurations (the operation
 running and its callers' frames), so they compile like the machine itself; their clocks
@@ -69,11 +73,27 @@ class Automaton:
     modes: tuple[Mode, ...]
     initial: str
     edges: tuple[Edge, ...]  # only between different modes: staying is the rest
+    # The first cycle when its outcome depends on the input events (``compile_machine``'s
+    # ``first_cycle``): edges from before it (``source`` is "") to the mode it ends in, whose
+    # guards cover every combination; ``initial`` is then where it ends with no event. Empty:
+    # the first cycle ends in ``initial`` whatever the events.
+    first: tuple[Edge, ...] = ()
+
+    def start(self, present: dict[str, bool]) -> str:
+        """The mode the first cycle ends in when the events ``present`` (name → present)
+        are read in it."""
+        for e in self.first:
+            if all(present.get(ev, False) != negated for ev, negated in e.guard):
+                return e.target
+        return self.initial
 
 
-def compile_machine(interpreter: MachineInterpreter) -> Automaton:
+def compile_machine(interpreter: MachineInterpreter, first_cycle: bool = False) -> Automaton:
     """The automaton of the machine (see the module docstring); raises
-    :class:`MachineError` when the machine cannot be compiled."""
+    :class:`MachineError` when the machine cannot be compiled. ``first_cycle``: a first
+    cycle whose outcome depends on the input events is compiled to ``Automaton.first``
+    (without it such a machine is refused: the theory's ``D`` and ``simulate`` run the
+    machine itself then)."""
     m = interpreter.machine
     typed = [e for e, d in m.platform.input_events.items()
              if d.type is not None and e not in m.unconnected]
@@ -104,12 +124,12 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
         interpreter.saturate(caps)
         return interpreter.configuration(), outputs
 
-    first = {step(None, combo) for combo in combos}
-    if len(first) > 1:
+    firsts = [step(None, combo) for combo in combos]
+    starts = list(dict.fromkeys(firsts))  # in the order of the combinations: deterministic
+    if len(starts) > 1 and not first_cycle:
         raise MachineError(f"the first cycle of {m.name} depends on its inputs: the Flow* "
                            "automaton first samples them at the end of the first cycle",
                            m.decl.span, "let the first cycle end (exec) before reading events")
-    start = first.pop()
 
     def too_many() -> MachineError:
         return MachineError(
@@ -118,21 +138,28 @@ def compile_machine(interpreter: MachineInterpreter) -> Automaton:
             "let its variables take fewer values: reach, simulate and the "
             "theory's D all run the compiled automaton")
 
-    keys, successors = explore(start, combos, lambda key, combo: step(key[0], combo),
+    keys, successors = explore(starts, combos, lambda key, combo: step(key[0], combo),
                                MAX_CONFIGURATIONS, too_many)
-    calls = _held_calls([outputs for _, outputs in keys], successors)
+    # a first cycle that reads the events (exported to Flow* only) makes its calls before
+    # and after them: ``drive(8, 8)`` on entering Ahead, then ``drive(4, -4)`` on turning
+    # at once; only the last call of each operation sets its inputs, so only it is kept, and
+    # the mode is the one a later turn enters (otherwise two modes, and those after them)
+    outputs = [_last_calls(o) if len(starts) > 1 else o for _, o in keys]
+    calls = _held_calls(outputs, successors, len(starts))
     blocks = minimise(calls, successors)
-    return _automaton(events, combos, keys, calls, successors, blocks)
+    return _automaton(events, combos, keys, calls, successors, blocks,
+                      [starts.index(f) for f in firsts])
 
 
-def explore(start: K, combos: Sequence[tuple[bool, ...]],
+def explore(starts: Sequence[K], combos: Sequence[tuple[bool, ...]],
             step: Callable[[K, tuple[bool, ...]], K], limit: int,
             too_many: Callable[[], MachineError]) -> tuple[list[K], list[list[int]]]:
-    """Every key reachable from ``start`` (breadth first, in the order found: the modes'
-    numbering, so the output is deterministic) and, for each, the index of its successor
-    under each input combination; ``too_many()`` is raised past ``limit`` keys."""
-    index = {start: 0}
-    keys = [start]
+    """Every key reachable from the ``starts`` (distinct; breadth first, in the order
+    found: the modes' numbering, so the output is deterministic) and, for each, the index
+    of its successor under each input combination; ``too_many()`` is raised past ``limit``
+    keys."""
+    index = {start: k for k, start in enumerate(starts)}
+    keys = list(starts)
     successors: list[list[int]] = []
     k = 0
     while k < len(keys):
@@ -150,14 +177,24 @@ def explore(start: K, combos: Sequence[tuple[bool, ...]],
     return keys, successors
 
 
-def _held_calls(outputs: list[tuple[Output, ...]], successors: list[list[int]]
-                ) -> list[tuple[Output, ...]]:
+def _last_calls(outputs: tuple[Output, ...]) -> tuple[Output, ...]:
+    """The calls of a cycle with each operation's earlier calls left out: a later call of
+    the same operation sets the same actuator inputs (the mapping's equations of that
+    operation), so the earlier ones have no lasting effect (the Flow* export's reading)."""
+    last = {o[0]: k for k, o in enumerate(outputs)}
+    return tuple(o for k, o in enumerate(outputs) if last[o[0]] == k)
+
+
+def _held_calls(outputs: list[tuple[Output, ...]], successors: list[list[int]],
+                starts: int = 1) -> list[tuple[Output, ...]]:
     """The calls of each configuration, where one without calls is given the calls that
     every path into it performed last, when they are the same (least fixpoint of the sets of
     last calls): calls set actuator values, so repeating them changes nothing, and the
-    automaton needs fewer modes (a stopped machine's mode keeps ``stop()``)."""
+    automaton needs fewer modes (a stopped machine's mode keeps ``stop()``). The first
+    ``starts`` configurations are where the first cycle may end."""
     last: list[set[tuple[Output, ...]]] = [{o} if o else set() for o in outputs]
-    last[0] = last[0] or {()}  # before any call: the actuators' initial values
+    for k in range(starts):
+        last[k] = last[k] or {()}  # before any call: the actuators' initial values
     changed = True
     while changed:
         changed = False
@@ -252,20 +289,22 @@ def minimise(outputs: list[tuple[Output, ...]], successors: list[list[int]]) -> 
 def _automaton(events: tuple[str, ...], combos: list[tuple[bool, ...]],
                keys: list[tuple[Configuration, tuple[Output, ...]]],
                calls: list[tuple[Output, ...]], successors: list[list[int]],
-               blocks: list[int]) -> Automaton:
+               blocks: list[int], firsts: list[int]) -> Automaton:
     bases = [(f"{c.running}::{c.node}" if c.running else c.node).replace("::", "_")
              for c, _ in keys]
     return assemble(events, combos, bases, [c.node for c, _ in keys], calls, successors,
-                    blocks)
+                    blocks, firsts)
 
 
 def assemble(events: tuple[str, ...], combos: list[tuple[bool, ...]], bases: list[str],
              nodes: list[str], calls: list[tuple[Output, ...]], successors: list[list[int]],
-             blocks: list[int]) -> Automaton:
+             blocks: list[int], firsts: list[int] | None = None) -> Automaton:
     """The automaton of explored configurations (``bases``: each one's name before
     numbering, ``nodes``: where it rests) and their blocks of :func:`minimise`: a mode per
     block, named after its first configuration, and edges whose guards cover the input
-    combinations leading from block to block."""
+    combinations leading from block to block. ``firsts``: per combination, the
+    configuration the first cycle ends in (None: the first one, whatever the events); when
+    they fall in more than one block, ``Automaton.first`` holds the edges to them."""
     first_of: dict[int, int] = {}
     for i, b in enumerate(blocks):
         first_of.setdefault(b, i)
@@ -289,7 +328,17 @@ def assemble(events: tuple[str, ...], combos: list[tuple[bool, ...]], bases: lis
             for cube in cover(minterms, len(events)):
                 guard = tuple((events[k], not v) for k, v in enumerate(cube) if v is not None)
                 edges.append(Edge(names[b], names[target], guard))
-    return Automaton(events, modes, names[blocks[0]], tuple(edges))
+    first = [blocks[k] for k in firsts] if firsts else [blocks[0]] * len(combos)
+    if len(set(first)) == 1:
+        return Automaton(events, modes, names[first[0]], tuple(edges))
+    by_start: dict[int, list[tuple[bool, ...]]] = {}
+    for combo, b in zip(combos, first):
+        by_start.setdefault(b, []).append(combo)
+    starts = tuple(Edge("", names[b], tuple((events[k], not v) for k, v in enumerate(cube)
+                                            if v is not None))
+                   for b, minterms in sorted(by_start.items())
+                   for cube in cover(minterms, len(events)))
+    return Automaton(events, modes, names[first[0]], tuple(edges), starts)
 
 
 def cover(minterms: list[tuple[bool, ...]], n: int) -> list[tuple[bool | None, ...]]:
@@ -323,6 +372,9 @@ def cover(minterms: list[tuple[bool, ...]], n: int) -> list[tuple[bool | None, .
 def describe(automaton: Automaton) -> str:
     """The automaton as text (for messages and tests)."""
     lines = [f"initial {automaton.initial}"]
+    for e in automaton.first:
+        guard = " /\\ ".join(("not " if neg else "") + ev for ev, neg in e.guard) or "true"
+        lines.append(f"first cycle -> {e.target} when {guard}")
     for mode in automaton.modes:
         calls = ", ".join(f"{n}({', '.join(f'{a:g}' for a in args)})"
                           for n, args in mode.calls)

@@ -106,14 +106,17 @@ def _read(m: Machine) -> list[ex.Expr]:
     return out
 
 
-def compile_module(interpreters: Sequence[MachineInterpreter]) -> Automaton:
+def compile_module(interpreters: Sequence[MachineInterpreter], first_cycle: bool = False
+                   ) -> Automaton:
     """One machine's automaton, or the product of several: a product mode is a mode of each,
     its calls theirs in the module's order; under each combination of the input events every
     machine moves along its own edge (or stays), and the product's edges are those moves
-    written again as few conjunctions of event literals."""
+    written again as few conjunctions of event literals. ``first_cycle``: as for
+    :func:`~cyphy.semantics.machines.automaton.compile_machine` (the product's first cycle
+    ends, per combination, in the product of where each machine's ends)."""
     same_cycle(interpreters)
     unshared(interpreters)
-    automata = [compile_machine(i) for i in interpreters]
+    automata = [compile_machine(i, first_cycle) for i in interpreters]
     if len(automata) == 1:
         return automata[0]
     return product(automata, interpreters[0].machine.decl.span)
@@ -135,7 +138,8 @@ def product(automata: Sequence[Automaton], span: Span) -> Automaton:
                 return e.target
         return mode
 
-    start = tuple(a.initial for a in automata)
+    firsts = [tuple(a.start(dict(zip(events, combo))) for a in automata) for combo in combos]
+    starts = list(dict.fromkeys(firsts))
 
     def too_many() -> MachineError:
         return MachineError(f"the module's machines together have more than "
@@ -143,11 +147,11 @@ def product(automata: Sequence[Automaton], span: Span) -> Automaton:
                             "choose one machine with --machine")
 
     keys, successors = explore(
-        start, combos, lambda key, combo: tuple(move(a, m, combo)
+        starts, combos, lambda key, combo: tuple(move(a, m, combo)
                                                 for a, m in zip(automata, key)),
         MAX_PRODUCT_MODES, too_many)
     calls = [tuple(c for m, table in zip(key, modes) for c in table[m].calls) for key in keys]
     blocks = minimise(calls, successors)
     nodes = ["|".join(table[m].node for m, table in zip(key, modes)) for key in keys]
     return assemble(events, combos, ["_".join(key) for key in keys], nodes, calls,
-                    successors, blocks)
+                    successors, blocks, [starts.index(f) for f in firsts])

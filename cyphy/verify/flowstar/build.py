@@ -156,6 +156,7 @@ class _Builder:
                           operation_effects if self.uncompiled else
                           self._operation_effects(frame) if self.machine else {},
                           {name: v for name, (v, _) in values.items()})
+        problem = self._first_cycle(problem)
         self._check_init(problem)
         if problem.required_jumps > MAX_JUMPS:
             raise self.fail(
@@ -417,7 +418,8 @@ class _Builder:
             typed_event
 
         wanted = machine_events(self.machine) if self.uncompiled else \
-            [(name, t.span, None) for t in self.s.transitions for name, _ in t.literals]
+            [(name, t.span, None) for t in [*self.s.first, *self.s.transitions]
+             for name, _ in t.literals]
         if not wanted:
             return {}
         mapping = self._mapping()
@@ -477,6 +479,28 @@ class _Builder:
                             "the property")
         return unsafe
 
+    def _first_cycle(self, p: Problem) -> Problem:
+        """``p`` with its first cycle decided on the initial box
+        (:func:`cyphy.verify.flowstar.first_cycle.settle`); refused when an event the first
+        cycle reads has a predicate over an actuator input, which has no value before the
+        first cycle's calls."""
+        from cyphy.verify.flowstar.first_cycle import settle, unreadable
+
+        if not self.s.first:
+            return p
+        found = unreadable(p)
+        if found is not None:
+            event, inputs = found
+            raise self.fail(
+                f"the first cycle of the machine reads the input event {event}, whose "
+                f"predicate reads the actuator input{'s' if len(inputs) > 1 else ''} "
+                f"{', '.join(inputs)}: nothing sets {'them' if len(inputs) > 1 else 'it'} "
+                "before the first cycle's calls, so which way the first cycle goes cannot be "
+                "decided", self.s.first[0].span,
+                "let the first cycle end (exec) before reading the event, or map the event "
+                "to a predicate over sensor and state variables")
+        return settle(p)
+
     def _check_init(self, p: Problem) -> None:
         given = {self.mangled(n, self.s.span("init", n)): n for n in self.s.init}
         expected = set(p.states) | set(p.held_inputs)
@@ -486,13 +510,17 @@ class _Builder:
                                 self.s.span("init", written.split("::")[-1]),
                                 did_you_mean(name, expected) or
                                 f"state variables: {', '.join(sorted(expected))}")
+        starts = list(dict.fromkeys(t.target for t in p.scenario.first)) or \
+            [p.scenario.initial]
         unset = [u for u in p.held_inputs if u not in given
-                 and u not in p.effects.get(self.s.initial, {})]
+                 and not all(u in p.effects.get(m, {}) for m in starts)]
         if unset:
+            where = f"the initial state {starts[0]} calls" if len(starts) == 1 else \
+                f"a state the first cycle may end in ({', '.join(starts)}) calls"
             raise self.fail(
                 f"nothing gives the held actuator input{'s' if len(unset) > 1 else ''} "
-                f"{', '.join(unset)} a value at time 0: the initial state {self.s.initial} "
-                "calls nothing that sets it", self.s.span("controller", "initial"),
+                f"{', '.join(unset)} a value at time 0: {where} "
+                "nothing that sets it", self.s.span("controller", "initial"),
                 "give its value at time 0 in [init] (" + ", ".join(f"{u} = 0" for u in unset)
                 + "), or a call in the initial state that sets it")
         missing = [x for x in p.states if x not in given]

@@ -164,7 +164,7 @@ def _restrict(p: Problem, need: set[str], unsafe: Any) -> Problem:
                                    rhs={x: p.rhs[x] for x in states}, unsafe=unsafe)
     # the mode does not matter to these states: one mode, no transitions, no jumps
     scenario = dataclasses.replace(s, init=init, states={s.initial: s.states[s.initial]},
-                                   transitions=[])
+                                   transitions=[], first=[])
     return dataclasses.replace(p, scenario=scenario, states=states,
                                rhs={x: p.rhs[x] for x in states}, inputs=[],
                                effects={s.initial: {}}, events={}, unsafe=unsafe)
@@ -179,7 +179,11 @@ def _box(p: Problem, name: str) -> tuple[float, float]:
 
 def split(p: Problem, count: int) -> list[tuple[str, Problem]]:
     """``count`` boxes cut along the state with the widest initial interval (all of ``p``
-    when no state is uncertain), labelled with that state's interval."""
+    when no state is uncertain), labelled with that state's interval. A first cycle that
+    reads the events is decided again on each box (one inside an event's region starts
+    exactly: :func:`cyphy.verify.flowstar.first_cycle.settle`)."""
+    from cyphy.verify.flowstar.first_cycle import settle
+
     widths = {x: hi - lo for x, (lo, hi) in ((x, _box(p, x)) for x in p.states)}
     wide = max(widths, key=lambda x: (widths[x], x), default=None)
     if count <= 1 or wide is None or widths[wide] <= 0:
@@ -192,7 +196,8 @@ def split(p: Problem, count: int) -> list[tuple[str, Problem]]:
         init = dict(p.scenario.init)
         init[wide] = (a, b)
         scenario = dataclasses.replace(p.scenario, init=init)
-        out.append((f"{wide} in [{a:.6g}, {b:.6g}]", dataclasses.replace(p, scenario=scenario)))
+        out.append((f"{wide} in [{a:.6g}, {b:.6g}]",
+                    settle(dataclasses.replace(p, scenario=scenario))))
     return out
 
 
@@ -221,6 +226,20 @@ class _Piece:
 
 def check(p: Problem, name: str, binary: str, timeout: float | None = None,
           boxes: int = 1, auto_split: bool = True, jobs: int | None = None) -> Result:
+    """The verdict on ``p`` (:func:`_check`), its reason ending with what the first cycle
+    of a machine that reads the events in it did (exact or over-approximated:
+    :func:`cyphy.verify.flowstar.first_cycle.description`)."""
+    from cyphy.verify.flowstar.first_cycle import description
+
+    result = _check(p, name, binary, timeout, boxes, auto_split, jobs)
+    note = description(p)
+    if note:
+        result.reason += f"; {note}"
+    return result
+
+
+def _check(p: Problem, name: str, binary: str, timeout: float | None, boxes: int,
+           auto_split: bool, jobs: int | None) -> Result:
     """The verdict on ``p``: see the module's docstring. First a simulation search for a
     witness over each disjunct's whole initial set (falsification first: no Flow* run when a
     trajectory is found); then every run of a round goes to one pool of ``jobs`` Flow*
@@ -317,6 +336,9 @@ def _for_all_time(disjuncts: list[Problem], name: str, binary: str, timeout: flo
                   for part in parts(d)]
     candidates = [(j, part, text) for j, part, text in candidates if text is not None]
     if not {j for j, _, _ in candidates} >= set(range(len(disjuncts))):
+        if any(d.scenario.first for d in disjuncts):
+            return f"{horizon} (no invariant to check: the first cycle may end in several " \
+                "modes)"
         return f"{horizon} (no invariant to check: the clock is read, or a point " \
             "coordinate changes over a cycle)"
     tasks = [Task(f"invariant of {part.scenario.initial} [{', '.join(part.states)}]", part,

@@ -19,7 +19,11 @@ The automaton is ``semantics.md``'s process made concrete:
   unsafe (spec §4.9).
 
 Calls issued in the initial controller state take effect at time 0 (the first cycle); input
-events are first sampled at the end of the first cycle.
+events are first sampled at the end of the first cycle. A machine whose first cycle reads the
+events may end it in several states: when the initial set does not decide which
+(:mod:`cyphy.verify.flowstar.first_cycle`), the automaton starts in a mode of its own
+that does not move and jumps at time 0 to each of them under its events' guard, applying its
+calls (one more jump).
 
 This module writes the automaton as Flow* text from its
 :class:`~cyphy.verify.flowstar.problem.Problem`, which :mod:`cyphy.verify.flowstar.build`
@@ -35,6 +39,7 @@ from typing import Any
 import sympy
 
 from cyphy.verify.flowstar.constraints import Conjunction, dnf
+from cyphy.verify.flowstar.first_cycle import START, start_jumps
 from cyphy.verify.flowstar.guards import targets
 from cyphy.verify.flowstar.printer import NotExpressible, flowstar_text, number, valid_name
 from cyphy.verify.flowstar.problem import (CLOCK, TIMER, Problem, initial_interval, mode_values,
@@ -62,6 +67,9 @@ def render(p: Problem, output_name: str) -> str:
     for u in mode_inputs:
         lines.append(f"#   {u} (actuator input) is a constant in each mode")
     lines.append(f"#   {TIMER}: the cycle's timer; {CLOCK}: global time")
+    if s.first:
+        lines.append(f"# {START}: before the first cycle, which reads the input events: "
+                     "no flow, a jump at time 0 to each state the first cycle may end in")
     lines += ["hybrid reachability", "{", f" state var {', '.join(variables)}", "",
               " setting", " {",
               steps_setting(s.settings.step),
@@ -75,6 +83,13 @@ def render(p: Problem, output_name: str) -> str:
               f"  output {output_name}",
               f"  max jumps {p.max_jumps}",
               "  print off", " }", "", " modes", " {"]
+    if s.first:  # frozen at time 0; the timer alone moves, so its invariant ends the mode
+        still = {v: sympy.Integer(0) for v in variables}
+        still[TIMER] = sympy.Integer(1)
+        form, texts = ode_form(still, [symbol(v) for v in variables])
+        lines += [f"  {START}", "  {", f"   {form}", "   {"]
+        lines += [f"    {x}' = {texts[x]}" for x in variables]
+        lines += ["   }", "   inv", "   {", f"    {TIMER} <= 0", "   }", "  }", ""]
     final = p.final_states
     for mode in p.effects:
         values = mode_values(p, mode)
@@ -89,15 +104,18 @@ def render(p: Problem, output_name: str) -> str:
             lines.append(f"    {TIMER} <= {number(period)}")
         lines += ["   }", "  }", ""]
     lines[-1:] = [" }", "", " jumps", " {"]
-    for source, target, guard in mode_jumps(p, var_syms, final):
-        atoms = [f"{TIMER} = {number(period)}"] + [a.text() for a in guard]
+    first = [(START, target, guard, 0) for target, guard in start_jumps(p, var_syms)] \
+        if s.first else []
+    for source, target, guard, at in [*first, *[(a, b, g, period) for a, b, g in
+                                               mode_jumps(p, var_syms, final)]]:
+        atoms = [f"{TIMER} = {number(at)}"] + [a.text() for a in guard]
         resets = [f"{TIMER}' := 0"] + [f"{u}' := {signed_number(p.effects[target][u])}"
                                         for u in held if u in p.effects[target]]
         lines += [f"  {source} -> {target}", f"  guard {{ {'  '.join(atoms)} }}",
                   f"  reset {{ {'  '.join(resets)} }}", "  parallelotope aggregation { }", ""]
     if lines[-1] == "":  # the blank line after the last jump (a final state has none)
         lines.pop()
-    lines += [" }", "", " init", " {", f"  {s.initial}", "  {"]
+    lines += [" }", "", " init", " {", f"  {START if s.first else s.initial}", "  {"]
     for v in p.states:
         lo, hi = initial_interval(p, v)
         lines.append(f"   {v} in [{signed_number(lo)}, {signed_number(hi)}]")
@@ -107,6 +125,8 @@ def render(p: Problem, output_name: str) -> str:
     lines += [f"   {TIMER} in [0, 0]", f"   {CLOCK} in [0, 0]", "  }", " }", "}", "",
               "# every mode is listed: a mode left out would count as entirely unsafe",
               "unsafe", "{"]
+    if s.first:  # every state there is also the start of a mode it jumps to, checked there
+        lines += [f" {START}", " {", f"  {CLOCK} <= -1", " }"]
     for mode in p.effects:
         # the mode's constant actuator inputs substituted: an unsafe set may name them
         unsafe = dnf(p.unsafe.xreplace(mode_values(p, mode)), var_syms)

@@ -36,9 +36,12 @@ from cyphy.verify.flowstar.problem import (CLOCK, TIMER, Problem, initial_interv
 
 def invariant_model(p: Problem, name: str) -> str | None:
     """The Flow* model (see the module docstring), or None when the argument does not
-    apply (the clock is read, or a point coordinate changes over the cycle)."""
+    apply (the clock is read, a point coordinate changes over the cycle, or the first cycle
+    may end in several modes)."""
     s = p.scenario
     clocks = {symbol(TIMER), symbol(CLOCK)}
+    if s.first:  # the cycles may start in several modes: the argument is for one
+        return None
     if p.unsafe.free_symbols & clocks or any(symbol(CLOCK) in f.free_symbols
                                              for f in p.rhs.values()) or \
             any(e.free_symbols & clocks for e in p.events.values()):

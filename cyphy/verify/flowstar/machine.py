@@ -85,23 +85,33 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
     scenario.initial = automaton.initial
     scenario.states = {mode.name: tuple(_call_text(n, args) for n, args in mode.calls)
                        for mode in automaton.modes}
-    scenario.transitions = [
-        Transition(e.source, e.target, e.guard[0][0] if e.guard else "",
-                   e.guard[0][1] if e.guard else False, machine.decl.span, e.guard[1:])
-        for e in automaton.edges]
+    scenario.transitions = [_transition(e, machine.decl.span) for e in automaton.edges]
+    # a first cycle that reads the events: where it ends, per combination (the export
+    # decides which combinations the initial set allows: cyphy.verify.flowstar.first_cycle)
+    scenario.first = [_transition(e, machine.decl.span) for e in automaton.first]
     interpreter.reset()  # the compilation explored its configurations
     return interpreter
 
 
+def _transition(e: Any, span: Span) -> Transition:
+    """An edge of the automaton as a scenario's transition (its guard's first literal
+    as ``event``, the rest as ``conjuncts``)."""
+    return Transition(e.source, e.target, e.guard[0][0] if e.guard else "",
+                      e.guard[0][1] if e.guard else False, span, e.guard[1:])
+
+
 def _compiled(interpreters: "list[MachineInterpreter]", sampled: bool) -> Any:
     """The module's automaton; for ``sampled``, None (the interpreter runs the machines)
-    when they cannot be compiled, which a run of the interpreter does not need."""
+    when they cannot be compiled, which a run of the interpreter does not need. Without
+    ``sampled`` (``reach``, ``gen --flowstar``) a first cycle that reads the input events is
+    compiled too (``Automaton.first``); ``simulate``'s interpreter runs such a machine
+    itself."""
     # lazy: NumPy, as the rest of this module imports the machines' semantics
     from cyphy.semantics.machines.cycle import MachineError
     from cyphy.semantics.machines.parallel import compile_module
 
     try:
-        return compile_module(interpreters)
+        return compile_module(interpreters, first_cycle=not sampled)
     except MachineError:
         if not sampled:
             raise

@@ -46,6 +46,9 @@ class Problem:
     # A typed input event's value when it occurs (a machine run by its interpreter, not
     # compiled): event → the mapping's parameter as a function of the states and inputs.
     event_values: dict[str, Any] = field(default_factory=dict)
+    # The events a machine's first cycle reads (kept once the initial set has decided it:
+    # :func:`cyphy.verify.flowstar.first_cycle.settle`), for the verdict's account.
+    first_events: tuple[str, ...] = ()
 
     @property
     def mode_inputs(self) -> list[str]:
@@ -87,8 +90,11 @@ class Problem:
 
     @property
     def required_jumps(self) -> int:
-        """One jump per cycle over the horizon, and one more (spec §5)."""
-        return math.ceil(self.scenario.horizon / self.scenario.period - 1e-9) + 1
+        """One jump per cycle over the horizon, and one more (spec §5); one more again for
+        the jump at time 0 out of the start mode of an undecided first cycle
+        (:mod:`cyphy.verify.flowstar.first_cycle`)."""
+        return math.ceil(self.scenario.horizon / self.scenario.period - 1e-9) + 1 + \
+            (1 if self.scenario.first else 0)
 
 
 def symbol(name: str) -> Any:
@@ -108,5 +114,9 @@ def initial_interval(p: Problem, name: str) -> tuple[Any, Any]:
     for n, v in s.init.items():
         if n == name or p.qualified.get(name) in (n, f"{p.name}::{n}"):
             return v
-    initial = p.effects[s.initial]  # _check_init saw that it sets every other held input
+    # _check_init saw that the initial state (or, for a first cycle that reads the events,
+    # every state it may end in) sets every other held input: the value before it is then
+    # never read, and the first such state's is given
+    setters = [t.target for t in s.first] or [s.initial]
+    initial = next((p.effects[m] for m in setters if name in p.effects[m]), p.effects[s.initial])
     return initial[name], initial[name]

@@ -92,6 +92,9 @@ class Scenario:
     initial: str = ""
     states: dict[str, tuple[str, ...]] = field(default_factory=dict)  # state → calls
     transitions: list[Transition] = field(default_factory=list)
+    # A compiled machine whose first cycle reads the input events: per combination of them,
+    # the state it ends in (``source`` ""). Empty: the first cycle ends in ``initial``.
+    first: list[Transition] = field(default_factory=list)
     unsafe: tuple[str, ...] = ()
     settings: Settings = Settings()
     machine: str | None = None  # the d-model machine to use when there is no [controller]
