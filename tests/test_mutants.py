@@ -488,10 +488,19 @@ MUTANTS: tuple[Mutant, ...] = (
       "entry wait(wref / 4); $drive(wref)", "STM14", at="wref / 4"),
     M("stm-wait-two-cycles", "dcmotor", DC_SW, "entry $drive(wref)",
       "entry $drive(wref); wait(2)", ACCEPTED),
-    # the Flow* automaton cannot start in a mode the inputs choose (reach refuses it);
-    # simulate runs the machine itself, the theory writes its cycle out
+    # the first cycle's mode depends on the inputs: reach starts where the initial set
+    # decides (tests/test_reach_first_cycle.py), simulate runs the machine itself, the
+    # theory writes its cycle out
     M("stm-first-cycle-reads-an-event", "rover", "RoverSoftware.rsm",
       "from Ahead to Turn exec condition", "from Ahead to Turn condition", ACCEPTED),
+    # an open constant (the paper's family of models): check warns, gen --isabelle runs (D
+    # opaque), simulate (and reach, gen --flowstar: below) refuse it until it has a value
+    M("stm-constant-without-value", "rover", "RoverSoftware.rsm", "const cruise: real = 8.0,",
+      "const cruise: real,", "STM15", runs=("gen",)),
+    M("stm-reads-a-package-constant-without-value", "rover", "RoverSoftware.rsm",
+      "const cruise: real = 8.0, spin", "const spin", "STM15", at="const cruise: real\n",
+      also=(("RoverSoftware.rsm", "interface WheelsI {",
+             "const cruise: real\n\ninterface WheelsI {"),), runs=("gen",)),
     M("event-mapped-without-predicate", "dcmotor", DC_MAP,
       "\t\tpredicate Bench::Range.range <= 1.0\n", "", "PMap12", at="input event near",
       runs=BOTH),
@@ -602,3 +611,35 @@ def test_an_index_past_an_open_bound_is_refused_once_the_bound_is_given(
         assert status in (1, 2) and at + "ERROR IX5: the mapping of input event obstacle " \
             "reads copy 30 of Proximity, whose index j ranges over 0..23" in err, (argv, err)
     assert not (tmp_path / "sdf").exists() and not (tmp_path / "t.csv").exists()
+
+
+def test_a_machine_constant_without_a_value_is_refused_by_the_commands_that_run_it(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``const cruise: real`` in the rover's drive machine: ``check`` warns (STM15, exit 0)
+    unless ``--const`` gives it; ``simulate``, ``gen --flowstar`` and ``reach`` refuse the
+    model with an error at the constant, writing nothing (before: ``check`` said nothing);
+    given ``--const cruise=8``, simulate runs."""
+    from conftest import flowstar_binary
+
+    mutant = next(m for m in MUTANTS if m.name == "stm-constant-without-value")
+    folder = mutate(mutant, tmp_path)
+    at = f"RoverSoftware.rsm:{expected_line(mutant, folder)}:8: "
+    status, _, err = _run(["check", str(folder)], capsys)
+    assert status == 0 and at + "WARNING STM15: the constant cruise read by machine " \
+        "SDrive has no value" in err, err
+    status, _, err = _run(["check", str(folder), "--const", "cruise=8"], capsys)
+    assert status == 0 and "STM15" not in err, err
+    scenario = str(folder / "bump.toml")
+    runs = [["simulate", str(folder), "--scenario", scenario, "--t-end", "0.2", "-o",
+             str(tmp_path / "t.csv")],
+            ["gen", str(folder), "--flowstar", "--scenario", scenario, "-o",
+             str(tmp_path / "flowstar")]]
+    if flowstar_binary() is not None:  # reach looks for Flow* first
+        runs.append(["reach", str(folder), "--scenario", scenario])
+    for argv in runs:
+        status, _, err = _run(argv, capsys)
+        assert status in (1, 2) and at + "ERROR E-FLOWSTAR: state machine SDrive: the " \
+            "constant cruise of SDrive has no value" in err, (argv, err)
+    assert not (tmp_path / "t.csv").exists() and not (tmp_path / "flowstar").exists()
+    status, _, err = _run(runs[0] + ["--const", "cruise=8"], capsys)
+    assert status == 0 and (tmp_path / "t.csv").exists(), err

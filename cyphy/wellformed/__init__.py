@@ -25,5 +25,6 @@ from cyphy.wellformed import machines  # noqa: E402,F401
 from cyphy.wellformed import machine_types  # noqa: E402,F401
 from cyphy.wellformed import modules  # noqa: E402,F401
 from cyphy.wellformed import machine_cycles  # noqa: E402,F401
+from cyphy.wellformed import machine_constants  # noqa: E402,F401
 
 __all__ = ["RULES", "WFContext", "check_wellformed", "rule"]
