@@ -20,7 +20,7 @@ EXPECTED = (["PM1", *_ids("L", 8), *_ids("B", 3), *_ids("J", 3), *_ids("SE", 3),
              *_ids("AC", 3), "JSA1", *_ids("Fix", 3), *_ids("Flex", 3), *_ids("P", 3),
              *_ids("IX", 2), "PO1", *_ids("AN", 4), *_ids("PMap", 12), *_ids("V", 5)])
 # The state-machine conditions are cyphy's own (wellformedness.md covers p-models and mappings).
-MACHINES = _ids("STM", 14)
+MACHINES = _ids("STM", 15)
 # Conditions of issue 27, beyond wellformedness.md: indexed connections (element i to
 # element i), unique qualified names, a non-zero joint axis, units (docs/modelling-checks.md);
 # and of the mutation sweep: a mapping's index within its element's copies, no cycle of fixed
