@@ -157,3 +157,40 @@ def test_gen_flowstar_starts_where_the_initial_set_decides(
     model = (tmp_path / "gen" / "bump.model").read_text()
     assert f" init\n {{\n  {start}\n" in model
     assert ("cyphy_first_cycle" in model) == (start == "cyphy_first_cycle")
+
+
+@pytest.mark.parametrize("low, high, starts", [
+    (-2.0, -1.5, ["B"]),  # x^2 <= 1 nowhere: the first cycle goes to B (exact)
+    (-0.5, 0.5, ["A"]),  # everywhere: A (exact)
+    (-1.2, 0.0, ["A", "B"]),  # both: the start mode
+    (1.0, 1.0, ["A"]),  # a point on the boundary: it holds (<=), as simulate reads it
+    (1.0000001, 3.0, ["B"]),  # just past the boundary: interval arithmetic excludes A
+])
+def test_the_first_cycle_is_decided_on_the_box(low: float, high: float,
+                                               starts: list[str]) -> None:
+    """``settle`` on a problem whose first cycle reads ``e`` (``x^2 <= 1``): to A when it
+    holds, to B otherwise. The oracle: the predicate on 10001 points of the box, and the
+    bounds worked out by hand where sampling cannot tell (a boundary point)."""
+    import sympy
+
+    from cyphy.diagnostics import Span
+    from cyphy.verify.flowstar.first_cycle import settle, start_modes
+    from cyphy.verify.flowstar.problem import Problem
+    from cyphy.verify.flowstar.scenario import Scenario, Transition
+
+    x = sympy.Symbol("x", real=True)
+    span = Span("s.toml", 1, 1, 1, 2)
+    scenario = Scenario("s.toml", "", 1.0, 0.1, init={"x": (low, high)}, initial="B",
+                        states={"A": (), "B": ()},
+                        first=[Transition("", "A", "e", False, span),
+                               Transition("", "B", "e", True, span)])
+    p = Problem("P", scenario, ["x"], {"x": sympy.Integer(0)}, [], {},
+                {"A": {}, "B": {}}, {"e": x ** 2 <= 1}, x >= 5)
+    settled = settle(p)
+    assert start_modes(settled) == starts
+    assert bool(settled.scenario.first) == (len(starts) > 1)
+    assert settled.first_events == ("e",)
+    sampled = {"A" if v * v <= 1 else "B" for v in np.linspace(low, high, 10001)}
+    assert sampled <= set(starts)  # never a mode left out that a start reaches
+    if low < high:
+        assert sampled == set(starts)

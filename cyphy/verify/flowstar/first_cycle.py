@@ -32,6 +32,7 @@ import sympy
 
 from cyphy.verify.flowstar.constraints import dnf
 from cyphy.verify.flowstar.guards import targets
+from cyphy.verify.flowstar.printer import NotExpressible
 from cyphy.verify.flowstar.problem import CLOCK, TIMER, Problem, initial_interval, symbol
 from cyphy.verify.flowstar.scenario import Transition
 
@@ -152,9 +153,12 @@ def _may_hold(pred: Any, box: dict[Any, tuple[Any, Any]]) -> bool:
     polynomial form whose every atom's interval enclosure allows it (sound: False only when
     it holds nowhere)."""
     variables = set(box) | pred.free_symbols
-    for conjunction in dnf(pred, variables):
-        if all(_atom_may_hold(atom.poly, atom.rel, box) for atom in conjunction):
-            return True
+    try:
+        for conjunction in dnf(pred, variables):
+            if all(_atom_may_hold(atom.poly, atom.rel, box) for atom in conjunction):
+                return True
+    except (NotExpressible, ValueError):
+        return True  # no polynomial form to enclose: undecided, kept (the export says why)
     return False
 
 
