@@ -194,3 +194,21 @@ def test_the_first_cycle_is_decided_on_the_box(low: float, high: float,
     assert sampled <= set(starts)  # never a mode left out that a start reaches
     if low < high:
         assert sampled == set(starts)
+
+
+def test_the_start_mode_needs_one_more_jump(tmp_path: Path,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    """1 s of 0.1 s cycles: 10 cycles and one more jump (spec §5), and one at time 0 out of
+    the start mode when the box does not decide the first cycle."""
+    folder, scenario = _scenario(tmp_path, "[0.3, 0.7]", "RMotor_av >= 12")
+    scenario.write_text(scenario.read_text().replace("max_jumps = 40", "max_jumps = 11"))
+    capsys.readouterr()
+    assert main(["gen", str(folder), "--flowstar", "--scenario", str(scenario), "-o",
+                 str(tmp_path / "gen")]) == 1
+    assert "max_jumps = 11 is too small: the horizon of 1 s is 10 cycles of 0.1 s (cycle × " \
+        "tscale), with a jump at time 0 out of the first cycle, so Flow* needs at least 12 " \
+        "jumps" in capsys.readouterr().err
+    scenario.write_text(scenario.read_text().replace("max_jumps = 11", "max_jumps = 12"))
+    assert main(["gen", str(folder), "--flowstar", "--scenario", str(scenario), "-o",
+                 str(tmp_path / "gen"), "-q"]) == 0
+    assert "max jumps 12" in (tmp_path / "gen" / "bump.model").read_text()

@@ -158,16 +158,19 @@ class _Builder:
                           {name: v for name, (v, _) in values.items()})
         problem = self._first_cycle(problem)
         self._check_init(problem)
+        start = 1 if problem.scenario.first else 0  # the start mode's jump at time 0
+        cycles = problem.required_jumps - 1 - start
         if problem.required_jumps > MAX_JUMPS:
             raise self.fail(
-                f"the horizon of {s.horizon:g} s is {problem.required_jumps - 1} cycles of "
+                f"the horizon of {s.horizon:g} s is {cycles} cycles of "
                 f"{s.period:g} s: more jumps than Flow* can count ({MAX_JUMPS}, a C int)",
                 s.span("horizon"), "shorten the horizon or lengthen the cycle")
         if s.settings.max_jumps is not None and s.settings.max_jumps < problem.required_jumps:
             raise self.fail(
                 f"max_jumps = {s.settings.max_jumps} is too small: the horizon of "
-                f"{s.horizon:g} s is {problem.required_jumps - 1} cycles of {s.period:g} s "
-                f"(cycle × tscale), so Flow* needs at least {problem.required_jumps} jumps; "
+                f"{s.horizon:g} s is {cycles} cycles of {s.period:g} s (cycle × tscale)"
+                f"{', with a jump at time 0 out of the first cycle' if start else ''}, so "
+                f"Flow* needs at least {problem.required_jumps} jumps; "
                 "with fewer it stops early and still reports "
                 "SAFE", s.span("flowstar", "max_jumps"),
                 f"remove max_jumps (the default is {problem.required_jumps}) or raise it")
