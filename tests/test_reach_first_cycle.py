@@ -212,3 +212,27 @@ def test_the_start_mode_needs_one_more_jump(tmp_path: Path,
     assert main(["gen", str(folder), "--flowstar", "--scenario", str(scenario), "-o",
                  str(tmp_path / "gen"), "-q"]) == 0
     assert "max jumps 12" in (tmp_path / "gen" / "bump.model").read_text()
+
+
+def test_a_first_cycle_event_over_an_actuator_input_cannot_be_decided() -> None:
+    """An event whose predicate (through the outputs it reads) depends on an actuator
+    input: nothing sets the input before the first cycle's calls, so ``reach`` refuses the
+    machine rather than pick a value; an event over states only is decidable."""
+    import sympy
+
+    from cyphy.diagnostics import Span
+    from cyphy.verify.flowstar.first_cycle import unreadable
+    from cyphy.verify.flowstar.problem import Problem
+    from cyphy.verify.flowstar.scenario import Scenario, Transition
+
+    x, u = sympy.Symbol("x", real=True), sympy.Symbol("u", real=True)
+    span = Span("s.toml", 1, 1, 1, 2)
+    first = [Transition("", "A", "e", False, span), Transition("", "B", "e", True, span)]
+    scenario = Scenario("s.toml", "", 1.0, 0.1, init={"x": (0.0, 0.0)}, initial="B",
+                        states={"A": (), "B": ()}, first=first)
+    p = Problem("P", scenario, ["x"], {"x": u - x}, ["u"], {}, {"A": {"u": 1}, "B": {"u": 2}},
+                {"e": x + 2 * u <= 1, "f": x <= 1}, x >= 5)
+    assert unreadable(p) == ("e", ["u"])
+    first[0] = Transition("", "A", "f", False, span)
+    first[1] = Transition("", "B", "f", True, span)
+    assert unreadable(p) is None
