@@ -11,10 +11,9 @@ import tomllib
 from pathlib import Path
 from typing import Iterable
 
-import numpy as np
-
 from cyphy.lang import ast
 from cyphy.lang.parser import parse_text
+from cyphy.model.array import Array
 from cyphy.model.evaluate import EvalError, Value, evaluate
 
 
@@ -38,14 +37,13 @@ def _from_data(name: str, value: object) -> Value:
     if isinstance(value, (bool, int, float, str)):
         return value
     if isinstance(value, list):
-        try:
-            array = np.array(value, dtype=float)
-        except (TypeError, ValueError):
-            raise ConstantsError(f"'{name}': a list must hold numbers") from None
-        if array.ndim not in (1, 2):
+        if any(isinstance(row, list) and any(isinstance(x, list) for x in row)
+               for row in value):
             raise ConstantsError(f"'{name}': a vector or a matrix (list of rows) is expected")
-        array.setflags(write=False)
-        return array
+        try:
+            return Array.of(value)
+        except (TypeError, ValueError, OverflowError):
+            raise ConstantsError(f"'{name}': a list must hold numbers") from None
     raise ConstantsError(f"'{name}': unsupported value {value!r}")
 
 

@@ -10,12 +10,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Union
 
-import numpy as np
-
+from cyphy.model.array import Array
 from cyphy.model.poses import Pose
 
 #: What an element's text may hold; the writer prints each kind (vectors with spaces).
-Text = Union[None, bool, int, float, str, tuple, np.ndarray, Pose]
+Text = Union[None, bool, int, float, str, tuple, Array, Pose]
 
 
 @dataclass(frozen=True, slots=True)
