@@ -24,7 +24,10 @@ UNNEEDED = ("cyphy.api.semantics", "cyphy.api.simulate", "cyphy.api.solve", "cyp
             "cyphy.semantics.machines", "cyphy.backends.isabelle", "cyphy.backends.circus",
             "cyphy.verify.flowstar.build", "cyphy.verify.flowstar.export",
             "cyphy.verify.flowstar.problem", "cyphy.verify.flowstar.scenario",
-            "cyphy.verify.flowstar.controller")
+            "cyphy.verify.flowstar.controller",
+            # the other commands' modules: the parser is built for the command named only
+            "cyphy.cli.show", "cyphy.cli.solve", "cyphy.cli.simulate", "cyphy.cli.reach",
+            "cyphy.cli.view", "cyphy.cli.lsp", "cyphy.cli.check_theory", "cyphy.cli.animate")
 
 #: Runs the command in this process, then prints the modules it imported.
 _WRAPPER = """
@@ -100,6 +103,33 @@ def test_the_probe_sees_a_heavy_import(tmp_path: Path) -> None:
     assert code == 0 and "numpy" in modules
     code, modules = _imported_modules(["solve", "examples/dcmotor"])
     assert code == 0 and "cyphy.api.solve" in modules
+
+
+@pytest.mark.parametrize("argv", [
+    ["check", "examples/marxbot", "--format", "json", "--const", "A=1"],
+    ["-q", "gen", "examples/marxbot", "--sdf", "-o", "out", "--target", "gazebo"],
+    ["--warnings-as-errors", "check-theory", "session"],
+    ["simulate", "examples/dcmotor", "--t-end", "2", "-q"],
+])
+def test_the_parser_of_the_command_named_reads_as_the_whole_one(argv: list[str]) -> None:
+    """The parser built for one command (``_parser(argv)``) holds that command alone and
+    gives the same values as the parser of every command."""
+    from cyphy.cli import COMMANDS, _parser
+
+    lean, whole = _parser(argv), _parser()
+    assert vars(lean.parse_args(argv)) == vars(whole.parse_args(argv))
+    assert len(lean._subparsers._group_actions[0].choices) == 1  # type: ignore[union-attr]
+    assert len(whole._subparsers._group_actions[0].choices) == len(COMMANDS)  # type: ignore
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["chek"], ["--vers"], ["check_theory"], []])
+def test_anything_but_a_command_gets_the_whole_parser(argv: list[str]) -> None:
+    """Help, a misspelt command, an abbreviated option: the parser that lists every command
+    answers (what it prints is the same as before)."""
+    from cyphy.cli import COMMANDS, _parser
+
+    choices = _parser(argv)._subparsers._group_actions[0].choices  # type: ignore[union-attr]
+    assert len(choices) == len(COMMANDS)
 
 
 def test_the_lazy_facade_exports_the_entry_points() -> None:

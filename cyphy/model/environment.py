@@ -8,7 +8,7 @@ each once, however many blocks read it.
 from __future__ import annotations
 
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass
+
 
 from cyphy import codes
 from cyphy import expr as ex
@@ -22,13 +22,14 @@ from cyphy.model.evaluate import (
     EvalError, UnboundName, Value, coerce, evaluate_fast, free_names, literal_value,
 )
 from cyphy.model.value_text import format_value, same_value
+from cyphy.records import record
 
 EVAL = codes.code("E-EVAL", codes.E, "a constant expression cannot be evaluated")
 CONST_NAME = codes.code("E-CONST-NAME", codes.E,
                         "a --const or --consts name that names no constant of the model")
 
 
-@dataclass(eq=False)
+@record(frozen=False, slots=False, eq=False)
 class Binding:
     """A constant: its value expression, the scope to evaluate it in, and its names."""
 

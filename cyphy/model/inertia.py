@@ -12,10 +12,11 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass
+
 from typing import Any, Sequence
 
 from cyphy.model.poses import Pose
+from cyphy.records import record
 
 InertiaEntries = tuple[float, float, float, float, float, float]
 
@@ -24,7 +25,7 @@ PHYSICAL_TOL = 1e-9
 moments meet the triangle inequality with equality, survives rounding."""
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Inertial:
     """SDF's ``<inertial>``: ``mass`` in kg, ``com`` the pose of the centre-of-mass frame, and
     ``inertia`` about the centre of mass in the axes of ``com``'s rotation (kg·m²).

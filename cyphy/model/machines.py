@@ -9,7 +9,7 @@ name that does not resolve is recorded (for the rules to report), never raised.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING, Iterator
 
 from cyphy import expr as ex
@@ -17,12 +17,13 @@ from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
 from cyphy.model.connections import machines_run_by, unconnected_events
+from cyphy.records import record
 
 if TYPE_CHECKING:
     from cyphy.lang.scopes import Scopes
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class MachineNode:
     """A state or pseudo-state; ``key`` is its path in the machine (``Outer::Inner``)."""
 
@@ -48,7 +49,7 @@ class MachineNode:
         return self.decl.actions(kind) if isinstance(self.decl, ast.State) else ()
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class MachineTransition:
     decl: ast.Transition
     container: str | None  # the composite state that declares it (None: the machine)
@@ -60,7 +61,7 @@ class MachineTransition:
         return self.decl.name
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Platform:
     """What a machine may use of its robotic platform: the events it reads (input
     context), the events it sends and the operations it calls (output context)."""
@@ -75,7 +76,7 @@ class Platform:
     written: dict[str, ast.VarDecl] = field(default_factory=dict)
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Machine:
     decl: ast.StateMachine
     file: ast.SourceFile

@@ -13,8 +13,9 @@ arithmetic, ``isclose`` compares what SDF means entry by entry, and a matrix has
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, Sequence
+
+from cyphy.records import record
 
 Vector3 = tuple[float, float, float]
 Matrix3 = tuple[Vector3, Vector3, Vector3]
@@ -50,7 +51,7 @@ def _half_open_angle(angle: float) -> float:
     return math.pi if angle <= -math.pi + NOISE else angle
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Pose:
     """A rigid transform: ``position`` in metres and ``rotation`` as a row-major 3x3 matrix.
 

@@ -133,9 +133,7 @@ class Configuration:
 
 
 def _frozen(v: Any) -> Any:
-    if isinstance(v, Array):
-        return v.flat
-    return tuple(np.asarray(v).ravel().tolist()) if isinstance(v, np.ndarray) else v
+    return tuple(np.asarray(v).ravel().tolist()) if isinstance(v, (np.ndarray, Array)) else v
 
 
 class MachineInterpreter:
@@ -597,8 +595,6 @@ def _floats(value: object, span: Span) -> tuple[float, ...]:
         return (1.0 if value else 0.0,)
     if isinstance(value, (int, float, np.number)):
         return (float(value),)
-    if isinstance(value, Array):
-        return value.flat
-    if isinstance(value, np.ndarray):
+    if isinstance(value, (np.ndarray, Array)):
         return tuple(float(x) for x in value.ravel())
     raise MachineError(f"{value!r} cannot be sent to the platform as numbers", span)
