@@ -39,7 +39,8 @@ def test_an_array_reads_like_the_numpy_array_it_stands_for() -> None:
     assert value[:1, 1:].tolist() == array[:1, 1:].tolist()
     assert [row.tolist() for row in value] == [row.tolist() for row in array]
     vector = Array.of([7.0, 8.0, 9.0])
-    assert vector.shape == (3,) and list(vector) == [7.0, 8.0, 9.0] and vector[1:].tolist() == [8, 9]
+    assert vector.shape == (3,) and list(vector) == [7.0, 8.0, 9.0]
+    assert vector[1:].tolist() == [8.0, 9.0]
     converted = np.asarray(value)
     assert converted.dtype == np.float64 and converted.tolist() == rows
     assert not converted.flags.writeable

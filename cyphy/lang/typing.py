@@ -8,7 +8,6 @@ other blocks reached through ``.``) never produce errors, so the check does not 
 
 from __future__ import annotations
 
-
 from enum import Enum
 from typing import Callable
 

@@ -72,7 +72,7 @@ def _front_end(paths: Sequence[str | Path], options: CheckOptions) -> CheckResul
 
 def _check_consistency(ws: Workspace, resolution: Resolution, report: Report,
                        options: CheckOptions) -> None:
-    # lazy: NumPy, Z3: `cyphy check` must not pay for it
+    # lazy: Z3 and the encoding: only `--consistency` pays for them
     from cyphy.semantics.consistency import DEFAULT_TIMEOUT_MS, check_consistency
 
     check_consistency(ws, resolution, report, options.consts,

@@ -4,7 +4,6 @@ write (PMap7-PMap10): the classification the access conditions judge."""
 
 from __future__ import annotations
 
-
 from typing import Iterator
 
 from cyphy import expr as ex
