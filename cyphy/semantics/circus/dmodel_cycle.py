@@ -90,6 +90,7 @@ from cyphy import expr as ex
 from cyphy.lang import ast
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel import MODE, dropped_read, literal
+from cyphy.semantics.circus.path_facts import Facts
 from cyphy.semantics.circus.values import type_of, value_expr
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
 from cyphy.semantics.machines.parallel import same_cycle
@@ -197,7 +198,13 @@ class _Cycle:
     def start(self) -> c.Action:
         it = self.interpreter
         it.reset()
-        return _seq(self._run((), it.node, it.node, 0, during_done=False, resting=False))
+        _, values = self.initial()  # Start runs right after Init: the initial values hold
+        fields = [f"{self.prefix}_{x}" for x in [*self.machine.variables, *self.machine.clocks]]
+        facts = Facts()
+        for f, v in zip(fields, values):
+            facts = facts.assigned(f, v)
+        return _seq(self._run((), it.node, it.node, 0, during_done=False, resting=False,
+                              facts=facts))
 
     def step(self) -> c.Action:
         clocks = [c.Assign((f"{self.prefix}_{k}",),
@@ -209,13 +216,15 @@ class _Cycle:
         while len(nodes_done) < len(self.rest) or resumes_done < len(self.resumes):
             for key in [k for k in self.rest if k not in nodes_done]:
                 nodes_done.add(key)  # rested there: its during action, then its transitions
-                body = _seq(self._run((), key, key, 0, during_done=False, resting=True))
+                body = _seq(self._run((), key, key, 0, during_done=False, resting=True,
+                                      facts=Facts()))
                 if not isinstance(body, c.Skip):
                     branches.append((self.index[key], body))
             while resumes_done < len(self.resumes):  # the rest of an action cut by exec
                 items, node = self.resumes[resumes_done]
                 branches.append((len(self.index) + resumes_done, _seq(
-                    self._run(items, node, None, 0, during_done=False, resting=False))))
+                    self._run(items, node, None, 0, during_done=False, resting=False,
+                              facts=Facts()))))
                 resumes_done += 1
         cases: c.Action = c.Skip()
         for number, body in sorted(branches, key=lambda nb: nb[0], reverse=True):
@@ -248,11 +257,12 @@ class _Cycle:
         return int(n)
 
     def _run(self, items: tuple[_Item, ...], node: str, here: str | None, depth: int,
-             during_done: bool, resting: bool) -> list[c.Action]:
+             during_done: bool, resting: bool, facts: Facts) -> list[c.Action]:
         """The interpreter's loop from ``node`` with ``items`` pending (its cycle's step 3):
         the pending steps in order (an ``end`` cuts the cycle: the rest resumes in the next
         one, a mode of its own), then the during action unless a state was entered, then the
-        transitions (``here``: the node the cycle began resting in, None when it resumed)."""
+        transitions (``here``: the node the cycle began resting in, None when it resumed;
+        ``facts``: what is known of D's state on the way here)."""
         out: list[c.Action] = []
         for n, (kind, item) in enumerate(items):
             if kind == "end":
@@ -260,18 +270,20 @@ class _Cycle:
                 return [*out, c.Assign((self.mode,), (ex.Num(str(resume)),))]
             if kind == "do":
                 out.append(item)  # type: ignore[arg-type]
+                facts = facts.forgotten(item.targets)  # type: ignore[attr-defined]
             elif kind == "stmt":
                 out.append(self._statement(item))  # type: ignore[arg-type]
+                facts = _learnt(facts, out[-1])
             else:
                 key = str(item)
-                return [*out, *self._enter(key, items[n + 1:], here, depth + 1)]
+                return [*out, *self._enter(key, items[n + 1:], here, depth + 1, facts)]
         if not during_done:
             during = [st for k in self._ancestors(node)
                       for st in self.machine.nodes[k].actions("during")] \
                 if self.machine.nodes[node].kind == "state" else []
             return [*out, *self._run(tuple(self._items(during)), node, here, depth, True,
-                                     resting)]
-        return [*out, self._select(node, resting, here, depth)]
+                                     resting, facts)]
+        return [*out, self._select(node, resting, here, depth, facts)]
 
     def _resume(self, items: tuple[_Item, ...], node: str) -> int:
         """The mode of the rest of a cut action (the same rest at the same node: one)."""
@@ -287,27 +299,36 @@ class _Cycle:
                                "junctions, or end them with exec")
         return c.Cond(cond, then, orelse)
 
-    def _select(self, key: str, resting: bool, here: str | None, depth: int) -> c.Action:
+    def _select(self, key: str, resting: bool, here: str | None, depth: int,
+                facts: Facts) -> c.Action:
         """The machine at ``key`` after its during action: its first enabled transition
-        taken, else it rests at ``key`` (``here``: where the cycle began)."""
+        taken, else it rests at ``key`` (``here``: where the cycle began). A transition whose
+        guard cannot hold given ``facts`` is not written; one whose guard must hold is the
+        last choice (those after it, and resting, are never taken)."""
         if depth > MAX_DEPTH:
             raise self._refuse(f"a cycle from {here} passes more than {MAX_DEPTH} nodes: a "
                                "loop of transitions without exec?",
                                self.machine.nodes[key].span,
                                "mark the end of the cycle with exec")
+        chain = self._ancestors(key)  # a composite state's transitions before its states'
+        choices: list[tuple[ast.Transition, str, ex.Expr, list[c.Action], Facts]] = []
+        before, always = facts, False  # before: what holds when the choice reaches t
+        for t, source in [(t, a) for a in chain for t in self.machine.outgoing(a)
+                          if t.target is not None and (resting or not t.decl.exec)]:
+            guard, bindings = self._guard(t.decl)
+            holds = before.value(guard)
+            if holds is False:
+                continue
+            choices.append((t, source, guard, bindings, before.taken(guard)))
+            if holds is True:
+                always = True
+                break
+            before = before.refused(guard)
         action: c.Action = c.Skip() if key == here else \
             c.Assign((self.mode,), (ex.Num(str(self.index[key])),))
-        chain = self._ancestors(key)  # a composite state's transitions before its states'
-        enabled = [(t, a) for a in chain for t in self.machine.outgoing(a)
-                   if t.target is not None and (resting or not t.decl.exec)]
-        always = next((i for i, (t, _) in enumerate(enabled)
-                       if t.decl.trigger is None and t.decl.condition is None), None)
-        if always is not None:  # the transitions after it are never taken, nor is resting
-            enabled = enabled[:always + 1]
-        elif key not in self.rest:
+        if not always and key not in self.rest:
             self.rest.append(key)
-        for n, (t, source) in reversed(list(enumerate(enabled))):
-            guard, bindings = self._guard(t.decl)
+        for n, (t, source, guard, bindings, after) in reversed(list(enumerate(choices))):
             leaving = chain[chain.index(source):]  # exited innermost first
             exits = [s for k in reversed(leaving)
                      for s in self.machine.nodes[k].actions("exit")]
@@ -315,8 +336,9 @@ class _Cycle:
             pending += [*self._items(exits), *self._items(t.decl.action or ()),
                         ("enter", t.target)]
             taken = _seq(self._run(tuple(pending), key, here, depth, during_done=True,
-                                   resting=False))
-            action = taken if n == always else self._cond(guard, taken, action)
+                                   resting=False, facts=after))
+            last = always and n == len(choices) - 1
+            action = taken if last else self._cond(guard, taken, action)
         return action
 
     def _ancestors(self, key: str) -> list[str]:
@@ -326,8 +348,8 @@ class _Cycle:
             out.insert(0, self.machine.nodes[out[0]].parent)  # type: ignore[arg-type]
         return out
 
-    def _enter(self, key: str, rest: tuple[_Item, ...], here: str | None, depth: int
-               ) -> list[c.Action]:
+    def _enter(self, key: str, rest: tuple[_Item, ...], here: str | None, depth: int,
+               facts: Facts) -> list[c.Action]:
         """Entering ``key``: a state's entry action, then a composite state's initial
         junction, or a simple state's during action; then, the pending steps done, its
         transitions."""
@@ -347,7 +369,8 @@ class _Cycle:
                 items.append(("enter", inner.key))
             else:
                 items += self._items(node.actions("during"))
-        return self._run((*items, *rest), key, here, depth, during_done=True, resting=False)
+        return self._run((*items, *rest), key, here, depth, during_done=True, resting=False,
+                         facts=facts)
 
     # ----- guards and expressions
     def _guard(self, t: ast.Transition) -> tuple[ex.Expr, list[c.Action]]:
@@ -483,6 +506,15 @@ class _Cycle:
                                "computed from the machine's state, which D holds as reals: "
                                "the conversion is not written", a.span)
         return translated
+
+
+def _learnt(facts: Facts, action: c.Action) -> Facts:
+    """``facts`` after a statement's action: an assignment (a clock reset is one to 0)
+    tells or forgets its field."""
+    if isinstance(action, c.Assign):
+        for target, value in zip(action.targets, action.values):
+            facts = facts.assigned(target, value)
+    return facts
 
 
 def _held(t: ast.TypeRef | None) -> c.Type:

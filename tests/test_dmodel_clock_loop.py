@@ -1,0 +1,125 @@
+"""``D`` written out for a machine whose states lead back to each other through clock guards
+(``since(c) >= 5``, the clock reset on the way): within one cycle the clock reads 0 after its
+reset, so ``Fast → Slow → Fast`` cannot happen in the same cycle. The cycle is unrolled with
+that knowledge (:mod:`cyphy.semantics.circus.path_facts`); before, the unrolling followed the
+loop, ``D`` was refused ("a loop of transitions without exec", ``W-SEMANTICS-DMODEL``) and the
+theory held no machine.
+
+The model: ``tests/data/clock_pulse`` (the machine and its mapping) over the motor bench of
+``examples/dcmotor``. Its first cycle reads ``near``, so the theory writes the cycle out
+rather than the automaton. Oracles: ``simulate`` (the model's equations and the machine's
+interpreter, never the theory) for ``animate`` (the theory's text), and the speeds the
+machine demands, read off the trajectory."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cyphy import api
+from cyphy import expr as ex
+from cyphy.cli import main
+from cyphy.semantics.circus.path_facts import Facts
+
+ROOT = Path(__file__).resolve().parent.parent
+DATA = Path(__file__).parent / "data" / "clock_pulse"
+
+SCENARIO = """model = "DCMotorBase"
+horizon = 1.6
+tscale = 0.1
+[init]
+Motor_av = 0
+Motor_i = 0
+Motor_int1 = 0
+Motor_theta = 0
+Shaft_theta = 0
+Shaft_v = 0
+Range_distance = {distance}
+[environment]
+Range_distance = "-2"
+"""
+
+
+def _model(folder: Path, distance: float) -> tuple[Path, Path]:
+    folder.mkdir()
+    for source in [ROOT / "examples" / "dcmotor" / "DCMotorBase.rsm", *DATA.glob("*.rsm")]:
+        shutil.copy(source, folder)
+    scenario = folder.parent / "pulse.toml"
+    scenario.write_text(SCENARIO.format(distance=distance))
+    return folder, scenario
+
+
+def _run(command: str, target: Path, scenario: Path) -> dict:
+    """``simulate`` or ``animate`` over 1.6 s, 33 samples (every 0.05 s), JSON."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main([command, str(target), "--scenario", str(scenario), "--samples", "33",
+                     "--format", "json", "-q"]) == 0
+    return json.loads(out.getvalue())
+
+
+@pytest.mark.parametrize("dialect", ("utp", "axiomatic"))
+@pytest.mark.parametrize("distance", [10.0, 0.5])  # never near; near from the start
+def test_clock_loop_is_written_and_animates_as_simulate_runs_it(
+        tmp_path: Path, dialect: str, distance: float) -> None:
+    folder, scenario = _model(tmp_path / "bench", distance)
+    generated = api.generate_isabelle([folder], api.SemanticsGenOptions(
+        dialect=dialect, scenario=str(scenario)))
+    codes = [d.code.id for d in generated.report.diagnostics]
+    assert not generated.report.has_errors and "W-SEMANTICS-DMODEL" not in codes, codes
+    theory = next(t for n, t in generated.files.items() if n.endswith(".thy")
+                  and "Prelude" not in n)
+    assert "PulseSoftwareStart" in theory and "PulseSoftware_c" in theory
+    session = tmp_path / "thy"
+    session.mkdir()
+    for name, text in generated.files.items():
+        (session / name).write_text(text)
+    assert main(["check-theory", str(session)]) == 0
+
+    anim, sim = _run("animate", session, scenario), _run("simulate", folder, scenario)
+    columns, rows = anim["columns"], np.array(anim["rows"])
+    assert np.allclose(rows[:, 0], sim["t"])
+    for col in ("Motor_av", "Motor_i", "Range_distance"):
+        assert np.max(np.abs(rows[:, columns.index(col)] - sim["columns"][col])) < 1e-5, col
+    # independent of both: the demand is 10 rad/s for 5 cycles (0.5 s), then 4, then 10
+    # again; or 0 from the first cycle when something is near at the start
+    speed = rows[:, columns.index("Motor_av")]
+    t = rows[:, 0]
+    if distance > 5:
+        assert speed[(t > 0.3) & (t < 0.55)].min() > 8  # fast
+        assert speed[(t > 0.8) & (t < 1.0)].max() < 5   # slow
+        assert speed[(t > 1.3) & (t < 1.55)].min() > 8  # fast again
+    else:
+        assert np.max(np.abs(speed)) < 1e-9
+
+
+def _n(text: str) -> ex.Name:
+    return ex.Name((text,))
+
+
+def test_facts_fold_exactly_and_leave_the_unknown_open() -> None:
+    c, near, x = _n("D_c"), _n("D_near"), _n("D_x")
+    facts = Facts().assigned("D_c", ex.Num("0"))
+    assert facts.value(ex.BinOp(">=", c, ex.Num("5"))) is False
+    # exact: 0.1 + 0.2 == 0.3 over the reals (in floats it is not)
+    tenths = ex.BinOp("+", ex.Num("0.1"), ex.Num("0.2"))
+    assert Facts().value(ex.BinOp("==", tenths, ex.Num("0.3"))) is True
+    unknown = ex.BinOp("==", near, ex.Bool(True))
+    assert facts.value(unknown) is None
+    assert facts.value(ex.BinOp("/\\", ex.BinOp(">=", c, ex.Num("5")), unknown)) is False
+    assert facts.value(ex.BinOp("\\/", ex.BinOp("<", c, ex.Num("5")), unknown)) is True
+    assert facts.value(ex.BinOp("/\\", ex.BinOp("<", c, ex.Num("5")), unknown)) is None
+    # a guard taken tells its tests; one refused, when a single test, the opposite
+    taken = facts.taken(ex.BinOp("/\\", ex.BinOp(">=", x, ex.Num("1")),
+                                 ex.UnaryOp("not", unknown)))
+    assert taken.value(unknown) is False and taken.value(x) is None
+    assert facts.refused(unknown).value(unknown) is False
+    # an assignment that does not fold forgets; division by zero is not folded
+    assert facts.assigned("D_c", x).value(c) is None
+    assert Facts().value(ex.BinOp("/", ex.Num("1"), ex.Num("0"))) is None
