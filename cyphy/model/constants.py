@@ -6,11 +6,13 @@ evaluated; a file is TOML or JSON mapping names to numbers, booleans, strings or
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import tomllib
 from pathlib import Path
 from typing import Iterable
 
+from cyphy.diagnostics import did_you_mean
 from cyphy.lang import ast
 from cyphy.lang.parser import parse_text
 from cyphy.model.array import Array
@@ -72,8 +74,6 @@ def declared_constants(files: Iterable[object]) -> set[str]:
     """The names of every constant declared in the files (p-models, packages, the library's
     devices): what a ``--const`` key can name. A walk over the syntax trees' fields, done only
     when constants are given."""
-    import dataclasses
-
     names: set[str] = set()
     todo: list[object] = list(files)
     seen: set[int] = set()
@@ -97,8 +97,6 @@ def declared_constants(files: Iterable[object]) -> set[str]:
 def unknown_constants(keys: Iterable[str], declared: set[str]) -> list[tuple[str, str]]:
     """The ``--const`` keys that name no declared constant (their last ``::`` segment is the
     constant's name), each with a hint."""
-    from cyphy.diagnostics import did_you_mean
-
     out = []
     for key in keys:
         prefix, _, name = key.rpartition("::")

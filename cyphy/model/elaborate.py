@@ -95,6 +95,7 @@ def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: 
     ctx = Context(ws, resolution, report, consts or {})
     reported: set[str] = set()
     if consts:  # a misspelt --const would be ignored, and the constant stay without a value
+        # lazy: reading --const values needs the parser (Lark), a warm cache does not
         from cyphy.model.constants import declared_constants, unknown_constants
 
         for key, hint in unknown_constants(consts, declared_constants(ws.files.values())):

@@ -221,7 +221,7 @@ class ElaboratedModel:
     def kinematic_graph(self):  # type: ignore[no-untyped-def]
         """Links as nodes (by qualified name), joints and fixed connections as edges from
         parent to child (a NetworkX MultiDiGraph; edge attribute ``element``)."""
-        import networkx as nx
+        import networkx as nx  # lazy: only the tree exports and checks ask for the graph
 
         graph = nx.MultiDiGraph()
         for link in self.links:

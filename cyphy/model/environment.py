@@ -13,7 +13,7 @@ from collections.abc import Iterator, Mapping
 from cyphy import codes
 from cyphy import expr as ex
 from cyphy.constant_keys import names_constant
-from cyphy.diagnostics import Report, Span
+from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
 from cyphy.lang.scopes import Scopes, is_constant, is_template
@@ -258,8 +258,6 @@ class Context:
         """Report (``E-CONST-NAME``) each ``--const``/``--consts`` name that names none of
         the constants the model declares (a typo would otherwise be silently ignored);
         the commands that elaborate stop on it as on any error."""
-        from cyphy.diagnostics import did_you_mean
-
         candidates = {n for names in self.declared for n in names}
         unknown = [key for key in sorted(self.consts) if key not in self.used_consts and
                    key not in reported and

@@ -169,7 +169,7 @@ class Pose:
         that the conformance check allows. Values are not passed through ``clean``: that is the
         printer's choice.
         """
-        from scipy.spatial.transform import Rotation
+        from scipy.spatial.transform import Rotation  # lazy: SciPy, for the LSP and `show`
 
         roll, pitch, yaw = Rotation.from_matrix(self._rotation_array()).as_euler(
             "xyz", suppress_warnings=True

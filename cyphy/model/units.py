@@ -81,7 +81,7 @@ def units() -> Mapping[str, Unit]:
 def from_pint(names: Iterable[str]) -> dict[str, dict[str, object]]:
     """The table entries for ``names`` as Pint gives them (imports Pint: slow, tests and
     regeneration only)."""
-    import pint
+    import pint  # lazy: Pint takes a second to load; tests and regeneration only
 
     registry = pint.UnitRegistry()
     out: dict[str, dict[str, object]] = {}
