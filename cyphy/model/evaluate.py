@@ -37,10 +37,9 @@ when a model uses them), no SymPy. An entry that overflows is infinite and repor
 
 from __future__ import annotations
 
+import operator
 from types import MappingProxyType
 from typing import Callable, Mapping
-
-import operator
 
 from cyphy.diagnostics import Span, did_you_mean
 from cyphy.model.array import Array

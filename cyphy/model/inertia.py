@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 import sys
-
 from typing import Any, Sequence
 
 from cyphy.model.poses import Pose
