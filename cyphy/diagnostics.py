@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Iterable, Iterator
 
 from cyphy.pickling import FastPickle, restore
+from cyphy.records import record
 
 
 class Severity(str, Enum):
@@ -62,7 +63,7 @@ def _span(file: str, line: int, column: int, lines: int, end_column: int) -> Spa
                    end_column)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Code:
     """A diagnostic code: an id such as ``S1`` or ``E-SYNTAX``, its severity and a summary."""
 
@@ -71,7 +72,7 @@ class Code:
     summary: str
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Diagnostic:
     code: Code
     message: str
@@ -98,7 +99,7 @@ def _sort_key(d: Diagnostic) -> tuple[object, ...]:
     return (d.span.file, d.span.line, d.span.column, d.code.id, d.message)
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Report:
     """Collects diagnostics; de-duplicates and sorts them when read."""
 
@@ -188,7 +189,7 @@ def _excerpt(line: str, column: int, width: int) -> tuple[str, int, int]:
     return text, caret, max(1, min(len(marked), len(text) - caret))
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Rendering:
     """How the command line shows diagnostics, set once by ``cyphy -q`` and
     ``--warnings-as-errors`` for whichever command runs: ``quiet`` leaves warnings out of

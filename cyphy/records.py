@@ -1,4 +1,4 @@
-"""Frozen, slotted dataclasses whose methods are compiled on first use (start-up).
+"""Dataclasses whose methods are compiled on first use (start-up).
 
 ``@dataclass(frozen=True, slots=True)`` compiles six methods per class with ``exec`` when the
 class is created (``__init__``, ``__repr__``, ``__eq__``, ``__hash__``, ``__setattr__``,
@@ -18,12 +18,19 @@ pickling ``__getstate__``/``__setstate__`` are shared functions. One difference:
 ``__repr__`` has no guard against a record that contains itself (a dataclass prints ``...``
 there); the trees made of records hold tuples, which cannot. A method the class defines
 itself is kept, as with a dataclass.
+
+``record(frozen=False, slots=False, eq=False)`` and the other combinations of those three
+flags make the other dataclasses the same way (the elaborated model's elements, the checks'
+contexts, the command's options): about forty more classes that ``cyphy check`` creates and
+uses a few of; a mutable record's ``__init__`` assigns as the dataclass's does, and an
+``eq`` record that is not frozen is unhashable, as a dataclass is. ``order`` and
+``unsafe_hash`` are not offered: use :func:`dataclasses.dataclass` for them.
 """
 
 from __future__ import annotations
 
 from dataclasses import MISSING, FrozenInstanceError, dataclass, fields
-from typing import Any, Callable, TypeVar
+from typing import Any, Callable, TypeVar, overload
 
 C = TypeVar("C", bound=type)
 
@@ -62,10 +69,12 @@ def _compile(cls: type, name: str, source: str, namespace: dict[str, Any]) -> Ca
 
 
 def _build_init(cls: type) -> Callable[..., Any]:
-    """``__init__`` as :func:`dataclasses.dataclass` writes it for a frozen class: positional
-    then keyword-only parameters, defaults and default factories, every field set in field
-    order through ``object.__setattr__``, then ``__post_init__`` when the class has one."""
+    """``__init__`` as :func:`dataclasses.dataclass` writes it: positional then keyword-only
+    parameters, defaults and default factories, every field set in field order (through
+    ``object.__setattr__`` for a frozen class, by assignment otherwise), then
+    ``__post_init__`` when the class has one."""
     namespace: dict[str, Any] = {"__object_setattr": object.__setattr__, "__MISSING": MISSING}
+    frozen = cls.__setattr__ is _frozen_setattr  # type: ignore[comparison-overlap]
     positional: list[str] = []
     keyword: list[str] = []
     body: list[str] = []
@@ -91,7 +100,8 @@ def _build_init(cls: type) -> Callable[..., Any]:
             value = default
         else:
             continue
-        body.append(f"    __object_setattr(self, {f.name!r}, {value})")
+        body.append(f"    __object_setattr(self, {f.name!r}, {value})" if frozen
+                    else f"    self.{f.name} = {value}")
     if hasattr(cls, "__post_init__"):
         body.append("    self.__post_init__()")
     parameters = ", ".join(["self", *positional, *(["*", *keyword] if keyword else [])])
@@ -149,27 +159,52 @@ def _signature_doc(cls: type) -> str:
     return f"{cls.__name__}({', '.join(parameters)})"
 
 
-def record(cls: C) -> C:
-    """``@dataclass(frozen=True, slots=True)``, with the methods compiled on first use."""
+@overload
+def record(cls: C, /) -> C: ...
+
+
+@overload
+def record(*, frozen: bool = True, slots: bool = True, eq: bool = True
+           ) -> Callable[[C], C]: ...
+
+
+def record(cls: C | None = None, /, *, frozen: bool = True, slots: bool = True,
+           eq: bool = True) -> C | Callable[[C], C]:
+    """``@dataclass(frozen=True, slots=True)`` (or with the flags given), with the methods
+    compiled on first use."""
+    if cls is None:
+        return lambda c: _make(c, frozen, slots, eq)
+    return _make(cls, frozen, slots, eq)
+
+
+def _make(cls: C, frozen: bool, slots: bool, eq: bool) -> C:
     own = cls.__dict__
-    for name in ("__setattr__", "__delattr__"):
-        if name in own:
-            raise TypeError(f"cannot overwrite attribute {name} in class {cls.__name__}")
-    kept = {name for name in _LATE if name in own}
+    if frozen:
+        for name in ("__setattr__", "__delattr__"):
+            if name in own:
+                raise TypeError(f"cannot overwrite attribute {name} in class {cls.__name__}")
+    late = [name for name in _LATE if eq or name not in ("__eq__", "__hash__")]
+    kept = {name for name in late if name in own}
     if own.get("__hash__", MISSING) is None and "__eq__" in own:
         kept.discard("__hash__")  # Python's None for a class that defines __eq__ only
     if not own.get("__doc__"):
         cls.__doc__ = _NO_DOC
-    made: Any = dataclass(init=False, repr=False, eq=False, slots=True)(cls)
+    made: Any = dataclass(init=False, repr=False, eq=False, slots=slots)(cls)
     if made.__doc__ == _NO_DOC:
         made.__doc__ = _signature_doc(made)
-    for name in _LATE:
-        if name not in kept:
+    if frozen:
+        made.__setattr__ = _frozen_setattr
+        made.__delattr__ = _frozen_delattr
+    for name in late:
+        if name in kept:
+            continue
+        if name == "__hash__" and not frozen:
+            made.__hash__ = None  # a mutable dataclass with ``eq`` is unhashable
+        else:
             setattr(made, name, _late(made, name))
-    made.__setattr__ = _frozen_setattr
-    made.__delattr__ = _frozen_delattr
-    for name, method in (("__getstate__", _getstate), ("__setstate__", _setstate)):
-        if name not in own:
-            setattr(made, name, method)
+    if frozen and slots:
+        for name, method in (("__getstate__", _getstate), ("__setstate__", _setstate)):
+            if name not in own:
+                setattr(made, name, method)
     return made  # type: ignore[no-any-return]
 

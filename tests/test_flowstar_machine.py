@@ -124,7 +124,7 @@ def test_clocks_saturate_and_variables_are_explored(tmp_path):
      " transition t1 { from S to S exec condition since(C) > x }", "event a",
      "compared with something that is not a constant"),
     (" var x: real = 0 initial i0 state S { } transition t0 { from i0 to S }\n"
-     " transition t1 { from S to S exec action x = x + 1 }", "event a",
+     " transition t1 { from S to S exec action x = x + 1; $go(x) }", "event a",
      "more than 5000 configurations"),
 ])
 def test_machines_that_cannot_be_compiled_are_reported(tmp_path, body, events, words):
@@ -231,3 +231,41 @@ def test_obstacle_stop_under_sstop_exports_its_former_hand_written_table(tmp_pat
                      "-o", str(out)]) == 0
         models.append((out / "obstacle_stop.model").read_text())
     assert models[0] == models[1]
+
+
+COUNTED = """ var n: int = 0 var k: real = 0 var w: real = 1 clock C initial i0
+ state A { entry $go(w) } state B { entry $go(2 * w) }
+ transition t0 { from i0 to A }
+ transition t1 { from A to B exec condition since(C) >= 2 action n = n + 1; #C }
+ transition t2 { from B to A exec condition since(C) >= 2 action #C; k = n * 2 }"""
+
+
+def test_a_counter_nothing_reads_is_left_out_of_the_automaton(tmp_path):
+    # n counts the turns and k doubles it; neither is read by a guard or a call, so the
+    # automaton is the one of the machine without them (it had a mode per value of n, past
+    # 5000: refused). w is read by the calls: kept.
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    counted = automaton_of([machine_file(tmp_path / "a", COUNTED)], "M")
+    plain = COUNTED.replace(" var n: int = 0 var k: real = 0", "").replace(
+        " action n = n + 1; #C", " action #C").replace("; k = n * 2", "")
+    assert counted == automaton_of([machine_file(tmp_path / "b", plain)], "M")
+    # two cycles in each state (since(C) >= 2 first holds two cycles after the reset)
+    assert counted.splitlines() == [
+        "initial A", "mode A [go(1)]", "mode A_2 [go(1)]", "mode B [go(2)]", "mode B_2 [go(2)]",
+        "A -> A_2 when true", "A_2 -> B when true", "B -> B_2 when true", "B_2 -> A when true"]
+
+
+@pytest.mark.parametrize("reads, unread", [
+    ("", {"n", "k"}),
+    ("$go(k)", set()),                 # a call reads k, and k reads n
+    ("$go(w) ; n = 0", {"n", "k"}),    # written only
+])
+def test_unread_variables_follow_what_guards_and_calls_read(tmp_path, reads, unread):
+    from cyphy.semantics.machines.relevance import unread_variables
+    body = COUNTED.replace("state B { entry $go(2 * w) }",
+                           f"state B {{ entry $go(2 * w) {'; ' + reads if reads else ''} }}")
+    result = api.check([str(machine_file(tmp_path, body))])
+    assert not result.report.has_errors, [d.message for d in result.report.diagnostics]
+    (m,) = machines_of(list(result.workspace.user_files()), result.resolution)
+    assert unread_variables(m, {}) == unread

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 
 from cyphy.expr import Expr, Num, Quantity
 from cyphy.lang.parser import grammar, parse_text
+from cyphy.model.array import Array
 from cyphy.model.evaluate import (
     MATH_FUNCTIONS,
     UNIT_FACTORS,
@@ -207,7 +208,7 @@ def test_scalar_math_functions(src: str, expected: float) -> None:
 )
 def test_matrix_math_functions(src: str, expected: list[object]) -> None:
     value = ev(src, {"PI": math.pi})
-    assert isinstance(value, np.ndarray)
+    assert isinstance(value, Array)
     np.testing.assert_allclose(value, np.array(expected, dtype=float), atol=1e-12)
 
 
@@ -219,10 +220,10 @@ def test_skew_is_the_cross_product_matrix() -> None:
 def test_adjoint_and_ad_have_the_block_layout() -> None:
     env = {"T": np.array([[1, 0, 0, 1], [0, 1, 0, 2], [0, 0, 1, 3], [0, 0, 0, 1]], dtype=float)}
     adjoint = ev("Adjoint(T)", env)
-    assert isinstance(adjoint, np.ndarray) and adjoint.shape == (6, 6)
+    assert isinstance(adjoint, Array) and adjoint.shape == (6, 6)
     np.testing.assert_allclose(adjoint[3:, :3], ev("skew((|1,2,3|))"))
     ad = ev("ad((|1,2,3,4,5,6|))")
-    assert isinstance(ad, np.ndarray)
+    assert isinstance(ad, Array)
     np.testing.assert_allclose(ad[3:, :3], ev("skew((|4,5,6|))"))
     np.testing.assert_allclose(ad[:3, 3:], np.zeros((3, 3)))
 
@@ -247,17 +248,19 @@ def test_functions_given_by_the_caller_are_merged_over_the_library() -> None:
 def test_vector_literals_are_1d() -> None:
     for src in ("(|1,0,0|)", "[|1,0,0|]"):
         value = ev(src)
-        assert isinstance(value, np.ndarray) and value.shape == (3,)
+        assert isinstance(value, Array) and value.shape == (3,)
         np.testing.assert_array_equal(value, [1.0, 0.0, 0.0])
 
 
 def test_matrix_literals_are_2d_and_read_only() -> None:
     value = ev("[|1,2;3,4|]")
-    assert isinstance(value, np.ndarray) and value.shape == (2, 2)
+    assert isinstance(value, Array) and value.shape == (2, 2)
     assert ev("(|1,0;0,1|)").shape == (2, 2)  # type: ignore[union-attr]
     assert ev("[|1;2;3|]").shape == (3, 1)  # type: ignore[union-attr]
-    with pytest.raises(ValueError):
-        value[0, 0] = 9
+    with pytest.raises(TypeError):
+        value[0, 0] = 9  # type: ignore[index]
+    with pytest.raises(AttributeError):
+        value.flat = (9.0,)  # type: ignore[misc]
 
 
 @pytest.mark.parametrize(
@@ -280,7 +283,7 @@ def test_matrix_literals_are_2d_and_read_only() -> None:
 )
 def test_vector_and_matrix_arithmetic(src: str, expected: list[object]) -> None:
     value = ev(src)
-    assert isinstance(value, np.ndarray)
+    assert isinstance(value, Array)
     np.testing.assert_allclose(value, np.array(expected, dtype=float))
 
 

@@ -122,3 +122,57 @@ def test_a_record_refuses_what_a_frozen_dataclass_refuses() -> None:
 
             def __setattr__(self, name: str, value: object) -> None:
                 pass
+
+
+def observe_any(decorate: Callable[[type], Any], frozen: bool) -> list[Any]:
+    """What the tests compare for any combination of flags: construction, defaults and
+    factories, ``__post_init__``, repr, equality, hashing, assignment, copying."""
+
+    @decorate
+    class Base:
+        span: int = field(default=0, compare=False, repr=False, kw_only=True)
+
+    @decorate
+    class Item(Base):
+        name: str
+        size: float = 1.5
+        items: list[int] = field(default_factory=list)
+        _views: int = field(default=0, init=False, repr=False, compare=False)
+
+        def __post_init__(self) -> None:
+            object.__setattr__(self, "_views", len(self.items))
+
+    a, b = Item("a", items=[1, 2]), Item("a", items=[1, 2], span=3)
+    seen: list[Any] = [repr(a), a == b, a != Item("b"), a == ("a", 1.5, [1, 2]), a._views,
+                       Item("x").items is not Item("x").items, Item.__match_args__,
+                       [f.name for f in dataclasses.fields(a)], getattr(Item, "__slots__", None),
+                       repr(dataclasses.replace(b, name="z")), b.span, "__dict__" in dir(a)]
+    try:
+        seen.append(hash(a) == hash(b))
+    except TypeError as error:
+        seen.append(f"TypeError {error}".replace("Item", "<cls>"))
+    try:
+        a.size = 9.0
+        seen.append(a.size)
+    except FrozenInstanceError as error:
+        seen.append(str(error))
+    for again in (copy.copy(b), copy.deepcopy(b)):
+        seen += [again == b, again.span, again.items, again._views]
+    for call in (lambda: Item(), lambda: Item("a", 1.0, [], 4)):
+        try:
+            call()
+        except TypeError as error:
+            seen.append(str(error))
+    seen.append(frozen)
+    return seen
+
+
+@pytest.mark.parametrize("frozen", [True, False])
+@pytest.mark.parametrize("slots", [True, False])
+@pytest.mark.parametrize("eq", [True, False])
+def test_every_combination_of_flags_behaves_as_its_dataclass(frozen: bool, slots: bool,
+                                                            eq: bool) -> None:
+    """``record(frozen=…, slots=…, eq=…)`` against ``dataclass`` with the same flags."""
+    ours = observe_any(record(frozen=frozen, slots=slots, eq=eq), frozen)
+    theirs = observe_any(dataclass(frozen=frozen, slots=slots, eq=eq), frozen)
+    assert ours == theirs

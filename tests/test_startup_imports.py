@@ -1,6 +1,9 @@
 """``cyphy check`` and ``cyphy gen --sdf`` start without the heavy libraries: SymPy, SciPy and
-matplotlib each cost a large part of a second before the first line is read (issue 24's
-start-up budget; ``benchmarks/bench_startup.py`` measures the whole processes)."""
+matplotlib each cost a large part of a second before the first line is read, NumPy (with its
+BLAS) 0.3 s of processor time, Lark 75 ms (issue 24's start-up budget;
+``benchmarks/bench_startup.py`` measures the whole processes). The model's vectors and
+matrices are pure-Python values (``cyphy.model.array``) for that reason, and Lark is loaded
+only when a file is not in the parse cache."""
 
 from __future__ import annotations
 
@@ -13,7 +16,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-HEAVY = ("sympy", "scipy", "matplotlib")
+HEAVY = ("sympy", "scipy", "matplotlib", "numpy")
 #: cyphy's own packages that neither command needs: the other topics of the API, which
 #: ``cyphy.api`` loads on first use only (they pull in the semantics, Z3, Jinja, SymPy).
 UNNEEDED = ("cyphy.api.semantics", "cyphy.api.simulate", "cyphy.api.solve", "cyphy.api.view",
@@ -21,7 +24,10 @@ UNNEEDED = ("cyphy.api.semantics", "cyphy.api.simulate", "cyphy.api.solve", "cyp
             "cyphy.semantics.machines", "cyphy.backends.isabelle", "cyphy.backends.circus",
             "cyphy.verify.flowstar.build", "cyphy.verify.flowstar.export",
             "cyphy.verify.flowstar.problem", "cyphy.verify.flowstar.scenario",
-            "cyphy.verify.flowstar.controller")
+            "cyphy.verify.flowstar.controller",
+            # the other commands' modules: the parser is built for the command named only
+            "cyphy.cli.show", "cyphy.cli.solve", "cyphy.cli.simulate", "cyphy.cli.reach",
+            "cyphy.cli.view", "cyphy.cli.lsp", "cyphy.cli.check_theory", "cyphy.cli.animate")
 
 #: Runs the command in this process, then prints the modules it imported.
 _WRAPPER = """
@@ -32,17 +38,21 @@ print(json.dumps([code, sorted(sys.modules)]))
 """
 
 
-def _imported_modules(args: list[str]) -> tuple[int, set[str]]:
+def _imported_modules(args: list[str], cache: Path | None = None) -> tuple[int, set[str]]:
+    """The exit status and the modules imported; ``cache`` is cyphy's cache folder (else the
+    default one, warm after the first run)."""
+    env = {"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"}
+    if cache is not None:
+        env["CYPHY_CACHE_DIR"] = str(cache)
     done = subprocess.run([sys.executable, "-c", _WRAPPER, *args], cwd=ROOT, text=True,
-                          capture_output=True, timeout=300,
-                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+                          capture_output=True, timeout=300, env=env)
     code, modules = json.loads(done.stdout.strip().splitlines()[-1])
     return code, set(modules)
 
 
-def _imported(args: list[str]) -> tuple[int, set[str]]:
+def _imported(args: list[str], cache: Path | None = None) -> tuple[int, set[str]]:
     """The exit status and the top-level packages imported."""
-    code, modules = _imported_modules(args)
+    code, modules = _imported_modules(args, cache)
     return code, {m.split(".")[0] for m in modules}
 
 
@@ -69,12 +79,57 @@ def test_command_imports_only_its_part_of_the_api(args: list[str], tmp_path: Pat
     assert not loaded, loaded
 
 
+@pytest.mark.parametrize("args", [
+    ["check", "examples/marxbot"],
+    ["gen", "examples/marxbot", "--sdf", "-o", "{tmp}"],
+])
+def test_a_warm_cache_reads_no_grammar(args: list[str], tmp_path: Path) -> None:
+    """Lark is loaded to parse a file that is not in the parse cache, and only then: the first
+    run (an empty cache) imports it, the second (every file cached) does not."""
+    argv = [a.format(tmp=tmp_path / "out") for a in args]
+    cache = tmp_path / "cache"
+    code, cold = _imported(argv, cache)
+    assert code == 0 and "lark" in cold
+    code, warm = _imported(argv, cache)
+    assert code == 0 and "lark" not in warm
+
+
 def test_the_probe_sees_a_heavy_import(tmp_path: Path) -> None:
-    """The probe is not blind: ``solve`` reduces with SymPy, and the wrapper reports it."""
+    """The probe is not blind: ``solve`` reduces with SymPy, the URDF export computes principal
+    axes with NumPy, and the wrapper reports them."""
     code, modules = _imported(["solve", "examples/dcmotor"])
     assert code == 0 and "sympy" in modules
+    code, modules = _imported(["gen", "examples/marxbot", "--urdf", "-o", str(tmp_path)])
+    assert code == 0 and "numpy" in modules
     code, modules = _imported_modules(["solve", "examples/dcmotor"])
     assert code == 0 and "cyphy.api.solve" in modules
+
+
+@pytest.mark.parametrize("argv", [
+    ["check", "examples/marxbot", "--format", "json", "--const", "A=1"],
+    ["-q", "gen", "examples/marxbot", "--sdf", "-o", "out", "--target", "gazebo"],
+    ["--warnings-as-errors", "check-theory", "session"],
+    ["simulate", "examples/dcmotor", "--t-end", "2", "-q"],
+])
+def test_the_parser_of_the_command_named_reads_as_the_whole_one(argv: list[str]) -> None:
+    """The parser built for one command (``_parser(argv)``) holds that command alone and
+    gives the same values as the parser of every command."""
+    from cyphy.cli import COMMANDS, _parser
+
+    lean, whole = _parser(argv), _parser()
+    assert vars(lean.parse_args(argv)) == vars(whole.parse_args(argv))
+    assert len(lean._subparsers._group_actions[0].choices) == 1  # type: ignore[union-attr]
+    assert len(whole._subparsers._group_actions[0].choices) == len(COMMANDS)  # type: ignore
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["chek"], ["--vers"], ["check_theory"], []])
+def test_anything_but_a_command_gets_the_whole_parser(argv: list[str]) -> None:
+    """Help, a misspelt command, an abbreviated option: the parser that lists every command
+    answers (what it prints is the same as before)."""
+    from cyphy.cli import COMMANDS, _parser
+
+    choices = _parser(argv)._subparsers._group_actions[0].choices  # type: ignore[union-attr]
+    assert len(choices) == len(COMMANDS)
 
 
 def test_the_lazy_facade_exports_the_entry_points() -> None:

@@ -4,19 +4,20 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
 from cyphy.deep import deep
 from cyphy.pipeline.generated import Generated
 from cyphy.pipeline.geometric import geometric_model
+from cyphy.records import record
 
 if TYPE_CHECKING:
     from cyphy.model.elements import ElaboratedModel
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class SdfGenOptions:
     model: str | None = None
     consts: dict[str, object] = field(default_factory=dict)
@@ -34,7 +35,7 @@ def generate_sdf(paths: Sequence[str | Path], options: SdfGenOptions = SdfGenOpt
     """SDF 1.6 for one p-model (``cyphy gen --sdf``): ``<Model>.sdf`` and the name table
     ``<Model>.names.json``, or, for a Gazebo model folder, ``model.sdf``, ``model.config``
     and the table. No files when the model has errors or constants without values."""
-    # lazy: NumPy: `cyphy check` must not pay for it
+    # lazy: each export loads its own back end (the tree formats' import NumPy, SDF's not)
     from cyphy.backends.robot_formats.sdf_xml import model_config, names_json, to_xml
     from cyphy.semantics.sdf.rules import translate
     from cyphy.semantics.sdf.translation import SdfOptions
@@ -56,7 +57,7 @@ def generate_sdf(paths: Sequence[str | Path], options: SdfGenOptions = SdfGenOpt
     return generated
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class TreeGenOptions:
     """Options of the tree exports (``--urdf``, ``--mjcf``)."""
 

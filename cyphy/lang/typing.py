@@ -8,7 +8,6 @@ other blocks reached through ``.``) never produce errors, so the check does not 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from enum import Enum
 from typing import Callable
 
@@ -16,6 +15,7 @@ from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Report
 from cyphy.lang import ast
+from cyphy.records import record
 
 
 class Kind(str, Enum):
@@ -26,7 +26,7 @@ class Kind(str, Enum):
     ANY = "unknown"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Ty:
     kind: Kind
     shape: tuple[int, ...] | None = None  # (n,) for vectors, (rows, cols) for matrices

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from functools import lru_cache
 from pathlib import Path
 from typing import Iterable, Iterator, Mapping
@@ -19,6 +19,7 @@ from cyphy import codes, progress
 from cyphy.diagnostics import Report, Span
 from cyphy.lang import ast
 from cyphy.lang import parse_cache
+from cyphy.records import record
 
 MODEL_SUFFIXES = (".pm", ".rst", ".rsm")
 LIBRARY_ROOT = Path(__file__).parent / "library"
@@ -26,7 +27,7 @@ LIBRARY_ROOT = Path(__file__).parent / "library"
 Declaration = ast.TopLevel
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Package:
     """All declarations of one package, over all files that declare it."""
 
@@ -39,7 +40,7 @@ class Package:
         self.members.setdefault(name, []).append(decl)
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Workspace:
     files: dict[str, ast.SourceFile] = field(default_factory=dict)
     texts: dict[str, str] = field(default_factory=dict)

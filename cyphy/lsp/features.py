@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Mapping, Sequence
 
 from cyphy import expr as ex
-from cyphy.diagnostics import Diagnostic, Span
+from cyphy.diagnostics import Diagnostic, Report, Span
 from cyphy.lang import ast
 from cyphy.lang.workspace import LIBRARY_ROOT
 from cyphy.lsp.index import Index, build_index, offset
@@ -130,9 +130,6 @@ def _signature(analysis: Analysis, target: object) -> str:
 def _constant_value(analysis: Analysis, decl: ast.VarDecl) -> str:
     """The constant's value, evaluated with the values of the constants it names (as
     resolved), in SI units; or why it has none."""
-    # lazy: the evaluator pulls in NumPy, which a server that only reports diagnostics
-    # need not load
-
     if decl.value is None:
         return "no value: each p-model or part that uses it must give one"
     try:
@@ -175,9 +172,6 @@ def _pose_of(analysis: Analysis, block: ast.Block) -> str:
 
 
 def _elaborated_poses(analysis: Analysis) -> dict[int, str]:
-    # lazy: elaboration pulls in NumPy and the model
-    from cyphy.diagnostics import Report
-
     result = analysis.result
     if result.resolution is None:
         return {}

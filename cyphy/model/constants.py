@@ -6,15 +6,16 @@ evaluated; a file is TOML or JSON mapping names to numbers, booleans, strings or
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import tomllib
 from pathlib import Path
 from typing import Iterable
 
-import numpy as np
-
+from cyphy.diagnostics import did_you_mean
 from cyphy.lang import ast
 from cyphy.lang.parser import parse_text
+from cyphy.model.array import Array
 from cyphy.model.evaluate import EvalError, Value, evaluate
 
 
@@ -38,14 +39,13 @@ def _from_data(name: str, value: object) -> Value:
     if isinstance(value, (bool, int, float, str)):
         return value
     if isinstance(value, list):
-        try:
-            array = np.array(value, dtype=float)
-        except (TypeError, ValueError):
-            raise ConstantsError(f"'{name}': a list must hold numbers") from None
-        if array.ndim not in (1, 2):
+        if any(isinstance(row, list) and any(isinstance(x, list) for x in row)
+               for row in value):
             raise ConstantsError(f"'{name}': a vector or a matrix (list of rows) is expected")
-        array.setflags(write=False)
-        return array
+        try:
+            return Array.of(value)
+        except (TypeError, ValueError, OverflowError):
+            raise ConstantsError(f"'{name}': a list must hold numbers") from None
     raise ConstantsError(f"'{name}': unsupported value {value!r}")
 
 
@@ -74,8 +74,6 @@ def declared_constants(files: Iterable[object]) -> set[str]:
     """The names of every constant declared in the files (p-models, packages, the library's
     devices): what a ``--const`` key can name. A walk over the syntax trees' fields, done only
     when constants are given."""
-    import dataclasses
-
     names: set[str] = set()
     todo: list[object] = list(files)
     seen: set[int] = set()
@@ -99,8 +97,6 @@ def declared_constants(files: Iterable[object]) -> set[str]:
 def unknown_constants(keys: Iterable[str], declared: set[str]) -> list[tuple[str, str]]:
     """The ``--const`` keys that name no declared constant (their last ``::`` segment is the
     constant's name), each with a hint."""
-    from cyphy.diagnostics import did_you_mean
-
     out = []
     for key in keys:
         prefix, _, name = key.rpartition("::")

@@ -4,7 +4,7 @@ the blocks declare are rewritten onto those names."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from os.path import commonprefix
 from typing import Callable, Sequence, TypeVar
 
@@ -13,6 +13,7 @@ from cyphy import expr as ex
 from cyphy.diagnostics import Report
 from cyphy.lang import ast
 from cyphy.model.elements import Device, ElaboratedModel, glued
+from cyphy.records import record
 
 T = TypeVar("T")
 RELATION = codes.code("E-RELATION", codes.E, "a relation names a block with several copies "
@@ -96,7 +97,7 @@ def _block_port(node: ex.Expr) -> str | None:
     return None
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class RelationSites:
     """What E-RELATION needs when a model is elaborated without devices (``check``): every
     joint, sensor and actuator by name, with its qualified name and block, and each relation

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from typing import Any
 
 from cyphy import codes, collector, progress
@@ -35,6 +35,7 @@ from cyphy.model.elements import (
 from cyphy.model.environment import EVAL, Binding, Context, Env
 from cyphy.model.evaluate import Value
 from cyphy.model.poses import Pose
+from cyphy.records import record
 
 INDEX = codes.code("E-INDEX", codes.E, "an index range that is not a range of integers")
 
@@ -43,7 +44,7 @@ DEVICE_KINDS = (ast.DeclKind.INPUT, ast.DeclKind.OUTPUT, ast.DeclKind.INOUT,
 POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class _Instance:
     """One instance of a p-model (the top model or a part copy) and its links and parts."""
 
@@ -59,7 +60,7 @@ class _Instance:
     index: dict[str, int] = field(default_factory=dict)  # a part copy's index values
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class _PendingJoint:
     prototype: Joint
     block: ast.Block
@@ -94,6 +95,7 @@ def elaborate_pmodel(ws: Workspace, resolution: Resolution, report: Report, pm: 
     ctx = Context(ws, resolution, report, consts or {})
     reported: set[str] = set()
     if consts:  # a misspelt --const would be ignored, and the constant stay without a value
+        # lazy: reading --const values needs the parser (Lark), a warm cache does not
         from cyphy.model.constants import declared_constants, unknown_constants
 
         for key, hint in unknown_constants(consts, declared_constants(ws.files.values())):

@@ -10,7 +10,7 @@ listed in ``ElaboratedModel.missing``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Callable, Union
 
 from cyphy import expr as ex
@@ -19,9 +19,10 @@ from cyphy.lang import ast
 from cyphy.model.evaluate import Value
 from cyphy.model.inertia import Inertial
 from cyphy.model.poses import Pose
+from cyphy.records import record
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Port:
     """A variable of a device instance: its declared name, kind, type and mangled name."""
 
@@ -80,7 +81,7 @@ class Device:
         return tuple(p for p in self.ports if p.kind in kinds)
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class AnnotationValue:
     """An evaluated annotation: the template (qualified), and each argument's value: a
     number, boolean, string, vector, an element path (tuple of names) or a nested
@@ -97,7 +98,7 @@ class AnnotationValue:
         return None
 
 
-@dataclass(eq=False)
+@record(frozen=False, slots=False, eq=False)
 class Element:
     """Base of every elaborated element. ``qname`` is the tuple of name components."""
 
@@ -115,7 +116,7 @@ class Element:
         return next(c for c in reversed(self.qname) if not c.lstrip("-").isdigit())
 
 
-@dataclass(eq=False)
+@record(frozen=False, slots=False, eq=False)
 class Body(Element):
     link: Link | None = None
     pose: Pose | None = None  # relative to the link
@@ -126,7 +127,7 @@ class Body(Element):
     surface: dict[str, Value | None] = field(default_factory=dict)
 
 
-@dataclass(eq=False)
+@record(frozen=False, slots=False, eq=False)
 class Sensor(Element):
     link: Link | None = None
     joint: Joint | None = None  # when the sensor is contained in a joint
@@ -136,12 +137,12 @@ class Sensor(Element):
     definition: str | None = None  # qualified name of the definition it realises
 
 
-@dataclass(eq=False)
+@record(frozen=False, slots=False, eq=False)
 class Actuator(Sensor):
     pass
 
 
-@dataclass(eq=False)
+@record(frozen=False, slots=False, eq=False)
 class Joint(Element):
     parent: Link | None = None
     child: Link | None = None
@@ -156,13 +157,13 @@ class Joint(Element):
     actuators: list[Actuator] = field(default_factory=list)
 
 
-@dataclass(eq=False)
+@record(frozen=False, slots=False, eq=False)
 class FixedJoint(Element):
     parent: Link | None = None
     child: Link | None = None
 
 
-@dataclass(eq=False)
+@record(frozen=False, slots=False, eq=False)
 class Link(Element):
     pose: Pose | None = None  # relative to the p-model (the model frame)
     inertial: Inertial | None = None  # own, or combined from the bodies
@@ -177,7 +178,7 @@ class Link(Element):
 ModelElement = Union[Link, Body, Joint, FixedJoint, Sensor, Actuator]
 
 
-@dataclass(eq=False)
+@record(frozen=False, slots=False, eq=False)
 class ElaboratedModel:
     name: str
     pmodel: ast.PModel
@@ -220,7 +221,7 @@ class ElaboratedModel:
     def kinematic_graph(self):  # type: ignore[no-untyped-def]
         """Links as nodes (by qualified name), joints and fixed connections as edges from
         parent to child (a NetworkX MultiDiGraph; edge attribute ``element``)."""
-        import networkx as nx
+        import networkx as nx  # lazy: only the tree exports and checks ask for the graph
 
         graph = nx.MultiDiGraph()
         for link in self.links:

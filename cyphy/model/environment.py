@@ -8,12 +8,12 @@ each once, however many blocks read it.
 from __future__ import annotations
 
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass
+
 
 from cyphy import codes
 from cyphy import expr as ex
 from cyphy.constant_keys import names_constant
-from cyphy.diagnostics import Report, Span
+from cyphy.diagnostics import Report, Span, did_you_mean
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
 from cyphy.lang.scopes import Scopes, is_constant, is_template
@@ -22,13 +22,14 @@ from cyphy.model.evaluate import (
     EvalError, UnboundName, Value, coerce, evaluate_fast, free_names, literal_value,
 )
 from cyphy.model.value_text import format_value, same_value
+from cyphy.records import record
 
 EVAL = codes.code("E-EVAL", codes.E, "a constant expression cannot be evaluated")
 CONST_NAME = codes.code("E-CONST-NAME", codes.E,
                         "a --const or --consts name that names no constant of the model")
 
 
-@dataclass(eq=False)
+@record(frozen=False, slots=False, eq=False)
 class Binding:
     """A constant: its value expression, the scope to evaluate it in, and its names."""
 
@@ -257,8 +258,6 @@ class Context:
         """Report (``E-CONST-NAME``) each ``--const``/``--consts`` name that names none of
         the constants the model declares (a typo would otherwise be silently ignored);
         the commands that elaborate stop on it as on any error."""
-        from cyphy.diagnostics import did_you_mean
-
         candidates = {n for names in self.declared for n in names}
         unknown = [key for key in sorted(self.consts) if key not in self.used_consts and
                    key not in reported and

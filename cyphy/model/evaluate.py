@@ -13,10 +13,11 @@ Values (:data:`Value`):
   divisor as Isabelle's ``mod`` does. A quantity with a unit (``3cm``) is a real.
 * ``bool`` and ``str`` are ``boolean`` and ``string``; they take part in comparisons, connectives
   and conditions only, never in arithmetic (Python's ``True + 1`` is refused).
-* :data:`Vec`, a read-only ``float64`` NumPy array: 1-D for ``(|a, b, c|)`` and a single-row
+* :data:`Vec`, an immutable :class:`~cyphy.model.array.Array` of floats (``numpy.asarray``
+  turns it into a ``float64`` array): 1-D for ``(|a, b, c|)`` and a single-row
   ``[|a, b, c|]``, 2-D for several rows (``[|1; 2; 3|]`` is a 3x1 matrix). Entries are reals.
-  Arrays are frozen (``writeable = False``) so a value shared through ``env`` cannot be changed
-  behind the caller's back. A 1-D vector acts as a column in ``M * v`` and as a row in ``v * M``.
+  Immutable so that a value shared through ``env`` cannot be changed behind the caller's
+  back. A 1-D vector acts as a column in ``M * v`` and as a row in ``v * M``.
 
 Indexing counts from 1, as RoboChart and the library do (``Axis[3]`` is the z component of
 ``Axis = (|1, 0, 0|)``): ``v[i]`` is a component, ``M[i, j]`` an entry, ``M[i]`` row ``i``.
@@ -28,17 +29,20 @@ span of the offending node; nothing else escapes :func:`evaluate`. Internally, o
 functions raise ``ValueError`` without a location and the node that called them turns it into an
 ``EvalError`` with its own span, so every check is written once and still points at the source.
 
-This module must stay cheap to import: NumPy yes, SymPy no.
+This module must stay cheap to import: no NumPy (only the matrix products, powers and
+inverses of :mod:`~cyphy.model.operators` and :mod:`~cyphy.model.math_functions` load it,
+when a model uses them), no SymPy. An entry that overflows is infinite and reported by
+``require_finite`` at the node that computed it.
 """
 
 from __future__ import annotations
 
+import operator
 from types import MappingProxyType
 from typing import Callable, Mapping
 
-import numpy as np
-
 from cyphy.diagnostics import Span, did_you_mean
+from cyphy.model.array import Array
 from cyphy.model.math_functions import MATH_FUNCTIONS, arity, arity_text
 from cyphy.model.operators import SHORT_CIRCUIT, STRICT_OPS
 from cyphy.model.values import (
@@ -161,14 +165,16 @@ class _Evaluator:
                 f"unknown unit '{node.unit}'", "known units: " + ", ".join(sorted(UNIT_FACTORS))
             )
         value = arithmetic(node.unit, self.eval(node.value))
-        return float(value) * factor if is_number(value) else frozen(value * factor)
+        if is_number(value):
+            return float(value) * factor  # type: ignore[arg-type]
+        return value.map(lambda x: x * factor)  # type: ignore[union-attr]
 
     def _eval_UnaryOp(self, node: UnaryOp) -> Value:
         operand = self.eval(node.operand)
         if node.op == "not":
             return not boolean("the operand of 'not'", operand)
         value = arithmetic("-", operand)
-        return -value if is_number(value) else frozen(-value)  # type: ignore[operator]
+        return -value if is_number(value) else value.map(operator.neg)  # type: ignore
 
     def _eval_BinOp(self, node: BinOp) -> Value:
         left = self.eval(node.left)
@@ -203,7 +209,7 @@ class _Evaluator:
         """1-based, as RoboChart: ``v[1]`` is the first component, ``M[i]`` row ``i``."""
         base = self.eval(node.base)
         positions = [self.eval(arg) for arg in node.args]
-        if not isinstance(base, np.ndarray):
+        if not isinstance(base, Array):
             raise ValueError(f"only vectors and matrices can be indexed, not {describe(base)}")
         if len(positions) > base.ndim:
             raise ValueError(f"{describe(base)} takes at most {base.ndim} index(es)")
@@ -214,7 +220,7 @@ class _Evaluator:
                 raise ValueError(f"index {i} is out of range 1..{size} for {describe(base)}")
             offsets.append(i - 1)
         item = base[tuple(offsets)]
-        return float(item) if np.ndim(item) == 0 else frozen(item)
+        return item if isinstance(item, Array) else float(item)
 
     def _eval_Call(self, node: Call) -> Value:
         """A call of a named function; a curried ``f(a)(b, c)`` is ``f(a, b, c)`` (that is how
@@ -276,8 +282,7 @@ def evaluate(
     table = {**MATH_FUNCTIONS, **functions} if functions else MATH_FUNCTIONS
     evaluator = _Evaluator(env, table)
     try:
-        with np.errstate(over="raise", divide="raise", invalid="raise", under="ignore"):
-            return evaluator.eval(expr)
+        return evaluator.eval(expr)
     except RecursionError:
         raise EvalError("the expression is too deeply nested to evaluate", expr.span) from None
 
@@ -337,8 +342,7 @@ def evaluate_fast(expr: Expr, env: Mapping[str, object]) -> Value:
     compiled = hit[1]
     if compiled is not None:
         try:
-            with np.errstate(over="raise", divide="raise", invalid="raise", under="ignore"):
-                value = compiled(env)
+            value = compiled(env)
             require_finite(value)
             return value
         except Exception:  # noqa: BLE001 - the interpreter says exactly what is wrong

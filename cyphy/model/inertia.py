@@ -11,12 +11,11 @@ the convention of SDF's ``<inertia>`` and URDF, which lets them be printed as th
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Sequence
-
-import numpy as np
+import sys
+from typing import Any, Sequence
 
 from cyphy.model.poses import Pose
+from cyphy.records import record
 
 InertiaEntries = tuple[float, float, float, float, float, float]
 
@@ -25,7 +24,7 @@ PHYSICAL_TOL = 1e-9
 moments meet the triangle inequality with equality, survives rounding."""
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Inertial:
     """SDF's ``<inertial>``: ``mass`` in kg, ``com`` the pose of the centre-of-mass frame, and
     ``inertia`` about the centre of mass in the axes of ``com``'s rotation (kg·m²).
@@ -71,7 +70,23 @@ def combine(parts: Sequence[Inertial]) -> Inertial:
 
     Raises ``ValueError`` when the total mass is not positive, since then there is no centre of
     mass; the caller turns that into a diagnostic about the link.
+
+    NumPy computes the sums (its rounding is the one every output was written with), except
+    for the commonest case, one body whose axes are the frame's: there ``R I Rᵀ`` is ``I``
+    itself, as BLAS sums it (from +0.0, so a ``-0.0`` entry comes out ``0.0``), without
+    loading NumPy (an infinite entry takes NumPy's way: ``0·∞`` makes it NaN).
     """
+    if len(parts) == 1 and parts[0].com.rotation == _IDENTITY \
+            and all(map(math.isfinite, parts[0].inertia)):
+        (part,) = parts
+        total = float(part.mass)
+        if not total > 0.0:
+            raise ValueError(
+                f"cannot combine inertials with total mass {total}: it must be positive")
+        return Inertial(total, Pose.at(part.com.position),
+                        tuple(0.0 + v for v in part.inertia))  # type: ignore[arg-type]
+    import numpy as np  # lazy: sums of products, with BLAS's rounding (see above)
+
     masses = np.array([part.mass for part in parts], dtype=float)
     total = float(masses.sum())
     if not total > 0.0:
@@ -88,13 +103,18 @@ def combine(parts: Sequence[Inertial]) -> Inertial:
     return Inertial(total, Pose.at(centre), entries(combined))
 
 
-def tensor(inertia: Sequence[float]) -> np.ndarray:
-    """The symmetric 3x3 tensor of six entries ``(ixx, ixy, ixz, iyy, iyz, izz)``."""
+_IDENTITY = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+
+
+def tensor(inertia: Sequence[float]) -> Any:
+    """The symmetric 3x3 NumPy tensor of six entries ``(ixx, ixy, ixz, iyy, iyz, izz)``."""
+    import numpy as np  # lazy: for the dynamics and the non-diagonal checks only
+
     ixx, ixy, ixz, iyy, iyz, izz = inertia
     return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]], dtype=float)
 
 
-def entries(inertia: np.ndarray) -> InertiaEntries:
+def entries(inertia: Any) -> InertiaEntries:
     """The six entries of a symmetric 3x3 tensor, read from its upper triangle."""
     return (
         float(inertia[0, 0]),
@@ -106,7 +126,7 @@ def entries(inertia: np.ndarray) -> InertiaEntries:
     )
 
 
-def is_physical(inertia: Sequence[float] | np.ndarray, tol: float = PHYSICAL_TOL) -> bool:
+def is_physical(inertia: Sequence[float] | Any, tol: float = PHYSICAL_TOL) -> bool:
     """Whether an inertia (six entries or a 3x3 tensor) can belong to a rigid body.
 
     Symmetric, positive definite (simulators invert the tensor, so a zero moment is rejected
@@ -119,8 +139,10 @@ def is_physical(inertia: Sequence[float] | np.ndarray, tol: float = PHYSICAL_TOL
         # Diagonal (the solid formulas, most models): the moments are the diagonal itself.
         # Worth the shortcut: the check runs once per link, and NumPy's cost is per call.
         a, b, c = sorted((float(inertia[0]), float(inertia[3]), float(inertia[5])))
-        slack = tol * max(abs(a), abs(c), np.finfo(float).tiny)
+        slack = tol * max(abs(a), abs(c), sys.float_info.min)
         return a > 0.0 and a + b >= c - slack
+    import numpy as np  # lazy: eigenvalues of a tensor with products of inertia
+
     matrix = tensor(inertia) if np.shape(inertia) == (6,) else np.asarray(inertia, dtype=float)
     if not np.all(np.isfinite(matrix)):
         return False  # overflow or NaN: no rigid body (and LAPACK fails on it)
@@ -135,12 +157,16 @@ def _diagonal(ixx: float, iyy: float, izz: float) -> InertiaEntries:
     return (ixx, 0.0, 0.0, iyy, 0.0, izz)
 
 
-def _tensor_in_frame(part: Inertial) -> np.ndarray:
+def _tensor_in_frame(part: Inertial) -> Any:
     """The part's tensor turned from its ``com`` axes into the frame's axes: ``R I Rᵀ``."""
+    import numpy as np  # lazy: called by ``combine`` once it has loaded NumPy
+
     rotation = np.array(part.com.rotation)
     return rotation @ tensor(part.inertia) @ rotation.T
 
 
-def _parallel_axis(mass: float, offset: np.ndarray) -> np.ndarray:
+def _parallel_axis(mass: float, offset: Any) -> Any:
     """What moving a body's tensor by ``offset`` away from the centre of mass adds to it."""
+    import numpy as np  # lazy: called by ``combine`` once it has loaded NumPy
+
     return mass * (float(offset @ offset) * np.eye(3) - np.outer(offset, offset))

@@ -9,20 +9,20 @@ name that does not resolve is recorded (for the rules to report), never raised.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Iterator
+from dataclasses import field
+from typing import Iterator
 
 from cyphy import expr as ex
-from cyphy.diagnostics import Span
+from cyphy.diagnostics import Span, did_you_mean
 from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
+from cyphy.lang.scopes import Scopes, is_constant, is_machine
 from cyphy.model.connections import machines_run_by, unconnected_events
+from cyphy.model.evaluate import EvalError, evaluate
+from cyphy.records import record
 
-if TYPE_CHECKING:
-    from cyphy.lang.scopes import Scopes
 
-
-@dataclass(frozen=True)
+@record(slots=False)
 class MachineNode:
     """A state or pseudo-state; ``key`` is its path in the machine (``Outer::Inner``)."""
 
@@ -48,7 +48,7 @@ class MachineNode:
         return self.decl.actions(kind) if isinstance(self.decl, ast.State) else ()
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class MachineTransition:
     decl: ast.Transition
     container: str | None  # the composite state that declares it (None: the machine)
@@ -60,7 +60,7 @@ class MachineTransition:
         return self.decl.name
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Platform:
     """What a machine may use of its robotic platform: the events it reads (input
     context), the events it sends and the operations it calls (output context)."""
@@ -75,7 +75,7 @@ class Platform:
     written: dict[str, ast.VarDecl] = field(default_factory=dict)
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Machine:
     decl: ast.StateMachine
     file: ast.SourceFile
@@ -212,11 +212,9 @@ def _behaviours(files: Iterator[ast.SourceFile] | list[ast.SourceFile]
                 yield f, stm
 
 
-def called_operation(machine: Machine, call: ex.Call, scopes: "Scopes"
+def called_operation(machine: Machine, call: ex.Call, scopes: Scopes
                      ) -> ast.StateMachine | None:
     """The operation definition a call ``op(args)`` (without ``$``) names, if any."""
-    from cyphy.lang.scopes import is_machine
-
     if not isinstance(call.func, ex.Name):
         return None
     found = [d for d in scopes.lookup(machine.file, call.func.parts, is_machine)
@@ -225,7 +223,7 @@ def called_operation(machine: Machine, call: ex.Call, scopes: "Scopes"
 
 
 def operation_definitions(machine: Machine, files: list[ast.SourceFile],
-                          resolution: Resolution, scopes: "Scopes") -> dict[str, Machine]:
+                          resolution: Resolution, scopes: Scopes) -> dict[str, Machine]:
     """The operation definitions the machine calls, and those they call, by the name they
     are called with: what the interpreter runs inline."""
     where = {id(stm): f for f, stm in _behaviours(files)}
@@ -279,14 +277,11 @@ def statement_expressions(s: ast.Statement) -> tuple[ex.Expr, ...]:
     return ()
 
 
-def global_constants(machine: Machine, scopes: "Scopes") -> dict[str, object]:
+def global_constants(machine: Machine, scopes: Scopes) -> dict[str, object]:
     """Values of the constants declared outside the machine that its expressions name
     (``PI`` of ``physmod::math``, a package's ``const``), by name; a constant without a
     value, or whose value cannot be computed, is left out (the interpreter then reports
     the name where it is used)."""
-    from cyphy.lang.scopes import is_constant
-    from cyphy.model.evaluate import EvalError, evaluate
-
     local = set(machine.constants) | set(machine.variables) | set(machine.clocks)
     names = sorted({n.text for e, _ in expressions(machine) for n in e.walk()
                     if isinstance(n, ex.Name) and n.text not in local})
@@ -318,8 +313,6 @@ def select_machine(files: list[ast.SourceFile], resolution: Resolution, pmodel: 
     """The machine that controls ``pmodel``: the one named ``name``, else the only one the
     controllers of the module mapped onto ``pmodel`` run, else the only one of the files.
     None with a message and a hint when there is no such single machine."""
-    from cyphy.diagnostics import did_you_mean
-
     machines = machines_of(files, resolution)
     if name is not None:
         chosen = [m for m in machines if m.name == name]

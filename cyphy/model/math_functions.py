@@ -10,9 +10,8 @@ import math
 from types import MappingProxyType
 from typing import Callable, Mapping
 
-import numpy as np
-
-from cyphy.model.values import Value, Vec, describe, frozen, is_number
+from cyphy.model.array import Array, from_numpy, matrix, numpy_array, strict_numpy, vector
+from cyphy.model.values import Value, Vec, describe, is_number
 
 # Library functions (physmod::math) on Values. They raise ValueError with a message that reads
 # after the function's name ("sqrt is undefined for ..."); the evaluator adds name and span.
@@ -35,7 +34,7 @@ def _nat(value: Value) -> int:
 
 
 def _vector(value: Value, size: int | None = None) -> Vec:
-    if not isinstance(value, np.ndarray) or value.ndim != 1:
+    if not isinstance(value, Array) or value.ndim != 1:
         raise ValueError(f"expects a vector, not {describe(value)}")
     if size is not None and value.shape[0] != size:
         raise ValueError(f"expects a {size}-vector, not {describe(value)}")
@@ -43,7 +42,7 @@ def _vector(value: Value, size: int | None = None) -> Vec:
 
 
 def _matrix(value: Value, square: bool = False, size: int | None = None) -> Vec:
-    if not isinstance(value, np.ndarray) or value.ndim != 2:
+    if not isinstance(value, Array) or value.ndim != 2:
         raise ValueError(f"expects a matrix, not {describe(value)}")
     if (square or size is not None) and value.shape[0] != value.shape[1]:
         raise ValueError(f"expects a square matrix, not {describe(value)}")
@@ -106,30 +105,37 @@ def _sgn(x: Value) -> int | float:
 
 def _transpose(m: Value) -> Vec:
     """A 1-D vector is a column, so its transpose is a 1xn row matrix."""
-    if isinstance(m, np.ndarray) and m.ndim == 1:
-        return frozen(m[np.newaxis, :])
-    return frozen(_matrix(m).T)
+    if isinstance(m, Array) and m.ndim == 1:
+        return Array(m.flat, (1, m.shape[0]))
+    return _matrix(m).T
 
 
 def _inverse(m: Value) -> Vec:
-    try:
-        return frozen(np.linalg.inv(_matrix(m, square=True)))
-    except np.linalg.LinAlgError:
-        raise ValueError("needs an invertible matrix; this one is singular") from None
+    square = _matrix(m, square=True)
+    with strict_numpy() as np:  # LAPACK's inverse, as every output was written with
+        try:
+            return from_numpy(np.linalg.inv(numpy_array(square)))
+        except np.linalg.LinAlgError:
+            raise ValueError("needs an invertible matrix; this one is singular") from None
 
 
 def _det(m: Value) -> float:
-    return float(np.linalg.det(_matrix(m, square=True)))
+    square = _matrix(m, square=True)
+    with strict_numpy() as np:  # LAPACK's determinant, as every output was written with
+        return float(np.linalg.det(numpy_array(square)))
 
 
 def _identity(n: Value) -> Vec:
-    return frozen(np.eye(_nat(n)))
+    size = _nat(n)
+    return Array(tuple(1.0 if i == j else 0.0 for i in range(size) for j in range(size)),
+                 (size, size))
 
 
 def _zeroes(m: Value, n: Value | None = None) -> Vec:
     """``zeroes(m, n)`` is m-by-n; ``zeroes(n)`` is n-by-n, as ``identity(n)`` (and MATLAB)."""
     rows = _nat(m)
-    return frozen(np.zeros((rows, rows if n is None else _nat(n))))
+    cols = rows if n is None else _nat(n)
+    return Array((0.0,) * (rows * cols), (rows, cols))
 
 
 def _submatrix(m: Value, i: Value, j: Value, rows: Value, cols: Value) -> Vec:
@@ -140,57 +146,74 @@ def _submatrix(m: Value, i: Value, j: Value, rows: Value, cols: Value) -> Vec:
         raise ValueError(
             f"block of {height}x{width} at ({top}, {left}) does not fit in {describe(matrix)}"
         )
-    return frozen(matrix[top : top + height, left : left + width])
+    return matrix[top : top + height, left : left + width]
 
 
 def _skew_matrix(v: Vec) -> Vec:
     x, y, z = v
-    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    return matrix(((0.0, -z, y), (z, 0.0, -x), (-y, x, 0.0)))
 
 
 def _skew(v: Value) -> Vec:
     """The cross-product matrix: ``skew(v) * u == cross(v, u)``."""
-    return frozen(_skew_matrix(_vector(v, 3)))
+    return _skew_matrix(_vector(v, 3))
 
 
 def _cross(u: Value, v: Value) -> Vec:
-    return frozen(np.cross(_vector(u, 3), _vector(v, 3)))
+    """Each entry one difference of two products, as NumPy's ``cross`` computes it."""
+    (a1, a2, a3), (b1, b2, b3) = _vector(u, 3), _vector(v, 3)
+    return vector((a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1))
 
 
 def _dot(u: Value, v: Value) -> float:
     a, b = _vector(u), _vector(v)
     if a.shape != b.shape:
         raise ValueError(f"needs vectors of one size, not {describe(a)} and {describe(b)}")
-    return float(a @ b)
+    with strict_numpy():  # BLAS's sum, as every output was written with
+        return float(numpy_array(a) @ numpy_array(b))
 
 
 def _norm(v: Value) -> float:
-    return float(np.linalg.norm(_vector(v)))
+    entries = _vector(v)
+    with strict_numpy() as np:  # NumPy's sum of squares, as every output was written with
+        return float(np.linalg.norm(numpy_array(entries)))
 
 
 def _rot(w: Value, theta: Value) -> Vec:
     """Rodrigues' formula, ``I + sin θ [w] + (1 - cos θ) [w]²`` (Modern Robotics eq. 3.51)."""
-    k = _skew_matrix(_vector(w, 3))
-    angle = _real(theta)
-    return frozen(np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * (k @ k))
+    skew, angle = _skew_matrix(_vector(w, 3)), _real(theta)
+    with strict_numpy() as np:  # [w]² is a matrix product: NumPy's rounding
+        k = numpy_array(skew)
+        return from_numpy(np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * (k @ k))
 
 
 def _screw_axis(w: Value, v: Value) -> Vec:
-    return frozen(np.concatenate((_vector(w, 3), _vector(v, 3))))
+    return vector(_vector(w, 3).flat + _vector(v, 3).flat)
+
+
+def _blocks(top: tuple[Vec, Vec], bottom: tuple[Vec, Vec]) -> Vec:
+    """The 6x6 matrix ``[| a, b; c, d |]`` of four 3x3 blocks."""
+    return matrix([left + right for pair in (top, bottom)
+                   for left, right in zip(pair[0].rows(), pair[1].rows())])
+
+
+_ZERO3 = Array((0.0,) * 9, (3, 3))
 
 
 def _adjoint(t: Value) -> Vec:
     """``[Ad_T] = [| R, 0; skew(p) R, R |]`` of ``T = (R, p)`` (Modern Robotics def. 3.20)."""
     transform = _matrix(t, size=4)
     r, p = transform[:3, :3], transform[:3, 3]
-    return frozen(np.block([[r, np.zeros((3, 3))], [_skew_matrix(p) @ r, r]]))
+    with strict_numpy():  # a matrix product: NumPy's rounding
+        turned = from_numpy(numpy_array(_skew_matrix(p)) @ numpy_array(r))
+    return _blocks((r, _ZERO3), (turned, r))
 
 
 def _ad(twist: Value) -> Vec:
     """``[ad_V] = [| skew(w), 0; skew(v), skew(w) |]`` of ``V = (w; v)`` (MR eq. 8.38)."""
-    vector = _vector(twist, 6)
-    w, v = _skew_matrix(vector[:3]), _skew_matrix(vector[3:])
-    return frozen(np.block([[w, np.zeros((3, 3))], [v, w]]))
+    entries = _vector(twist, 6)
+    w, v = _skew_matrix(entries[:3]), _skew_matrix(entries[3:])
+    return _blocks((w, _ZERO3), (v, w))
 
 
 MATH_FUNCTIONS: Mapping[str, Callable[..., Value]] = MappingProxyType(

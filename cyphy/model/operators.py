@@ -5,11 +5,11 @@ numbers, vectors and matrices, comparisons, and the short-circuit connectives. E
 from __future__ import annotations
 
 import math
+import operator
 from types import MappingProxyType
 from typing import Callable, Mapping
 
-import numpy as np
-
+from cyphy.model.array import Array, from_numpy, numpy_array, strict_numpy
 from cyphy.model.values import (
     MAX_INT_BITS,
     Invalid,
@@ -17,7 +17,6 @@ from cyphy.model.values import (
     arithmetic,
     boolean,
     describe,
-    frozen,
     integer,
     is_number,
     scalar,
@@ -31,8 +30,8 @@ def _add(a: Value, b: Value) -> Value:
     a, b = arithmetic("+", a), arithmetic("+", b)
     if is_number(a) and is_number(b):
         return a + b  # type: ignore[operator]
-    if isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and a.shape == b.shape:
-        return frozen(a + b)
+    if isinstance(a, Array) and isinstance(b, Array) and a.shape == b.shape:
+        return a.zip_with(b, operator.add)
     raise _mismatch("+", a, b)
 
 
@@ -40,18 +39,24 @@ def _sub(a: Value, b: Value) -> Value:
     a, b = arithmetic("-", a), arithmetic("-", b)
     if is_number(a) and is_number(b):
         return a - b  # type: ignore[operator]
-    if isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and a.shape == b.shape:
-        return frozen(a - b)
+    if isinstance(a, Array) and isinstance(b, Array) and a.shape == b.shape:
+        return a.zip_with(b, operator.sub)
     raise _mismatch("-", a, b)
 
 
 def _mul(a: Value, b: Value) -> Value:
-    """Scalars multiply, a scalar scales an array, and two arrays take the matrix product."""
+    """Scalars multiply, a scalar scales an array, and two arrays take the matrix product
+    (NumPy's: its rounding is the one every output was written with)."""
     a, b = arithmetic("*", a), arithmetic("*", b)
-    if is_number(a) or is_number(b):
-        product = a * b  # type: ignore[operator]
-        return product if is_number(product) else frozen(product)
-    assert isinstance(a, np.ndarray) and isinstance(b, np.ndarray)
+    if is_number(a) and is_number(b):
+        return a * b  # type: ignore[operator]
+    if is_number(a):
+        factor = float(a)  # type: ignore[arg-type]
+        return b.map(lambda x: factor * x)  # type: ignore[union-attr]
+    if is_number(b):
+        factor = float(b)  # type: ignore[arg-type]
+        return a.map(lambda x: x * factor)  # type: ignore[union-attr]
+    assert isinstance(a, Array) and isinstance(b, Array)
     if a.ndim == 1 and b.ndim == 1:
         raise Invalid(
             f"'*' cannot multiply two vectors ({describe(a)} and {describe(b)})",
@@ -64,7 +69,8 @@ def _mul(a: Value, b: Value) -> Value:
             f"'*' cannot multiply {describe(a)} by {describe(b)}: {inner_a} columns against "
             f"{inner_b} rows"
         )
-    return frozen(a @ b)
+    with strict_numpy():
+        return from_numpy(numpy_array(a) @ numpy_array(b))
 
 
 def _div(a: Value, b: Value) -> Value:
@@ -74,8 +80,10 @@ def _div(a: Value, b: Value) -> Value:
         raise _mismatch("/", a, b)
     if b == 0:
         raise ValueError("division by zero")
-    quotient = a / b  # type: ignore[operator]
-    return quotient if is_number(quotient) else frozen(quotient)
+    if isinstance(a, Array):
+        divisor = float(b)  # type: ignore[arg-type]
+        return a.map(lambda x: x / divisor)
+    return a / b  # type: ignore[operator]
 
 
 def _mod(a: Value, b: Value) -> Value:
@@ -88,14 +96,15 @@ def _mod(a: Value, b: Value) -> Value:
 def _pow(a: Value, b: Value) -> Value:
     """``x^y`` on numbers; ``M^n`` is the matrix power of a square matrix (n may be negative)."""
     a, b = arithmetic("^", a), arithmetic("^", b)
-    if isinstance(a, np.ndarray):
+    if isinstance(a, Array):
         if a.ndim != 2 or a.shape[0] != a.shape[1]:
             raise ValueError(f"only a square matrix can be raised to a power, not {describe(a)}")
         n = integer("the exponent of a matrix", b)
-        try:
-            return frozen(np.linalg.matrix_power(a, n))
-        except np.linalg.LinAlgError:
-            raise ValueError("a singular matrix has no negative power") from None
+        with strict_numpy() as np:
+            try:
+                return from_numpy(np.linalg.matrix_power(numpy_array(a), n))
+            except np.linalg.LinAlgError:
+                raise ValueError("a singular matrix has no negative power") from None
     b = scalar("an exponent", b)
     if a == 0 and b < 0:
         raise ValueError("zero cannot be raised to a negative power (division by zero)")
@@ -112,8 +121,8 @@ def _equal(a: Value, b: Value) -> bool:
     """Equality of values of one kind; numbers compare across int and real."""
     if is_number(a) and is_number(b):
         return a == b
-    if isinstance(a, np.ndarray) and isinstance(b, np.ndarray):
-        return a.shape == b.shape and bool(np.array_equal(a, b))
+    if isinstance(a, Array) and isinstance(b, Array):
+        return a.shape == b.shape and all(x == y for x, y in zip(a.flat, b.flat))
     if type(a) is type(b) and isinstance(a, (bool, str)):
         return a == b
     raise ValueError(f"cannot compare {describe(a)} with {describe(b)}")

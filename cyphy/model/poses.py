@@ -13,10 +13,9 @@ arithmetic, ``isclose`` compares what SDF means entry by entry, and a matrix has
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Sequence
+from typing import Any, Sequence
 
-import numpy as np
+from cyphy.records import record
 
 Vector3 = tuple[float, float, float]
 Matrix3 = tuple[Vector3, Vector3, Vector3]
@@ -52,7 +51,7 @@ def _half_open_angle(angle: float) -> float:
     return math.pi if angle <= -math.pi + NOISE else angle
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Pose:
     """A rigid transform: ``position`` in metres and ``rotation`` as a row-major 3x3 matrix.
 
@@ -66,14 +65,14 @@ class Pose:
     def __post_init__(self) -> None:
         # Normalise to tuples of plain floats so that lists or NumPy arrays passed in cannot be
         # mutated later and equal poses compare equal whatever type built them.
-        position = np.asarray(self.position, dtype=float)
-        rotation = np.asarray(self.rotation, dtype=float)
-        if position.shape != (3,) or rotation.shape != (3, 3):
+        position = _floats(self.position)
+        rotation = [_floats(row) for row in _listed(self.rotation)]
+        if len(position) != 3 or len(rotation) != 3 or any(len(row) != 3 for row in rotation):
             raise ValueError("a pose needs a 3-vector position and a 3x3 rotation matrix")
         if not _is_rotation(rotation):
             raise ValueError("the rotation of a pose must be orthonormal with determinant +1")
-        object.__setattr__(self, "position", _vector(position))
-        object.__setattr__(self, "rotation", tuple(_vector(row) for row in rotation))
+        object.__setattr__(self, "position", tuple(position))
+        object.__setattr__(self, "rotation", tuple(tuple(row) for row in rotation))
 
     @classmethod
     def identity(cls) -> Pose:
@@ -140,9 +139,16 @@ class Pose:
         return self.compose(inner)
 
     def inverse(self) -> Pose:
-        """The pose of the outer frame in this one: ``[Rᵀ  −Rᵀp]``."""
-        transposed = self._rotation_array().T
-        return Pose(-(transposed @ self._position_array()), transposed)
+        """The pose of the outer frame in this one: ``[Rᵀ  −Rᵀp]``.
+
+        ``Rᵀp`` is summed as BLAS's ``dgemv`` sums a transposed product (from +0.0, left to
+        right, no fused multiply-add), which NumPy computed here before: the same bits, so
+        that every pose printed stays as it was."""
+        (r0, r1, r2), (p0, p1, p2) = self.rotation, self.position
+        position = (-(0.0 + r0[0] * p0 + r1[0] * p1 + r2[0] * p2),
+                    -(0.0 + r0[1] * p0 + r1[1] * p1 + r2[1] * p2),
+                    -(0.0 + r0[2] * p0 + r1[2] * p1 + r2[2] * p2))
+        return Pose._trusted(position, tuple(zip(r0, r1, r2)))  # type: ignore[arg-type]
 
     def relative_to(self, frame: Pose) -> Pose:
         """This pose expressed in ``frame`` (both given in the same outer frame).
@@ -163,7 +169,7 @@ class Pose:
         that the conformance check allows. Values are not passed through ``clean``: that is the
         printer's choice.
         """
-        from scipy.spatial.transform import Rotation
+        from scipy.spatial.transform import Rotation  # lazy: SciPy, for the LSP and `show`
 
         roll, pitch, yaw = Rotation.from_matrix(self._rotation_array()).as_euler(
             "xyz", suppress_warnings=True
@@ -177,11 +183,17 @@ class Pose:
 
     def apply(self, point: Sequence[float]) -> Vector3:
         """``point`` (given in this pose's frame) expressed in the outer frame: ``R·point + p``."""
-        moved = self._rotation_array() @ np.asarray(point, dtype=float)
-        return _vector(moved + self._position_array())
+        import numpy as np  # lazy: for the drawings of ``cyphy view``, which use NumPy anyway
 
-    def matrix(self) -> np.ndarray:
-        """The 4x4 homogeneous matrix ``[R p; 0 1]`` (a fresh array the caller may modify)."""
+        moved = self._rotation_array() @ np.asarray(point, dtype=float)
+        x, y, z = (moved + self._position_array()).tolist()
+        return (x, y, z)
+
+    def matrix(self) -> Any:
+        """The 4x4 homogeneous NumPy matrix ``[R p; 0 1]`` (a fresh array the caller may
+        modify)."""
+        import numpy as np  # lazy: the dynamics compute with it; the SDF path never asks
+
         result = np.eye(4)
         result[:3, :3] = self._rotation_array()
         result[:3, 3] = self._position_array()
@@ -193,28 +205,38 @@ class Pose:
         Comparing matrices rather than Euler angles keeps poses near gimbal lock comparable: there
         two nearly equal rotations can have angles that differ by 2π (sdf-robotool.md §3.2).
         """
-        return np.allclose(
-            self._position_array(), other._position_array(), rtol=0.0, atol=tol
-        ) and np.allclose(self._rotation_array(), other._rotation_array(), rtol=0.0, atol=tol)
+        mine = (*self.position, *(x for row in self.rotation for x in row))
+        theirs = (*other.position, *(x for row in other.rotation for x in row))
+        return all(abs(a - b) <= tol for a, b in zip(mine, theirs))
 
-    def _position_array(self) -> np.ndarray:
+    def _position_array(self) -> Any:
+        import numpy as np  # lazy: for SciPy's and NumPy's callers only
+
         return np.array(self.position)
 
-    def _rotation_array(self) -> np.ndarray:
+    def _rotation_array(self) -> Any:
+        import numpy as np  # lazy: for SciPy's and NumPy's callers only
+
         return np.array(self.rotation)
 
 
-def _vector(values: np.ndarray) -> Vector3:
-    x, y, z = (float(v) for v in values)
-    return (x, y, z)
+def _listed(values: Any) -> list[Any]:
+    """A list of ``values`` (a sequence, or a NumPy array or Array, through ``tolist``)."""
+    return values.tolist() if hasattr(values, "tolist") else list(values)
 
 
-def _is_rotation(matrix: np.ndarray) -> bool:
+def _floats(values: Any) -> list[float]:
+    try:
+        return [float(v) for v in _listed(values)]
+    except TypeError:
+        raise ValueError("a pose needs a 3-vector position and a 3x3 rotation matrix") from None
+
+
+def _is_rotation(m: list[list[float]]) -> bool:
     """Orthonormal with determinant +1, within the drift that repeated composition causes.
 
     Plain arithmetic on the nine entries: ``np.allclose`` costs more than the composition it
     guards, and every elaborated element builds poses."""
-    m = matrix.tolist()
     for i in range(3):
         for j in range(i, 3):
             dot = m[i][0] * m[j][0] + m[i][1] * m[j][1] + m[i][2] * m[j][2]

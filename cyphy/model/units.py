@@ -14,16 +14,17 @@ from __future__ import annotations
 
 import json
 import sys
-from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 from types import MappingProxyType
 from typing import Iterable, Mapping
 
+from cyphy.records import record
+
 TABLE = Path(__file__).with_name("units.json")
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class Dimension:
     """Exponents of base dimensions, sorted by name, zeros left out (dimensionless: empty)."""
 
@@ -63,7 +64,7 @@ def _power(name: str, exponent: float) -> str:
     return name if exponent == 1 else f"{name} ** {exponent:g}"
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class Unit:
     factor: float  # the value in SI base units of one of this unit
     dimension: Dimension
@@ -80,7 +81,7 @@ def units() -> Mapping[str, Unit]:
 def from_pint(names: Iterable[str]) -> dict[str, dict[str, object]]:
     """The table entries for ``names`` as Pint gives them (imports Pint: slow, tests and
     regeneration only)."""
-    import pint
+    import pint  # lazy: Pint takes a second to load; tests and regeneration only
 
     registry = pint.UnitRegistry()
     out: dict[str, dict[str, object]] = {}

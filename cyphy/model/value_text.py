@@ -16,7 +16,7 @@ def same_value(a: Value, b: Value) -> bool:
         return float(a) == float(b)
     if isinstance(a, (int, float)) or isinstance(b, (int, float)):
         return False
-    return a.shape == b.shape and bool((a == b).all())
+    return a.shape == b.shape and all(x == y for x, y in zip(a.flat, b.flat))
 
 
 def format_value(v: Value) -> str:
@@ -27,6 +27,5 @@ def format_value(v: Value) -> str:
         return repr(v)
     if isinstance(v, str):
         return f'"{v}"'
-    rows = v.reshape(1, -1) if v.ndim == 1 else v
-    text = "; ".join(", ".join(format_value(float(x)) for x in row) for row in rows)
+    text = "; ".join(", ".join(format_value(float(x)) for x in row) for row in v.rows())
     return f"(|{text}|)"

@@ -11,12 +11,10 @@ import numbers
 import sys
 from typing import TypeAlias, Union
 
-import numpy as np
-from numpy.typing import NDArray
-
 from cyphy.diagnostics import Span
+from cyphy.model.array import Array
 
-Vec: TypeAlias = NDArray[np.float64]
+Vec: TypeAlias = Array
 Value: TypeAlias = Union[float, int, bool, str, Vec]
 
 NO_SPAN = Span.unknown()
@@ -60,10 +58,9 @@ def is_number(value: object) -> bool:
 
 
 def frozen(data: object) -> Vec:
-    """A read-only float copy of ``data``: values are immutable however they were computed."""
-    array = np.array(data, dtype=np.float64)
-    array.flags.writeable = False
-    return array
+    """The :class:`~cyphy.model.array.Array` of ``data`` (nested sequences of numbers, an
+    Array, a NumPy array): values are immutable however they were computed."""
+    return Array.of(data)
 
 
 def describe(value: object) -> str:
@@ -85,8 +82,11 @@ def describe(value: object) -> str:
 
 
 def from_env(name: str, value: object) -> Value:
-    """An ``env`` entry as a :data:`Value`: NumPy scalars become Python ones, arrays frozen."""
-    if isinstance(value, (bool, np.bool_)):
+    """An ``env`` entry as a :data:`Value`: NumPy scalars become Python ones, arrays
+    :class:`~cyphy.model.array.Array` (recognised without importing NumPy)."""
+    if isinstance(value, Array):
+        return value
+    if isinstance(value, bool) or _is_numpy(value, "bool"):
         return bool(value)
     if isinstance(value, numbers.Integral):
         return int(value)
@@ -94,12 +94,21 @@ def from_env(name: str, value: object) -> Value:
         return float(value)
     if isinstance(value, str):
         return value
-    if isinstance(value, np.ndarray) and value.ndim in (1, 2) and value.dtype.kind in "iuf":
+    if _is_numpy(value, "ndarray") and value.ndim in (1, 2) \
+            and value.dtype.kind in "iuf":  # type: ignore[attr-defined]
         return frozen(value)
     raise ValueError(
         f"the value given for '{name}' ({type(value).__name__}) is not a number, boolean, "
         "string, vector or matrix"
     )
+
+
+def _is_numpy(value: object, kind: str) -> bool:
+    """Whether ``value`` is NumPy's ``ndarray`` or ``bool`` (``bool_``), asked of its type's
+    name so that a model without NumPy values never imports NumPy."""
+    cls = type(value)
+    return cls.__module__ == "numpy" and cls.__name__ in ((kind, "bool_") if kind == "bool"
+                                                          else (kind,))
 
 
 def literal_value(text: str) -> int | float:
@@ -125,13 +134,13 @@ def require_finite(value: Value) -> None:
         raise ValueError("the result is not a finite number (overflow)")
     if isinstance(value, int) and not isinstance(value, bool) and abs(value) > _LARGEST:
         raise ValueError("the result is too large (beyond ±1.8e308)")
-    if isinstance(value, np.ndarray) and not np.all(np.isfinite(value)):
+    if isinstance(value, Array) and not all(map(math.isfinite, value.flat)):
         raise ValueError("the result has an entry that is not a finite number (overflow)")
 
 
 def arithmetic(op: str, value: Value) -> Value:
     """``value`` if it may take part in arithmetic (a number or an array)."""
-    if is_number(value) or isinstance(value, np.ndarray):
+    if is_number(value) or isinstance(value, Array):
         return value
     raise ValueError(f"'{op}' needs numbers, vectors or matrices, not {describe(value)}")
 

@@ -3,7 +3,7 @@ the mappings' consistency with Z3) reported. The first stage of every command.""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import Mapping, Sequence
 
@@ -14,10 +14,11 @@ from cyphy.lang.placement import check_placement
 from cyphy.lang.resolve import Resolution, check_scopes
 from cyphy.lang.targets import folder_files
 from cyphy.lang.workspace import Workspace, load_workspace
+from cyphy.records import record
 from cyphy.wellformed import RULES, WFContext, check_wellformed
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class CheckOptions:
     syntax_only: bool = False
     search_paths: tuple[str, ...] = ()
@@ -31,7 +32,7 @@ class CheckOptions:
     overrides: Mapping[str, str] = field(default_factory=dict)  # path → unsaved text (editors)
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class CheckResult:
     workspace: Workspace
     report: Report
@@ -71,7 +72,7 @@ def _front_end(paths: Sequence[str | Path], options: CheckOptions) -> CheckResul
 
 def _check_consistency(ws: Workspace, resolution: Resolution, report: Report,
                        options: CheckOptions) -> None:
-    # lazy: NumPy, Z3: `cyphy check` must not pay for it
+    # lazy: Z3 and the encoding: only `--consistency` pays for them
     from cyphy.semantics.consistency import DEFAULT_TIMEOUT_MS, check_consistency
 
     check_consistency(ws, resolution, report, options.consts,

@@ -6,14 +6,14 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import Any, Sequence
 
 from cyphy.deep import deep
 from cyphy.diagnostics import Report
+from cyphy.model.default_inertial import apply_default_inertial
+from cyphy.model.elaborate import elaborate as run
+from cyphy.model.elements import ElaboratedModel
 from cyphy.pipeline.check import CheckOptions, CheckResult, check
-
-if TYPE_CHECKING:  # the model needs NumPy and SciPy: `cyphy check` must not import them
-    from cyphy.model.elements import ElaboratedModel
 
 
 @dataclass(frozen=True)
@@ -33,7 +33,7 @@ class ElaborateOptions:
 @dataclass
 class ElaborateResult:
     check: CheckResult
-    model: "ElaboratedModel | None"
+    model: ElaboratedModel | None
 
     @property
     def report(self) -> Report:
@@ -45,9 +45,6 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
               ) -> ElaborateResult:
     """Check the files, then elaborate one p-model. The model is None when the files have
     errors (generation must not run on them) or no p-model can be chosen."""
-    # lazy: NumPy: `cyphy check` must not pay for it
-    from cyphy.model.elaborate import elaborate as run
-
     # With the constants given (--const, a scenario's [consts]): the checks that need a
     # constant's value (IX5's index ranges, STM9's cycle, the value checks) decide then.
     checked = check(paths, CheckOptions(search_paths=options.search_paths,
@@ -61,9 +58,6 @@ def elaborate(paths: Sequence[str | Path], options: ElaborateOptions = Elaborate
     if any(d.code.id in ("E-CONST-NAME", "E-OPTION") for d in checked.report.errors):
         return ElaborateResult(checked, None)  # a misspelt --const: nothing is shown
     if model is not None and options.default_inertial is not None:
-        # lazy: NumPy: `cyphy check` must not pay for it
-        from cyphy.model.default_inertial import apply_default_inertial
-
         apply_default_inertial(model, checked.report, options.default_inertial)
     return ElaborateResult(checked, model)
 

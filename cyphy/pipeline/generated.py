@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from cyphy.diagnostics import Report
+from cyphy.records import record
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Generated:
     """What a generator produced: files by relative path, in writing order. ``files`` is
     empty when the model has errors (the report says which), so nothing gets written."""

@@ -4,26 +4,22 @@ every constant the geometry needs valued (the equations' constants may stay with
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Sequence
+from typing import Sequence
 
+from cyphy.model.choose import choose_pmodel, require_constants
+from cyphy.model.elaborate import elaborate_pmodel
+from cyphy.model.elements import ElaboratedModel
 from cyphy.pipeline.check import CheckOptions, CheckResult, check
 from cyphy.pipeline.generated import Generated
 from cyphy.semantics.sdf.rules import unvalued
 
-if TYPE_CHECKING:  # the model needs NumPy and SciPy: `cyphy check` must not import them
-    from cyphy.model.elements import ElaboratedModel
-
 
 def geometric_model(paths: Sequence[str | Path], name: str | None,
                      consts: dict[str, object], search_paths: tuple[str, ...], purpose: str
-                     ) -> tuple[CheckResult, Generated, "ElaboratedModel | None"]:
+                     ) -> tuple[CheckResult, Generated, ElaboratedModel | None]:
     """Check the files and elaborate one p-model for a geometric export (SDF, URDF, MJCF,
     pictures): the model is None when the files have errors or a constant that geometry
     needs has no value (constants only the equations use may stay without one)."""
-    # lazy: NumPy: `cyphy check` must not pay for it
-    from cyphy.model.choose import choose_pmodel, require_constants
-    from cyphy.model.elaborate import elaborate_pmodel  # lazy: NumPy (see above)
-
     checked = check(paths, CheckOptions(search_paths=search_paths, consts=dict(consts),
                                         find_in_folder="pmodel"))
     generated = Generated(checked.report, checked.sources)
@@ -44,7 +40,7 @@ def geometric_model(paths: Sequence[str | Path], name: str | None,
     return checked, generated, model
 
 
-def _device_constant(model: "ElaboratedModel", name: str) -> bool:
+def _device_constant(model: ElaboratedModel, name: str) -> bool:
     """Whether a missing constant (``IR::a``) is a constant of a device's definition: the
     equations need it, SDF only if an annotation uses it."""
     definition, _, const = name.rpartition("::")

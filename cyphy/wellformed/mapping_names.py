@@ -4,7 +4,6 @@ write (PMap7-PMap10): the classification the access conditions judge."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Iterator
 
 from cyphy import expr as ex
@@ -13,6 +12,7 @@ from cyphy.lang import ast
 from cyphy.lang.notation import to_notation
 from cyphy.lang.resolve import block_children, path_roots, steps_of
 from cyphy.lang.scopes import is_definition, is_pmodel, is_value
+from cyphy.records import record
 from cyphy.wellformed.platform_services import Container, MemberMapping, Site, kind_of, service_of
 from cyphy.wellformed.registry import WFContext
 
@@ -21,7 +21,7 @@ SENSOR_OUT, SENSOR_IN, ACT_IN, ACT_OUT, OTHER, UNKNOWN = (
     "sensor-out", "sensor-in", "actuator-in", "actuator-out", "other", "unknown")
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class Ref:
     """One name or element path used in a mapping, with what it denotes."""
 
@@ -33,7 +33,7 @@ class Ref:
     ports: tuple[ast.VarDecl, ...] = ()  # all variables of ``block``, for hints
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class Access:
     """What one kind of mapping may read and write (PMap7-PMap10)."""
 

@@ -6,19 +6,20 @@ consistency translations."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Iterator, Union
 
 from cyphy.lang import ast
 from cyphy.lang.notation import type_to_notation
 from cyphy.lang.scopes import is_interface, is_node, is_pmodel
+from cyphy.records import record
 from cyphy.wellformed.registry import WFContext
 
 MemberMapping = Union[ast.OperationMapping, ast.EventMapping, ast.VariableMapping]
 Container = Union[ast.PModel, ast.Block, ast.Part]
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class Service:
     """An operation, event or variable of a robotic platform and where it is declared."""
 
@@ -40,7 +41,7 @@ class Service:
         return f"{self.kind} {self.name}"
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Platform:
     module: ast.Module
     platform: ast.RoboticPlatform
@@ -73,7 +74,7 @@ class Platform:
         return None
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Site:
     """One platform mapping with what its header resolved to."""
 

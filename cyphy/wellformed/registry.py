@@ -8,7 +8,7 @@ hint)``. Rules never print, raise or exit (``style.md`` 8-10). The summary is th
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any, Callable, Iterator
 
 from cyphy import codes, collector, progress
@@ -17,9 +17,10 @@ from cyphy.lang import ast
 from cyphy.lang.resolve import Resolution
 from cyphy.lang.scopes import Scopes
 from cyphy.lang.workspace import Workspace
+from cyphy.records import record
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class Rule:
     id: str
     summary: str
@@ -44,7 +45,7 @@ def rule(id: str, summary: str, severity: Severity = Severity.ERROR
     return register
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class BlockSite:
     """A block with where it is: its file, p-model and enclosing blocks (outermost first)."""
 
@@ -63,7 +64,7 @@ class BlockSite:
         return self.ancestors[-1] if self.ancestors else None
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class WFContext:
     workspace: Workspace
     resolution: Resolution

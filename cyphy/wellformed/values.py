@@ -12,11 +12,10 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from cyphy import progress
 from cyphy.diagnostics import Code, Report, Severity
 from cyphy.lang import ast
+from cyphy.model.array import Array
 from cyphy.model.choose import top_level_pmodels
 from cyphy.model.device_names import RELATION
 from cyphy.model.elaborate import INDEX, elaborate_pmodel
@@ -256,13 +255,10 @@ def _vector(v: Any) -> tuple[float, float, float] | None:
     """``v`` as three floats, or None when it is not a 3-vector. Plain floats, not an array:
     the check does a few operations per joint, where NumPy's per-call cost dominates."""
 
-    if v is None or isinstance(v, (bool, str, tuple)):
-        return None
-    try:
-        array = np.asarray(v, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        return None
-    return tuple(array.tolist()) if array.shape == (3,) else None  # type: ignore[return-value]
+    if isinstance(v, Array) and v.size == 3:
+        x, y, z = v.flat
+        return (x, y, z)
+    return None
 
 
 def _allclose(a: list[float], b: list[float], rtol: float = 1e-5, atol: float = 1e-9) -> bool:

@@ -22,9 +22,8 @@ import json
 import math
 import xml.etree.ElementTree as ET
 
-import numpy as np
-
 from cyphy import collector
+from cyphy.model.array import Array
 from cyphy.model.poses import Pose
 from cyphy.semantics.sdf.tree import Comment, Node, Text
 
@@ -35,7 +34,7 @@ def number(value: float | int | bool) -> str:
     """One number as SDF prints it (see the module docstring)."""
     if isinstance(value, bool):
         return "true" if value else "false"
-    if isinstance(value, (int, np.integer)):
+    if isinstance(value, int) or hasattr(value, "__index__"):  # NumPy's integers too
         return str(int(value))
     v = float(value)
     if not math.isfinite(v):
@@ -79,8 +78,8 @@ def text_of(value: Text) -> str | None:
         return value
     if isinstance(value, Pose):
         return " ".join(number(v) for v in xyz_rpy(value))
-    if isinstance(value, np.ndarray):
-        return " ".join(number(v) for v in value.ravel().tolist())
+    if isinstance(value, Array):
+        return " ".join(number(v) for v in value.flat)
     if isinstance(value, (tuple, list)):
         return " ".join(number(v) if not isinstance(v, str) else v for v in value)
     return number(value)  # type: ignore[arg-type]

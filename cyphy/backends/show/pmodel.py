@@ -20,9 +20,8 @@ from __future__ import annotations
 import json
 from typing import Any
 
-import numpy as np
-
 from cyphy.lang.notation import to_notation
+from cyphy.model.array import Array
 from cyphy.model.elements import (
     AnnotationValue, Body, Device, ElaboratedModel, Joint, Link, Sensor,
 )
@@ -37,7 +36,7 @@ def _number(v: float) -> float | int:
 
 
 def _value(v: Any) -> Any:
-    if isinstance(v, np.ndarray):
+    if isinstance(v, Array):
         return [_value(x) for x in v.tolist()]
     if isinstance(v, list):
         return [_value(x) for x in v]

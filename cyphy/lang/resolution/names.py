@@ -4,19 +4,20 @@ chain of local :class:`Scope` s, element paths as steps, and the small helpers o
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Iterable, Iterator, Union
 
 from cyphy import expr as ex
 from cyphy.diagnostics import Span, did_you_mean
 from cyphy.lang import ast
 from cyphy.lang.workspace import Declaration
+from cyphy.records import record
 
 BUILTIN_NAMES = {"t"}  # time, used undeclared in equations and mappings
 Container = Union[ast.PModel, ast.Block, ast.Part]
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Resolution:
     """What references resolved to, keyed by ``id`` of the referring node."""
 
@@ -31,7 +32,7 @@ class Resolution:
         return self.targets.get(id(node))
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Scope:
     """Names declared by enclosing blocks: name → what declares it (a VarDecl, IndexDecl…)."""
 

@@ -46,6 +46,7 @@ import numpy as np
 
 from cyphy import disk_cache, progress
 from cyphy import expr as ex
+from cyphy.model.array import Array
 from cyphy.model.elements import Device, Joint, Link
 from cyphy.semantics.dynamics.tree import KinematicTree, TreeJoint
 
@@ -154,6 +155,8 @@ def _encode(value: Any, out: list[str]) -> None:
         out.append(f"{type(value).__name__}:{value!r}")
     elif isinstance(value, float):
         out.append(f"float:{value.hex()}")
+    elif isinstance(value, Array):
+        out.append(f"Array:{value.shape}:" + ",".join(x.hex() for x in value.flat))
     elif isinstance(value, np.ndarray):
         if value.dtype.hasobject:
             raise TypeError("an array of objects")

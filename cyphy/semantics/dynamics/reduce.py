@@ -31,6 +31,7 @@ from cyphy import expr as ex
 from cyphy.translate.to_sympy import T, SympyPrinter, UnsupportedNode
 from cyphy.lang import ast
 from cyphy.diagnostics import Span
+from cyphy.model.array import Array
 from cyphy.semantics.dynamics.equations import Equation, System
 from cyphy.semantics.dynamics.obstacles import Obstacle, competition, in_library, note
 from cyphy.semantics.dynamics.solving import (blocks_in_order, cancel_sums, match_unknowns,
@@ -63,7 +64,7 @@ def _exact(v: Any) -> Any:
         return sympy.Integer(v)
     if isinstance(v, float):
         return sympy.Rational(repr(v))
-    if isinstance(v, np.ndarray):
+    if isinstance(v, (np.ndarray, Array)):
         if v.ndim == 1:
             return sympy.Matrix([_exact(float(x)) for x in v])
         return sympy.Matrix([[_exact(float(x)) for x in row] for row in v])

@@ -12,7 +12,9 @@ automaton *is* the interpreter's behaviour, not a second reading of the rules:
 - clock counts **saturate** at the first count past the largest constant the clock is
   compared with (``since(C) < PI/av``: beyond it every comparison keeps its value), so
   clocks add finitely many configurations; variables are explored by value and must take
-  finitely many (at most :data:`MAX_CONFIGURATIONS` configurations);
+  finitely many (at most :data:`MAX_CONFIGURATIONS` configurations), except those that no
+  guard, call or output depends on (:mod:`~cyphy.semantics.machines.relevance`), which stay
+  at their initial values: what the machine does is the same without them;
 - modes with the same calls and the same successors are merged (partition refinement),
   and the input combinations leading from one mode to another are written as few
   conjunctions of event literals as a prime-implicant cover gives;
@@ -34,6 +36,7 @@ reported, not approximated.
 
 from __future__ import annotations
 
+import copy
 import itertools
 import math
 from dataclasses import dataclass
@@ -42,6 +45,7 @@ from typing import Any, Callable, Sequence, TypeVar
 from cyphy import expr as ex
 from cyphy.model.machines import Machine, expressions
 from cyphy.semantics.machines.cycle import Configuration, MachineError, MachineInterpreter, Output
+from cyphy.semantics.machines.relevance import unread_variables
 
 #: A key of :func:`explore`: a configuration, or a tuple of modes.
 K = TypeVar("K")
@@ -108,6 +112,11 @@ def compile_machine(interpreter: MachineInterpreter, first_cycle: bool = False) 
     if len(events) > MAX_EVENTS:
         raise MachineError(f"{m.name} reads {len(events)} input events: more than "
                            f"{MAX_EVENTS} make too many combinations", m.decl.span)
+    # variables no guard, call or output reads: kept at their initial values, so a counter
+    # the machine only writes does not make every cycle a new configuration
+    interpreter.reset()
+    unread = {n: interpreter.variables[n]
+              for n in unread_variables(m, interpreter.operations)}
     caps: dict[str | None, dict[str, int]] = {None: clock_caps(interpreter)}
     caps.update({name: clock_caps(interpreter, name) for name in interpreter.operations})
     combos = list(itertools.product((False, True), repeat=len(events)))
@@ -122,6 +131,8 @@ def compile_machine(interpreter: MachineInterpreter, first_cycle: bool = False) 
                                      for e, on in zip(events, combo)})
         outputs = tuple(o for o in outputs if o[0] not in interpreter.observable)
         interpreter.saturate(caps)
+        if unread and interpreter.running is None and not interpreter.stack:
+            interpreter.variables.update(copy.deepcopy(unread))
         return interpreter.configuration(), outputs
 
     firsts = [step(None, combo) for combo in combos]
@@ -135,8 +146,9 @@ def compile_machine(interpreter: MachineInterpreter, first_cycle: bool = False) 
         return MachineError(
             f"{m.name} has more than {MAX_CONFIGURATIONS} configurations: its "
             "variables take too many values to be compiled", m.decl.span,
-            "let its variables take fewer values: reach, simulate and the "
-            "theory's D all run the compiled automaton")
+            "let the variables that its guards and calls read take fewer values: reach "
+            "runs the compiled automaton (simulate and the theory's D run the machine "
+            "itself)")
 
     keys, successors = explore(starts, combos, lambda key, combo: step(key[0], combo),
                                MAX_CONFIGURATIONS, too_many)

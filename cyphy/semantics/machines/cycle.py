@@ -58,6 +58,7 @@ from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
+from cyphy.model.array import Array
 from cyphy.model.evaluate import MATH_FUNCTIONS, EvalError, evaluate
 from cyphy.model.machines import Machine, MachineTransition, global_constants, operation_definitions
 from cyphy.semantics.machines.observable import observable_events
@@ -132,7 +133,7 @@ class Configuration:
 
 
 def _frozen(v: Any) -> Any:
-    return tuple(np.asarray(v).ravel().tolist()) if isinstance(v, np.ndarray) else v
+    return tuple(np.asarray(v).ravel().tolist()) if isinstance(v, (np.ndarray, Array)) else v
 
 
 class MachineInterpreter:
@@ -594,6 +595,6 @@ def _floats(value: object, span: Span) -> tuple[float, ...]:
         return (1.0 if value else 0.0,)
     if isinstance(value, (int, float, np.number)):
         return (float(value),)
-    if isinstance(value, np.ndarray):
+    if isinstance(value, (np.ndarray, Array)):
         return tuple(float(x) for x in value.ravel())
     raise MachineError(f"{value!r} cannot be sent to the platform as numbers", span)

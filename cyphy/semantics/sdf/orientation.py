@@ -29,14 +29,13 @@ The procedure, so that a model that is already a forest keeps what it had:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Link
 from cyphy.model.roots import preferred_root
+from cyphy.records import record
 from cyphy.semantics.sdf.topology import Connection, loop_cuts
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class TreeShape:
     """``cuts``: the connections left out (in :func:`loop_cuts` order); ``turned``: the ids
     of the fixed connections written from their target to the link that declares them."""

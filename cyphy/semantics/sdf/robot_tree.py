@@ -20,6 +20,7 @@ import numpy as np
 
 from cyphy.diagnostics import Report
 from cyphy.lang.workspace import Workspace
+from cyphy.model.array import Array
 from cyphy.model.elements import ElaboratedModel, FixedJoint
 from cyphy.model.poses import Pose
 from cyphy.semantics.sdf.rules import translate
@@ -192,7 +193,7 @@ def _value(node: Node | None, *path: str) -> object:
 
 
 def _float(value: object, default: float) -> float:
-    if value is None or isinstance(value, (str, tuple, Pose, np.ndarray)):
+    if value is None or isinstance(value, (str, tuple, Pose, Array)):
         return default
     return float(value)  # type: ignore[arg-type]
 
@@ -241,8 +242,8 @@ def _shape(visual: Node, link: Pose, qualified: dict[str, str]) -> Shape | None:
 
 
 def _vector(value: object) -> list[float]:
-    if isinstance(value, np.ndarray):
-        return [float(v) for v in value.ravel()]
+    if isinstance(value, Array):
+        return list(value.flat)
     if isinstance(value, (tuple, list)):
         return [float(v) for v in value]
     if isinstance(value, str):

@@ -5,13 +5,14 @@ with the tables of SDF's joint and sensor types and of the targets' needs.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from cyphy import codes
 from cyphy.diagnostics import Report
 from cyphy.lang.workspace import Workspace
 from cyphy.model.elements import Body, ElaboratedModel, Joint, Link
 from cyphy.model.poses import Pose
+from cyphy.records import record
 from cyphy.semantics.sdf.annotations import Templates
 from cyphy.semantics.sdf.names import Names
 from cyphy.semantics.sdf.tree import Node
@@ -62,7 +63,7 @@ COPPELIASIM_SENSOR = Pose.from_xyz_rpy(0.0, 0.0, 0.0, 0.0, 1.57079632679, 0.0)
 DEFAULT_MASS = 1.0
 
 
-@dataclass(frozen=True)
+@record(slots=False)
 class SdfOptions:
     pose: tuple[float, float, float, float, float, float] = (0.0,) * 6
     short_names: bool = False
@@ -73,7 +74,7 @@ class SdfOptions:
     split_trees: bool = False  # a <world> with one <model> per tree of links
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class SdfDocument:
     """What the rules produce: the ``<sdf>`` element and the SDF-name → qualified-name table."""
 

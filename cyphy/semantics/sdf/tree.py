@@ -7,25 +7,25 @@ numbers, booleans, strings and vectors until the writer prints them.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Union
 
-import numpy as np
-
+from cyphy.model.array import Array
 from cyphy.model.poses import Pose
+from cyphy.records import record
 
 #: What an element's text may hold; the writer prints each kind (vectors with spaces).
-Text = Union[None, bool, int, float, str, tuple, np.ndarray, Pose]
+Text = Union[None, bool, int, float, str, tuple, Array, Pose]
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Comment:
     """An XML comment (the writer makes any text safe to put in one)."""
 
     text: str
 
 
-@dataclass(slots=True)
+@record(frozen=False)
 class Node:
     """One SDF element: tag, attributes in writing order, text, children in writing order."""
 
