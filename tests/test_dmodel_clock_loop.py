@@ -24,6 +24,7 @@ import pytest
 
 from cyphy import api
 from cyphy import expr as ex
+from conftest import needs_flowstar
 from cyphy.cli import main
 from cyphy.semantics.circus.path_facts import Facts
 
@@ -123,3 +124,55 @@ def test_facts_fold_exactly_and_leave_the_unknown_open() -> None:
     # an assignment that does not fold forgets; division by zero is not folded
     assert facts.assigned("D_c", x).value(c) is None
     assert Facts().value(ex.BinOp("/", ex.Num("1"), ex.Num("0"))) is None
+
+
+REACH = """model = "DCMotorBase"
+elements = ["DCMotorBase::Bench::Shaft::Motor", "DCMotorBase::Bench::Range"]
+horizon = 1.5
+tscale = 0.1
+[init]
+Motor_av = 0
+Motor_i = 0
+Motor_int1 = 0
+Motor_theta = 0
+Range_distance = [5, 5.1]
+[environment]
+Range_distance = "-2"
+[unsafe]
+constraints = ["Motor_av >= {bound}"]
+[flowstar]
+step = 0.01
+order = 6
+remainder = 1e-2
+cutoff = 1e-12
+precision = 53
+max_jumps = 40
+"""
+
+
+@pytest.mark.parametrize("bound, verdict", [(16, "SAFE"), (12.5, "UNSAFE")])
+@needs_flowstar
+def test_reach_compiles_the_machine_with_its_counter(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], bound: float, verdict: str) -> None:
+    """The machine counts its switches in ``n``, which nothing reads: the automaton leaves it
+    out (it had a mode per count: refused past 5000 configurations), and its first cycle
+    reads ``near``, decided on the initial box (never near in it: Fast, exact). The speed
+    overshoots 10 rad/s to about 12.8 before the first switch to 4, and later peaks are
+    lower: below 16 (SAFE), above 12.5 (UNSAFE), as ``simulate`` shows from each end of the
+    box."""
+    folder, _ = _model(tmp_path / "bench", 5.0)
+    scenario = tmp_path / "reach.toml"
+    scenario.write_text(REACH.format(bound=bound))
+    for start in (5.0, 5.1):
+        point = tmp_path / f"point{start}.toml"
+        point.write_text(SCENARIO.format(distance=start).replace("horizon = 1.6",
+                                                                  "horizon = 1.5"))
+        speed = np.array(_run("simulate", folder, point)["columns"]["Motor_av"])
+        assert 12.6 < speed.max() < 13.5
+    capsys.readouterr()
+    code = main(["reach", str(folder), "--scenario", str(scenario), "--jobs", "1",
+                 "--timeout", "240", "-o", str(tmp_path / "out")])
+    out = capsys.readouterr().out
+    assert (code, out.split(":")[0]) == ({"SAFE": 0, "UNSAFE": 1}[verdict], verdict), out
+    assert "the first cycle reads near at the initial state: on the initial set it ends " \
+        "in Fast (exact)" in out

@@ -40,7 +40,6 @@ from conftest import needs_flowstar
 from cyphy import api
 from cyphy.cli import main
 from cyphy.verify.animate.animation import Animation, animate
-from cyphy.verify.animate.errors import AnimateError
 
 HELDOUT = Path(__file__).parent / "data" / "heldout"
 PENDULUM, LIFT, ROVER, RANGER = (HELDOUT / m for m in ("pendulum", "lift", "rover", "ranger"))
