@@ -7,9 +7,9 @@ semantics says. Quantities (``0.06m``) become their SI values, so no printer see
 
 from __future__ import annotations
 
+from decimal import Decimal
 from typing import Any, Sequence
 
-import numpy as np
 
 from cyphy import expr as ex
 from cyphy.lang import ast
@@ -86,7 +86,11 @@ def _number(value: float) -> ex.Expr:
         value = 0.0  # no -0.0
 
     # Positional, shortest round-trip digits: no exponent (Flow* and CZT reject `1e-5`).
-    text = np.format_float_positional(abs(value), unique=True, trim="0")
+    # repr gives the shortest digits that read back as the value, Decimal writes them
+    # without an exponent (as NumPy's format_float_positional(unique=True, trim="0") does,
+    # whose import costs start-up: tests/test_circus_values.py compares the two).
+    text = format(Decimal(repr(abs(value))), "f")
+    text = text if "." in text else text + ".0"
     return ex.Num(text) if value >= 0 else ex.UnaryOp("-", ex.Num(text))
 
 

@@ -52,13 +52,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-import numpy as np
-
 from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
-from cyphy.model.array import Array
+from cyphy.semantics.machines import scalars
 from cyphy.model.evaluate import MATH_FUNCTIONS, EvalError, evaluate
 from cyphy.model.machines import Machine, MachineTransition, global_constants, operation_definitions
 from cyphy.semantics.machines.observable import observable_events
@@ -133,7 +131,7 @@ class Configuration:
 
 
 def _frozen(v: Any) -> Any:
-    return tuple(np.asarray(v).ravel().tolist()) if isinstance(v, (np.ndarray, Array)) else v
+    return tuple(v.ravel().tolist()) if scalars.is_vector(v) else v
 
 
 class MachineInterpreter:
@@ -204,7 +202,7 @@ class MachineInterpreter:
             return False
         if isinstance(t, ast.VectorType) and t.size is not None:
             size = self._value(t.size, constants)
-            return np.zeros(int(size))  # type: ignore[call-overload]
+            return scalars.zeros(int(size))
         return 0.0
 
     def reset(self) -> None:
@@ -493,7 +491,7 @@ class MachineInterpreter:
             if name not in self.variables and name in self.current.platform.written:
                 raise MachineError(f"one entry of the platform variable {name} cannot be "
                                    "written alone", target.span, f"assign all of {name}")
-            vector = np.array(self.variables.get(name, np.zeros(0)), dtype=float)
+            vector = scalars.array(self.variables.get(name, ()), dtype=float)
             i = int(self._number(target.args[0])) - 1
             if not 0 <= i < vector.size:
                 raise MachineError(f"index {i + 1} is outside {name} (size {vector.size})",
@@ -532,13 +530,13 @@ class MachineInterpreter:
 
     def _truth(self, e: ex.Expr, bindings: Mapping[str, object]) -> bool:
         value = self._eval(e, bindings)
-        if not isinstance(value, (bool, np.bool_)):
+        if not scalars.is_truth(value):
             raise MachineError("a condition must be true or false", e.span)
         return bool(value)
 
     def _number(self, e: ex.Expr) -> float:
         value = self._eval(e)
-        if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
+        if not scalars.is_number(value):
             raise MachineError("a number is needed here", e.span)
         return float(value)
 
@@ -587,14 +585,14 @@ def _frozen_vars(variables: Mapping[str, object]) -> tuple[tuple[str, Any], ...]
 
 
 def _thawed_vars(variables: tuple[tuple[str, Any], ...]) -> dict[str, object]:
-    return {n: np.array(v) if isinstance(v, tuple) else v for n, v in variables}
+    return {n: scalars.array(v) if isinstance(v, tuple) else v for n, v in variables}
 
 
 def _floats(value: object, span: Span) -> tuple[float, ...]:
-    if isinstance(value, (bool, np.bool_)):
+    if scalars.is_truth(value):
         return (1.0 if value else 0.0,)
-    if isinstance(value, (int, float, np.number)):
+    if scalars.is_number(value):
         return (float(value),)
-    if isinstance(value, (np.ndarray, Array)):
+    if scalars.is_vector(value):
         return tuple(float(x) for x in value.ravel())
     raise MachineError(f"{value!r} cannot be sent to the platform as numbers", span)
