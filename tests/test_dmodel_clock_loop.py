@@ -126,19 +126,13 @@ def test_facts_fold_exactly_and_leave_the_unknown_open() -> None:
     assert Facts().value(ex.BinOp("/", ex.Num("1"), ex.Num("0"))) is None
 
 
-REACH = """model = "DCMotorBase"
-elements = ["DCMotorBase::Bench::Shaft::Motor", "DCMotorBase::Bench::Range"]
-horizon = 1.5
-tscale = 0.1
-[init]
-Motor_av = 0
-Motor_i = 0
-Motor_int1 = 0
-Motor_theta = 0
-Range_distance = [5, 5.1]
-[environment]
-Range_distance = "-2"
-[unsafe]
+# the motor and the range finder alone (the shaft's own states left out), the obstacle
+# starting anywhere in [5, 5.1]
+REACH = SCENARIO.replace("horizon = 1.6", "horizon = 1.5").replace(
+    'model = "DCMotorBase"\n', 'model = "DCMotorBase"\nelements = '
+    '["DCMotorBase::Bench::Shaft::Motor", "DCMotorBase::Bench::Range"]\n').replace(
+    "Shaft_theta = 0\nShaft_v = 0\n", "").replace(
+    "{distance}", "[5, 5.1]") + """[unsafe]
 constraints = ["Motor_av >= {bound}"]
 [flowstar]
 step = 0.01
