@@ -104,8 +104,6 @@ def resume() -> None:
     global _stopping
     with _lock:
         _stopping = False
-_PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
-_prctl: Any = None  # libc's prctl, found once (not in the child, after fork)
 
 
 interrupts.register(stop_all, resume)
