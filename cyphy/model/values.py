@@ -86,7 +86,7 @@ def from_env(name: str, value: object) -> Value:
     :class:`~cyphy.model.array.Array` (recognised without importing NumPy)."""
     if isinstance(value, Array):
         return value
-    if isinstance(value, bool) or _is_numpy(value, "bool"):
+    if isinstance(value, bool) or is_numpy(value, "bool"):
         return bool(value)
     if isinstance(value, numbers.Integral):
         return int(value)
@@ -94,7 +94,7 @@ def from_env(name: str, value: object) -> Value:
         return float(value)
     if isinstance(value, str):
         return value
-    if _is_numpy(value, "ndarray") and value.ndim in (1, 2) \
+    if is_numpy(value, "ndarray") and value.ndim in (1, 2) \
             and value.dtype.kind in "iuf":  # type: ignore[attr-defined]
         return frozen(value)
     raise ValueError(
@@ -103,7 +103,7 @@ def from_env(name: str, value: object) -> Value:
     )
 
 
-def _is_numpy(value: object, kind: str) -> bool:
+def is_numpy(value: object, kind: str) -> bool:
     """Whether ``value`` is NumPy's ``ndarray`` or ``bool`` (``bool_``), asked of its type's
     name so that a model without NumPy values never imports NumPy."""
     cls = type(value)

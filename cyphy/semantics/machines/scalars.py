@@ -2,39 +2,32 @@
 without importing NumPy.
 
 Why: the interpreter runs on every ``gen --isabelle`` (the automaton of the d-model's
-machines), whose start-up budget NumPy's import alone would exceed. A NumPy value exists
-only once NumPy has been imported, so its types are looked up in ``sys.modules`` rather
-than imported; NumPy is imported only to build a vector variable's value.
+machines), whose start-up budget NumPy's import alone would exceed. NumPy's types are told
+by :func:`cyphy.model.values.is_numpy` (their type's module and name, as the model's values
+are); NumPy is imported only to build a vector variable's value.
 """
 
 from __future__ import annotations
 
-import sys
+import numbers
 from typing import Any
 
 from cyphy.model.array import Array
-
-
-def _numpy() -> Any:
-    return sys.modules.get("numpy")
+from cyphy.model.values import is_numpy
 
 
 def is_truth(value: object) -> bool:
-    np = _numpy()
-    return isinstance(value, bool) or (np is not None and isinstance(value, np.bool_))
+    return isinstance(value, bool) or is_numpy(value, "bool")
 
 
 def is_number(value: object) -> bool:
-    """A number, not a truth value (``True`` is an ``int`` to Python)."""
-    if isinstance(value, bool):
-        return False
-    np = _numpy()
-    return isinstance(value, (int, float)) or (np is not None and isinstance(value, np.number))
+    """A number, not a truth value (``True`` is an ``int`` to Python; NumPy's numbers are
+    ``numbers.Real``)."""
+    return isinstance(value, numbers.Real) and not is_truth(value)
 
 
 def is_vector(value: object) -> bool:
-    np = _numpy()
-    return isinstance(value, Array) or (np is not None and isinstance(value, np.ndarray))
+    return isinstance(value, Array) or is_numpy(value, "ndarray")
 
 
 def array(value: Any, dtype: Any = None) -> Any:
