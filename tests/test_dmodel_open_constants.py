@@ -1,0 +1,147 @@
+"""A machine's constant without a value (the paper's open constant: the model is a family)
+in the theory's ``D``: declared as a constant of the theory (``consts <D>_fast :: real``, as
+the p-model's open constants are) and read where the machine reads it, so the theory holds
+the machine for every value. Before, ``D`` was left opaque (``W-SEMANTICS-DMODEL``) and the
+theory held no machine.
+
+The model: ``tests/data/clock_pulse`` (the motor bench of ``examples/dcmotor`` under a machine
+that alternates a fast and a slow speed every 5 cycles), with ``fast`` left open and ``slow``
+computed from it. Oracle: ``simulate`` of the same machine with the value written in its
+source (the interpreter, never the theory), against ``animate`` of the open theory given that
+value with ``--const``."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cyphy import api
+from cyphy.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+DATA = Path(__file__).parent / "data" / "clock_pulse"
+
+SCENARIO = """model = "DCMotorBase"
+horizon = 1.6
+tscale = 0.1
+[init]
+Motor_av = 0
+Motor_i = 0
+Motor_int1 = 0
+Motor_theta = 0
+Shaft_theta = 0
+Shaft_v = 0
+Range_distance = 10
+[environment]
+Range_distance = "-2"
+"""
+CLOSED = ("const fast: real = 10.0", "const slow: real = 4.0")
+
+
+def _model(folder: Path, fast: str, slow: str) -> Path:
+    """The bench with the machine's two speed constants declared as given."""
+    folder.mkdir()
+    shutil.copy(ROOT / "examples" / "dcmotor" / "DCMotorBase.rsm", folder)
+    for source in DATA.glob("*.rsm"):
+        text = source.read_text()
+        if CLOSED[0] in text:
+            text = text.replace(CLOSED[0], fast).replace(CLOSED[1], slow)
+        (folder / source.name).write_text(text)
+    return folder
+
+
+def _run(args: list[str]) -> dict:
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main([*args, "--samples", "33", "--format", "json", "-q"]) == 0
+    return json.loads(out.getvalue())
+
+
+def _session(folder: Path, dialect: str, scenario: Path, out: Path) -> tuple[str, str, list]:
+    generated = api.generate_isabelle([folder], api.SemanticsGenOptions(
+        dialect=dialect, scenario=str(scenario)))
+    assert not generated.report.has_errors
+    out.mkdir()
+    for name, text in generated.files.items():
+        (out / name).write_text(text)
+    theory = next(t for n, t in generated.files.items() if n.endswith(".thy")
+                  and "Prelude" not in n)
+    return theory, generated.files["names.tsv"], [d.code.id for d in
+                                                  generated.report.diagnostics]
+
+
+@pytest.mark.parametrize("dialect", ("utp", "axiomatic"))
+def test_open_constant_is_a_constant_of_the_theory_and_animates_as_the_model_runs(
+        tmp_path: Path, dialect: str) -> None:
+    scenario = tmp_path / "pulse.toml"
+    scenario.write_text(SCENARIO)
+    family = _model(tmp_path / "family", "const fast: real", "const slow: real = fast * 0.4")
+    theory, names, codes = _session(family, dialect, scenario, tmp_path / "thy")
+    assert "W-SEMANTICS-DMODEL" not in codes and "STM15" in codes, codes
+    # declared open, read by D: the calls carry it, the derived speed as its expression
+    assert "consts PulseSoftware_fast :: real" in theory
+    assert "PulseSoftwareStep" in theory and "PulseSoftware_fast * 0.4" in theory
+    assert "PulseSoftware_slow" not in theory  # computed from fast where it is read
+    assert "Pulse::fast\tPulseSoftware_fast\tPulseSoftware_fast\t" in names
+    assert main(["check-theory", str(tmp_path / "thy")]) == 0
+
+    for value in (10.0, 6.5):  # two members of the family
+        anim = _run(["animate", str(tmp_path / "thy"), "--scenario", str(scenario),
+                     "--const", f"PulseSoftware_fast={value}"])
+        member = _model(tmp_path / f"member{value}", f"const fast: real = {value}",
+                        f"const slow: real = {value * 0.4}")
+        sim = _run(["simulate", str(member), "--scenario", str(scenario)])
+        columns, rows = anim["columns"], np.array(anim["rows"])
+        assert np.allclose(rows[:, 0], sim["t"])
+        for col in ("Motor_av", "Motor_i"):
+            gap = np.max(np.abs(rows[:, columns.index(col)] - sim["columns"][col]))
+            assert gap < 1e-5, (value, col, gap)
+    # the members differ: the value reached the motor
+    assert np.max(np.abs(np.array(sim["columns"]["Motor_av"]) - np.array(
+        _run(["simulate", str(tmp_path / "member10.0"), "--scenario", str(scenario)])
+        ["columns"]["Motor_av"]))) > 1.0
+
+
+def test_animate_asks_for_the_open_constant(tmp_path: Path,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    scenario = tmp_path / "pulse.toml"
+    scenario.write_text(SCENARIO)
+    family = _model(tmp_path / "family", "const fast: real", "const slow: real = 4.0")
+    _session(family, "utp", scenario, tmp_path / "thy")
+    assert main(["animate", str(tmp_path / "thy"), "--scenario", str(scenario), "-q",
+                 "-o", str(tmp_path / "a.csv")]) == 1
+    err = capsys.readouterr().err
+    assert "E-ANIMATE-CONST" in err and "PulseSoftware_fast" in err
+    assert not (tmp_path / "a.csv").exists()
+
+
+def test_an_open_vector_constant_is_refused_with_the_reason(tmp_path: Path) -> None:
+    family = _model(tmp_path / "family", "const fast: real, gains: vector(real, 2)",
+                    "const slow: real = 4.0 + gains[1]")
+    generated = api.generate_isabelle([family], api.SemanticsGenOptions())
+    opaque = [d for d in generated.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
+    assert opaque and "the constant gains has no value and is not a number or a Boolean" in \
+        opaque[0].message, [d.message for d in opaque]
+
+
+def test_a_loop_closed_only_by_an_open_guard_is_refused_with_a_hint(tmp_path: Path) -> None:
+    """``since(c) >= pause`` with ``pause`` open: for ``pause <= 0`` the way back from Slow to
+    Fast is taken in the same cycle, without end; the unrolling cannot tell, and says which
+    constants would decide it."""
+    family = _model(tmp_path / "family", "const fast: real = 10.0, pause: real",
+                    "const slow: real = 4.0")
+    machine = family / "PulseSoftware.rsm"
+    machine.write_text(machine.read_text().replace("since(c) >= 5", "since(c) >= pause")
+                       .replace("since(c) < 5", "since(c) < pause"))
+    generated = api.generate_isabelle([family], api.SemanticsGenOptions())
+    opaque = [d for d in generated.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
+    assert opaque and "passes more than" in opaque[0].message, [d.message for d in opaque]
+    assert "give the open constants (pause) values (--const)" in opaque[0].hint
+    given = api.generate_isabelle([family], api.SemanticsGenOptions(consts={"pause": 5.0}))
+    assert "W-SEMANTICS-DMODEL" not in [d.code.id for d in given.report.diagnostics]
