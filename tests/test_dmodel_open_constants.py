@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from cyphy import api
+from conftest import CORPUS, needs_corpus
 from cyphy.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -56,10 +57,12 @@ def _model(folder: Path, fast: str, slow: str) -> Path:
     return folder
 
 
-def _run(args: list[str]) -> dict:
+def _run(args: list[str], samples: int = 33) -> dict:
+    """``simulate`` or ``animate``, JSON; samples every 0.05 s (0.1 s for the marXbot's
+    2.5 s): on the cycle's ticks, so both report the same instants."""
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
-        assert main([*args, "--samples", "33", "--format", "json", "-q"]) == 0
+        assert main([*args, "--samples", str(samples), "--format", "json", "-q"]) == 0
     return json.loads(out.getvalue())
 
 
@@ -126,7 +129,7 @@ def test_an_open_vector_constant_is_refused_with_the_reason(tmp_path: Path) -> N
                     "const slow: real = 4.0 + gains[1]")
     generated = api.generate_isabelle([family], api.SemanticsGenOptions())
     opaque = [d for d in generated.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
-    assert opaque and "the constant gains has no value and is not a number or a Boolean" in \
+    assert opaque and "open constant (no value) gains is not a number or a Boolean" in \
         opaque[0].message, [d.message for d in opaque]
 
 
@@ -145,3 +148,43 @@ def test_a_loop_closed_only_by_an_open_guard_is_refused_with_a_hint(tmp_path: Pa
     assert "give the open constants (pause) values (--const)" in opaque[0].hint
     given = api.generate_isabelle([family], api.SemanticsGenOptions(consts={"pause": 5.0}))
     assert "W-SEMANTICS-DMODEL" not in [d.code.id for d in given.report.diagnostics]
+
+
+@needs_corpus
+def test_robotools_marxbot_machine_is_in_its_theory_with_its_open_constants(
+        tmp_path: Path) -> None:
+    """RoboTool's own marXbot (the corpus, used in place): its ``SMovement`` declares ``PI``,
+    ``lv`` and ``av`` without values and calls ``move(0, av)`` without ``$``. Its theory now
+    holds the machine, and those three stay open; animated with the values
+    ``examples/marxbot/corpus_smovement.toml`` gives them (matched by ``names.tsv``), the
+    motors run as ``simulate`` runs the model (the scenario's obstacle starts at
+    one point, and the hinges' efforts are left to the axiomatic theory, whose own state they
+    are)."""
+    text = (ROOT / "examples" / "marxbot" / "corpus_smovement.toml").read_text()
+    text = text.replace("Proximity1_distance = [0.25, 0.26]", "Proximity1_distance = 0.255")
+    point = tmp_path / "point.toml"  # simulate's: the efforts held at 0 as world inputs
+    point.write_text(text)
+    text = text.replace("LHinge_tau = { value = 0 }\n", "").replace(
+        "RHinge_tau = { value = 0 }\n", "")
+    assert "0.255" in text and "LHinge_tau = {" not in text
+    scenario = tmp_path / "smovement.toml"
+    scenario.write_text(text)
+    family = tmp_path / "family.toml"  # the same, without the machine's values: left open
+    values = "PI = 3.141592653589793\nlv = 0.1\nav = 0.5\n"
+    assert values in text
+    family.write_text(text.replace(values, ""))
+    marxbot = CORPUS / "marXbot"
+    theory, names, codes = _session(marxbot, "axiomatic", family, tmp_path / "thy")
+    assert "W-SEMANTICS-DMODEL" not in codes, codes
+    for k in ("PI", "lv", "av"):
+        assert f"consts marXbotSoftware_{k} :: real" in theory, k
+        assert f"SMovement::{k}\tmarXbotSoftware_{k}" in names
+    assert main(["check-theory", str(tmp_path / "thy")]) == 0
+    anim = _run(["animate", str(tmp_path / "thy"), "--scenario", str(scenario)], 26)
+    sim = _run(["simulate", str(marxbot), "--scenario", str(point)], 26)
+    columns, rows = anim["columns"], np.array(anim["rows"])
+    assert np.allclose(rows[:, 0], sim["t"])
+    for col in ("LMotor_av", "RMotor_av", "LMotor_i", "RMotor_theta"):
+        gap = np.max(np.abs(rows[:, columns.index(col)] - sim["columns"][col]))
+        assert gap < 1e-6, (col, gap)
+    assert max(sim["columns"]["LMotor_av"]) > 4  # it drives (lv reached the motors)

@@ -16,7 +16,7 @@ from __future__ import annotations
 from cyphy.diagnostics import Severity
 from cyphy.lang import ast
 from cyphy.model.machines import Machine, open_constants
-from cyphy.wellformed.machines import _kind, _machines
+from cyphy.wellformed.machines import checked_machines, machine_kind
 from cyphy.wellformed.registry import WFContext, rule
 
 
@@ -28,7 +28,7 @@ def check_STM15_constant_values(ctx: WFContext) -> None:
     and the commands that run the machine refuse the model."""
     given = {key.split("::")[-1] for key in ctx.consts}
     warned: set[int] = set()
-    for m in _machines(ctx):
+    for m in checked_machines(ctx):
         for name, decl in open_constants(m, ctx.scopes, given).items():
             _warn(ctx, m, name, decl, warned)
 
@@ -38,7 +38,7 @@ def _warn(ctx: WFContext, m: Machine, name: str, decl: ast.VarDecl, warned: set[
     if id(decl) in warned:
         return
     warned.add(id(decl))
-    ctx.error("STM15", decl, f"the constant {name} read by {_kind(m)} has no value: the "
+    ctx.error("STM15", decl, f"the constant {name} read by {machine_kind(m)} has no value: the "
               "model is a family (the paper's open constant), and simulate, reach and "
               "gen --flowstar refuse it until it has one (gen --isabelle keeps it open, a "
               "constant of the theory)",

@@ -74,12 +74,14 @@ nodes, whose ``<D>Step`` branch runs that rest in the next cycle (the during act
 unless a state is entered, then the transitions, exec ones excluded); ``wait(n)``, ``n`` a
 constant, is ``n`` such ends.
 
-What is refused (``W-SEMANTICS-DMODEL``, with the reason): operation definitions, vector
-variables, an ``int`` or ``nat`` event value or call argument computed from the state (D
-holds numbers as reals, :func:`~cyphy.semantics.circus.values.held_type`), ``wait(n)`` with ``n`` not a constant, a name bound
-by ``$e?x`` outside a conjunct of its guard, machines of one module with different cycles,
-and a cycle that passes more than :data:`MAX_DEPTH` nodes (a loop of transitions without
-``exec``).
+An open constant (no value, none given) is a constant of the theory, ``<D>_k`` (a
+machine's own) or ``<D>_<machine>_k`` beside others; one computed from it is its expression.
+
+Refused (``W-SEMANTICS-DMODEL``, with the reason): operation definitions, vector variables
+and open constants, an ``int`` or ``nat`` event value or call argument computed from the
+state (D holds numbers as reals), ``wait(n)`` with ``n`` not a constant, a name bound by
+``$e?x`` outside a conjunct of its guard, machines of one module with different cycles, and
+a cycle that passes more than :data:`MAX_DEPTH` nodes (a loop without ``exec``).
 """
 
 from __future__ import annotations
@@ -158,13 +160,10 @@ class _Cycle:
             raise self._refuse(f"it calls the operation definition{'s' if ',' in names else ''}"
                                f" {names}: D for typed events does not run operation "
                                "definitions")
-        for name, decl in m.variables.items():
+        for name, decl in [*m.variables.items(), *self.interpreter.open.items()]:
             if type_of(decl.type) not in _SCALARS:
-                raise self._refuse(f"variable {name} is not a number or a Boolean", decl.span)
-        for name, decl in self.interpreter.open.items():
-            if type_of(decl.type) not in _SCALARS:
-                raise self._refuse(f"the constant {name} has no value and is not a number "
-                                   "or a Boolean", decl.span, "give it a value (--const)")
+                what = "variable" if name in m.variables else "open constant (no value)"
+                raise self._refuse(f"{what} {name} is not a number or a Boolean", decl.span)
         for e, t in self.typed.items():
             if t not in (c.REAL, c.BOOL):
                 raise self._refuse(f"the event {e} carries a value that is not real or "
@@ -510,6 +509,10 @@ class _Cycle:
                 return self._send(call.name[-1], (), s)
             if isinstance(call, ex.Call) and isinstance(call.func, ex.PlatformRef):
                 return self._send(call.func.name[-1], call.args, s)
+            platform = self.machine.platform  # `move(0, av)`: RoboTool's call without `$`
+            if isinstance(call, ex.Call) and isinstance(call.func, ex.Name) and \
+                    call.func.parts[-1] in {**platform.operations, **platform.output_events}:
+                return self._send(call.func.parts[-1], call.args, s)
             raise self._refuse("this call is not a call of the platform", s.span)
         raise self._refuse("this statement is not written in D", s.span)
 
