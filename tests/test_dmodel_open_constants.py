@@ -94,9 +94,11 @@ def test_open_constant_is_a_constant_of_the_theory_and_animates_as_the_model_run
     assert "Pulse::fast\tPulseSoftware_fast\tPulseSoftware_fast\t" in names
     assert main(["check-theory", str(tmp_path / "thy")]) == 0
 
-    for value in (10.0, 6.5):  # two members of the family
+    # two members of the family; the value by the theory's name, or by RoboSim's (as
+    # simulate takes it, names.tsv relating the two)
+    for value, name in ((10.0, "PulseSoftware_fast"), (6.5, "fast")):
         anim = _run(["animate", str(tmp_path / "thy"), "--scenario", str(scenario),
-                     "--const", f"PulseSoftware_fast={value}"])
+                     "--const", f"{name}={value}"])
         member = _model(tmp_path / f"member{value}", f"const fast: real = {value}",
                         f"const slow: real = {value * 0.4}")
         sim = _run(["simulate", str(member), "--scenario", str(scenario)])
