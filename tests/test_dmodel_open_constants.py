@@ -190,3 +190,36 @@ def test_robotools_marxbot_machine_is_in_its_theory_with_its_open_constants(
         gap = np.max(np.abs(rows[:, columns.index(col)] - sim["columns"][col]))
         assert gap < 1e-6, (col, gap)
     assert max(sim["columns"]["LMotor_av"]) > 4  # it drives (lv reached the motors)
+
+
+def test_an_open_boolean_constant_is_given_as_true_or_false(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``const enabled: boolean`` left open and read in a guard (``$near \\/ not enabled``
+    stops the motor): a Boolean constant of the theory, compared with true where the guard
+    reads it. ``animate`` and ``simulate`` both take ``--const enabled=true`` (or false); a
+    value other than 0 or 1 is refused."""
+    scenario = tmp_path / "pulse.toml"
+    scenario.write_text(SCENARIO)
+    family = _model(tmp_path / "family", "const fast: real = 10.0, enabled: boolean",
+                    "const slow: real = 4.0")
+    machine = family / "PulseSoftware.rsm"
+    t3 = "transition t3 { from Fast to Done condition $near }"
+    assert t3 in machine.read_text()
+    machine.write_text(machine.read_text().replace(
+        t3, "transition t3 { from Fast to Done condition $near \\/ not enabled }"))
+    theory, _, codes = _session(family, "utp", scenario, tmp_path / "thy")
+    assert "W-SEMANTICS-DMODEL" not in codes and "consts PulseSoftware_enabled :: bool" in theory
+    peaks = {}
+    for value in ("true", "false"):
+        anim = _run(["animate", str(tmp_path / "thy"), "--scenario", str(scenario),
+                     "--const", f"enabled={value}"])
+        sim = _run(["simulate", str(family), "--scenario", str(scenario),
+                    "--const", f"enabled={value}"])
+        speed = np.array(anim["rows"])[:, anim["columns"].index("Motor_av")]
+        assert np.max(np.abs(speed - sim["columns"]["Motor_av"])) < 1e-5, value
+        peaks[value] = speed.max()
+    assert peaks["true"] > 8 and peaks["false"] < 1e-9  # disabled: stopped at once
+    capsys.readouterr()
+    assert main(["animate", str(tmp_path / "thy"), "--scenario", str(scenario), "-q",
+                 "--const", "enabled=2"]) == 2
+    assert "a Boolean constant takes true or false" in capsys.readouterr().err
