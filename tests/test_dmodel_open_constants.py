@@ -5,8 +5,8 @@ the machine for every value. Before, ``D`` was left opaque (``W-SEMANTICS-DMODEL
 theory held no machine.
 
 The model: ``tests/data/clock_pulse`` (the motor bench of ``examples/dcmotor`` under a machine
-that alternates a fast and a slow speed every 5 cycles), with ``fast`` left open and ``slow``
-computed from it. Oracle: ``simulate`` of the same machine with the value written in its
+that alternates a fast and a slow speed every 5 cycles), with ``fast`` left open, ``slow``
+computed from it and a variable starting at it. Oracle: ``simulate`` of the same machine with the value written in its
 source (the interpreter, never the theory), against ``animate`` of the open theory given that
 value with ``--const``."""
 
@@ -85,12 +85,18 @@ def test_open_constant_is_a_constant_of_the_theory_and_animates_as_the_model_run
     scenario = tmp_path / "pulse.toml"
     scenario.write_text(SCENARIO)
     family = _model(tmp_path / "family", "const fast: real", "const slow: real = fast * 0.4")
+    machine = family / "PulseSoftware.rsm"  # and a variable that starts at the open value
+    text = machine.read_text()
+    assert "entry $drive(fast)" in text and "var n: int = 0" in text
+    machine.write_text(text.replace("entry $drive(fast)", "entry $drive(top)").replace(
+        "var n: int = 0", "var n: int = 0\n\tvar top: real = fast"))
     theory, names, codes = _session(family, dialect, scenario, tmp_path / "thy")
     assert "W-SEMANTICS-DMODEL" not in codes and "STM15" in codes, codes
     # declared open, read by D: the calls carry it, the derived speed as its expression
     assert "consts PulseSoftware_fast :: real" in theory
     assert "PulseSoftwareStep" in theory and "PulseSoftware_fast * 0.4" in theory
     assert "PulseSoftware_slow" not in theory  # computed from fast where it is read
+    assert "PulseSoftware_top" in theory  # a variable of D, starting at fast (Init)
     assert "Pulse::fast\tPulseSoftware_fast\tPulseSoftware_fast\t" in names
     assert main(["check-theory", str(tmp_path / "thy")]) == 0
 
