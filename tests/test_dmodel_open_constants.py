@@ -23,25 +23,13 @@ import pytest
 
 from cyphy import api
 from conftest import CORPUS, needs_corpus
+from test_dmodel_clock_loop import SCENARIO as CLOCK_PULSE_SCENARIO
 from cyphy.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(__file__).parent / "data" / "clock_pulse"
 
-SCENARIO = """model = "DCMotorBase"
-horizon = 1.6
-tscale = 0.1
-[init]
-Motor_av = 0
-Motor_i = 0
-Motor_int1 = 0
-Motor_theta = 0
-Shaft_theta = 0
-Shaft_v = 0
-Range_distance = 10
-[environment]
-Range_distance = "-2"
-"""
+SCENARIO = CLOCK_PULSE_SCENARIO.format(distance=10.0)  # the motor bench, 1.6 s, never near
 CLOSED = ("const fast: real = 10.0", "const slow: real = 4.0")
 
 
