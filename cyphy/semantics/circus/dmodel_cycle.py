@@ -93,7 +93,7 @@ from cyphy.lang import ast
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel import MODE, read_events_action
 from cyphy.semantics.circus.dmodel_places import TOP, Calls, Frame, Item, Place
-from cyphy.semantics.circus.dmodel_terms import Terms, constant, name_expr
+from cyphy.semantics.circus.dmodel_terms import Terms, constant, default, name_expr
 from cyphy.semantics.circus.path_facts import Facts
 from cyphy.semantics.circus.values import held_type, type_of
 from cyphy.semantics.circus.walk import map_action
@@ -218,7 +218,7 @@ class _Cycle:
         values += [ex.Num("0") for _ in self.machine.clocks]
         for op in it.operations:
             terms = self.terms[op]
-            values += [constant(False, held_type(d.type)) for d in terms.variables.values()]
+            values += [default(d) for d in terms.variables.values()]
             values += [ex.Num("0") for _ in terms.scope.clocks]
         return ex.Num(str(self.index[it.node])), values
 
@@ -387,7 +387,7 @@ class _Cycle:
                                    "of its variables", d.span)
             sets.append(c.Assign((callee.field(x),), (
                 callee.value(d.value, d) if d.value is not None
-                else constant(False, held_type(d.type)),)))
+                else default(d),)))
         sets += [c.Assign((callee.field(k),), (ex.Num("0"),)) for k in scope.clocks]
         for a in sets:
             facts = facts.assigned(a.targets[0], a.values[0])

@@ -37,6 +37,12 @@ def constant(value: object, type_: c.Type) -> ex.Expr:
     return literal(float(value), type_)  # type: ignore[arg-type]
 
 
+def default(decl: ast.VarDecl) -> ex.Expr:
+    """The value the interpreter gives a variable declared without one: false, else 0."""
+    held = held_type(decl.type)
+    return ex.Bool(False) if held == c.BOOL else constant(0.0, held)
+
+
 class Terms:
     """The translation of one scope's expressions and statements (see the module
     docstring): ``name`` is D's (its events' fields ``<D>_e``, a package's open constant

@@ -1,0 +1,339 @@
+"""Operation definitions in the theory's ``D`` when the cycle is written out
+(:mod:`cyphy.semantics.circus.dmodel_cycle`): a call runs the operation inline, its
+parameters, variables and clocks fields of D's state set at the call, the caller waiting
+with the rest of its action while the operation rests or is cut by ``exec``/``wait``, and
+the operation's top-level final state returning to it in the same cycle. Before, such a
+machine had no ``D`` ("D for typed events does not run operation definitions",
+``W-SEMANTICS-DMODEL``).
+
+Oracles: ``simulate`` (the machine's interpreter and the model's equations, never the
+theory) for ``animate`` (the theory's text), and the demands worked out by hand from the
+cycle rules of ``cyphy/semantics/machines/cycle.py``; and, on small machines, the
+interpreter stepped directly against D's actions run on the same random events.
+
+A machine without operation definitions keeps its ``D`` byte for byte: checked by
+``python3 benchmarks/compare_outputs.py main HEAD`` (the examples and the corpus) and by
+the other ``tests/test_dmodel_*.py`` files, which compare ``D``'s text."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import operator
+import random
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cyphy import api
+from cyphy import expr as ex
+from cyphy.cli import main
+from cyphy.lang.scopes import Scopes
+from cyphy.model.machines import global_constants, machines_of, operation_definitions
+from cyphy.semantics.circus import ast as c
+from cyphy.semantics.circus.dmodel_cycle import cycle_process
+from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
+
+ROOT = Path(__file__).resolve().parent.parent
+DATA = Path(__file__).parent / "data" / "op_pulse"
+
+SCENARIO = """model = "DCMotorBase"
+horizon = 3.0
+tscale = 0.1
+[init]
+Motor_av = 0
+Motor_i = 0
+Motor_int1 = 0
+Motor_theta = 0
+Shaft_theta = 0
+Shaft_v = 0
+Range_distance = {distance}
+[environment]
+Range_distance = "-2"
+"""
+
+# The demand each cycle (0.1 s) sets, worked out by hand from the rules, the obstacle at
+# 5 m closing at 2 m/s (near, range <= 1, from t = 2.0 s: cycle 20):
+#  0-2  Ramp(10, 3) from Fast's entry: Up, k = 1, 2, 3: 10/3, 20/3, 10; c's exec cuts cycle 2
+#  3-5  #h, Hold (top; during 10), since(h) = 0, 1, 2: 10 (e re-enters Hold: 10 twice)
+#  6-8  since(h) = 3: d calls Kick(5): 5, wait(2): cut twice; cycle 8 sends 10 and returns
+#       twice (Kick, then Ramp), Fast's entry ends (rounds + 1), its during sends 10 again
+#  9-11 Fast rested: during 10, t3 calls Kick(1): 1, cut, cut; cycle 11 sends 2, returns,
+#       t3 enters Slow: Ramp(4, 2), Up, k = 1: 2
+# 12-18 k = 2: 4, c cuts; Hold 4, 4, 4; since(h) = 3: Kick(2): 2, cut; cycle 18 sends 4,
+#       returns to Slow's entry (nothing after the call: Slow rests, exec t4 waits)
+# 19-21 t4 to Fast: Ramp(10, 3): 10/3, 20/3, 10 (near from cycle 20: b and c ignore it)
+# 22-24 Hold: during 10, then d holds at once (near): Kick(5): 5, cut, cut; cycle 24 sends
+#       10 and returns (Fast's during: 10 again)
+# 25-   Fast rested, near: t5 to Done: 0
+DEMANDS = [10 / 3, 20 / 3, 10, 10, 10, 10, 5, 5, 10, 1, 1, 2, 4, 4, 4, 4, 2, 2, 4,
+           10 / 3, 20 / 3, 10, 5, 5, 10] + [0] * 5
+
+
+def _model(folder: Path, distance: float) -> tuple[Path, Path]:
+    folder.mkdir()
+    for source in [ROOT / "examples" / "dcmotor" / "DCMotorBase.rsm", *DATA.glob("*.rsm")]:
+        shutil.copy(source, folder)
+    scenario = folder.parent / "op_pulse.toml"
+    scenario.write_text(SCENARIO.format(distance=distance))
+    return folder, scenario
+
+
+def _run(command: str, target: Path, scenario: Path) -> dict:
+    """``simulate`` or ``animate`` over 3 s, 61 samples (every 0.05 s), JSON."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main([command, str(target), "--scenario", str(scenario), "--samples", "61",
+                     "--format", "json", "-q"]) == 0
+    return json.loads(out.getvalue())
+
+
+@pytest.mark.parametrize("dialect", ("utp", "axiomatic"))
+@pytest.mark.parametrize("distance", [5.0, 0.5])  # near from cycle 20; near from the start
+def test_operations_are_written_and_animate_as_simulate_runs_them(
+        tmp_path: Path, dialect: str, distance: float) -> None:
+    folder, scenario = _model(tmp_path / "bench", distance)
+    generated = api.generate_isabelle([folder], api.SemanticsGenOptions(
+        dialect=dialect, scenario=str(scenario)))
+    codes = [d.code.id for d in generated.report.diagnostics]
+    assert not generated.report.has_errors and "W-SEMANTICS-DMODEL" not in codes, codes
+    theory = next(t for n, t in generated.files.items() if n.endswith(".thy")
+                  and "Prelude" not in n)
+    # the operations' parameters, variables and clocks are D's fields
+    for name in ("Ramp_w", "Ramp_n", "Ramp_k", "Ramp_top", "Ramp_h", "Kick_v"):
+        assert f"OpPulseSoftware_{name}" in theory, name
+    session = tmp_path / "thy"
+    session.mkdir()
+    for name, text in generated.files.items():
+        (session / name).write_text(text)
+    assert main(["check-theory", str(session)]) == 0
+
+    anim, sim = _run("animate", session, scenario), _run("simulate", folder, scenario)
+    columns, rows = anim["columns"], np.array(anim["rows"])
+    assert np.allclose(rows[:, 0], sim["t"])
+    for col in ("Motor_av", "Motor_i", "Range_distance"):
+        assert np.max(np.abs(rows[:, columns.index(col)] - sim["columns"][col])) < 1e-5, col
+    # independent of both: the demand in each cycle (two samples a cycle), by hand
+    demand = rows[:, columns.index("Motor_das")]
+    want = DEMANDS if distance > 1 else [0] * 30
+    assert np.allclose(demand[:60:2], want, atol=1e-9), list(np.round(demand[:60:2], 3))
+    assert np.allclose(demand[1:60:2], want, atol=1e-9)
+
+
+# ----------------------------------------------------------------- D against the interpreter
+
+INTERFACES = """\
+interface OutI { go(x: real) halt() }
+interface InI { event near event val: real }
+"""
+
+CONTEXT = " input context { uses InI }\n output context { requires OutI }\n"
+
+#: Small machines, each with what it exercises; all read near (and val) every cycle.
+MACHINES = {
+    # a call in the during action of a rested state: after a return in the same cycle the
+    # caller's during does not run again, its exec transitions are enabled (it had rested);
+    # after a return in a later cycle its during runs again
+    "during": """
+operation Tick(x: real) {
+""" + CONTEXT + """ var n: real = x
+ initial j0
+ state W { during n = n + 1; $go(n) }
+ final F
+ transition a { from j0 to W }
+ transition b { from W to F condition $near \\/ n >= x + 2 action $go(-n) }
+}
+stm M {
+""" + CONTEXT + """ var s: real = 0
+ initial i0
+ state A { during s = s + 1; Tick(s); $go(100 + s) }
+ state B { entry $halt() }
+ transition t0 { from i0 to A }
+ transition t1 { from A to B exec condition s >= 4 }
+ transition t2 { from B to A exec condition not $near }
+}
+""",
+    # nested calls, a typed event bound inside the operation, its clock, exec and wait in
+    # its actions, the caller's action going on after the call (a transition's)
+    "nested": """
+operation Inner(y: real) {
+""" + CONTEXT + """ var got: real = 0
+ clock H
+ initial j0
+ state S { entry #H }
+ final F
+ transition a { from j0 to S action $go(y); exec; $go(y + 1) }
+ transition b { from S to F exec condition $val?got /\\ since(H) >= 1 action $go(got * y) }
+ transition c { from S to S exec condition since(H) < 3 /\\ not $val action wait(2); $go(since(H)) }
+}
+operation Outer(x: real) {
+""" + CONTEXT + """ initial j0
+ final F
+ transition a { from j0 to F action Inner(x + 1); $go(x) }
+}
+stm M {
+""" + CONTEXT + """ var k: real = 1
+ clock C
+ initial i0
+ state A { entry k = k + 1 }
+ state B { }
+ transition t0 { from i0 to A condition $near action Outer(k); $go(since(C)) }
+ transition t1 { from i0 to B condition not $near }
+ transition t2 { from A to B exec action Inner(k * 10); #C }
+ transition t3 { from B to A exec condition $near action Outer(since(C)) }
+}
+""",
+    # an operation whose during action and junction run every cycle it rests, a Boolean
+    # parameter, returning through a junction into a composite state's initial junction
+    "composite": """
+operation Pick(up: boolean, v: real) {
+""" + CONTEXT + """ var m: real = 0
+ initial j0
+ junction J
+ state Wait { during m = m + v; $go(m) }
+ final F
+ transition a { from j0 to J }
+ transition b { from J to Wait condition up }
+ transition c { from J to F condition not up action $halt() }
+ transition d { from Wait to F exec condition m >= 3 * v }
+}
+stm M {
+""" + CONTEXT + """ initial i0
+ state Outer {
+  initial k0
+  state In1 { entry Pick(true, 1) }
+  state In2 { entry Pick(false, 5); $go(55) }
+  transition u0 { from k0 to In1 }
+  transition u1 { from In1 to In2 exec condition $near }
+  transition u2 { from In2 to In1 exec }
+ }
+ transition t0 { from i0 to Outer }
+}
+""",
+}
+
+
+def _interpreter(tmp_path: Path, text: str) -> MachineInterpreter:
+    f = tmp_path / "m.rst"
+    f.write_text(INTERFACES + text, encoding="utf-8")
+    result = api.check([str(f)])
+    assert not result.report.has_errors, [d.message for d in result.report.diagnostics]
+    files = list(result.workspace.user_files())
+    (m,) = [m for m in machines_of(files, result.resolution) if m.name == "M"]
+    scopes = Scopes(result.workspace)
+    ops = operation_definitions(m, files, result.resolution, scopes)
+    return MachineInterpreter(m, global_constants(m, scopes), operations=ops)
+
+
+READS = {"near": (c.BOOL,), "val": (c.BOOL, c.REAL)}
+WRITES: dict[str, tuple[c.Type, ...]] = {"go": (c.REAL,), "halt": ()}
+_BINARY = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv,
+           "==": operator.eq, "!=": operator.ne, "<": operator.lt, "<=": operator.le,
+           ">": operator.gt, ">=": operator.ge, "/\\": lambda a, b: a and b,
+           "\\/": lambda a, b: a or b}
+
+
+class _RunD:
+    """Runs the cycle ``D``'s actions (the AST the printers print) on a dictionary state,
+    recording what it writes, in order."""
+
+    def __init__(self, d: c.BasicProcess) -> None:
+        self.actions = {a.name: a.body for a in d.actions}
+        self.name = d.name
+        self.state: dict[str, object] = {}
+        self.events: dict[str, object] = {}
+        self.written: list[tuple[str, tuple[float, ...]]] = []
+
+    def value(self, e: ex.Expr, bound: dict[str, object]) -> object:
+        if isinstance(e, ex.Name):
+            return bound[e.text] if e.text in bound else self.state[e.text]
+        if isinstance(e, ex.Num):
+            return float(e.text)
+        if isinstance(e, ex.Bool):
+            return e.value
+        if isinstance(e, ex.UnaryOp):
+            inner = self.value(e.operand, bound)
+            return (not inner) if e.op == "not" else -inner  # type: ignore[operator]
+        assert isinstance(e, ex.BinOp), e
+        return _BINARY[e.op](self.value(e.left, bound), self.value(e.right, bound))
+
+    def run(self, a: c.Action, bound: dict[str, object]) -> None:
+        if isinstance(a, c.Call):
+            self.run(self.actions[a.name], bound)
+        elif isinstance(a, c.Seq):
+            for item in a.items:
+                self.run(item, bound)
+        elif isinstance(a, c.Cond):
+            self.run(a.then if self.value(a.cond, bound) else a.orelse, bound)
+        elif isinstance(a, c.Assign):
+            values = [self.value(v, bound) for v in a.values]
+            self.state.update(zip(a.targets, values))
+        elif isinstance(a, c.Prefix) and a.comm.channel == "registerRead":
+            value = self.events.get(a.comm.tag)
+            given = [value is not None, 0.0 if value is None else value]
+            names = [f.name for f in a.comm.fields]  # type: ignore[union-attr]
+            self.run(a.then, {**bound, **dict(zip(names, given))})
+        elif isinstance(a, c.Prefix):
+            self.written.append((str(a.comm.tag), tuple(
+                float(self.value(f.value, bound)) for f in a.comm.fields)))  # type: ignore
+            self.run(a.then, bound)
+        else:
+            assert isinstance(a, c.Skip), a
+
+    def cycle(self, events: dict[str, object], first: bool) -> tuple:
+        self.events, self.written = events, []
+        for n in ["Init", "Read", "Start"] if first else ["Read", "Step"]:
+            self.run(c.Call(self.name + n), {})
+        return tuple(self.written)
+
+
+@pytest.mark.parametrize("name", sorted(MACHINES))
+def test_d_calls_what_the_interpreter_calls_cycle_by_cycle(tmp_path: Path, name: str) -> None:
+    it = _interpreter(tmp_path, MACHINES[name])
+    d = cycle_process("D", [it], READS, WRITES)
+    rng = random.Random(18)
+    places = set()
+    for _ in range(30):
+        it.reset()
+        runner = _RunD(d)
+        for k in range(25):
+            events = {"near": True if rng.random() < 0.3 else None,
+                      "val": round(rng.uniform(-2, 2), 2) if rng.random() < 0.5 else None}
+            want = it.cycle(events)
+            got = runner.cycle(events, first=k == 0)
+            assert [(n, pytest.approx(a)) for n, a in want] == list(got), (name, k)
+            places.add((it.running, len(it.stack), it.node))
+    # the runs went inside the operations (nested ones too)
+    assert any(depth > 0 for _, depth, _ in places)
+    if name == "nested":
+        assert any(depth == 2 for _, depth, _ in places)
+
+
+def test_a_recursive_chain_of_calls_is_refused_with_the_reason(tmp_path: Path) -> None:
+    it = _interpreter(tmp_path, """
+operation Ping(n: real) {
+""" + CONTEXT + """ initial j0
+ state S { entry Pong(n - 1) }
+ final F
+ transition a { from j0 to S condition n > 0 }
+ transition b { from j0 to F condition n <= 0 }
+ transition c { from S to F }
+}
+operation Pong(n: real) {
+""" + CONTEXT + """ initial j0
+ final F
+ transition a { from j0 to F action Ping(n) }
+}
+stm M {
+""" + CONTEXT + """ initial i0
+ state A { entry Ping(3) }
+ transition t0 { from i0 to A }
+}
+""")
+    with pytest.raises(MachineError, match="Ping is called again while it runs "
+                       r"\(M → Ping → Pong → Ping\): D holds one copy of an operation's "
+                       "variables, so a recursive chain of calls is not written"):
+        cycle_process("D", [it], READS, WRITES)
