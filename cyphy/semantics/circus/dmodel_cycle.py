@@ -77,11 +77,35 @@ constant, is ``n`` such ends.
 An open constant (no value, none given) is a constant of the theory, ``<D>_k`` (a
 machine's own) or ``<D>_<machine>_k`` beside others; one computed from it is its expression.
 
-Refused (``W-SEMANTICS-DMODEL``, with the reason): operation definitions, vector variables
-and open constants, an ``int`` or ``nat`` event value or call argument computed from the
-state (D holds numbers as reals), ``wait(n)`` with ``n`` not a constant, a name bound by
-``$e?x`` outside a conjunct of its guard, machines of one module with different cycles, and
-a cycle that passes more than :data:`MAX_DEPTH` nodes (a loop without ``exec``).
+**Operation definitions** (``operation Ramp(w: real) { … }``, called as ``Ramp(10)``) run
+inline, as the interpreter runs them (``MachineInterpreter._invoke``, ``_return``): their
+parameters, variables and clocks are fields of D's state, named as the machine's with the
+operation's name in them (``<D>_Ramp_w``; one set per operation: no two calls of one
+operation are under way at once, a recursive chain being refused). A call assigns the
+parameters the arguments' values (computed over the caller's fields), then the variables
+their initial values (which may read the parameters), the clocks 0, and goes on from the
+operation's initial junction under the same rules, over the operation's own fields and
+constants; the caller waits in a frame (:class:`~cyphy.semantics.circus.dmodel_places.Frame`:
+where it is, whether it had rested there, the rest of its action, whether its during action
+ran in this cycle). Entering the operation's top-level ``final`` state returns: the caller
+goes on with the rest of its action in the same cycle (its during action again only when
+the return comes in a later cycle, its exec transitions enabled only if it had rested, as
+the interpreter restores them). An operation's clocks advance every cycle with the
+machine's (a call resets them before they are read; the callers' keep counting, as the
+interpreter's frames do). Where the machine may end a cycle inside an operation (the calls
+under way, with each caller's continuation, and the node, or the rest of an action cut by
+``exec`` or ``wait``) is a mode of its own
+(:class:`~cyphy.semantics.circus.dmodel_places.Place`), numbered after the machine's own
+(nodes, then the rests of its actions), so that a machine without operation definitions
+has the ``D`` it had before.
+
+Refused (``W-SEMANTICS-DMODEL``, with the reason): vector variables, parameters and open
+constants, an ``int`` or ``nat`` event value or call argument computed from the state (D
+holds numbers as reals), ``wait(n)`` with ``n`` not a constant, a name bound by ``$e?x``
+outside a conjunct of its guard, machines of one module with different cycles, a cycle that
+passes more than :data:`MAX_DEPTH` nodes (a loop without ``exec``), a recursive chain of
+operation calls (an operation called while it runs), and an operation variable's initial
+value that reads another of its variables (the interpreter has no value for it there).
 """
 
 from __future__ import annotations

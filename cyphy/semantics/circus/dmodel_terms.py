@@ -74,13 +74,13 @@ class Terms:
     def open_name(self, name: str) -> str:
         """The theory's constant for an open constant: the scope's own is named as its
         variables are, one declared outside it (a package's) once for all of D's machines."""
-        own = name in self.scope.constants
+        own = name in self.scope.constants and name not in self.variables
         return f"{self.prefix if own else self.name}_{name.replace('::', '_')}"
 
     def refers(self, name: str) -> bool:
         """Whether the scope declares ``name`` or names it (then an open constant of that
         name is one of the theory's constants that the scope reads)."""
-        if name in self.scope.constants:
+        if name in self.scope.constants and name not in self.variables:  # (a parameter)
             return True
         exprs = [e for e, _ in expressions(self.scope)]
         exprs += [d.value for d in [*self.scope.constants.values(),
