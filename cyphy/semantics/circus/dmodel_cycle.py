@@ -469,12 +469,13 @@ class _Cycle:
                 break
             before = before.refused(guard)
         place: str | Place = key if not calls.stack else Place(calls.later(), key, None)
-        action: c.Action = c.Skip() if place == here else c.Assign((self.mode,), (
-            ex.Num(str(self.index[key])) if isinstance(place, str) else self._inner(place),))
+        action: c.Action = c.Skip()  # resting (never, when a guard must hold)
+        if place != here and isinstance(place, str):
+            action = c.Assign((self.mode,), (ex.Num(str(self.index[key])),))
+        elif place != here and not always:
+            action = c.Assign((self.mode,), (self._inner(place),))
         if not always and isinstance(place, str) and key not in self.rest:
             self.rest.append(key)
-        elif not always and isinstance(place, Place):
-            self._inner(place)
         for n, (t, source, guard, bindings, after) in reversed(list(enumerate(choices))):
             leaving = chain[chain.index(source):]  # exited innermost first
             exits = [s for k in reversed(leaving) for s in scope.nodes[k].actions("exit")]
