@@ -237,13 +237,15 @@ class _Cycle:
         operation's are set at each call: until then they hold 0 or false)."""
         it = self.interpreter
         it.reset()
-        values = [constant(it.variables[x], held_type(d.type))
+        top = self.terms[None]
+        values = [constant(it.variables[x], held_type(d.type)) if it.variables[x] is not None
+                  else top.value(d.value, d)  # type: ignore[arg-type]  # from an open constant
                   for x, d in self.machine.variables.items()]
-        values += [ex.Num("0") for _ in self.machine.clocks]
+        values += [ex.Num("0")] * len(self.machine.clocks)
         for op in it.operations:
             terms = self.terms[op]
             values += [default(d) for d in terms.variables.values()]
-            values += [ex.Num("0") for _ in terms.scope.clocks]
+            values += [ex.Num("0")] * len(terms.scope.clocks)
         return ex.Num(str(self.index[it.node])), values
 
     # ----- one cycle
@@ -489,8 +491,7 @@ class _Cycle:
         return action
 
     def _loop_hint(self) -> str:
-        """A loop that guards over open constants may close (their values may make the
-        guards hold): the unrolling cannot tell, the constants' values can."""
+        """A loop guarded by open constants may close for some values: say which."""
         names = ", ".join(self.interpreter.open)
         return "mark the end of the cycle with exec" + (names and ", or give the open "
                                                         f"constants ({names}) values (--const)")
