@@ -17,43 +17,25 @@ the other ``tests/test_dmodel_*.py`` files, which compare ``D``'s text."""
 
 from __future__ import annotations
 
-import contextlib
-import io
-import json
-import operator
 import random
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from cyphy import api
-from cyphy import expr as ex
-from cyphy.cli import main
+from dmodel_runs import RunD, animated_as_simulated, bench, written_session
+from test_dmodel_clock_loop import SCENARIO as CLOCK_PULSE_SCENARIO
 from cyphy.lang.scopes import Scopes
 from cyphy.model.machines import global_constants, machines_of, operation_definitions
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel_cycle import cycle_process
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
 
-ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(__file__).parent / "data" / "op_pulse"
 
-SCENARIO = """model = "DCMotorBase"
-horizon = 3.0
-tscale = 0.1
-[init]
-Motor_av = 0
-Motor_i = 0
-Motor_int1 = 0
-Motor_theta = 0
-Shaft_theta = 0
-Shaft_v = 0
-Range_distance = {distance}
-[environment]
-Range_distance = "-2"
-"""
+# the clock-pulse bench's scenario over 3 s: the obstacle at {distance} m closing at 2 m/s
+SCENARIO = CLOCK_PULSE_SCENARIO.replace("horizon = 1.6", "horizon = 3.0")
 
 # The demand each cycle (0.1 s) sets, worked out by hand from the rules, the obstacle at
 # 5 m closing at 2 m/s (near, range <= 1, from t = 2.0 s: cycle 20):
@@ -74,21 +56,7 @@ DEMANDS = [10 / 3, 20 / 3, 10, 10, 10, 10, 5, 5, 10, 1, 1, 2, 4, 4, 4, 4, 2, 2, 
 
 
 def _model(folder: Path, distance: float) -> tuple[Path, Path]:
-    folder.mkdir()
-    for source in [ROOT / "examples" / "dcmotor" / "DCMotorBase.rsm", *DATA.glob("*.rsm")]:
-        shutil.copy(source, folder)
-    scenario = folder.parent / "op_pulse.toml"
-    scenario.write_text(SCENARIO.format(distance=distance))
-    return folder, scenario
-
-
-def _run(command: str, target: Path, scenario: Path) -> dict:
-    """``simulate`` or ``animate`` over 3 s, 61 samples (every 0.05 s), JSON."""
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out):
-        assert main([command, str(target), "--scenario", str(scenario), "--samples", "61",
-                     "--format", "json", "-q"]) == 0
-    return json.loads(out.getvalue())
+    return bench(folder, DATA, SCENARIO.format(distance=distance))
 
 
 @pytest.mark.parametrize("dialect", ("utp", "axiomatic"))
@@ -96,26 +64,11 @@ def _run(command: str, target: Path, scenario: Path) -> dict:
 def test_operations_are_written_and_animate_as_simulate_runs_them(
         tmp_path: Path, dialect: str, distance: float) -> None:
     folder, scenario = _model(tmp_path / "bench", distance)
-    generated = api.generate_isabelle([folder], api.SemanticsGenOptions(
-        dialect=dialect, scenario=str(scenario)))
-    codes = [d.code.id for d in generated.report.diagnostics]
-    assert not generated.report.has_errors and "W-SEMANTICS-DMODEL" not in codes, codes
-    theory = next(t for n, t in generated.files.items() if n.endswith(".thy")
-                  and "Prelude" not in n)
+    theory = written_session(folder, scenario, dialect, tmp_path / "thy")
     # the operations' parameters, variables and clocks are D's fields
     for name in ("Ramp_w", "Ramp_n", "Ramp_k", "Ramp_top", "Ramp_h", "Kick_v"):
         assert f"OpPulseSoftware_{name}" in theory, name
-    session = tmp_path / "thy"
-    session.mkdir()
-    for name, text in generated.files.items():
-        (session / name).write_text(text)
-    assert main(["check-theory", str(session)]) == 0
-
-    anim, sim = _run("animate", session, scenario), _run("simulate", folder, scenario)
-    columns, rows = anim["columns"], np.array(anim["rows"])
-    assert np.allclose(rows[:, 0], sim["t"])
-    for col in ("Motor_av", "Motor_i", "Range_distance"):
-        assert np.max(np.abs(rows[:, columns.index(col)] - sim["columns"][col])) < 1e-5, col
+    columns, rows = animated_as_simulated(tmp_path / "thy", folder, scenario, 61)
     # independent of both: the demand in each cycle (two samples a cycle), by hand
     demand = rows[:, columns.index("Motor_das")]
     want = DEMANDS if distance > 1 else [0] * 30
@@ -230,66 +183,6 @@ def _interpreter(tmp_path: Path, text: str) -> MachineInterpreter:
 
 READS = {"near": (c.BOOL,), "val": (c.BOOL, c.REAL)}
 WRITES: dict[str, tuple[c.Type, ...]] = {"go": (c.REAL,), "halt": ()}
-_BINARY = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv,
-           "==": operator.eq, "!=": operator.ne, "<": operator.lt, "<=": operator.le,
-           ">": operator.gt, ">=": operator.ge, "/\\": lambda a, b: a and b,
-           "\\/": lambda a, b: a or b}
-
-
-class _RunD:
-    """Runs the cycle ``D``'s actions (the AST the printers print) on a dictionary state,
-    recording what it writes, in order."""
-
-    def __init__(self, d: c.BasicProcess) -> None:
-        self.actions = {a.name: a.body for a in d.actions}
-        self.name = d.name
-        self.state: dict[str, object] = {}
-        self.events: dict[str, object] = {}
-        self.written: list[tuple[str, tuple[float, ...]]] = []
-
-    def value(self, e: ex.Expr, bound: dict[str, object]) -> object:
-        if isinstance(e, ex.Name):
-            return bound[e.text] if e.text in bound else self.state[e.text]
-        if isinstance(e, ex.Num):
-            return float(e.text)
-        if isinstance(e, ex.Bool):
-            return e.value
-        if isinstance(e, ex.UnaryOp):
-            inner = self.value(e.operand, bound)
-            return (not inner) if e.op == "not" else -inner  # type: ignore[operator]
-        assert isinstance(e, ex.BinOp), e
-        return _BINARY[e.op](self.value(e.left, bound), self.value(e.right, bound))
-
-    def run(self, a: c.Action, bound: dict[str, object]) -> None:
-        if isinstance(a, c.Call):
-            self.run(self.actions[a.name], bound)
-        elif isinstance(a, c.Seq):
-            for item in a.items:
-                self.run(item, bound)
-        elif isinstance(a, c.Cond):
-            self.run(a.then if self.value(a.cond, bound) else a.orelse, bound)
-        elif isinstance(a, c.Assign):
-            values = [self.value(v, bound) for v in a.values]
-            self.state.update(zip(a.targets, values))
-        elif isinstance(a, c.Prefix) and a.comm.channel == "registerRead":
-            value = self.events.get(a.comm.tag)
-            given = [value is not None, 0.0 if value is None else value]
-            names = [f.name for f in a.comm.fields]  # type: ignore[union-attr]
-            self.run(a.then, {**bound, **dict(zip(names, given))})
-        elif isinstance(a, c.Prefix):
-            self.written.append((str(a.comm.tag), tuple(
-                float(self.value(f.value, bound)) for f in a.comm.fields)))  # type: ignore
-            self.run(a.then, bound)
-        else:
-            assert isinstance(a, c.Skip), a
-
-    def cycle(self, events: dict[str, object], first: bool) -> tuple:
-        self.events, self.written = events, []
-        for n in ["Init", "Read", "Start"] if first else ["Read", "Step"]:
-            self.run(c.Call(self.name + n), {})
-        return tuple(self.written)
-
-
 @pytest.mark.parametrize("name", sorted(MACHINES))
 def test_d_calls_what_the_interpreter_calls_cycle_by_cycle(tmp_path: Path, name: str) -> None:
     it = _interpreter(tmp_path, MACHINES[name])
@@ -298,7 +191,7 @@ def test_d_calls_what_the_interpreter_calls_cycle_by_cycle(tmp_path: Path, name:
     places = set()
     for _ in range(30):
         it.reset()
-        runner = _RunD(d)
+        runner = RunD(d)
         for k in range(25):
             events = {"near": True if rng.random() < 0.3 else None,
                       "val": round(rng.uniform(-2, 2), 2) if rng.random() < 0.5 else None}
