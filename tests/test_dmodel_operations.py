@@ -27,10 +27,11 @@ from cyphy import api
 from dmodel_runs import RunD, animated_as_simulated, bench, written_session
 from test_dmodel_clock_loop import SCENARIO as CLOCK_PULSE_SCENARIO
 from cyphy.lang.scopes import Scopes
-from cyphy.model.machines import global_constants, machines_of, operation_definitions
+from cyphy.model.machines import machines_of
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel_cycle import cycle_process
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
+from cyphy.semantics.machines.interpreters import interpreter_for
 
 DATA = Path(__file__).parent / "data" / "op_pulse"
 
@@ -169,16 +170,18 @@ stm M {
 }
 
 
-def _interpreter(tmp_path: Path, text: str) -> MachineInterpreter:
+def _interpreter(tmp_path: Path, text: str, consts: dict[str, object] | None = None,
+                 leave_open: bool = False) -> MachineInterpreter:
+    """The machine ``M`` of ``text`` as the commands set it up (its operation definitions,
+    ``consts`` given, the constants without a value left open if ``leave_open``)."""
     f = tmp_path / "m.rst"
     f.write_text(INTERFACES + text, encoding="utf-8")
     result = api.check([str(f)])
     assert not result.report.has_errors, [d.message for d in result.report.diagnostics]
     files = list(result.workspace.user_files())
     (m,) = [m for m in machines_of(files, result.resolution) if m.name == "M"]
-    scopes = Scopes(result.workspace)
-    ops = operation_definitions(m, files, result.resolution, scopes)
-    return MachineInterpreter(m, global_constants(m, scopes), operations=ops)
+    return interpreter_for(m, files, result.resolution, Scopes(result.workspace), consts,
+                           leave_open=leave_open)
 
 
 READS = {"near": (c.BOOL,), "val": (c.BOOL, c.REAL)}
@@ -230,3 +233,37 @@ stm M {
                        r"\(M → Ping → Pong → Ping\): D holds one copy of an operation's "
                        "variables, so a recursive chain of calls is not written"):
         cycle_process("D", [it], READS, WRITES)
+
+
+def test_an_operation_s_open_constant_is_a_constant_of_the_theory(tmp_path: Path) -> None:
+    """An operation's own constant without a value is named as its fields are
+    (``D_Go_gain``, from ``Go::gain``), the machine's as before (``D_lim``); D with the
+    constants set runs as the interpreter given their values does."""
+    text = """
+operation Go(x: real) {
+""" + CONTEXT + """ const gain: real
+ initial j0
+ final F
+ transition a { from j0 to F action $go(x * gain) }
+}
+stm M {
+""" + CONTEXT + """ const lim: real
+ var s: real = 0
+ initial i0
+ state A { during s = s + 1; Go(s) }
+ state B { entry $halt() }
+ transition t0 { from i0 to A }
+ transition t1 { from A to B exec condition s >= lim }
+}
+"""
+    d = cycle_process("D", [_interpreter(tmp_path, text, leave_open=True)], READS, WRITES)
+    assert [(k.name, k.origin) for k in d.constants] == [("D_lim", "M::lim"),
+                                                          ("D_Go_gain", "Go::gain")]
+    given = _interpreter(tmp_path, text, {"lim": 3, "gain": 2.5})
+    runner = RunD(d)
+    runner.state.update({"D_lim": 3.0, "D_Go_gain": 2.5})
+    got = [runner.cycle({}, first=k == 0) for k in range(6)]
+    assert got == [given.cycle({}) for _ in range(6)]
+    # by hand: A's during sets s = 1, 2, 3, Go sends go(2.5 s); t1 (exec) then takes B
+    assert got == [(("go", (2.5,)),), (("go", (5.0,)),), (("go", (7.5,)), ("halt", ())),
+                   (), (), ()]
