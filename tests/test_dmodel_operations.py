@@ -26,6 +26,7 @@ import pytest
 from cyphy import api
 from dmodel_runs import RunD, animated_as_simulated, bench, written_session
 from test_dmodel_clock_loop import SCENARIO as CLOCK_PULSE_SCENARIO
+from cyphy.cli import main
 from cyphy.lang.scopes import Scopes
 from cyphy.model.machines import machines_of
 from cyphy.semantics.circus import ast as c
@@ -267,3 +268,26 @@ stm M {
     # by hand: A's during sets s = 1, 2, 3, Go sends go(2.5 s); t1 (exec) then takes B
     assert got == [(("go", (2.5,)),), (("go", (5.0,)),), (("go", (7.5,)), ("halt", ())),
                    (), (), ()]
+
+
+def test_gen_leaves_d_opaque_at_a_recursive_call_with_the_reason(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Kick calling Ramp back (Ramp → Kick → Ramp): the warning is at the call, with the
+    cycle construction's reason first (the automaton's, which cannot hold the machine
+    either, after it), and the theory is still written, ``D`` opaque."""
+    folder, _ = _model(tmp_path / "bench", 5.0)
+    software = folder / "OpPulseSoftware.rsm"
+    text = software.read_text()
+    software.write_text(text.replace("wait(2); $drive(v * 2) }", "wait(2); Ramp(v, 1) }"))
+    line = next(n for n, s in enumerate(software.read_text().splitlines(), 1)
+                if "Ramp(v, 1)" in s)
+    assert main(["gen", str(folder), "--isabelle", "-o", str(tmp_path / "out")]) == 0
+    err = capsys.readouterr().err
+    assert f"OpPulseSoftware.rsm:{line}:57: WARNING W-SEMANTICS-DMODEL: the d-model process " \
+        "is left opaque: state machine OpPulse: Ramp is called again while it runs (OpPulse " \
+        "→ Ramp → Kick → Ramp): D holds one copy of an operation's variables, so a " \
+        "recursive chain of calls is not written (nor can the automaton hold it: the first " \
+        "cycle of OpPulse depends on its inputs" in err, err
+    assert "hint: write the repetition as a loop of transitions with exec" in err
+    theory = next((tmp_path / "out").glob("*_CyPhyCircus.thy")).read_text()
+    assert "OpPulseSoftwareStep" not in theory
