@@ -124,17 +124,18 @@ def written_session(folder: Path, scenario: Path, dialect: str, session: Path) -
 
 
 def animated_as_simulated(session: Path, folder: Path, scenario: Path, samples: int,
+                          names: tuple[str, ...] = ("Motor_av", "Motor_i", "Range_distance"),
                           tolerance: float = 1e-5) -> tuple[list[str], "np.ndarray"]:
-    """``animate`` of the theory and ``simulate`` of the model agree on the motor's speed
-    and current and the obstacle's distance within ``tolerance`` at every sample; the
-    animation's columns and rows."""
+    """``animate`` of the theory and ``simulate`` of the model agree on ``names`` (the
+    dcmotor's speed and current and the obstacle's distance; empty: every state both
+    report) within ``tolerance`` at every sample; the animation's columns and rows."""
     import numpy as np
 
     anim = run_json("animate", session, scenario, samples)
     sim = run_json("simulate", folder, scenario, samples)
     columns, rows = anim["columns"], np.array(anim["rows"])
     assert np.allclose(rows[:, 0], sim["t"])
-    for col in ("Motor_av", "Motor_i", "Range_distance"):
+    for col in names or [c for c in columns[1:] if c in sim["columns"]]:
         gap = np.max(np.abs(rows[:, columns.index(col)] - sim["columns"][col]))
         assert gap < tolerance, (col, gap)
     return columns, rows

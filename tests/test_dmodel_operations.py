@@ -18,6 +18,7 @@ the other ``tests/test_dmodel_*.py`` files, which compare ``D``'s text."""
 from __future__ import annotations
 
 import random
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -291,3 +292,51 @@ def test_gen_leaves_d_opaque_at_a_recursive_call_with_the_reason(
     assert "hint: write the repetition as a loop of transitions with exec" in err
     theory = next((tmp_path / "out").glob("*_CyPhyCircus.thy")).read_text()
     assert "OpPulseSoftwareStep" not in theory
+
+
+# ----------------------------------------------------------------- two machines of a module
+
+ROVER = Path(__file__).parent / "data" / "heldout" / "rover"
+
+
+def _rover(folder: Path) -> Path:
+    """The held-out rover with ``tests/data/op_rover``'s software: both machines call
+    operation definitions, each its own ``Hold``."""
+    folder.mkdir()
+    for name in ("Mapping.rsm", "RoverBase.rsm", "bump.toml"):
+        shutil.copy(ROVER / name, folder)
+    shutil.copy(DATA.parent / "op_rover" / "RoverSoftware.rsm", folder)
+    return folder
+
+
+@pytest.mark.parametrize("dialect", ("utp", "axiomatic"))
+def test_two_machines_calling_operations_animate_as_simulate_runs_them(
+        tmp_path: Path, dialect: str) -> None:
+    folder = _rover(tmp_path / "rover")
+    theory = written_session(folder, folder / "bump.toml", dialect, tmp_path / "thy")
+    # each machine's operations have fields of their own (both call a Hold)
+    for name in ("SDrive_Spin_s", "SDrive_Hold_H", "SScan_Swing_side", "SScan_Hold_H"):
+        assert f"RoverSoftware_{name}" in theory, name
+    columns, _ = animated_as_simulated(tmp_path / "thy", folder, folder / "bump.toml", 21, ())
+    assert {"LMotor_av", "RMotor_av", "Pan_av"} <= set(columns)
+
+
+def test_two_machines_d_calls_what_the_interpreters_call_cycle_by_cycle(
+        tmp_path: Path) -> None:
+    from cyphy.semantics.machines.parallel import ModuleInterpreter
+    from test_dmodel_process import _semantics
+
+    folder = _rover(tmp_path / "rover")
+    sem, _ = _semantics([folder / "Mapping.rsm"])
+    d = sem.program.dmodel
+    assert isinstance(d, c.BasicProcess)
+    rng = random.Random(28)
+    for _ in range(10):
+        interpreter, _checked = api.machine_interpreter([folder], pmodel="RoverBase")
+        assert isinstance(interpreter, ModuleInterpreter)
+        runner = RunD(d)
+        for k in range(40):
+            events = {"near": True if rng.random() < 0.3 else None}
+            want = interpreter.cycle(events)
+            assert [(n, pytest.approx(a)) for n, a in want] == \
+                list(runner.cycle(events, first=k == 0)), k
