@@ -350,7 +350,8 @@ def test_rover_d_is_both_machines_stepped_together() -> None:
     semantics, no automaton), leave it."""
     import random
 
-    from test_dmodel_process import _RunD, _semantics
+    from dmodel_runs import RunD
+    from test_dmodel_process import _semantics
 
     from cyphy.semantics.machines.parallel import ModuleInterpreter
 
@@ -363,7 +364,7 @@ def test_rover_d_is_both_machines_stepped_together() -> None:
         interpreter, _checked = api.machine_interpreter([ROVER], pmodel="RoverBase")
         assert isinstance(interpreter, ModuleInterpreter)
         assert [p.machine.name for p in interpreter.parts] == ["SDrive", "SScan"]
-        runner = _RunD(d)
+        runner = RunD(d)
         want: dict[str, tuple[float, ...]] = {}
         got: dict[str, tuple[float, ...]] = {}
         for k in range(40):
