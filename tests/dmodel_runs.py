@@ -10,10 +10,14 @@ import json
 import operator
 import shutil
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from cyphy import expr as ex
 from cyphy.cli import main
 from cyphy.semantics.circus import ast as c
+
+if TYPE_CHECKING:
+    import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 
