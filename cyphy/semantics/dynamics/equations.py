@@ -337,7 +337,7 @@ def motion(model: ElaboratedModel,
     ``0 == M(q)*a + h(q, v)`` for its six coordinates). The one source of these equations for
     ``cyphy solve`` (through :func:`assemble`) and the CyPhyCircus ``Evolve``; raises
     ``DynamicsError`` when the tree has none."""
-    from cyphy.semantics.dynamics.rigid_body import motion_equations
+    from cyphy.semantics.dynamics.motion import motion_equations
     from cyphy.semantics.dynamics.tree import STANDARD_GRAVITY
 
     return [Equation(equation, f"{joint.prefix} motion", equation.span)
