@@ -18,12 +18,12 @@ prismatic) or several (universal: two angles; ball: ZYX Euler angles, singular a
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence
 
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
 from cyphy.model.poses import Pose
 from cyphy.model.roots import preferred_root
+from cyphy.records import record
 from cyphy.semantics.dynamics.errors import DynamicsError
 
 if TYPE_CHECKING:
@@ -33,7 +33,7 @@ if TYPE_CHECKING:
 
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class TreeJoint:
     """One joint of the tree, with its ``dof`` coordinates (:data:`DOF`): its place in the
     tree and the poses and links it is built from, as the model gives them (pure Python:
@@ -170,7 +170,7 @@ EULER = frozenset({"spherical", "floating"})
 FLOATING = ("x", "y", "z", "yaw", "pitch", "roll")
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class KinematicTree:
     """The joints in tree order (parents before children) and the gravity vector. ``q``,
     ``q̇``, ``τ`` and the rows of ``M`` and ``h`` hold each joint's ``dof`` coordinates in
