@@ -24,8 +24,8 @@ from cyphy.lang import ast
 from cyphy.lang.parser import parse_text
 from cyphy.lang.scopes import Scopes
 from cyphy.model.machines import global_constants, machines_of, operation_definitions
-from cyphy.semantics.machines.cycle import (MAX_DEPTH, MachineError, MachineInterpreter,
-                                     interpreter_for)
+from cyphy.semantics.machines.cycle import MAX_DEPTH, MachineError, MachineInterpreter
+from cyphy.semantics.machines.interpreters import interpreter_for
 from cyphy.semantics.machines.automaton import compile_machine, describe
 
 INTERFACES = """\

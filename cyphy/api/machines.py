@@ -29,7 +29,8 @@ def machine_interpreter(paths: Sequence[str | Path], name: str | None = None,
     code ``E-MACHINE`` for what is not a check) when the files have errors or there is no
     single machine to run."""
     # lazy: NumPy: `cyphy check` must not pay for it
-    from cyphy.semantics.machines.cycle import MACHINE, MachineError, interpreter_for
+    from cyphy.semantics.machines.cycle import MACHINE, MachineError
+    from cyphy.semantics.machines.interpreters import interpreter_for
     from cyphy.semantics.machines.parallel import ModuleInterpreter
 
     checked = check(paths, CheckOptions(search_paths=search_paths))

@@ -38,7 +38,8 @@ def add_parser(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> No
                          "'Range_distance=3-2*t'; repeatable")
     animate.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
                          help="a value for one of the theory's constants (an open one, such as "
-                         "tscale, or a defined one to override); repeatable")
+                         "tscale, or a defined one to override), by its theory name or by "
+                         "RoboSim's as simulate takes it (lv, SpeedControlMotor::R); repeatable")
     animate.add_argument("--samples", type=int, default=201,
                          help="output instants over [0, T] (default 201)")
     animate.add_argument("--format", choices=("csv", "json"), default="csv")
@@ -98,10 +99,12 @@ def run(args: argparse.Namespace) -> int:
             return _error(f"--const {name}={text}: not a number")
         if not math.isfinite(values[name]):
             return _error(f"--const {name}={text}: not a finite number")
+    # lazy: the scenario reader, only when a command runs (SymPy inside, at its own call)
+    from cyphy.verify.animate import scenario as scenario_file
+    values = scenario_file.theory_values(values, Path(args.session))
     scenario_consts: dict[str, float] = {}
     rates: dict[str, tuple[str, float]] = {}
     if args.scenario:
-        from cyphy.verify.animate import scenario as scenario_file  # lazy: with --scenario
         try:
             given = scenario_file.read(Path(args.scenario), Path(args.session))
         except AnimateError as err:

@@ -308,6 +308,30 @@ def global_constants(machine: Machine, scopes: Scopes) -> dict[str, object]:
     return values
 
 
+def open_constants(machine: Machine, scopes: Scopes, given: set[str] = frozenset()
+                   ) -> dict[str, ast.VarDecl]:
+    """The constants without a value that ``machine`` declares or reads from outside it
+    (the paper's open constants: the model is a family), by the name its expressions use,
+    the declaration's first; ``given`` names those a command gives (``--const``), which are
+    not open. An operation's parameters are bound at each call, so never open."""
+    params = {p.name for p in machine.decl.params}
+    out: dict[str, ast.VarDecl] = {}
+    for name, decl in machine.constants.items():
+        if decl.value is None and name not in params and name not in given:
+            out[name] = decl
+    local = set(machine.constants) | set(machine.variables) | set(machine.clocks) | params
+    for e, _ in expressions(machine):
+        for node in e.walk():
+            if not isinstance(node, ex.Name) or node.text in local or node.text in out or \
+                    node.parts[-1] in given:
+                continue
+            found = scopes.lookup(machine.file, node.parts, is_constant)
+            decl = found[0] if found else None
+            if isinstance(decl, ast.VarDecl) and decl.value is None:
+                out[node.text] = decl
+    return out
+
+
 def select_machine(files: list[ast.SourceFile], resolution: Resolution, pmodel: str | None,
                    name: str | None) -> tuple[Machine | None, tuple[str, str]]:
     """The machine that controls ``pmodel``: the one named ``name``, else the only one the

@@ -4,7 +4,8 @@ The paper allows a constant without a value: it is a parameter of the whole mode
 then a family of models (spec ``semantics.md``, Rule 2; ``notation.md``: "an implicit model
 parameter"). So ``check`` accepts it. But running the machine needs its value: ``simulate``,
 ``reach`` and ``gen --flowstar`` refuse the model until it has one (``--const``, the
-scenario's ``[consts]``), and ``gen --isabelle`` leaves the theory's ``D`` opaque. Before,
+scenario's ``[consts]``); ``gen --isabelle`` keeps it open, a constant of the theory that
+``D`` reads (:mod:`cyphy.semantics.circus.dmodel_cycle`). Before,
 ``check`` said nothing, and the user learnt it only from those commands. The warning names
 the constant where it is declared: a machine's own (``const k: real``) or one outside it
 that the machine reads (a package's), unless ``check --const`` gives it.
@@ -12,12 +13,10 @@ that the machine reads (a package's), unless ``check --const`` gives it.
 
 from __future__ import annotations
 
-from cyphy import expr as ex
 from cyphy.diagnostics import Severity
 from cyphy.lang import ast
-from cyphy.lang.scopes import is_constant
-from cyphy.model.machines import Machine, expressions
-from cyphy.wellformed.machines import _kind, _machines
+from cyphy.model.machines import Machine, open_constants
+from cyphy.wellformed.machines import checked_machines, machine_kind
 from cyphy.wellformed.registry import WFContext, rule
 
 
@@ -29,21 +28,9 @@ def check_STM15_constant_values(ctx: WFContext) -> None:
     and the commands that run the machine refuse the model."""
     given = {key.split("::")[-1] for key in ctx.consts}
     warned: set[int] = set()
-    for m in _machines(ctx):
-        params = {p.name for p in m.decl.params}
-        for name, decl in m.constants.items():
-            if decl.value is None and name not in params and name not in given:
-                _warn(ctx, m, name, decl, warned)
-        local = set(m.constants) | set(m.variables) | set(m.clocks) | params
-        for e, _ in expressions(m):
-            for node in e.walk():
-                if not isinstance(node, ex.Name) or node.text in local or \
-                        node.parts[-1] in given:
-                    continue
-                found = ctx.scopes.lookup(m.file, node.parts, is_constant)
-                decl = found[0] if found else None
-                if isinstance(decl, ast.VarDecl) and decl.value is None:
-                    _warn(ctx, m, node.text, decl, warned)
+    for m in checked_machines(ctx):
+        for name, decl in open_constants(m, ctx.scopes, given).items():
+            _warn(ctx, m, name, decl, warned)
 
 
 def _warn(ctx: WFContext, m: Machine, name: str, decl: ast.VarDecl, warned: set[int]) -> None:
@@ -51,9 +38,9 @@ def _warn(ctx: WFContext, m: Machine, name: str, decl: ast.VarDecl, warned: set[
     if id(decl) in warned:
         return
     warned.add(id(decl))
-    ctx.error("STM15", decl, f"the constant {name} read by {_kind(m)} has no value: the "
+    ctx.error("STM15", decl, f"the constant {name} read by {machine_kind(m)} has no value: the "
               "model is a family (the paper's open constant), and simulate, reach and "
-              "gen --flowstar refuse it until it has one (gen --isabelle leaves the "
-              "theory's D opaque)",
+              "gen --flowstar refuse it until it has one (gen --isabelle keeps it open, a "
+              "constant of the theory)",
               f"give it a value (const {name}: … = …), or give it to those commands: "
               f"--const {name}=…, or {name} = … in the scenario's [consts]")

@@ -20,7 +20,7 @@ from cyphy.lang import ast
 from cyphy.lang.notation import to_notation
 from cyphy.model.machines import Machine, MachineTransition, statements
 from cyphy.wellformed.indexing import evaluate_in
-from cyphy.wellformed.machines import _machines
+from cyphy.wellformed.machines import checked_machines
 from cyphy.wellformed.registry import WFContext, rule
 
 
@@ -117,7 +117,7 @@ def check_STM13_cycle_ends(ctx: WFContext) -> None:
     change). Reported at its first transition, naming the loop; a loop whose guards contradict
     each other as written (``$e`` on one, ``not $e`` on another) is never completed and is
     accepted."""
-    for m in _machines(ctx):
+    for m in checked_machines(ctx):
         loop = _loop(m)
         if loop is None:
             continue
@@ -137,7 +137,7 @@ def check_STM14_wait_cycles(ctx: WFContext) -> None:
     (``simulate`` and ``reach`` refused ``wait(-1)`` or ``wait(0.5)`` when the machine
     reached it). ``n`` is evaluated with the machine's constants and those in scope; one
     that reads a variable, or a constant without a value, is left to the run."""
-    for m in _machines(ctx):
+    for m in checked_machines(ctx):
         names = {**m.variables, **m.constants}
         for s, where in statements(m):
             if not isinstance(s, ast.WaitStatement):

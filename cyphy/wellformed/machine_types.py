@@ -19,7 +19,7 @@ from cyphy.lang.scopes import is_value
 from cyphy.lang.typing import BOOL, ANY, Kind, TypeChecker, Ty, same_shape, type_of_declared
 from cyphy.model.machines import Machine, called_operation, expressions, statements
 from cyphy.wellformed.indexing import evaluate_in
-from cyphy.wellformed.machines import _machines
+from cyphy.wellformed.machines import checked_machines
 from cyphy.wellformed.registry import RULES, WFContext, rule
 
 
@@ -76,7 +76,7 @@ def check_STM8_machine_types(ctx: WFContext) -> None:
     of a boolean). ``$e!v`` gives a typed output event a value of its type, ``$e?x`` binds
     the value of a typed input event to a variable of its type (whether a value travels at
     all is STM4's)."""
-    for m in _machines(ctx):
+    for m in checked_machines(ctx):
         types = _MachineTypes(ctx, m, ctx.report)
         for t in m.transitions:
             if t.decl.condition is not None:

@@ -30,13 +30,15 @@ from cyphy.wellformed.registry import WFContext, rule
 SINCE = "since"
 
 
-def _machines(ctx: WFContext) -> list[Machine]:
+def checked_machines(ctx: WFContext) -> list[Machine]:
+    """The files' machines and operation definitions, built once per check (every STM rule,
+    in this module and the others, walks them)."""
     if "machines" not in ctx.cache:
         ctx.cache["machines"] = machines_of(list(ctx.files()), ctx.resolution, operations=True)
     return ctx.cache["machines"]  # type: ignore[no-any-return]
 
 
-def _kind(m: Machine) -> str:
+def machine_kind(m: Machine) -> str:
     """``machine M`` or ``operation Op`` (operation definitions are checked as machines)."""
     return f"{'operation' if m.decl.kind == 'operation' else 'machine'} {m.name}"
 
@@ -45,10 +47,10 @@ def _kind(m: Machine) -> str:
 def check_STM1_transition_ends(ctx: WFContext) -> None:
     """Each transition names its source (``from``) and target (``to``), and both are states
     or junctions of the machine or composite state in which it is written."""
-    for m in _machines(ctx):
+    for m in checked_machines(ctx):
         for t in m.transitions:
             scope = [n.name for n in m.children(t.container)]
-            where = f"state {t.container}" if t.container else _kind(m)
+            where = f"state {t.container}" if t.container else machine_kind(m)
             for end, key, span in (("from", t.source, t.decl.source_span),
                                    ("to", t.target, t.decl.target_span)):
                 name = t.decl.source if end == "from" else t.decl.target
@@ -66,12 +68,12 @@ def check_STM1_transition_ends(ctx: WFContext) -> None:
 def check_STM2_initial_junction(ctx: WFContext) -> None:
     """Execution starts at the initial junction: a machine (and each composite state) has
     exactly one, and a transition leaves it."""
-    for m in _machines(ctx):
+    for m in checked_machines(ctx):
         containers: list[tuple[str | None, Any]] = [(None, m.decl)]
         containers += [(n.key, n.decl) for n in m.states if n.composite]
         for key, decl in containers:
             initials = [n for n in m.children(key) if n.kind == "initial"]
-            what = f"state {key}" if key else _kind(m)
+            what = f"state {key}" if key else machine_kind(m)
             if not initials:
                 ctx.error("STM2", decl, f"{what} has no initial junction",
                           "add 'initial i0' and a transition from it to the first state")
@@ -154,7 +156,7 @@ def check_STM3_operation_calls(ctx: WFContext) -> None:
     operation has parameters; when a module's controller runs the machine, that module's
     robotic platform provides the operation. A call ``op(args)`` of an operation definition
     passes as many arguments as the definition has parameters."""
-    for m in _machines(ctx):
+    for m in checked_machines(ctx):
         for s, where in statements(m):
             if not (isinstance(s, ast.CallStatement) and isinstance(s.call, ex.Call)):
                 continue
@@ -196,7 +198,7 @@ def check_STM4_events(ctx: WFContext) -> None:
     A value travels only with a typed event: ``$e!v`` and ``$e?x`` name typed events, and a
     typed output event is sent with its value (``$e!v``, not ``$e``); the value's type is
     STM8's."""
-    for m in _machines(ctx):
+    for m in checked_machines(ctx):
         sent = {id(s.event) for s, _ in statements(m) if isinstance(s, ast.SendStatement)}
         _check_event_values(ctx, m)
         called = {id(s.call.func) if isinstance(s.call, ex.Call) else id(s.call)
@@ -285,7 +287,7 @@ def check_STM5_names(ctx: WFContext) -> None:
     functions in scope, and clocks only as ``since(C)``; ``#C`` names a clock; an assignment
     changes a variable. A variable of an interface the machine ``requires`` is the robotic
     platform's, which must provide it."""
-    for m in _machines(ctx):
+    for m in checked_machines(ctx):
         known = set(m.constants) | set(m.variables)
         shared = set(m.platform.written) - known
         for e, where in expressions(m):
@@ -395,7 +397,7 @@ def _free_names(e: ex.Expr) -> Iterator[ex.Name]:
 def check_STM6_reachable(ctx: WFContext) -> None:
     """Following transitions from the initial junction (whatever their conditions), every
     state is reached; entering a composite state enters its initial junction."""
-    for m in _machines(ctx):
+    for m in checked_machines(ctx):
         start = m.initial(None)
         if start is None:
             continue  # STM2
@@ -434,7 +436,7 @@ def check_STM7_junction_conditions(ctx: WFContext) -> None:
     alarm."""
     if not ctx.z3:
         return
-    for m in _machines(ctx):
+    for m in checked_machines(ctx):
         for j in m.junctions:
             out = m.outgoing(j.key)
             if not out or all(t.decl.condition is None and t.decl.trigger is None

@@ -31,7 +31,7 @@ from cyphy.model.connections import (controllers_of, machines_of_controller,
                                      missing_connection, module_machines)
 from cyphy.model.machines import Machine, expressions, statements
 from cyphy.wellformed.indexing import evaluate_in
-from cyphy.wellformed.machines import _machines, callee_of, root
+from cyphy.wellformed.machines import callee_of, checked_machines, root
 from cyphy.wellformed.registry import WFContext, rule
 
 def _cycle(holder: object) -> ex.Expr | None:
@@ -78,16 +78,16 @@ def check_STM10_one_cycle(ctx: WFContext) -> None:
                 if own is None or own == period:
                     continue
                 if period is None:
-                    period, owner = own, f"{_kind(holder)} {holder.name}"
+                    period, owner = own, f"{machine_kind(holder)} {holder.name}"
                     continue
-                ctx.error("STM10", _cycle(holder), f"the cycle of {_kind(holder)} "
+                ctx.error("STM10", _cycle(holder), f"the cycle of {machine_kind(holder)} "
                           f"{holder.name} is {own:g} time units, but {owner}'s is "
                           f"{period:g}: module {module.name} runs its controllers and "
                           "machines with one cycle", f"write 'cycleDef cycle == {period:g}', "
                           "and count longer periods with a clock or wait(n)")
 
 
-def _kind(holder: object) -> str:
+def machine_kind(holder: object) -> str:
     return "controller" if isinstance(holder, ast.Controller) else "machine"
 
 
@@ -96,7 +96,7 @@ def _kind(holder: object) -> str:
 def check_STM11_events_connected(ctx: WFContext) -> None:
     """A machine reads ``$e`` of its platform: the module connects the platform's ``e`` to
     the machine's controller, and the controller connects its ``e`` to the machine."""
-    machines = {id(m.decl): m for m in _machines(ctx)}
+    machines = {id(m.decl): m for m in checked_machines(ctx)}
     for module, ctrl_name, ctrl, stm_name, stm in module_machines(ctx.files(), ctx.resolution):
         m = machines.get(id(stm))
         if m is None:
@@ -164,7 +164,7 @@ def check_STM12_controller_requires(ctx: WFContext) -> None:
     controller that runs it ``requires I`` too (RoboChart's composition; the corpus's
     controllers all do). Reported at the machine's first call of an operation of ``I`` or
     use of a variable of ``I``, with the controller's missing line as the hint."""
-    machines = {id(m.decl): m for m in _machines(ctx)}
+    machines = {id(m.decl): m for m in checked_machines(ctx)}
     for _, _, ctrl, _, stm in module_machines(ctx.files(), ctx.resolution):
         m = machines.get(id(stm))
         if m is None:

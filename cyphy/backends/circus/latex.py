@@ -206,7 +206,7 @@ class CircusLatex(ActionPrinter):
             args = " \\cross ".join(["X"] * max(f.arity, 1))
             out += ["\\begin{gendef}[X]", f"  {name(f.name)} : {args} \\fun X",
                     "\\end{gendef}", ""]
-        consts = p.pmodel.constants
+        consts = c.program_constants(p)
         if consts:
             decls = " \\\\\n  ".join(f"{name(k.name)} : {latex_type(k.type)}" for k in consts)
             values = [f"{name(k.name)} = {e.print(k.value)}" for k in consts

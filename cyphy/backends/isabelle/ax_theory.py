@@ -119,7 +119,7 @@ def generate_ax_session(program: c.Program, table: NameTable, odes: EvolveOdes |
         "README": env.get_template("ax_README.j2").render(
             session=session, parent=PARENT, theory=theory, mapping=program.system.name,
             pmodel=pm.name, evolve=evolve),
-        "names.tsv": _names_table(table, names, symbols),
+        "names.tsv": _names_table(table, names, symbols, c.dmodel_constants(program)),
     }
     return IsabelleSession(files, theory, defs, names, symbols)
 

@@ -152,7 +152,7 @@ def _given_sets(program: c.Program) -> list[str]:
     """The named types that are not HOL's (``typedecl``s), from every declaration."""
     pm = program.pmodel
     types: list[c.Type] = [b.type for b in program.globals.constants]
-    types += [k.type for k in pm.constants]
+    types += [k.type for k in c.program_constants(program)]
     types += [t for ch in program.channels for v in ch.variants for t in v.types]
     types += [f.type for f in (*pm.state.fields, *pm.local.fields)]
     for d in pm.actions:
@@ -188,10 +188,10 @@ def symbols_of(program: c.Program, taken: frozenset[str] = frozenset()) -> Symbo
     for g in given:
         names.add(g)
     nat = {b.name for b in program.globals.constants if b.type == c.NAT}
-    nat |= {k.name for k in pm.constants if k.type == c.NAT}
+    nat |= {k.name for k in c.program_constants(program) if k.type == c.NAT}
     for b in program.globals.constants:
         names.add(b.name)
-    for k in pm.constants:
+    for k in c.program_constants(program):
         names.add(k.name)
     functions = {}
     for f in program.functions:
@@ -222,7 +222,7 @@ def symbols_of(program: c.Program, taken: frozenset[str] = frozenset()) -> Symbo
         names=names,
         state=frozenset(f.name for f in pm.state.fields) | frozenset(d_state),
         constants=frozenset({b.name for b in program.globals.constants}
-                            | {k.name for k in pm.constants}),
+                            | {k.name for k in c.program_constants(program)}),
         nat=frozenset(nat),
         actions=frozenset(d.name for d in pm.actions) | frozenset(d_actions),
         functions=functions,
@@ -313,7 +313,7 @@ def generate_session(program: c.Program, table: NameTable,
             session=f"{prefix}_CyPhy", theory=theory, prelude=PRELUDE,
             mapping=program.system.name, pmodel=pm.name),
     }
-    files["names.tsv"] = _names_table(table, names, symbols)
+    files["names.tsv"] = _names_table(table, names, symbols, c.dmodel_constants(program))
     defs = {d.name: d for d in pm.actions}
     defs["MainAction"] = c.ActionDef("MainAction", (), pm.main)
     defs.update(_dprocess_actions(program))
@@ -338,7 +338,7 @@ def _theory_context(program: c.Program, pm: c.BasicProcess, printer: IsabellePri
     globals_ = program.globals
     axioms = [printer.doprint(w, "hol") for w in globals_.where]
     constants = []
-    for k in _constant_order(pm.constants):
+    for k in _constant_order(c.program_constants(program)):
         value = None if k.value is None else printer.doprint(k.value, "hol")
         constants.append({"name": names[k.name], "type": _quoted(printer.type(k.type)),
                           "value": value, "origin": k.origin})
@@ -441,7 +441,8 @@ def _quoted(t: str) -> str:
     return t if t.replace("_", "").isalnum() else f'"{t}"'
 
 
-def _names_table(table: NameTable, names: IsabelleNames, symbols: Symbols) -> str:
+def _names_table(table: NameTable, names: IsabelleNames, symbols: Symbols,
+                 dconstants: tuple[c.Constant, ...]) -> str:
     """qualified RoboSim name, CyPhyCircus name, Isabelle identifier (locals are bound), and
     for a device's constant its definition-qualified name (``SpeedControlMotor::R``), which
     ``--const`` and a scenario's ``[consts]`` may use (empty otherwise)."""
@@ -476,5 +477,7 @@ def _names_table(table: NameTable, names: IsabelleNames, symbols: Symbols) -> st
         ident = names.get(field) or field
         if ident not in listed:
             rows.append(f"state of the d-model process\t{field}\t{ident}\t")
+    for k in dconstants:  # a machine's open constants, named as D names its variables
+        rows.append(f"{k.origin}\t{k.name}\t{names.get(k.name) or k.name}\t")
     return "\n".join(rows) + "\n"
 

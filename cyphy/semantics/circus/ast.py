@@ -395,6 +395,18 @@ class Program:
     functions: tuple[FunctionDecl, ...] = ()
 
 
+def program_constants(program: Program) -> tuple[Constant, ...]:
+    """Every constant of the program, P's then D's: the theories and the LaTeX document
+    declare them all before the processes."""
+    return program.pmodel.constants + dmodel_constants(program)
+
+
+def dmodel_constants(program: Program) -> tuple[Constant, ...]:
+    """D's constants: its machine's open constants, when D is written out."""
+    dm = program.dmodel
+    return dm.constants if isinstance(dm, BasicProcess) else ()
+
+
 Node = Union[Type, Binding, Exists, Field, Comm, Action, Constant, AxDef, ChannelVariant,
              ChannelDecl, SchemaField, Schema, ActionDef, BasicProcess, OpaqueProcess,
              ProcessExpr, ProcessDef, FunctionDecl, Program]

@@ -27,8 +27,8 @@ from cyphy.semantics.circus.values import type_of
 from cyphy.semantics.circus.walk import action_nodes
 from cyphy.semantics.dynamics.equations import fixed_root_twists, motion, port_index
 from cyphy.semantics.dynamics.errors import DynamicsError
-from cyphy.semantics.machines.cycle import (MACHINE, MachineError, MachineInterpreter,
-                                             interpreter_for, machine_constants)
+from cyphy.semantics.machines.cycle import MACHINE, MachineError, MachineInterpreter
+from cyphy.semantics.machines.interpreters import interpreter_for, machine_constants
 from cyphy.semantics.machines.parallel import compile_module
 from cyphy.wellformed.platform_services import Platform, platform_of
 from cyphy.wellformed.registry import WFContext
@@ -155,8 +155,9 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
         interpreters = []
         for machine in machines:
             interpreters.append(interpreter_for(machine, files, resolution, Scopes(ws), consts,
-                                                mapping.pmodel[-1]))
-        if _reads_typed(interpreters):  # values no automaton holds: the cycle written out
+                                                mapping.pmodel[-1], leave_open=True))
+        # values no automaton holds (typed events, open constants): the cycle written out
+        if _reads_typed(interpreters) or any(i.open for i in interpreters):
             return cycle_process(program.dmodel.name, interpreters, reads, writes)
         # the module's machines together (the product), as simulate and reach run them
         try:

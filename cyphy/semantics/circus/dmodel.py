@@ -116,3 +116,24 @@ def _sequence(actions: list[c.Action]) -> c.Action:
     if not actions:
         return c.Skip()
     return actions[0] if len(actions) == 1 else c.Seq(tuple(actions))
+
+
+def read_events_action(name: str, events: list[str], typed: set[str],
+                       reads: dict[str, tuple[c.Type, ...]]) -> c.Action:
+    """``<D>Read`` of :mod:`~cyphy.semantics.circus.dmodel_cycle`'s ``D``: each mapped event
+    the machines read, its value too if typed; then each mapped event none reads
+    (unconnected), read and dropped."""
+    receive: list[c.Action] = []
+    for e in events:
+        if e in typed:
+            comm = c.Comm("registerRead", e, (c.In(f"{e}_in"), c.In(f"{e}_value_in")))
+            then = c.Assign((f"{name}_{e}", f"{name}_{e}_value"),
+                            (_name(f"{e}_in"), _name(f"{e}_value_in")))
+        else:
+            comm = c.Comm("registerRead", e, (c.In(f"{e}_in"),))
+            then = c.Assign((f"{name}_{e}",), (_name(f"{e}_in"),))
+        receive.append(c.Prefix(comm, then))
+    receive += [dropped_read(e, types) for e, types in reads.items() if e not in events]
+    if not receive:
+        return c.Skip()
+    return receive[0] if len(receive) == 1 else c.Seq(tuple(receive))

@@ -20,7 +20,7 @@ be built. Here the values stay symbolic: ``D``'s state is
   ``registerRead.e!true!p`` or ``!false!p``,
   :func:`cyphy.semantics.circus.rules.rule4_input_event`);
 - ``<D>_<x>`` per variable of the machine, at its initial value (a number held as a real,
-  :func:`_held`);
+  :func:`~cyphy.semantics.circus.values.held_type`);
 - ``<D>_<C>`` per clock: the cycles counted since ``#C`` (``since(C)`` is the count times
   the machine's cycle, as in the interpreter), a whole number held as a real: it is
   compared with real constants (``since(C) >= pause``), and utp-main's UTP expressions have
@@ -74,12 +74,14 @@ nodes, whose ``<D>Step`` branch runs that rest in the next cycle (the during act
 unless a state is entered, then the transitions, exec ones excluded); ``wait(n)``, ``n`` a
 constant, is ``n`` such ends.
 
-What is refused (``W-SEMANTICS-DMODEL``, with the reason): operation definitions, vector
-variables, an ``int`` or ``nat`` event value or call argument computed from the state (D
-holds numbers as reals, :func:`_held`), ``wait(n)`` with ``n`` not a constant, a name bound
-by ``$e?x`` outside a conjunct of its guard, machines of one module with different cycles,
-and a cycle that passes more than :data:`MAX_DEPTH` nodes (a loop of transitions without
-``exec``).
+An open constant (no value, none given) is a constant of the theory, ``<D>_k`` (a
+machine's own) or ``<D>_<machine>_k`` beside others; one computed from it is its expression.
+
+Refused (``W-SEMANTICS-DMODEL``, with the reason): operation definitions, vector variables
+and open constants, an ``int`` or ``nat`` event value or call argument computed from the
+state (D holds numbers as reals), ``wait(n)`` with ``n`` not a constant, a name bound by
+``$e?x`` outside a conjunct of its guard, machines of one module with different cycles, and
+a cycle that passes more than :data:`MAX_DEPTH` nodes (a loop without ``exec``).
 """
 
 from __future__ import annotations
@@ -89,9 +91,9 @@ from typing import Callable
 from cyphy import expr as ex
 from cyphy.lang import ast
 from cyphy.semantics.circus import ast as c
-from cyphy.semantics.circus.dmodel import MODE, dropped_read, literal
+from cyphy.semantics.circus.dmodel import MODE, literal, read_events_action
 from cyphy.semantics.circus.path_facts import Facts
-from cyphy.semantics.circus.values import type_of, value_expr
+from cyphy.semantics.circus.values import held_type, type_of, value_expr
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
 from cyphy.semantics.machines.parallel import same_cycle
 
@@ -158,9 +160,10 @@ class _Cycle:
             raise self._refuse(f"it calls the operation definition{'s' if ',' in names else ''}"
                                f" {names}: D for typed events does not run operation "
                                "definitions")
-        for name, decl in m.variables.items():
+        for name, decl in [*m.variables.items(), *self.interpreter.open.items()]:
             if type_of(decl.type) not in _SCALARS:
-                raise self._refuse(f"variable {name} is not a number or a Boolean", decl.span)
+                what = "variable" if name in m.variables else "open constant (no value)"
+                raise self._refuse(f"{what} {name} is not a number or a Boolean", decl.span)
         for e, t in self.typed.items():
             if t not in (c.REAL, c.BOOL):
                 raise self._refuse(f"the event {e} carries a value that is not real or "
@@ -181,15 +184,29 @@ class _Cycle:
     def own_fields(self) -> list[c.SchemaField]:
         """The machine's variables and clocks (its mode is :attr:`mode`)."""
         p = self.prefix
-        return [c.SchemaField(f"{p}_{x}", _held(d.type))
+        return [c.SchemaField(f"{p}_{x}", held_type(d.type))
                 for x, d in self.machine.variables.items()] + \
             [c.SchemaField(f"{p}_{k}", c.REAL) for k in self.machine.clocks]
+
+    def open_name(self, name: str) -> str:
+        """The theory's constant for an open constant: the machine's own is named as its
+        variables are, one declared outside it (a package's) once for all of D's machines."""
+        own = name in self.machine.constants
+        return f"{self.prefix if own else self.name}_{name.replace('::', '_')}"
+
+    def open_constants(self) -> list[c.Constant]:
+        """The machine's open constants (no value, none given): parameters of the theory,
+        held as D holds numbers (:func:`~cyphy.semantics.circus.values.held_type`)."""
+        m = self.machine.name
+        return [c.Constant(self.open_name(n), held_type(d.type), None,
+                           f"{m}::{n}" if n in self.machine.constants else n)
+                for n, d in self.interpreter.open.items()]
 
     def initial(self) -> tuple[ex.Expr, list[ex.Expr]]:
         """The mode's initial value (the initial junction) and the own fields'."""
         it = self.interpreter
         it.reset()
-        values = [_constant(it.variables[x], _held(d.type))
+        values = [_constant(it.variables[x], held_type(d.type))
                   for x, d in self.machine.variables.items()]
         return ex.Num(str(self.index[it.node])), values + [ex.Num("0")
                                                            for _ in self.machine.clocks]
@@ -273,7 +290,8 @@ class _Cycle:
                 facts = facts.forgotten(item.targets)  # type: ignore[attr-defined]
             elif kind == "stmt":
                 out.append(self._statement(item))  # type: ignore[arg-type]
-                facts = _learnt(facts, out[-1])
+                if isinstance(out[-1], c.Assign):  # it tells its field (a clock reset: 0)
+                    facts = facts.assigned(out[-1].targets[0], out[-1].values[0])
             else:
                 key = str(item)
                 return [*out, *self._enter(key, items[n + 1:], here, depth + 1, facts)]
@@ -309,7 +327,7 @@ class _Cycle:
             raise self._refuse(f"a cycle from {here} passes more than {MAX_DEPTH} nodes: a "
                                "loop of transitions without exec?",
                                self.machine.nodes[key].span,
-                               "mark the end of the cycle with exec")
+                               self._loop_hint())
         chain = self._ancestors(key)  # a composite state's transitions before its states'
         choices: list[tuple[ast.Transition, str, ex.Expr, list[c.Action], Facts]] = []
         before, always = facts, False  # before: what holds when the choice reaches t
@@ -341,6 +359,13 @@ class _Cycle:
             action = taken if last else self._cond(guard, taken, action)
         return action
 
+    def _loop_hint(self) -> str:
+        """A loop that guards over open constants may close (their values may make the
+        guards hold): the unrolling cannot tell, the constants' values can."""
+        names = ", ".join(self.interpreter.open)
+        return "mark the end of the cycle with exec" + (names and ", or give the open "
+                                                        f"constants ({names}) values (--const)")
+
     def _ancestors(self, key: str) -> list[str]:
         """The node and the composite states around it, outermost first."""
         out = [key]
@@ -357,7 +382,7 @@ class _Cycle:
         if depth > MAX_DEPTH:
             raise self._refuse(f"a cycle from {here} passes more than {MAX_DEPTH} nodes: a "
                                "loop of transitions without exec?", node.span,
-                               "mark the end of the cycle with exec")
+                               self._loop_hint())
         items: list[_Item] = []
         if node.kind == "state":
             items += self._items(node.actions("entry"))
@@ -415,8 +440,9 @@ class _Cycle:
             return ex.BinOp("==", _name(f"{self.name}_{event}"), ex.Bool(True))
         if isinstance(e, ex.Bool):
             return e
-        if isinstance(e, ex.Name) and e.text in self.machine.variables and \
-                type_of(self.machine.variables[e.text].type) == c.BOOL:
+        declared = {**self.interpreter.open, **self.machine.variables}
+        if isinstance(e, ex.Name) and e.text in declared and \
+                type_of(declared[e.text].type) == c.BOOL:
             return ex.BinOp("==", self._expr(e, bound), ex.Bool(True))
         return self._expr(e, bound)
 
@@ -443,6 +469,11 @@ class _Cycle:
                 value = constants.get(n.text)
                 if isinstance(value, (bool, int, float)):
                     return _constant(value, c.REAL)
+                if n.text in self.interpreter.open:
+                    return _name(self.open_name(n.text))
+                decl = self.machine.constants.get(n.text)
+                if decl is not None and decl.value is not None:  # computed from an open one
+                    return self._expr(decl.value)
                 if n.text == "since" or n.text in self.machine.clocks:
                     return None  # since(C) is rewritten at the call (bottom-up)
                 raise self._refuse(f"'{n.text}' has no value in the machine", n.span)
@@ -462,7 +493,7 @@ class _Cycle:
             if not isinstance(s.target, ex.Name) or s.target.text not in self.machine.variables:
                 raise self._refuse("only a variable of the machine can be assigned", s.span)
             decl = self.machine.variables[s.target.text]
-            value = self._predicate(s.value, {}) if _held(decl.type) == c.BOOL \
+            value = self._predicate(s.value, {}) if held_type(decl.type) == c.BOOL \
                 else self._expr(s.value)
             return c.Assign((f"{p}_{s.target.text}",), (value,))
         if isinstance(s, ast.ClockReset):
@@ -478,6 +509,10 @@ class _Cycle:
                 return self._send(call.name[-1], (), s)
             if isinstance(call, ex.Call) and isinstance(call.func, ex.PlatformRef):
                 return self._send(call.func.name[-1], call.args, s)
+            platform = self.machine.platform  # `move(0, av)`: RoboTool's call without `$`
+            if isinstance(call, ex.Call) and isinstance(call.func, ex.Name) and \
+                    call.func.parts[-1] in {**platform.operations, **platform.output_events}:
+                return self._send(call.func.parts[-1], call.args, s)
             raise self._refuse("this call is not a call of the platform", s.span)
         raise self._refuse("this statement is not written in D", s.span)
 
@@ -508,27 +543,6 @@ class _Cycle:
         return translated
 
 
-def _learnt(facts: Facts, action: c.Action) -> Facts:
-    """``facts`` after a statement's action: an assignment (a clock reset is one to 0)
-    tells or forgets its field."""
-    if isinstance(action, c.Assign):
-        for target, value in zip(action.targets, action.values):
-            facts = facts.assigned(target, value)
-    return facts
-
-
-def _held(t: ast.TypeRef | None) -> c.Type:
-    """How D holds a machine variable: a Boolean as one, any number as a real (the
-    interpreter computes on numbers alike, ``n / 2`` of an ``int`` is a half; and UTP
-    expressions have no implicit conversion from ``int`` or ``nat`` to ``real``, so mixed
-    arithmetic over declared types would not type-check)."""
-    return c.BOOL if type_of(t) == c.BOOL else c.REAL
-
-
-def _zero(type_: c.Type) -> ex.Expr:
-    return ex.Bool(False) if type_ == c.BOOL else ex.Num("0")
-
-
 def _constant(value: object, type_: c.Type) -> ex.Expr:
     if isinstance(value, bool) or type_ == c.BOOL:
         return ex.Bool(bool(value))
@@ -553,45 +567,31 @@ def cycle_process(name: str, interpreters: list[MachineInterpreter],
     starts = [t.initial() for t in cycles]
     fields = [c.SchemaField(t.mode, c.NAT) for t in cycles] + list(events.values()) + \
         [f for t in cycles for f in t.own_fields()]
+    constants = list({k.name: k for t in cycles for k in t.open_constants()}.values())
     names = [f.name for f in fields]
-    clash = next((n for n in names if names.count(n) > 1), None)
+    every = [*names, *(k.name for k in constants)]
+    clash = next((n for n in every if every.count(n) > 1), None)
     if clash is not None:
         raise cycles[0]._refuse(f"two parts of D's state would both be named {clash} (an "
-                                "event, a variable or a clock of one name, or one named "
-                                f"'{MODE}' or '<event>_value')", hint="rename one of them")
-    values = [mode for mode, _ in starts] + [_zero(f.type) for f in events.values()] + \
+                                "event, a variable, a clock or an open constant of one "
+                                f"name, or one named '{MODE}' or '<event>_value')",
+                                hint="rename one of them")
+    values = [mode for mode, _ in starts] + \
+        [ex.Bool(False) if f.type == c.BOOL else ex.Num("0") for f in events.values()] + \
         [v for _, own in starts for v in own]
     read_events = list(dict.fromkeys(e for t in cycles for e in t.events))
     typed = {e for t in cycles for e in t.typed}
     p = name
     defs = [c.ActionDef(f"{p}Init", (), c.Assign(tuple(names), tuple(values))),
-            c.ActionDef(f"{p}Read", (), _read(name, read_events, typed, reads)),
+            c.ActionDef(f"{p}Read", (), read_events_action(name, read_events, typed, reads)),
             c.ActionDef(f"{p}Start", (), _seq([t.start() for t in cycles])),
             c.ActionDef(f"{p}Step", (), _seq([t.step() for t in cycles]))]
     call: Callable[[str], c.Call] = lambda suffix: c.Call(f"{p}{suffix}")
     wait = c.Wait(_name("cycle"))
     main = c.Seq((call("Init"), call("Read"), call("Start"), wait,
                   c.Mu("X", c.Seq((call("Read"), call("Step"), wait, c.Call("X"))))))
-    return c.BasicProcess(name, (), c.Schema(f"{p}State", tuple(fields)),
+    return c.BasicProcess(name, tuple(constants), c.Schema(f"{p}State", tuple(fields)),
                           c.Schema(f"{p}Local", ()), tuple(defs), main)
-
-
-def _read(name: str, events: list[str], typed: set[str],
-          reads: dict[str, tuple[c.Type, ...]]) -> c.Action:
-    """``<D>Read``: each mapped event the machines read, its value too if typed; then each
-    mapped event none reads (unconnected), read and dropped."""
-    receive: list[c.Action] = []
-    for e in events:
-        if e in typed:
-            comm = c.Comm("registerRead", e, (c.In(f"{e}_in"), c.In(f"{e}_value_in")))
-            then = c.Assign((f"{name}_{e}", f"{name}_{e}_value"),
-                            (_name(f"{e}_in"), _name(f"{e}_value_in")))
-        else:
-            comm = c.Comm("registerRead", e, (c.In(f"{e}_in"),))
-            then = c.Assign((f"{name}_{e}",), (_name(f"{e}_in"),))
-        receive.append(c.Prefix(comm, then))
-    receive += [dropped_read(e, types) for e, types in reads.items() if e not in events]
-    return _seq(receive)
 
 
 def is_cycle_process(process: c.BasicProcess) -> bool:

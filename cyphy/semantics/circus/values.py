@@ -39,6 +39,14 @@ def type_of(t: ast.TypeRef | None) -> c.Type:
     return c.TBasic(type(t).__name__)
 
 
+def held_type(t: ast.TypeRef | None) -> c.Type:
+    """How the theory's ``D`` holds a machine's variable or open constant: a Boolean as
+    one, any number as a real (the interpreter computes on numbers alike, ``n / 2`` of an
+    ``int`` is a half; and UTP expressions have no implicit conversion from ``int`` or
+    ``nat`` to ``real``, so mixed arithmetic over declared types would not type-check)."""
+    return c.BOOL if type_of(t) == c.BOOL else c.REAL
+
+
 def _size(e: ex.Expr | None) -> int | None:
     """A declared size when it is a positive literal (``matrix(real, 0, 0)`` is the
     notation's "any size")."""

@@ -58,8 +58,7 @@ from cyphy.lang import ast
 from cyphy.records import record
 from cyphy.semantics.machines import scalars
 from cyphy.model.evaluate import MATH_FUNCTIONS, EvalError, evaluate
-from cyphy.model.machines import Machine, MachineTransition, global_constants, operation_definitions
-from cyphy.semantics.machines.observable import observable_events
+from cyphy.model.machines import Machine, MachineTransition
 
 MACHINE = codes.code("E-MACHINE", codes.E, "the state machine cannot be run")
 
@@ -140,9 +139,14 @@ class MachineInterpreter:
 
     def __init__(self, machine: Machine, constants: Mapping[str, object] | None = None,
                  functions: Mapping[str, Any] | None = None,
-                 operations: Mapping[str, Machine] | None = None) -> None:
+                 operations: Mapping[str, Machine] | None = None,
+                 open_constants: Mapping[str, ast.VarDecl] | None = None) -> None:
         self.machine = machine
         self.operations = dict(operations or {})
+        #: constants left without a value (only :mod:`cyphy.semantics.circus.dmodel_cycle`
+        #: asks for them: it writes them as the theory's open constants); running the machine
+        #: raises where it needs one, as do those computed from them
+        self.open: dict[str, ast.VarDecl] = dict(open_constants or {})
         self.observable: frozenset[str] = frozenset()
         """Output events the platform mapping does not map (set by the caller): they reach
         no input of the p-model, so a simulation records them and the Flow* automaton
@@ -166,11 +170,15 @@ class MachineInterpreter:
         at each call instead."""
         values: dict[str, object] = dict(given)
         params = {p.name for p in machine.decl.params}
+        unknown = set(self.open)  # open, or computed from an open one: left out
         for name, decl in machine.constants.items():
-            if name in params:
+            if name in params or name in unknown:
                 continue
             if name in given:
                 values[name] = given[name]
+            elif decl.value is not None and unknown & {n.text for n in decl.value.walk()
+                                                       if isinstance(n, ex.Name)}:
+                unknown.add(name)
             elif decl.value is not None:
                 values[name] = self._value(decl.value, values)
             else:
@@ -552,34 +560,6 @@ class MachineInterpreter:
     def state(self) -> str:
         """The node the machine rests in (a state, or a junction it is stuck at)."""
         return self.node
-
-
-def machine_constants(consts: Mapping[str, object] | None) -> dict[str, object]:
-    """The values given (``--const``, a scenario's ``[consts]``) that a machine may read:
-    plain numbers under plain names (``wclose``); a qualified name (``Motor::R``) is a
-    p-model block's."""
-    return {n: v for n, v in (consts or {}).items() if "::" not in n and
-            isinstance(v, (int, float)) and not isinstance(v, bool)}
-
-
-def interpreter_for(machine: Machine, files: list[ast.SourceFile], resolution: Any,
-                    scopes: Any, consts: Mapping[str, object] | None = None,
-                    pmodel: str | None = None) -> MachineInterpreter:
-    """The interpreter of a machine of the checked files, with the operation definitions
-    it calls, the values of the outside constants they name (``PI``) overridden by
-    ``consts``, and, when the machine controls ``pmodel``, its observable output events
-    (:func:`observable_events`)."""
-
-    operations = operation_definitions(machine, files, resolution, scopes)
-    known: dict[str, object] = {}
-    for m in [machine, *operations.values()]:
-        known.update(global_constants(m, scopes))
-    interpreter = MachineInterpreter(machine, {**known, **(consts or {})},
-                                     operations=operations)
-    if pmodel is not None:
-        interpreter.observable = observable_events(
-            [machine, *operations.values()], files, pmodel)
-    return interpreter
 
 
 def _frozen_vars(variables: Mapping[str, object]) -> tuple[tuple[str, Any], ...]:

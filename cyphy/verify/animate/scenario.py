@@ -62,6 +62,19 @@ def _targets(key: str, names: list[tuple[str, str, str]]) -> list[str]:
                                      definition)})
 
 
+def theory_values(given: dict[str, float], folder: Path) -> dict[str, float]:
+    """``--const`` values by theory identifier: a name is read as a scenario's [consts] key
+    is (:func:`_targets`: the identifier, or RoboSim's name, ``lv``, ``Pulse::fast``,
+    ``SpeedControlMotor::R``), so ``animate`` takes the names ``simulate`` takes; one that
+    matches nothing is kept, for the animation to refuse with a did-you-mean."""
+    names = _names(folder)
+    out: dict[str, float] = {}
+    for key, value in given.items():
+        for ident in _targets(key, names) or [key]:
+            out[ident] = value
+    return out
+
+
 def _start(lo_hi: tuple[float, float]) -> float:
     """An [init] value: a number, or an interval's midpoint (one run of the set)."""
     lo, hi = lo_hi

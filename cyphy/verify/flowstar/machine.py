@@ -40,7 +40,8 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
     the interpreter runs it."""
     from cyphy.lang.scopes import Scopes
     from cyphy.model.machines import select_machines
-    from cyphy.semantics.machines.cycle import MachineError, interpreter_for, machine_constants
+    from cyphy.semantics.machines.cycle import MachineError
+    from cyphy.semantics.machines.interpreters import interpreter_for, machine_constants
     from cyphy.semantics.machines.parallel import ModuleInterpreter
 
     files = list(check.workspace.user_files())
