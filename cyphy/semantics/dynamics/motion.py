@@ -14,6 +14,7 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 from cyphy import expr as ex
+from cyphy.lang import ast
 from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics.dynamics.errors import DynamicsError
 from cyphy.semantics.dynamics.motion_cache import derived
@@ -188,6 +189,7 @@ def _passive(tree: KinematicTree, q: Sequence[Any], qd: Sequence[Any], efforts: 
     """Take the annotated damping and springs of the joints into ``efforts`` (the effort
     the actuator gives is the rigid body's need minus them,
     :mod:`cyphy.semantics.dynamics.joint_forces`; limits are not written out)."""
+    # lazy: run on a miss of the cache only, which a warm start does not load
     from cyphy.semantics.dynamics.joint_forces import axis_forces, passive_efforts
 
     for joint, start in zip(tree.joints, tree.offsets):
@@ -199,8 +201,6 @@ def _passive(tree: KinematicTree, q: Sequence[Any], qd: Sequence[Any], efforts: 
 
 def port_size(t: Any) -> int | None:
     """The literal size of a vector type, None for a scalar (or anything else)."""
-    from cyphy.lang import ast
-
     if isinstance(t, ast.VectorType) and t.size is not None:
         text = getattr(t.size, "text", "")
         return int(text) if isinstance(text, str) and text.isdigit() else -1
@@ -210,7 +210,7 @@ def port_size(t: Any) -> int | None:
 def _chop(value: Any) -> Any:
     """``value`` without the float noise of the transforms (``1e-19·v²`` where a term
     cancels exactly): coefficients below 1e-12 of the largest are dropped."""
-    import sympy
+    import sympy  # lazy: SymPy, on a miss of the cache only (as in _derive)
 
     floats = [abs(float(f)) for f in value.atoms(sympy.Float)]
     if not floats:
