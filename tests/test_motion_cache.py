@@ -378,3 +378,42 @@ def test_without_its_sources_nothing_is_cached(tmp_path: Path, cyphy_cache: Path
     finally:
         monkeypatch.undo()
         motion_cache.fingerprint.cache_clear()
+
+
+_LOOP = """            flexibly connected to Hand
+        }
+        jref Wrist = Revolute {
+            pose { x = 0 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
+            instantiation AXIS = (|1, 0, 0|)
+            flexibly connected to Hand
+        }"""
+_UPPER_INERTIAL = ("inertial information { mass 0.5 inertia matrix { ixx 0.01 ixy 0.001 ixz 0 "
+                   "iyy 0.02 iyz 0 izz 0.015 } pose { x = 0 y = 0.02 z = -0.2 roll = 0 "
+                   "pitch = 0 yaw = 0 } }")
+
+
+@pytest.mark.parametrize("case, message", [
+    ("no mass", "link Arm::Upper has no mass properties"),
+    ("loop", "closes a kinematic loop"),
+    ("no mass and a loop", "closes a kinematic loop"),
+])
+def test_a_bad_tree_is_reported_as_the_tree_with_numbers_reports_it(
+        tmp_path: Path, cyphy_cache: Path, case: str, message: str) -> None:
+    """The cache is looked up with the tree built without its numbers (no NumPy); a tree
+    whose numbers fail, or that has a loop, still gets the error the tree built with its
+    numbers raises, the first one it finds (a second parent joint is seen before any
+    number), and nothing is stored."""
+    text = ARM
+    if "mass" in case:  # the Upper arm, moved by the first joint, loses its inertial
+        text = text.replace(_UPPER_INERTIAL, "")
+    if "loop" in case:  # the Hand gets a second parent joint, after the Elbow's
+        text = text.replace("            flexibly connected to Hand\n        }", _LOOP)
+    assert text != ARM
+    model = elaborated(tmp_path / "m", text)
+    with pytest.raises(DynamicsError) as eager:
+        dynamics.kinematic_tree(model)
+    with pytest.raises(DynamicsError) as lazy:
+        motion.motion_equations(model)
+    assert message in eager.value.message
+    assert (lazy.value.message, lazy.value.span) == (eager.value.message, eager.value.span)
+    assert entries(cyphy_cache) == []
