@@ -5,8 +5,8 @@ the machine for every value. Before, ``D`` was left opaque (``W-SEMANTICS-DMODEL
 theory held no machine.
 
 The model: ``tests/data/clock_pulse`` (the motor bench of ``examples/dcmotor`` under a machine
-that alternates a fast and a slow speed every 5 cycles), with ``fast`` left open and ``slow``
-computed from it. Oracle: ``simulate`` of the same machine with the value written in its
+that alternates a fast and a slow speed every 5 cycles), with ``fast`` left open, ``slow``
+computed from it and a variable starting at it. Oracle: ``simulate`` of the same machine with the value written in its
 source (the interpreter, never the theory), against ``animate`` of the open theory given that
 value with ``--const``."""
 
@@ -23,25 +23,13 @@ import pytest
 
 from cyphy import api
 from conftest import CORPUS, needs_corpus
+from test_dmodel_clock_loop import SCENARIO as CLOCK_PULSE_SCENARIO
 from cyphy.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(__file__).parent / "data" / "clock_pulse"
 
-SCENARIO = """model = "DCMotorBase"
-horizon = 1.6
-tscale = 0.1
-[init]
-Motor_av = 0
-Motor_i = 0
-Motor_int1 = 0
-Motor_theta = 0
-Shaft_theta = 0
-Shaft_v = 0
-Range_distance = 10
-[environment]
-Range_distance = "-2"
-"""
+SCENARIO = CLOCK_PULSE_SCENARIO.format(distance=10.0)  # the motor bench, 1.6 s, never near
 CLOSED = ("const fast: real = 10.0", "const slow: real = 4.0")
 
 
@@ -85,12 +73,18 @@ def test_open_constant_is_a_constant_of_the_theory_and_animates_as_the_model_run
     scenario = tmp_path / "pulse.toml"
     scenario.write_text(SCENARIO)
     family = _model(tmp_path / "family", "const fast: real", "const slow: real = fast * 0.4")
+    machine = family / "PulseSoftware.rsm"  # and a variable that starts at the open value
+    text = machine.read_text()
+    assert "entry $drive(fast)" in text and "var n: int = 0" in text
+    machine.write_text(text.replace("entry $drive(fast)", "entry $drive(top)").replace(
+        "var n: int = 0", "var n: int = 0\n\tvar top: real = fast"))
     theory, names, codes = _session(family, dialect, scenario, tmp_path / "thy")
     assert "W-SEMANTICS-DMODEL" not in codes and "STM15" in codes, codes
     # declared open, read by D: the calls carry it, the derived speed as its expression
     assert "consts PulseSoftware_fast :: real" in theory
     assert "PulseSoftwareStep" in theory and "PulseSoftware_fast * 0.4" in theory
     assert "PulseSoftware_slow" not in theory  # computed from fast where it is read
+    assert "PulseSoftware_top" in theory  # a variable of D, starting at fast (Init)
     assert "Pulse::fast\tPulseSoftware_fast\tPulseSoftware_fast\t" in names
     assert main(["check-theory", str(tmp_path / "thy")]) == 0
 
@@ -190,3 +184,36 @@ def test_robotools_marxbot_machine_is_in_its_theory_with_its_open_constants(
         gap = np.max(np.abs(rows[:, columns.index(col)] - sim["columns"][col]))
         assert gap < 1e-6, (col, gap)
     assert max(sim["columns"]["LMotor_av"]) > 4  # it drives (lv reached the motors)
+
+
+def test_an_open_boolean_constant_is_given_as_true_or_false(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``const enabled: boolean`` left open and read in a guard (``$near \\/ not enabled``
+    stops the motor): a Boolean constant of the theory, compared with true where the guard
+    reads it. ``animate`` and ``simulate`` both take ``--const enabled=true`` (or false); a
+    value other than 0 or 1 is refused."""
+    scenario = tmp_path / "pulse.toml"
+    scenario.write_text(SCENARIO)
+    family = _model(tmp_path / "family", "const fast: real = 10.0, enabled: boolean",
+                    "const slow: real = 4.0")
+    machine = family / "PulseSoftware.rsm"
+    t3 = "transition t3 { from Fast to Done condition $near }"
+    assert t3 in machine.read_text()
+    machine.write_text(machine.read_text().replace(
+        t3, "transition t3 { from Fast to Done condition $near \\/ not enabled }"))
+    theory, _, codes = _session(family, "utp", scenario, tmp_path / "thy")
+    assert "W-SEMANTICS-DMODEL" not in codes and "consts PulseSoftware_enabled :: bool" in theory
+    peaks = {}
+    for value in ("true", "false"):
+        anim = _run(["animate", str(tmp_path / "thy"), "--scenario", str(scenario),
+                     "--const", f"enabled={value}"])
+        sim = _run(["simulate", str(family), "--scenario", str(scenario),
+                    "--const", f"enabled={value}"])
+        speed = np.array(anim["rows"])[:, anim["columns"].index("Motor_av")]
+        assert np.max(np.abs(speed - sim["columns"]["Motor_av"])) < 1e-5, value
+        peaks[value] = speed.max()
+    assert peaks["true"] > 8 and peaks["false"] < 1e-9  # disabled: stopped at once
+    capsys.readouterr()
+    assert main(["animate", str(tmp_path / "thy"), "--scenario", str(scenario), "-q",
+                 "--const", "enabled=2"]) == 2
+    assert "a Boolean constant takes true or false" in capsys.readouterr().err

@@ -93,8 +93,9 @@ def run(args: argparse.Namespace) -> int:
         return _error(consts)
     values: dict[str, float] = {}
     for name, text in consts.items():
+        truth = {"true": 1.0, "false": 0.0}.get(text.strip().lower())  # a Boolean constant's
         try:
-            values[name] = float(text)
+            values[name] = float(text) if truth is None else truth
         except ValueError:
             return _error(f"--const {name}={text}: not a number")
         if not math.isfinite(values[name]):

@@ -206,10 +206,11 @@ class _Cycle:
         """The mode's initial value (the initial junction) and the own fields'."""
         it = self.interpreter
         it.reset()
-        values = [_constant(it.variables[x], held_type(d.type))
+        values = [_constant(it.variables[x], held_type(d.type)) if it.variables[x] is not None
+                  else self._predicate(d.value, {}) if held_type(d.type) == c.BOOL
+                  else self._expr(d.value)  # from an open constant
                   for x, d in self.machine.variables.items()]
-        return ex.Num(str(self.index[it.node])), values + [ex.Num("0")
-                                                           for _ in self.machine.clocks]
+        return ex.Num(str(self.index[it.node])), values + [ex.Num("0")] * len(self.machine.clocks)
 
     # ----- one cycle
     def start(self) -> c.Action:
@@ -360,8 +361,7 @@ class _Cycle:
         return action
 
     def _loop_hint(self) -> str:
-        """A loop that guards over open constants may close (their values may make the
-        guards hold): the unrolling cannot tell, the constants' values can."""
+        """A loop guarded by open constants may close for some values: say which."""
         names = ", ".join(self.interpreter.open)
         return "mark the end of the cycle with exec" + (names and ", or give the open "
                                                         f"constants ({names}) values (--const)")

@@ -147,6 +147,7 @@ class MachineInterpreter:
         #: asks for them: it writes them as the theory's open constants); running the machine
         #: raises where it needs one, as do those computed from them
         self.open: dict[str, ast.VarDecl] = dict(open_constants or {})
+        self.unknown: set[str] = set(self.open)  # and those computed from them
         self.observable: frozenset[str] = frozenset()
         """Output events the platform mapping does not map (set by the caller): they reach
         no input of the p-model, so a simulation records them and the Flow* automaton
@@ -170,7 +171,7 @@ class MachineInterpreter:
         at each call instead."""
         values: dict[str, object] = dict(given)
         params = {p.name for p in machine.decl.params}
-        unknown = set(self.open)  # open, or computed from an open one: left out
+        unknown = self.unknown  # open, or computed from an open one: left out
         for name, decl in machine.constants.items():
             if name in params or name in unknown:
                 continue
@@ -205,6 +206,8 @@ class MachineInterpreter:
 
     def _initial_value(self, decl: ast.VarDecl, constants: Mapping[str, object]) -> object:
         if decl.value is not None:
+            if self.unknown & {n.text for n in decl.value.walk() if isinstance(n, ex.Name)}:
+                return None  # from an open constant: D writes it as its expression
             return self._value(decl.value, constants)
         t = decl.type
         if isinstance(t, ast.PrimitiveType) and t.name == "boolean":

@@ -18,10 +18,10 @@ from cyphy.semantics.machines.observable import observable_events
 
 def machine_constants(consts: Mapping[str, object] | None) -> dict[str, object]:
     """The values given (``--const``, a scenario's ``[consts]``) that a machine may read:
-    plain numbers under plain names (``wclose``); a qualified name (``Motor::R``) is a
-    p-model block's."""
+    plain numbers and truth values under plain names (``wclose``, ``enabled = true``); a
+    qualified name (``Motor::R``) is a p-model block's."""
     return {n: v for n, v in (consts or {}).items() if "::" not in n and
-            isinstance(v, (int, float)) and not isinstance(v, bool)}
+            isinstance(v, (bool, int, float))}
 
 
 def interpreter_for(machine: Machine, files: list[ast.SourceFile], resolution: Any,

@@ -52,6 +52,11 @@ class _Constants:
                                    "constant of that name", hint=did_you_mean(name, known),
                                    status=2)
             self.values[name] = value
+        for name in model.truths & set(self.values):  # a Boolean one: given as 0 or 1
+            if self.values[name] not in (0, 1):
+                raise AnimateError("E-ANIMATE-OPTION", f"--const {name}: a Boolean constant "
+                                   "takes true or false (1 or 0)", status=2)
+            self.values[name] = bool(self.values[name])
         for tree, line in model.axioms:
             if (getattr(tree, "data", "") == "binop" and op_name(tree.children[1]) == "="
                     and getattr(tree.children[0], "data", "") == "name"):

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from cyphy.verify.animate.errors import AnimateError
-from cyphy.verify.animate.model import Definition, Process, TheoryModel, line_of
+from cyphy.verify.animate.model import Definition, Process, TheoryModel, declared, line_of
 from cyphy.verify.animate.terms import evaluate_hol
 
 _WAIT = re.compile(r'^primrec (\w+) :: "nat \\<Rightarrow> [^"]*" where\n'
@@ -155,8 +155,8 @@ def read_ax_model(path: Path, text: str) -> TheoryModel:
                                "defined before it", path=path, line=line, status=2) from None
     open_constants = {name: line_of(text, rf"^\s*{re.escape(name)} ::")
                       for name in th.constants if name not in values
-                      and re.search(rf"^(consts )?\s*{re.escape(name)} :: \"?(real|nat|int)\b",
-                                    text, re.M)}
+                      and declared(text, name, "real|nat|int|bool")}
+    truths = {name for name in open_constants if declared(text, name, "bool")}
     axioms = [(_parse(ax, "expr", path, line_of(text, re.escape(ax))),
                line_of(text, re.escape(ax))) for ax in th.axioms]
     fields = {name for name in th.lenses}
@@ -192,4 +192,4 @@ def read_ax_model(path: Path, text: str) -> TheoryModel:
         own = [str(c) for c in names.children]
         processes.append(Process(main, main, {f: types.get(f, "") for f in own}))
     return TheoryModel(path, definitions, values, open_constants, sets[str(cs)], processes,
-                       name, axioms, dialect="axiomatic")
+                       name, axioms, dialect="axiomatic", truths=truths)

@@ -42,9 +42,16 @@ class TheoryModel:
     composition: str
     axioms: list[tuple[Any, int]] = field(default_factory=list)  # parsed hol terms, line
     dialect: str = "utp"  # or "axiomatic" (ax_reader.py)
+    truths: set[str] = field(default_factory=set)  # the open constants declared bool
 
 
 def line_of(text: str, pattern: str) -> int:
     """The 1-based line where ``pattern`` first matches (0: nowhere)."""
     m = re.search(pattern, text, re.M)
     return text.count("\n", 0, m.start()) + 1 if m else 0
+
+
+def declared(text: str, name: str, types: str) -> bool:
+    """Whether the theory declares ``name`` with one of ``types`` (``real|nat``)."""
+    return re.search(rf"^(consts )?\s*{re.escape(name)} :: \"?({types})\b", text,
+                     re.M) is not None

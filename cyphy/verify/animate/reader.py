@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from cyphy.verify.animate.errors import AnimateError
-from cyphy.verify.animate.model import Definition, Process, TheoryModel, line_of
+from cyphy.verify.animate.model import Definition, Process, TheoryModel, declared, line_of
 from cyphy.verify.animate.terms import evaluate_hol
 from cyphy.verify.theory.session import SessionError, read_session
 from cyphy.verify.theory.utp_types import TypeError_, parser, read_theory
@@ -99,8 +99,8 @@ def read_model(folder: Path) -> TheoryModel:
                                                                      "registerWrite_"))
                       and name not in th.lenses and name != "tock"
                       and name not in {d[0] for d in th.definitions}
-                      and re.search(rf"^(consts )?\s*{re.escape(name)} :: \"?(real|nat|int)\b",
-                                    text, re.M)}
+                      and declared(text, name, "real|nat|int|bool")}
+    truths = {name for name in open_constants if declared(text, name, "bool")}
     axioms = [(_parse(ax, "hol", path, line_of(text, re.escape(ax))),
                line_of(text, re.escape(ax))) for ax in th.axioms]
     definitions: dict[str, Definition] = {}
@@ -126,7 +126,8 @@ def read_model(folder: Path) -> TheoryModel:
                                status=2)
         processes.append(Process(state, main, fields.get(state, {})))
     return TheoryModel(path, definitions, values, open_constants, _channel_set(channel_expr),
-                       processes, name, axioms)
+                       processes, name, axioms, truths=truths)
+
 
 
 def _fields(text: str) -> dict[str, dict[str, str]]:
