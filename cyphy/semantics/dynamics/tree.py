@@ -18,7 +18,7 @@ prismatic) or several (universal: two angles; ball: ZYX Euler angles, singular a
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
 from cyphy.model.poses import Pose
@@ -32,6 +32,12 @@ if TYPE_CHECKING:
     from cyphy.semantics.dynamics.tree_numbers import JointNumbers
 
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
+
+
+def _number(name: str, doc: str) -> Any:
+    """A tree joint's property read from its numbers (:meth:`TreeJoint.numbers`)."""
+    return property(lambda joint: getattr(joint.numbers(), name), doc=doc)
+
 
 @record(frozen=True, slots=False)
 class TreeJoint:
@@ -89,40 +95,13 @@ class TreeJoint:
             object.__setattr__(self, "_numbers", cached)
         return cached
 
-    @property
-    def placement(self) -> np.ndarray:
-        """4x4: the child body's frame in the parent body's frame, q = 0."""
-        return self.numbers().placement
-
-    @property
-    def axis(self) -> np.ndarray:
-        """Unit 3-vector, child body frame."""
-        return self.numbers().axis
-
-    @property
-    def point(self) -> np.ndarray:
-        """3-vector, child body frame."""
-        return self.numbers().point
-
-    @property
-    def screw(self) -> np.ndarray:
-        """6-vector."""
-        return self.numbers().screw
-
-    @property
-    def inertia(self) -> np.ndarray:
-        """6x6 spatial inertia of the child body about its frame origin."""
-        return self.numbers().inertia
-
-    @property
-    def frame(self) -> np.ndarray:
-        """3x3, child body frame."""
-        return self.numbers().frame
-
-    @property
-    def axes(self) -> tuple[np.ndarray, ...]:
-        """Universal: AXIS1, AXIS2 in the child body frame."""
-        return self.numbers().axes
+    placement = _number("placement", "4x4: the child body's frame in the parent body's, q = 0")
+    axis = _number("axis", "unit 3-vector, child body frame")
+    point = _number("point", "3-vector, child body frame")
+    screw = _number("screw", "6-vector")
+    inertia = _number("inertia", "6x6 spatial inertia of the child body about its frame origin")
+    frame = _number("frame", "3x3, child body frame")
+    axes = _number("axes", "universal: AXIS1, AXIS2 in the child body frame")
 
     @property
     def scale(self) -> float:
