@@ -4,7 +4,10 @@ the algorithms' data): its joints in tree order (:class:`TreeJoint`: kind, paren
 placement, axis, screw, spatial inertia) and the names of their coordinates. The algorithms
 over it are functions elsewhere (:mod:`cyphy.semantics.dynamics.rigid_body`,
 :mod:`cyphy.semantics.dynamics.articulated`, :mod:`cyphy.backends.pinocchio_tree`); this
-module imports none of them.
+module imports none of them, nor NumPy: a joint holds the poses and links its numbers come
+from, and computes the numbers (:mod:`cyphy.semantics.dynamics.tree_numbers`) when they are
+first read, so that the cache of equations of motion is keyed and read without NumPy
+(issue 24's start-up budget).
 
 The tree comes from the elaborated model: links joined by fixed connections (and by joints of
 the ``Fixed`` family) are merged into one body; a body that no joint moves is fixed to the
