@@ -13,22 +13,17 @@ machine demands, read off the trajectory."""
 
 from __future__ import annotations
 
-import contextlib
-import io
-import json
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from cyphy import api
 from cyphy import expr as ex
 from conftest import needs_flowstar
+from dmodel_runs import animated_as_simulated, bench, run_json, written_session
 from cyphy.cli import main
 from cyphy.semantics.circus.path_facts import Facts
 
-ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(__file__).parent / "data" / "clock_pulse"
 
 SCENARIO = """model = "DCMotorBase"
@@ -48,21 +43,12 @@ Range_distance = "-2"
 
 
 def _model(folder: Path, distance: float) -> tuple[Path, Path]:
-    folder.mkdir()
-    for source in [ROOT / "examples" / "dcmotor" / "DCMotorBase.rsm", *DATA.glob("*.rsm")]:
-        shutil.copy(source, folder)
-    scenario = folder.parent / "pulse.toml"
-    scenario.write_text(SCENARIO.format(distance=distance))
-    return folder, scenario
+    return bench(folder, DATA, SCENARIO.format(distance=distance))
 
 
 def _run(command: str, target: Path, scenario: Path) -> dict:
     """``simulate`` or ``animate`` over 1.6 s, 33 samples (every 0.05 s), JSON."""
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out):
-        assert main([command, str(target), "--scenario", str(scenario), "--samples", "33",
-                     "--format", "json", "-q"]) == 0
-    return json.loads(out.getvalue())
+    return run_json(command, target, scenario, 33)
 
 
 @pytest.mark.parametrize("dialect", ("utp", "axiomatic"))
@@ -70,24 +56,9 @@ def _run(command: str, target: Path, scenario: Path) -> dict:
 def test_clock_loop_is_written_and_animates_as_simulate_runs_it(
         tmp_path: Path, dialect: str, distance: float) -> None:
     folder, scenario = _model(tmp_path / "bench", distance)
-    generated = api.generate_isabelle([folder], api.SemanticsGenOptions(
-        dialect=dialect, scenario=str(scenario)))
-    codes = [d.code.id for d in generated.report.diagnostics]
-    assert not generated.report.has_errors and "W-SEMANTICS-DMODEL" not in codes, codes
-    theory = next(t for n, t in generated.files.items() if n.endswith(".thy")
-                  and "Prelude" not in n)
+    theory = written_session(folder, scenario, dialect, tmp_path / "thy")
     assert "PulseSoftwareStart" in theory and "PulseSoftware_c" in theory
-    session = tmp_path / "thy"
-    session.mkdir()
-    for name, text in generated.files.items():
-        (session / name).write_text(text)
-    assert main(["check-theory", str(session)]) == 0
-
-    anim, sim = _run("animate", session, scenario), _run("simulate", folder, scenario)
-    columns, rows = anim["columns"], np.array(anim["rows"])
-    assert np.allclose(rows[:, 0], sim["t"])
-    for col in ("Motor_av", "Motor_i", "Range_distance"):
-        assert np.max(np.abs(rows[:, columns.index(col)] - sim["columns"][col])) < 1e-5, col
+    columns, rows = animated_as_simulated(tmp_path / "thy", folder, scenario, 33)
     # independent of both: the demand is 10 rad/s for 5 cycles (0.5 s), then 4, then 10
     # again; or 0 from the first cycle when something is near at the start
     speed = rows[:, columns.index("Motor_av")]

@@ -8,6 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from cyphy import api
+from dmodel_runs import RunD
 from cyphy import expr as ex
 from cyphy.backends.circus.text import CircusText
 from cyphy.semantics.circus import ast as c
@@ -106,64 +107,6 @@ def test_gen_machine_option_chooses_d_and_an_unknown_one_is_an_error(tmp_path: P
 # ------------------------------------------------------------ D run against the interpreter
 
 
-class _RunD:
-    """Runs D's cycle actions (the AST the printers print) on a dictionary state: reads
-    the cycle's events, takes the step, records what it writes."""
-
-    def __init__(self, d: c.BasicProcess) -> None:
-        self.actions = {a.name: a.body for a in d.actions}
-        self.state: dict[str, object] = {}
-        self.events: dict[str, bool] = {}
-        self.written: list[tuple[str, tuple[float, ...]]] = []
-
-    def value(self, e: ex.Expr, bound: dict[str, object]) -> object:
-        if isinstance(e, ex.Name):
-            return bound[e.text] if e.text in bound else self.state[e.text]
-        if isinstance(e, ex.Num):
-            return float(e.text)
-        if isinstance(e, ex.Bool):
-            return e.value
-        if isinstance(e, ex.UnaryOp) and e.op == "not":
-            return not self.value(e.operand, bound)
-        if isinstance(e, ex.UnaryOp) and e.op == "-":  # a negative call argument
-            return -self.value(e.operand, bound)  # type: ignore[operator]
-        assert isinstance(e, ex.BinOp), e
-        left, right = self.value(e.left, bound), self.value(e.right, bound)
-        return {"==": lambda: left == right, "/\\": lambda: bool(left and right)}[e.op]()
-
-    def run(self, a: c.Action, bound: dict[str, object] | None = None) -> None:
-        bound = bound or {}
-        if isinstance(a, c.Call):
-            self.run(self.actions[a.name])
-        elif isinstance(a, c.Seq):
-            for item in a.items:
-                self.run(item, bound)
-        elif isinstance(a, c.Cond):
-            self.run(a.then if self.value(a.cond, bound) else a.orelse, bound)
-        elif isinstance(a, c.Assign):
-            values = [self.value(v, bound) for v in a.values]
-            self.state.update(zip(a.targets, values))
-        elif isinstance(a, c.Prefix):
-            comm = a.comm
-            if comm.channel == "registerRead":
-                [field] = comm.fields
-                self.run(a.then, {**bound, field.name: self.events.get(comm.tag, False)})
-            else:
-                self.written.append((comm.tag, tuple(float(self.value(f.value, bound))
-                                                      for f in comm.fields)))
-                self.run(a.then, bound)
-        else:
-            assert isinstance(a, c.Skip), a
-
-    def cycle(self, events: dict[str, bool], first: bool) -> tuple:
-        self.events, self.written = events, []
-        prefix = next(iter(self.actions))[:-len("Init")]
-        names = ["Init", "Read", "Write"] if first else ["Read", "Step", "Write"]
-        for n in names:
-            self.run(c.Call(prefix + n))
-        return tuple(self.written)
-
-
 def _effect(previous: tuple, calls: tuple) -> tuple:
     """What the actuators hold after a cycle: the calls it made, else the last ones (a
     cycle without calls leaves them as they were)."""
@@ -189,7 +132,7 @@ def test_d_writes_what_the_machine_interpreter_calls_cycle_by_cycle() -> None:
             interpreter, _checked = api.machine_interpreter(
                 [folder], machine, pmodel=sem.program.pmodel.name)
             assert isinstance(interpreter, MachineInterpreter)
-            runner = _RunD(d)
+            runner = RunD(d)
             want = got = ()
             for k in range(40):
                 present = {e: rng.random() < 0.3 for e in events}

@@ -350,7 +350,8 @@ def test_rover_d_is_both_machines_stepped_together() -> None:
     semantics, no automaton), leave it."""
     import random
 
-    from test_dmodel_process import _RunD, _semantics
+    from dmodel_runs import RunD
+    from test_dmodel_process import _semantics
 
     from cyphy.semantics.machines.parallel import ModuleInterpreter
 
@@ -363,7 +364,7 @@ def test_rover_d_is_both_machines_stepped_together() -> None:
         interpreter, _checked = api.machine_interpreter([ROVER], pmodel="RoverBase")
         assert isinstance(interpreter, ModuleInterpreter)
         assert [p.machine.name for p in interpreter.parts] == ["SDrive", "SScan"]
-        runner = _RunD(d)
+        runner = RunD(d)
         want: dict[str, tuple[float, ...]] = {}
         got: dict[str, tuple[float, ...]] = {}
         for k in range(40):
@@ -746,7 +747,8 @@ def test_pincer_open_machine_constant_reaches_the_theory(
     """The machine's ``const wclose: real`` has no value: ``gen --isabelle`` with
     ``--const wclose=2.0`` or the scenario's [consts] now writes D with it (the hint said
     so, yet D was left opaque: W-SEMANTICS-DMODEL, and animate refused the session);
-    animate, simulate and the hand derivation of the fingers under gravity agree."""
+    animate, simulate and the hand derivation of the fingers under gravity agree. Without a
+    value, D keeps it open, and animate given it agrees too."""
     simulated = _simulate(PINCER, PINCER / "squeeze.toml", "--samples", "31")
     t, want = _pincer_by_hand(3.0, 31, 2.0)
     assert np.allclose(simulated["t"], t)
@@ -762,8 +764,15 @@ def test_pincer_open_machine_constant_reaches_the_theory(
         theta = animated["Fingers0_Root_Knuckle_theta"]
         assert np.max(np.abs(theta - want[:, 3])) < 1e-4
         assert calls[0] == (0.0, "close", 2.0) and (0.5, "close", -2.0) in calls
-    _folder, err = _session(PINCER, tmp_path / "none", "utp")  # no value: still reported
-    assert "W-SEMANTICS-DMODEL" in err and "the constant wclose of SPincer has no value" in err
+    # no value: D holds the machine with wclose a constant of the theory (STM15 warns), and
+    # the scenario's [consts] gives it to animate by its RoboSim name, through names.tsv
+    folder, err = _session(PINCER, tmp_path / "open", "utp")
+    assert "W-SEMANTICS-DMODEL" not in err and "STM15" in err, err
+    assert "consts PincerSoftware_wclose :: real" in \
+        (folder / "PincerBase_CyPhyCircus.thy").read_text()
+    animated, calls = _animate_cli(folder, PINCER / "squeeze.toml", 31, capsys)
+    assert np.max(np.abs(animated["Fingers0_Root_Knuckle_theta"] - want[:, 3])) < 1e-4
+    assert calls[0] == (0.0, "close", 2.0) and (0.5, "close", -2.0) in calls
 
 
 def test_a_scenario_key_named_in_a_comment_is_not_its_place(

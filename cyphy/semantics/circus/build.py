@@ -167,8 +167,10 @@ def _dmodel_process(ws: Workspace, resolution: Resolution, report: Report,
             # written out reads the events before its first cycle, as simulate runs it
             try:
                 return cycle_process(program.dmodel.name, interpreters, reads, writes)
-            except MachineError:
-                raise no_automaton from None
+            except MachineError as no_cycle:  # its reason, the one that applies, first
+                raise MachineError(f"{no_cycle.message} (nor can the automaton hold it: "
+                                   f"{no_automaton.message})", no_cycle.span,
+                                   no_cycle.hint) from None
         return dmodel_process(program.dmodel.name, automaton, reads, writes)
     except MachineError as err:
         report.report(OPAQUE_DMODEL, f"the d-model process is left opaque: state machine "

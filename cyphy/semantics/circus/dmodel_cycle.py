@@ -77,11 +77,35 @@ constant, is ``n`` such ends.
 An open constant (no value, none given) is a constant of the theory, ``<D>_k`` (a
 machine's own) or ``<D>_<machine>_k`` beside others; one computed from it is its expression.
 
-Refused (``W-SEMANTICS-DMODEL``, with the reason): operation definitions, vector variables
-and open constants, an ``int`` or ``nat`` event value or call argument computed from the
-state (D holds numbers as reals), ``wait(n)`` with ``n`` not a constant, a name bound by
-``$e?x`` outside a conjunct of its guard, machines of one module with different cycles, and
-a cycle that passes more than :data:`MAX_DEPTH` nodes (a loop without ``exec``).
+**Operation definitions** (``operation Ramp(w: real) { … }``, called as ``Ramp(10)``) run
+inline, as the interpreter runs them (``MachineInterpreter._invoke``, ``_return``): their
+parameters, variables and clocks are fields of D's state, named as the machine's with the
+operation's name in them (``<D>_Ramp_w``; one set per operation: no two calls of one
+operation are under way at once, a recursive chain being refused). A call assigns the
+parameters the arguments' values (computed over the caller's fields), then the variables
+their initial values (which may read the parameters), the clocks 0, and goes on from the
+operation's initial junction under the same rules, over the operation's own fields and
+constants; the caller waits in a frame (:class:`~cyphy.semantics.circus.dmodel_places.Frame`:
+where it is, whether it had rested there, the rest of its action, whether its during action
+ran in this cycle). Entering the operation's top-level ``final`` state returns: the caller
+goes on with the rest of its action in the same cycle (its during action again only when
+the return comes in a later cycle, its exec transitions enabled only if it had rested, as
+the interpreter restores them). An operation's clocks advance every cycle with the
+machine's (a call resets them before they are read; the callers' keep counting, as the
+interpreter's frames do). Where the machine may end a cycle inside an operation (the calls
+under way, with each caller's continuation, and the node, or the rest of an action cut by
+``exec`` or ``wait``) is a mode of its own
+(:class:`~cyphy.semantics.circus.dmodel_places.Place`), numbered after the machine's own
+(nodes, then the rests of its actions), so that a machine without operation definitions
+has the ``D`` it had before.
+
+Refused (``W-SEMANTICS-DMODEL``, with the reason): vector variables, parameters and open
+constants, an ``int`` or ``nat`` event value or call argument computed from the state (D
+holds numbers as reals), ``wait(n)`` with ``n`` not a constant, a name bound by ``$e?x``
+outside a conjunct of its guard, machines of one module with different cycles, a cycle that
+passes more than :data:`MAX_DEPTH` nodes (a loop without ``exec``), a recursive chain of
+operation calls (an operation called while it runs), and an operation variable's initial
+value that reads another of its variables (the interpreter has no value for it there).
 """
 
 from __future__ import annotations
@@ -91,9 +115,12 @@ from typing import Callable
 from cyphy import expr as ex
 from cyphy.lang import ast
 from cyphy.semantics.circus import ast as c
-from cyphy.semantics.circus.dmodel import MODE, literal, read_events_action
+from cyphy.semantics.circus.dmodel import MODE, read_events_action
+from cyphy.semantics.circus.dmodel_places import TOP, Calls, Frame, Item, Place
+from cyphy.semantics.circus.dmodel_terms import Terms, constant, default, name_expr
 from cyphy.semantics.circus.path_facts import Facts
-from cyphy.semantics.circus.values import held_type, type_of, value_expr
+from cyphy.semantics.circus.values import held_type, type_of
+from cyphy.semantics.circus.walk import map_action
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
 from cyphy.semantics.machines.parallel import same_cycle
 
@@ -102,11 +129,8 @@ MAX_DEPTH = 32
 #: Conditionals in one ``D`` before it is called too large to write.
 MAX_CONDITIONALS = 2000
 _SCALARS = (c.REAL, c.INT, c.NAT, c.BOOL)
-_CONNECTIVES = ("/\\", "\\/", "=>", "<=>")
-
-
-def _name(text: str) -> ex.Name:
-    return ex.Name((text,))
+#: Marks a mode number not known yet (a place inside an operation: numbered last).
+_PLACE = "\0place"
 
 
 def _seq(actions: list[c.Action]) -> c.Action:
@@ -116,9 +140,6 @@ def _seq(actions: list[c.Action]) -> c.Action:
     return actions[0] if len(actions) == 1 else c.Seq(tuple(actions))
 
 
-#: A pending step of the interpreter: ``("stmt", statement)``, ``("do", action)`` (a binding
-#: already translated), ``("end", None)`` (exec: the cycle ends) or ``("enter", node)``.
-_Item = tuple[str, object]
 
 
 class _Cycle:
@@ -128,42 +149,51 @@ class _Cycle:
                  reads: dict[str, tuple[c.Type, ...]],
                  writes: dict[str, tuple[c.Type, ...]]) -> None:
         """``name`` is D's (its events' fields ``<D>_e``), ``own`` prefixes the machine's
-        mode, variables and clocks (``<D>``, or ``<D>_<machine>`` beside others)."""
+        mode, variables and clocks (``<D>``, or ``<D>_<machine>`` beside others), and
+        ``<own>_<op>`` those of each operation definition it calls."""
         self.interpreter = interpreter
         self.machine = m = interpreter.machine
-        self.writes = writes
         self.name = name
-        self.prefix = own
         self.mode = f"{own}_{MODE}"
         self.index = {key: i for i, key in enumerate(m.nodes)}
-        # an event the mapping does not map, or the module does not connect, never occurs
-        self.events = [e for e in m.platform.input_events
+        # an event the mapping does not map, or the module does not connect, never occurs;
+        # an operation reads the cycle's events as its caller does
+        scopes = [m, *interpreter.operations.values()]
+        self.events = [e for e in dict.fromkeys(e for s in scopes for e in s.platform.input_events)
                        if e in reads and e not in m.unconnected]
         self.typed = {e: reads[e][1] for e in self.events if len(reads[e]) == 2}
+        self.terms = {None: Terms(name, own, m, interpreter, interpreter.constants, self.events,
+                                  self.typed, writes, self._refuse)}
+        for op, scope in interpreter.operations.items():
+            self.terms[op] = Terms(name, f"{own}_{op}", scope, interpreter,
+                                   interpreter.op_constants[op], self.events, self.typed,
+                                   writes, self._refuse)
         self.conditionals = 0
         self.rest: list[str] = []  # nodes the machine may rest in, in the order found
         #: the rests of actions cut by exec (pending steps, and the node), in the order found
-        self.resumes: list[tuple[tuple[_Item, ...], str]] = []
+        self.resumes: list[tuple[tuple[Item, ...], str]] = []
+        #: where the machine may end a cycle inside an operation, in the order found
+        self.inner: list[Place] = []
         self._refuse_unsupported()
 
     # ----- what the translation refuses
     def _refuse(self, message: str, span: object = None, hint: str = "") -> MachineError:
         return MachineError(message, span or self.machine.decl.span,  # type: ignore[arg-type]
                             hint or "the theory's D for typed events is written for machines "
-                            "of states, junctions, variables, clocks, and calls made in one "
-                            "cycle")
+                            "of states, junctions, variables, clocks, operation definitions, "
+                            "and calls made in one cycle")
 
     def _refuse_unsupported(self) -> None:
-        m = self.machine
-        if self.interpreter.operations:
-            names = ", ".join(sorted(self.interpreter.operations))
-            raise self._refuse(f"it calls the operation definition{'s' if ',' in names else ''}"
-                               f" {names}: D for typed events does not run operation "
-                               "definitions")
-        for name, decl in [*m.variables.items(), *self.interpreter.open.items()]:
-            if type_of(decl.type) not in _SCALARS:
-                what = "variable" if name in m.variables else "open constant (no value)"
-                raise self._refuse(f"{what} {name} is not a number or a Boolean", decl.span)
+        for terms in self.terms.values():
+            declared = [*terms.variables.items()]
+            if terms.scope is self.machine:
+                declared += self.interpreter.open.items()
+            for name, decl in declared:
+                if type_of(decl.type) not in _SCALARS:
+                    what = "variable" if name in terms.variables else "open constant (no value)"
+                    where = "" if terms.scope is self.machine else f" of {terms.where}"
+                    raise self._refuse(f"{what} {name}{where} is not a number or a Boolean",
+                                       decl.span)
         for e, t in self.typed.items():
             if t not in (c.REAL, c.BOOL):
                 raise self._refuse(f"the event {e} carries a value that is not real or "
@@ -182,56 +212,79 @@ class _Cycle:
         return fields
 
     def own_fields(self) -> list[c.SchemaField]:
-        """The machine's variables and clocks (its mode is :attr:`mode`)."""
-        p = self.prefix
-        return [c.SchemaField(f"{p}_{x}", held_type(d.type))
-                for x, d in self.machine.variables.items()] + \
-            [c.SchemaField(f"{p}_{k}", c.REAL) for k in self.machine.clocks]
-
-    def open_name(self, name: str) -> str:
-        """The theory's constant for an open constant: the machine's own is named as its
-        variables are, one declared outside it (a package's) once for all of D's machines."""
-        own = name in self.machine.constants
-        return f"{self.prefix if own else self.name}_{name.replace('::', '_')}"
+        """The machine's variables and clocks (its mode is :attr:`mode`), then each
+        operation definition's variables, parameters and clocks."""
+        return [f for t in self.terms.values() for f in
+                [c.SchemaField(t.field(x), held_type(d.type)) for x, d in t.variables.items()] +
+                [c.SchemaField(t.field(k), c.REAL) for k in t.scope.clocks]]
 
     def open_constants(self) -> list[c.Constant]:
-        """The machine's open constants (no value, none given): parameters of the theory,
-        held as D holds numbers (:func:`~cyphy.semantics.circus.values.held_type`)."""
-        m = self.machine.name
-        return [c.Constant(self.open_name(n), held_type(d.type), None,
-                           f"{m}::{n}" if n in self.machine.constants else n)
-                for n, d in self.interpreter.open.items()]
+        """The open constants (no value, none given) that the machine or an operation reads:
+        parameters of the theory, held as D holds numbers
+        (:func:`~cyphy.semantics.circus.values.held_type`)."""
+        out: dict[str, c.Constant] = {}
+        for n, d in self.interpreter.open.items():
+            for terms in self.terms.values():
+                if terms.refers(n) and terms.open_name(n) not in out:
+                    scope = terms.scope.name
+                    out[terms.open_name(n)] = c.Constant(
+                        terms.open_name(n), held_type(d.type), None,
+                        f"{scope}::{n}" if n in terms.scope.constants else n)
+        return list(out.values())
 
     def initial(self) -> tuple[ex.Expr, list[ex.Expr]]:
-        """The mode's initial value (the initial junction) and the own fields'."""
+        """The mode's initial value (the initial junction) and the own fields' (an
+        operation's are set at each call: until then they hold 0 or false)."""
         it = self.interpreter
         it.reset()
-        values = [_constant(it.variables[x], held_type(d.type)) if it.variables[x] is not None
-                  else self._predicate(d.value, {}) if held_type(d.type) == c.BOOL
-                  else self._expr(d.value)  # from an open constant
+        top = self.terms[None]
+        values = [constant(it.variables[x], held_type(d.type)) if it.variables[x] is not None
+                  else top.value(d.value, d)  # type: ignore[arg-type]  # from an open constant
                   for x, d in self.machine.variables.items()]
-        return ex.Num(str(self.index[it.node])), values + [ex.Num("0")] * len(self.machine.clocks)
+        values += [ex.Num("0")] * len(self.machine.clocks)
+        for op in it.operations:
+            terms = self.terms[op]
+            values += [default(d) for d in terms.variables.values()]
+            values += [ex.Num("0")] * len(terms.scope.clocks)
+        return ex.Num(str(self.index[it.node])), values
 
     # ----- one cycle
-    def start(self) -> c.Action:
+    def actions(self) -> tuple[c.Action, c.Action]:
+        """``<D>Start`` and ``<D>Step`` for the machine, the places inside operations
+        numbered after the machine's own modes (nodes, then the rests of cut actions)."""
+        start, step = self._start(), self._step()
+        if not self.inner:
+            return start, step
+        base = len(self.index) + len(self.resumes)
+
+        def numbered(a: c.Action) -> c.Action | None:
+            if isinstance(a, c.Assign) and a.targets == (self.mode,) and \
+                    isinstance(a.values[0], ex.Name) and a.values[0].text.startswith(_PLACE):
+                k = int(a.values[0].text[len(_PLACE):])
+                return c.Assign(a.targets, (ex.Num(str(base + k)),))
+            return None
+
+        return map_action(start, numbered), map_action(step, numbered)
+
+    def _start(self) -> c.Action:
         it = self.interpreter
         it.reset()
         _, values = self.initial()  # Start runs right after Init: the initial values hold
-        fields = [f"{self.prefix}_{x}" for x in [*self.machine.variables, *self.machine.clocks]]
         facts = Facts()
-        for f, v in zip(fields, values):
-            facts = facts.assigned(f, v)
+        for f, v in zip(self.own_fields(), values):
+            facts = facts.assigned(f.name, v)
         return _seq(self._run((), it.node, it.node, 0, during_done=False, resting=False,
                               facts=facts))
 
-    def step(self) -> c.Action:
-        clocks = [c.Assign((f"{self.prefix}_{k}",),
-                           (ex.BinOp("+", _name(f"{self.prefix}_{k}"), ex.Num("1")),))
-                  for k in self.machine.clocks]
+    def _step(self) -> c.Action:
+        clocks = [c.Assign((t.field(k),), (ex.BinOp("+", name_expr(t.field(k)), ex.Num("1")),))
+                  for t in self.terms.values() for k in t.scope.clocks]
         branches: list[tuple[int, c.Action]] = []
+        inner: list[tuple[int, c.Action]] = []
         nodes_done: set[str] = set()
         resumes_done = 0
-        while len(nodes_done) < len(self.rest) or resumes_done < len(self.resumes):
+        while len(nodes_done) < len(self.rest) or resumes_done < len(self.resumes) or \
+                len(inner) < len(self.inner):
             for key in [k for k in self.rest if k not in nodes_done]:
                 nodes_done.add(key)  # rested there: its during action, then its transitions
                 body = _seq(self._run((), key, key, 0, during_done=False, resting=True,
@@ -244,71 +297,144 @@ class _Cycle:
                     self._run(items, node, None, 0, during_done=False, resting=False,
                               facts=Facts()))))
                 resumes_done += 1
+            while len(inner) < len(self.inner):  # inside an operation: as above, its calls
+                place = self.inner[len(inner)]
+                resting = place.items is None
+                inner.append((len(inner), _seq(self._run(
+                    place.items or (), place.node, place if resting else None, 0,
+                    during_done=False, resting=resting, facts=Facts(), calls=place.calls))))
+        base = len(self.index) + len(self.resumes)
+        branches += [(base + k, body) for k, body in inner if not isinstance(body, c.Skip)]
         cases: c.Action = c.Skip()
         for number, body in sorted(branches, key=lambda nb: nb[0], reverse=True):
-            cases = self._cond(ex.BinOp("==", _name(self.mode), ex.Num(str(number))),
+            cases = self._cond(ex.BinOp("==", name_expr(self.mode), ex.Num(str(number))),
                                body, cases)
         return _seq([*clocks, cases])
 
-    def _items(self, statements: tuple[ast.Statement, ...] | list[ast.Statement]
-               ) -> list[_Item]:
+    def _items(self, statements: tuple[ast.Statement, ...] | list[ast.Statement],
+               calls: Calls) -> list[Item]:
         """Statements as the interpreter's pending steps: ``exec`` ends the cycle, and
         ``wait(n)`` is ``n`` such ends."""
-        out: list[_Item] = []
+        out: list[Item] = []
         for st in statements:
             if isinstance(st, ast.ExecStatement):
                 out.append(("end", None))
             elif isinstance(st, ast.WaitStatement):
-                out += [("end", None)] * self._cycles(st)
+                out += [("end", None)] * self.terms[calls.running].cycles(st)
             else:
                 out.append(("stmt", st))
         return out
 
-    def _cycles(self, st: ast.WaitStatement) -> int:
-        try:
-            n = self.interpreter._value(st.cycles, self.interpreter.constants)
-        except MachineError:
-            n = None
-        if isinstance(n, bool) or not isinstance(n, (int, float)) or n < 0 or n != int(n):
-            raise self._refuse("wait(n) is written in D only with n a constant natural "
-                               "number", st.span)
-        return int(n)
-
-    def _run(self, items: tuple[_Item, ...], node: str, here: str | None, depth: int,
-             during_done: bool, resting: bool, facts: Facts) -> list[c.Action]:
+    def _run(self, items: tuple[Item, ...], node: str, here: str | Place | None, depth: int,
+             during_done: bool, resting: bool, facts: Facts,
+             calls: Calls = TOP) -> list[c.Action]:
         """The interpreter's loop from ``node`` with ``items`` pending (its cycle's step 3):
         the pending steps in order (an ``end`` cuts the cycle: the rest resumes in the next
         one, a mode of its own), then the during action unless a state was entered, then the
-        transitions (``here``: the node the cycle began resting in, None when it resumed;
-        ``facts``: what is known of D's state on the way here)."""
+        transitions (``here``: where the cycle began resting, None when it resumed;
+        ``facts``: what is known of D's state on the way here; ``calls``: the operation
+        running and its callers)."""
+        terms = self.terms[calls.running]
         out: list[c.Action] = []
         for n, (kind, item) in enumerate(items):
             if kind == "end":
-                resume = self._resume(items[n + 1:], node)
-                return [*out, c.Assign((self.mode,), (ex.Num(str(resume)),))]
+                return [*out, c.Assign((self.mode,), (self._resume(items[n + 1:], node,
+                                                                    calls),))]
             if kind == "do":
                 out.append(item)  # type: ignore[arg-type]
                 facts = facts.forgotten(item.targets)  # type: ignore[attr-defined]
+            elif kind == "stmt" and self._called(item) is not None:
+                return [*out, *self._invoke(item, items[n + 1:], node, here,  # type: ignore
+                                            depth, during_done, resting, facts, calls)]
             elif kind == "stmt":
-                out.append(self._statement(item))  # type: ignore[arg-type]
+                out.append(terms.statement(item))  # type: ignore[arg-type]
                 if isinstance(out[-1], c.Assign):  # it tells its field (a clock reset: 0)
                     facts = facts.assigned(out[-1].targets[0], out[-1].values[0])
             else:
                 key = str(item)
-                return [*out, *self._enter(key, items[n + 1:], here, depth + 1, facts)]
+                return [*out, *self._enter(key, items[n + 1:], here, depth + 1, facts, calls)]
         if not during_done:
-            during = [st for k in self._ancestors(node)
-                      for st in self.machine.nodes[k].actions("during")] \
-                if self.machine.nodes[node].kind == "state" else []
-            return [*out, *self._run(tuple(self._items(during)), node, here, depth, True,
-                                     resting, facts)]
-        return [*out, self._select(node, resting, here, depth, facts)]
+            nodes = terms.scope.nodes
+            during = [st for k in self._ancestors(node, calls)
+                      for st in nodes[k].actions("during")] \
+                if nodes[node].kind == "state" else []
+            return [*out, *self._run(tuple(self._items(during, calls)), node, here, depth,
+                                     True, resting, facts, calls)]
+        return [*out, self._select(node, resting, here, depth, facts, calls)]
 
-    def _resume(self, items: tuple[_Item, ...], node: str) -> int:
+    def _called(self, s: object) -> str | None:
+        """The operation definition a statement calls (``op(args)``, without ``$``), as the
+        interpreter finds it before the platform's operations."""
+        if isinstance(s, ast.CallStatement) and isinstance(s.call, ex.Call) and \
+                isinstance(s.call.func, ex.Name) and \
+                s.call.func.parts[-1] in self.interpreter.operations:
+            return s.call.func.parts[-1]
+        return None
+
+    def _invoke(self, s: ast.CallStatement, rest: tuple[Item, ...], node: str,
+                here: str | Place | None, depth: int, during_done: bool, resting: bool,
+                facts: Facts, calls: Calls) -> list[c.Action]:
+        """A call of an operation definition (the interpreter's ``_invoke``): its parameters
+        take the arguments' values (computed in the caller's scope), its variables their
+        initial values (which may read the parameters), its clocks 0; the caller, with the
+        rest of its action, waits in a frame while the operation runs from its initial
+        junction."""
+        call: ex.Call = s.call  # type: ignore[assignment]
+        op = str(self._called(s))
+        path = [f.running for f in calls.stack] + [calls.running]
+        if op in path:
+            chain = " → ".join([p or self.machine.name for p in path] + [op])
+            raise self._refuse(f"{op} is called again while it runs ({chain}): D holds one copy "
+                               "of an operation's variables, so a recursive chain of calls "
+                               "is not written", call.span,
+                               "write the repetition as a loop of transitions with exec")
+        caller, callee = self.terms[calls.running], self.terms[op]
+        scope = callee.scope
+        params = scope.decl.params
+        if len(params) != len(call.args):
+            raise self._refuse(f"{op} takes {len(params)} argument"
+                               f"{'s' if len(params) != 1 else ''}, not {len(call.args)}",
+                               call.span, f"write {op}({', '.join(p.name for p in params)})")
+        start = scope.initial(None)
+        if start is None:
+            raise self._refuse(f"operation {op} has no initial junction", scope.decl.span,
+                               "add 'initial i0' (see STM2)")
+        names = {p.name for p in params}
+        sets = [c.Assign((callee.field(p.name),),
+                         (caller.value(a, callee.variables[p.name]),))
+                for p, a in zip(params, call.args)]
+        for x, d in scope.variables.items():
+            if x in names:
+                continue
+            read = {n.text for n in d.value.walk() if isinstance(n, ex.Name)} \
+                if d.value is not None else set()
+            if read & (set(scope.variables) - names):
+                raise self._refuse(f"the initial value of {x} of operation {op} reads another "
+                                   "of its variables", d.span)
+            sets.append(c.Assign((callee.field(x),), (
+                callee.value(d.value, d) if d.value is not None
+                else default(d),)))
+        sets += [c.Assign((callee.field(k),), (ex.Num("0"),)) for k in scope.clocks]
+        for a in sets:
+            facts = facts.assigned(a.targets[0], a.values[0])
+        frame = Frame(calls.running, node, resting, rest, during_done)
+        inside = Calls(op, (*calls.stack, frame))
+        return [*sets, *self._run((), start.key, here, depth + 1, during_done, False, facts,
+                                  inside)]
+
+    def _resume(self, items: tuple[Item, ...], node: str, calls: Calls) -> ex.Expr:
         """The mode of the rest of a cut action (the same rest at the same node: one)."""
+        if calls.stack:
+            return self._inner(Place(calls.later(), node, items))
         if (items, node) not in self.resumes:
             self.resumes.append((items, node))
-        return len(self.index) + self.resumes.index((items, node))
+        return ex.Num(str(len(self.index) + self.resumes.index((items, node))))
+
+    def _inner(self, place: Place) -> ex.Expr:
+        """The mode of a place inside an operation, to be numbered once all are known."""
+        if place not in self.inner:
+            self.inner.append(place)
+        return name_expr(f"{_PLACE}{self.inner.index(place)}")
 
     def _cond(self, cond: ex.Expr, then: c.Action, orelse: c.Action) -> c.Action:
         self.conditionals += 1
@@ -318,23 +444,24 @@ class _Cycle:
                                "junctions, or end them with exec")
         return c.Cond(cond, then, orelse)
 
-    def _select(self, key: str, resting: bool, here: str | None, depth: int,
-                facts: Facts) -> c.Action:
+    def _select(self, key: str, resting: bool, here: str | Place | None, depth: int,
+                facts: Facts, calls: Calls) -> c.Action:
         """The machine at ``key`` after its during action: its first enabled transition
         taken, else it rests at ``key`` (``here``: where the cycle began). A transition whose
         guard cannot hold given ``facts`` is not written; one whose guard must hold is the
         last choice (those after it, and resting, are never taken)."""
+        terms = self.terms[calls.running]
+        scope = terms.scope
         if depth > MAX_DEPTH:
             raise self._refuse(f"a cycle from {here} passes more than {MAX_DEPTH} nodes: a "
-                               "loop of transitions without exec?",
-                               self.machine.nodes[key].span,
+                               "loop of transitions without exec?", scope.nodes[key].span,
                                self._loop_hint())
-        chain = self._ancestors(key)  # a composite state's transitions before its states'
+        chain = self._ancestors(key, calls)  # a composite state's transitions before its states'
         choices: list[tuple[ast.Transition, str, ex.Expr, list[c.Action], Facts]] = []
         before, always = facts, False  # before: what holds when the choice reaches t
-        for t, source in [(t, a) for a in chain for t in self.machine.outgoing(a)
+        for t, source in [(t, a) for a in chain for t in scope.outgoing(a)
                           if t.target is not None and (resting or not t.decl.exec)]:
-            guard, bindings = self._guard(t.decl)
+            guard, bindings = terms.guard(t.decl)
             holds = before.value(guard)
             if holds is False:
                 continue
@@ -343,19 +470,22 @@ class _Cycle:
                 always = True
                 break
             before = before.refused(guard)
-        action: c.Action = c.Skip() if key == here else \
-            c.Assign((self.mode,), (ex.Num(str(self.index[key])),))
-        if not always and key not in self.rest:
+        place: str | Place = key if not calls.stack else Place(calls.later(), key, None)
+        action: c.Action = c.Skip()  # resting (never, when a guard must hold)
+        if place != here and isinstance(place, str):
+            action = c.Assign((self.mode,), (ex.Num(str(self.index[key])),))
+        elif place != here and not always:
+            action = c.Assign((self.mode,), (self._inner(place),))
+        if not always and isinstance(place, str) and key not in self.rest:
             self.rest.append(key)
         for n, (t, source, guard, bindings, after) in reversed(list(enumerate(choices))):
             leaving = chain[chain.index(source):]  # exited innermost first
-            exits = [s for k in reversed(leaving)
-                     for s in self.machine.nodes[k].actions("exit")]
-            pending: list[_Item] = [("do", b) for b in bindings]
-            pending += [*self._items(exits), *self._items(t.decl.action or ()),
+            exits = [s for k in reversed(leaving) for s in scope.nodes[k].actions("exit")]
+            pending: list[Item] = [("do", b) for b in bindings]
+            pending += [*self._items(exits, calls), *self._items(t.decl.action or (), calls),
                         ("enter", t.target)]
             taken = _seq(self._run(tuple(pending), key, here, depth, during_done=True,
-                                   resting=False, facts=after))
+                                   resting=False, facts=after, calls=calls))
             last = always and n == len(choices) - 1
             action = taken if last else self._cond(guard, taken, action)
         return action
@@ -366,187 +496,43 @@ class _Cycle:
         return "mark the end of the cycle with exec" + (names and ", or give the open "
                                                         f"constants ({names}) values (--const)")
 
-    def _ancestors(self, key: str) -> list[str]:
+    def _ancestors(self, key: str, calls: Calls) -> list[str]:
         """The node and the composite states around it, outermost first."""
+        nodes = self.terms[calls.running].scope.nodes
         out = [key]
-        while self.machine.nodes[out[0]].parent is not None:
-            out.insert(0, self.machine.nodes[out[0]].parent)  # type: ignore[arg-type]
+        while nodes[out[0]].parent is not None:
+            out.insert(0, nodes[out[0]].parent)  # type: ignore[arg-type]
         return out
 
-    def _enter(self, key: str, rest: tuple[_Item, ...], here: str | None, depth: int,
-               facts: Facts) -> list[c.Action]:
+    def _enter(self, key: str, rest: tuple[Item, ...], here: str | Place | None, depth: int,
+               facts: Facts, calls: Calls) -> list[c.Action]:
         """Entering ``key``: a state's entry action, then a composite state's initial
         junction, or a simple state's during action; then, the pending steps done, its
-        transitions."""
-        node = self.machine.nodes[key]
+        transitions. An operation's top-level final state returns to its caller, which goes
+        on with the rest of its action in the same cycle."""
+        scope = self.terms[calls.running].scope
+        node = scope.nodes[key]
         if depth > MAX_DEPTH:
             raise self._refuse(f"a cycle from {here} passes more than {MAX_DEPTH} nodes: a "
                                "loop of transitions without exec?", node.span,
                                self._loop_hint())
-        items: list[_Item] = []
+        if node.kind == "final" and node.parent is None and calls.stack:
+            f = calls.stack[-1]  # (nothing is pending in the operation: it took a transition)
+            return self._run(f.items, f.node, here, depth, f.during_done, f.resting, facts,
+                             Calls(f.running, calls.stack[:-1]))
+        items: list[Item] = []
         if node.kind == "state":
-            items += self._items(node.actions("entry"))
+            items += self._items(node.actions("entry"), calls)
             if node.composite:
-                inner = self.machine.initial(key)
+                inner = scope.initial(key)
                 if inner is None:
                     raise self._refuse(f"state {key} has no initial junction", node.span,
                                        "add 'initial i0' inside it (see STM2)")
                 items.append(("enter", inner.key))
             else:
-                items += self._items(node.actions("during"))
+                items += self._items(node.actions("during"), calls)
         return self._run((*items, *rest), key, here, depth, during_done=True, resting=False,
-                         facts=facts)
-
-    # ----- guards and expressions
-    def _guard(self, t: ast.Transition) -> tuple[ex.Expr, list[c.Action]]:
-        """The guard over D's state and the assignments of the names ``$e?x`` binds."""
-        parts = [e for e in (t.trigger, t.condition) if e is not None]
-        bound: dict[str, str] = {}
-        bindings: list[c.Action] = []
-        for part in parts:
-            top = set(map(id, ex.conjuncts(part)))
-            for n in part.walk():
-                if isinstance(n, ex.PlatformRef) and n.binding is not None:
-                    event = n.name[-1]
-                    if id(n) not in top:
-                        raise self._refuse(f"transition {t.name} binds {n.binding} from "
-                                           f"${event} outside a conjunct of its guard: the "
-                                           "value is bound only when the event occurs", n.span,
-                                           f"write the guard as ${event}?{n.binding} /\\ …")
-                    if event in self.typed:
-                        bound[n.binding] = f"{self.name}_{event}_value"
-                        bindings.append(c.Assign((f"{self.prefix}_{n.binding}",),
-                                                 (_name(bound[n.binding]),)))
-                    elif event in self.events:  # (an event not mapped never occurs)
-                        raise self._refuse(f"transition {t.name} binds {n.binding} from the "
-                                           f"untyped event {event}", n.span)
-        if not parts:
-            return ex.Bool(True), bindings
-        guard = ex.conjunction([self._predicate(p, bound) for p in parts])
-        return guard, bindings
-
-    def _predicate(self, e: ex.Expr, bound: dict[str, str]) -> ex.Expr:
-        """A condition as a predicate: Z has no Boolean-valued terms in predicate position,
-        so an event and a Boolean variable are compared with true."""
-        if isinstance(e, ex.BinOp) and e.op in _CONNECTIVES:
-            return ex.BinOp(e.op, self._predicate(e.left, bound),
-                            self._predicate(e.right, bound))
-        if isinstance(e, ex.UnaryOp) and e.op == "not":
-            return ex.UnaryOp("not", self._predicate(e.operand, bound))
-        if isinstance(e, ex.PlatformRef):
-            event = e.name[-1]
-            if event not in self.events:  # not mapped: it never occurs
-                return ex.Bool(False)
-            return ex.BinOp("==", _name(f"{self.name}_{event}"), ex.Bool(True))
-        if isinstance(e, ex.Bool):
-            return e
-        declared = {**self.interpreter.open, **self.machine.variables}
-        if isinstance(e, ex.Name) and e.text in declared and \
-                type_of(declared[e.text].type) == c.BOOL:
-            return ex.BinOp("==", self._expr(e, bound), ex.Bool(True))
-        return self._expr(e, bound)
-
-    def _expr(self, e: ex.Expr, bound: dict[str, str] | None = None) -> ex.Expr:
-        """A value over D's state: variables and clocks are D's, constants their values."""
-        p, bound = self.prefix, bound or {}
-        period = self.interpreter.period
-        constants = self.interpreter.constants
-
-        def rewrite(n: ex.Expr) -> ex.Expr | None:
-            if isinstance(n, ex.Call) and isinstance(n.func, ex.Name) and \
-                    n.func.text == "since" and len(n.args) == 1 and \
-                    isinstance(n.args[0], ex.Name) and n.args[0].text in self.machine.clocks:
-                count = _name(f"{p}_{n.args[0].text}")
-                return count if period == 1 else ex.BinOp("*", count, value_expr(period))
-            if isinstance(n, ex.PlatformRef):
-                raise self._refuse(f"${n.text} is used as a value", n.span,
-                                   "test events in guards only")
-            if isinstance(n, ex.Name):
-                if n.text in bound:
-                    return _name(bound[n.text])
-                if n.text in self.machine.variables:
-                    return _name(f"{p}_{n.text}")
-                value = constants.get(n.text)
-                if isinstance(value, (bool, int, float)):
-                    return _constant(value, c.REAL)
-                if n.text in self.interpreter.open:
-                    return _name(self.open_name(n.text))
-                decl = self.machine.constants.get(n.text)
-                if decl is not None and decl.value is not None:  # computed from an open one
-                    return self._expr(decl.value)
-                if n.text == "since" or n.text in self.machine.clocks:
-                    return None  # since(C) is rewritten at the call (bottom-up)
-                raise self._refuse(f"'{n.text}' has no value in the machine", n.span)
-            return None
-
-        out = ex.transform(e, rewrite)
-        left = next((n for n in out.walk() if isinstance(n, ex.Name) and (
-            n.text == "since" or n.text in self.machine.clocks)), None)
-        if left is not None:
-            raise self._refuse(f"'{left.text}' is used outside since(C)", left.span)
-        return out
-
-    # ----- statements
-    def _statement(self, s: ast.Statement) -> c.Action:
-        p = self.prefix
-        if isinstance(s, ast.Assign):
-            if not isinstance(s.target, ex.Name) or s.target.text not in self.machine.variables:
-                raise self._refuse("only a variable of the machine can be assigned", s.span)
-            decl = self.machine.variables[s.target.text]
-            value = self._predicate(s.value, {}) if held_type(decl.type) == c.BOOL \
-                else self._expr(s.value)
-            return c.Assign((f"{p}_{s.target.text}",), (value,))
-        if isinstance(s, ast.ClockReset):
-            return c.Assign((f"{p}_{s.clock}",), (ex.Num("0"),))
-        if isinstance(s, ast.SkipStatement):
-            return c.Skip()
-        if isinstance(s, ast.SendStatement):
-            name = s.event.name[-1] if isinstance(s.event, ex.PlatformRef) else "?"
-            return self._send(name, (s.value,), s)
-        if isinstance(s, ast.CallStatement):
-            call = s.call
-            if isinstance(call, ex.PlatformRef):
-                return self._send(call.name[-1], (), s)
-            if isinstance(call, ex.Call) and isinstance(call.func, ex.PlatformRef):
-                return self._send(call.func.name[-1], call.args, s)
-            platform = self.machine.platform  # `move(0, av)`: RoboTool's call without `$`
-            if isinstance(call, ex.Call) and isinstance(call.func, ex.Name) and \
-                    call.func.parts[-1] in {**platform.operations, **platform.output_events}:
-                return self._send(call.func.parts[-1], call.args, s)
-            raise self._refuse("this call is not a call of the platform", s.span)
-        raise self._refuse("this statement is not written in D", s.span)
-
-    def _send(self, name: str, args: tuple[ex.Expr, ...], s: ast.Statement) -> c.Action:
-        types = self.writes.get(name)
-        if types is None and name in self.interpreter.observable:
-            return c.Skip()  # an output event the mapping does not map: observable only
-        if types is None or len(types) != len(args):
-            raise ValueError(name)
-        values = tuple(c.Out(self._argument(a, t)) for a, t in zip(args, types))
-        return c.Prefix(c.Comm("registerWrite", name, values), c.Skip())
-
-    def _argument(self, a: ex.Expr, type_: c.Type) -> ex.Expr:
-        """A constant argument as the automaton's ``D`` writes it (a literal of the
-        parameter's type), any other as an expression over the state."""
-        translated = self._expr(a)
-        if not any(isinstance(n, ex.Name) for n in translated.walk()):
-            try:
-                value = self.interpreter._value(a, self.interpreter.constants)
-            except MachineError:
-                value = None
-            if isinstance(value, (int, float)) and not isinstance(value, bool):
-                return literal(float(value), type_)
-        if type_ in (c.INT, c.NAT):
-            raise self._refuse(f"an argument of {'int' if type_ == c.INT else 'nat'} type is "
-                               "computed from the machine's state, which D holds as reals: "
-                               "the conversion is not written", a.span)
-        return translated
-
-
-def _constant(value: object, type_: c.Type) -> ex.Expr:
-    if isinstance(value, bool) or type_ == c.BOOL:
-        return ex.Bool(bool(value))
-    return literal(float(value), type_)  # type: ignore[arg-type]
+                         facts=facts, calls=calls)
 
 
 def cycle_process(name: str, interpreters: list[MachineInterpreter],
@@ -582,12 +568,13 @@ def cycle_process(name: str, interpreters: list[MachineInterpreter],
     read_events = list(dict.fromkeys(e for t in cycles for e in t.events))
     typed = {e for t in cycles for e in t.typed}
     p = name
+    actions = [t.actions() for t in cycles]
     defs = [c.ActionDef(f"{p}Init", (), c.Assign(tuple(names), tuple(values))),
             c.ActionDef(f"{p}Read", (), read_events_action(name, read_events, typed, reads)),
-            c.ActionDef(f"{p}Start", (), _seq([t.start() for t in cycles])),
-            c.ActionDef(f"{p}Step", (), _seq([t.step() for t in cycles]))]
+            c.ActionDef(f"{p}Start", (), _seq([start for start, _ in actions])),
+            c.ActionDef(f"{p}Step", (), _seq([step for _, step in actions]))]
     call: Callable[[str], c.Call] = lambda suffix: c.Call(f"{p}{suffix}")
-    wait = c.Wait(_name("cycle"))
+    wait = c.Wait(name_expr("cycle"))
     main = c.Seq((call("Init"), call("Read"), call("Start"), wait,
                   c.Mu("X", c.Seq((call("Read"), call("Step"), wait, c.Call("X"))))))
     return c.BasicProcess(name, tuple(constants), c.Schema(f"{p}State", tuple(fields)),
