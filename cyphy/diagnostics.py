@@ -7,7 +7,6 @@ from them (see ``../shared/spec/style.md``, sections 4 and 9).
 
 from __future__ import annotations
 
-import difflib
 import json
 from dataclasses import dataclass, field
 from enum import Enum
@@ -274,6 +273,8 @@ def diagnostics_json(diagnostics: Iterable[Diagnostic]) -> list[dict[str, object
 
 def did_you_mean(name: str, candidates: Iterable[str]) -> str:
     """A hint naming the closest candidates (``did you mean 'Revolute'?``), or ``""``."""
+    import difflib  # lazy: only a misspelt name needs it, and every command imports this module
+
     close = difflib.get_close_matches(name, sorted(set(candidates)), n=3, cutoff=0.6)
     if not close:
         return ""

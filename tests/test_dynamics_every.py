@@ -241,7 +241,7 @@ def test_spring_and_damping_follow_mujoco_and_are_in_the_written_out_equations(
     ``J_tau == M·J_a + h + 0.5·J_v + 3·(J_theta − 0.2)``."""
     from cyphy import api
     from cyphy.lang.notation import to_notation
-    from cyphy.semantics.dynamics.rigid_body import motion_equations
+    from cyphy.semantics.dynamics.motion import motion_equations
 
     folder = _write(tmp_path / "p", LIMITED.replace(
         "DYNAMICS", "damping = 0.5 spring_stiffness = 3 spring_reference = 0.2")

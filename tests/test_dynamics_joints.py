@@ -18,8 +18,9 @@ from hypothesis import strategies as st
 from cyphy.diagnostics import Span
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
 from cyphy.model.poses import Pose
+from cyphy.semantics.dynamics import motion
 from cyphy.semantics.dynamics import rigid_body as dynamics
-from cyphy.semantics.dynamics import tree as tree_module
+from cyphy.semantics.dynamics import tree_numbers as tree_module
 from test_dynamics import _inertial, _pose  # the random links of the one-coordinate trees
 
 pin = pytest.importorskip("pinocchio")
@@ -355,7 +356,7 @@ def test_motion_equations_of_vector_ports_agree_with_pinocchio(tmp_path: Path, t
     from cyphy import expr as ex
 
     model = _elaborated(_write(tmp_path, text))
-    equations = dynamics.motion_equations(model)
+    equations = motion.motion_equations(model)
     tree = dynamics.kinematic_tree(model)
     left = [e.left for e, _ in equations]
     assert all(isinstance(item, ex.Index) for item in left)
@@ -375,9 +376,9 @@ def test_motion_equations_of_vector_ports_agree_with_pinocchio(tmp_path: Path, t
 
 def test_a_ball_joint_among_others_is_not_written_out(multi) -> None:
     with pytest.raises(dynamics.DynamicsError, match="Shoulder of 3 coordinates") as raised:
-        dynamics.motion_equations(multi)
+        motion.motion_equations(multi)
     assert "cyphy simulate" in raised.value.hint
-    assert not dynamics.written_out(dynamics.kinematic_tree(multi))
+    assert not motion.written_out(dynamics.kinematic_tree(multi))
 
 
 def _evaluate(node, values: dict[str, float]) -> float:

@@ -6,6 +6,7 @@ back to deriving."""
 
 from __future__ import annotations
 
+import math
 import os
 import pickle
 import subprocess
@@ -17,7 +18,7 @@ import pytest
 
 from conftest import EXAMPLES, ROOT
 from cyphy import disk_cache
-from cyphy.semantics.dynamics import motion_cache
+from cyphy.semantics.dynamics import motion, motion_cache
 from cyphy.semantics.dynamics import rigid_body as dynamics
 from cyphy.semantics.dynamics.errors import DynamicsError
 
@@ -67,13 +68,13 @@ CHANGES = {
 def derivations(monkeypatch: pytest.MonkeyPatch) -> list[object]:
     """The trees derived with SymPy (the misses), in order."""
     calls: list[object] = []
-    real = dynamics._derive
+    real = motion._derive
 
     def counted(tree: dynamics.KinematicTree) -> list[tuple[object, int]]:
         calls.append(tree)
         return real(tree)
 
-    monkeypatch.setattr(dynamics, "_derive", counted)
+    monkeypatch.setattr(motion, "_derive", counted)
     return calls
 
 
@@ -156,14 +157,14 @@ def test_a_changed_number_misses_and_gives_the_new_equations(
         monkeypatch: pytest.MonkeyPatch) -> None:
     old, new, gravity, damping = CHANGES[change]
     base_model = elaborated(tmp_path / "base", ARM)
-    base = dynamics.motion_equations(base_model)
+    base = motion.motion_equations(base_model)
     assert len(derivations) == 1 and len(entries(cyphy_cache)) == 1
     assert old in ARM
     model = elaborated(tmp_path / "base", ARM.replace(old, new))  # the same file, changed
-    changed = dynamics.motion_equations(model, gravity)
+    changed = motion.motion_equations(model, gravity)
     assert len(derivations) == 2 and len(entries(cyphy_cache)) == 2  # a miss, stored
     monkeypatch.setenv("CYPHY_NO_CACHE", "1")
-    assert [e for e, _ in dynamics.motion_equations(model, gravity)] == \
+    assert [e for e, _ in motion.motion_equations(model, gravity)] == \
         [e for e, _ in changed]
     monkeypatch.delenv("CYPHY_NO_CACHE")
     rng = np.random.default_rng(7)
@@ -175,15 +176,15 @@ def test_a_changed_number_misses_and_gives_the_new_equations(
     assert not np.allclose(got, before)  # the change matters to the equations
     calls = len(derivations)
     again = elaborated(tmp_path / "base", ARM)
-    assert [e for e, _ in dynamics.motion_equations(again)] == [e for e, _ in base]
+    assert [e for e, _ in motion.motion_equations(again)] == [e for e, _ in base]
     assert len(derivations) == calls  # the first model again: a hit
 
 
 def test_the_same_model_at_another_path_misses(tmp_path: Path, cyphy_cache: Path,
                                                derivations: list[object]) -> None:
     """Spans name the file: the equations of a copy point at the copy."""
-    first = dynamics.motion_equations(elaborated(tmp_path / "a", ARM))
-    second = dynamics.motion_equations(elaborated(tmp_path / "b", ARM))
+    first = motion.motion_equations(elaborated(tmp_path / "a", ARM))
+    second = motion.motion_equations(elaborated(tmp_path / "b", ARM))
     assert len(derivations) == 2
     assert {e.span.file for e, _ in first} == {str(tmp_path / "a" / "arm.rsm")}
     assert {e.span.file for e, _ in second} == {str(tmp_path / "b" / "arm.rsm")}
@@ -192,11 +193,11 @@ def test_the_same_model_at_another_path_misses(tmp_path: Path, cyphy_cache: Path
 def test_a_corrupt_entry_is_derived_again_and_replaced(tmp_path: Path, cyphy_cache: Path,
                                                        derivations: list[object]) -> None:
     model = elaborated(tmp_path / "m", ARM)
-    expected = [e for e, _ in dynamics.motion_equations(model)]
+    expected = [e for e, _ in motion.motion_equations(model)]
     (entry,) = entries(cyphy_cache)
     entry.write_bytes(b"not a pickle")
     entry.chmod(0o600)
-    assert [e for e, _ in dynamics.motion_equations(model)] == expected
+    assert [e for e, _ in motion.motion_equations(model)] == expected
     assert len(derivations) == 2 and entry.read_bytes() != b"not a pickle"
 
 
@@ -205,7 +206,7 @@ def test_an_entry_of_other_contents_is_a_miss(tmp_path: Path, cyphy_cache: Path,
     """The right header over a pickle that is not this tree's equations (a list of other
     things, a joint index past the tree)."""
     model = elaborated(tmp_path / "m", ARM)
-    expected = [e for e, _ in dynamics.motion_equations(model)]
+    expected = [e for e, _ in motion.motion_equations(model)]
     (entry,) = entries(cyphy_cache)
     header = motion_cache.key(dynamics.kinematic_tree(model))
     assert header is not None and entry.read_bytes().startswith(header)
@@ -213,7 +214,7 @@ def test_an_entry_of_other_contents_is_a_miss(tmp_path: Path, cyphy_cache: Path,
     for other in ({"a": 1}, [(first[0][0], 2)], [("x", 0)]):
         entry.write_bytes(header + pickle.dumps(other))
         entry.chmod(0o600)
-        assert [e for e, _ in dynamics.motion_equations(model)] == expected
+        assert [e for e, _ in motion.motion_equations(model)] == expected
     assert len(derivations) == 4
 
 
@@ -222,12 +223,12 @@ def test_an_entry_others_may_write_is_not_unpickled(tmp_path: Path, cyphy_cache:
                                                     derivations: list[object],
                                                     monkeypatch: pytest.MonkeyPatch) -> None:
     model = elaborated(tmp_path / "m", ARM)
-    expected = [e for e, _ in dynamics.motion_equations(model)]
+    expected = [e for e, _ in motion.motion_equations(model)]
     (entry,) = entries(cyphy_cache)
     entry.chmod(0o666)
     loads: list[object] = []
     monkeypatch.setattr(disk_cache.pickle, "load", lambda f: loads.append(f))
-    assert [e for e, _ in dynamics.motion_equations(model)] == expected
+    assert [e for e, _ in motion.motion_equations(model)] == expected
     assert loads == [] and len(derivations) == 2
 
 
@@ -235,9 +236,9 @@ def test_an_entry_another_user_owns_is_not_unpickled(tmp_path: Path, cyphy_cache
                                                      derivations: list[object],
                                                      monkeypatch: pytest.MonkeyPatch) -> None:
     model = elaborated(tmp_path / "m", ARM)
-    expected = [e for e, _ in dynamics.motion_equations(model)]
+    expected = [e for e, _ in motion.motion_equations(model)]
     monkeypatch.setattr(os, "getuid", lambda: os.stat(entries(cyphy_cache)[0]).st_uid + 1)
-    assert [e for e, _ in dynamics.motion_equations(model)] == expected
+    assert [e for e, _ in motion.motion_equations(model)] == expected
     assert len(derivations) == 2
 
 
@@ -248,16 +249,16 @@ def test_errors_are_not_stored(tmp_path: Path, cyphy_cache: Path,
     def fails(tree: dynamics.KinematicTree) -> list[tuple[object, int]]:
         raise DynamicsError("no", model.joints[0].span, "")
 
-    monkeypatch.setattr(dynamics, "_derive", fails)
+    monkeypatch.setattr(motion, "_derive", fails)
     with pytest.raises(DynamicsError):
-        dynamics.motion_equations(model)
+        motion.motion_equations(model)
     assert entries(cyphy_cache) == []
 
 
 def test_no_cache_writes_nothing(tmp_path: Path, cyphy_cache: Path,
                                  monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("CYPHY_NO_CACHE", "1")
-    assert dynamics.motion_equations(elaborated(tmp_path / "m", ARM))
+    assert motion.motion_equations(elaborated(tmp_path / "m", ARM))
     assert not cyphy_cache.exists()
 
 
@@ -268,14 +269,26 @@ def test_a_value_the_key_cannot_encode_is_derived_not_stored(
     model = elaborated(tmp_path / "m", ARM)
     model.joints[0].index["odd"] = object()  # type: ignore[assignment]
     assert motion_cache.key(dynamics.kinematic_tree(model)) is None
-    dynamics.motion_equations(model)
-    dynamics.motion_equations(model)
+    motion.motion_equations(model)
+    motion.motion_equations(model)
     assert len(derivations) == 2 and entries(cyphy_cache) == []
 
 
 def _perturbed(value: object) -> object:
+    import dataclasses
+
+    from cyphy.model.elements import Link
+    from cyphy.model.poses import Pose
+
     if isinstance(value, np.ndarray):
         return value + 1e-12
+    if isinstance(value, Pose):  # the last bit of one coordinate
+        x, y, z = value.position
+        return dataclasses.replace(value, position=(math.nextafter(x, math.inf), y, z))
+    if isinstance(value, tuple) and value and isinstance(value[0], Link):
+        first = value[0]  # a body's links: the first one's mass
+        inertial = dataclasses.replace(first.inertial, mass=first.inertial.mass * 1.5)
+        return (dataclasses.replace(first, inertial=inertial), *value[1:])
     if isinstance(value, bool):
         return not value
     if isinstance(value, (int, float)):
@@ -314,6 +327,15 @@ def test_every_input_of_the_derivation_changes_the_key(tmp_path: Path) -> None:
                     joint, **{f.name: _perturbed(getattr(joint, f.name))}))
                 assert changed not in (None, base), f.name
                 seen.add(changed)
+        first = joint.links[0]  # the body's links are read field by field, not walked
+        for what, link in {
+                "link pose": dataclasses.replace(first, pose=_perturbed(first.pose)),
+                "link span": dataclasses.replace(first, span=dataclasses.replace(
+                    first.span, line=first.span.line + 1)),
+                "link qname": dataclasses.replace(first, qname=(*first.qname, "x"))}.items():
+            changed = key_with(k, dataclasses.replace(joint, links=(link, *joint.links[1:])))
+            assert changed not in (None, base), what
+            seen.add(changed)
         element = joint.element
         device = element.device
         port = device.port("theta")
@@ -350,9 +372,48 @@ def test_without_its_sources_nothing_is_cached(tmp_path: Path, cyphy_cache: Path
     motion_cache.fingerprint.cache_clear()
     try:
         model = elaborated(tmp_path / "m", ARM)
-        dynamics.motion_equations(model)
-        dynamics.motion_equations(model)
+        motion.motion_equations(model)
+        motion.motion_equations(model)
         assert len(derivations) == 2 and entries(cyphy_cache) == []
     finally:
         monkeypatch.undo()
         motion_cache.fingerprint.cache_clear()
+
+
+_LOOP = """            flexibly connected to Hand
+        }
+        jref Wrist = Revolute {
+            pose { x = 0 y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }
+            instantiation AXIS = (|1, 0, 0|)
+            flexibly connected to Hand
+        }"""
+_UPPER_INERTIAL = ("inertial information { mass 0.5 inertia matrix { ixx 0.01 ixy 0.001 ixz 0 "
+                   "iyy 0.02 iyz 0 izz 0.015 } pose { x = 0 y = 0.02 z = -0.2 roll = 0 "
+                   "pitch = 0 yaw = 0 } }")
+
+
+@pytest.mark.parametrize("case, message", [
+    ("no mass", "link Arm::Upper has no mass properties"),
+    ("loop", "closes a kinematic loop"),
+    ("no mass and a loop", "closes a kinematic loop"),
+])
+def test_a_bad_tree_is_reported_as_the_tree_with_numbers_reports_it(
+        tmp_path: Path, cyphy_cache: Path, case: str, message: str) -> None:
+    """The cache is looked up with the tree built without its numbers (no NumPy); a tree
+    whose numbers fail, or that has a loop, still gets the error the tree built with its
+    numbers raises, the first one it finds (a second parent joint is seen before any
+    number), and nothing is stored."""
+    text = ARM
+    if "mass" in case:  # the Upper arm, moved by the first joint, loses its inertial
+        text = text.replace(_UPPER_INERTIAL, "")
+    if "loop" in case:  # the Hand gets a second parent joint, after the Elbow's
+        text = text.replace("            flexibly connected to Hand\n        }", _LOOP)
+    assert text != ARM
+    model = elaborated(tmp_path / "m", text)
+    with pytest.raises(DynamicsError) as eager:
+        dynamics.kinematic_tree(model)
+    with pytest.raises(DynamicsError) as lazy:
+        motion.motion_equations(model)
+    assert message in eager.value.message
+    assert (lazy.value.message, lazy.value.span) == (eager.value.message, eager.value.span)
+    assert entries(cyphy_cache) == []

@@ -1,6 +1,7 @@
-"""``cyphy check`` and ``cyphy gen --sdf`` start without the heavy libraries: SymPy, SciPy and
+"""``cyphy check`` and ``cyphy gen --sdf`` start without the heavy libraries, and so does
+``cyphy gen --isabelle`` once its equations of motion are cached: SymPy, SciPy and
 matplotlib each cost a large part of a second before the first line is read, NumPy (with its
-BLAS) 0.3 s of processor time, Lark 75 ms (issue 24's start-up budget;
+BLAS) 0.1-0.3 s of processor time, Lark 75 ms (issue 24's start-up budget;
 ``benchmarks/bench_startup.py`` measures the whole processes). The model's vectors and
 matrices are pure-Python values (``cyphy.model.array``) for that reason, and Lark is loaded
 only when a file is not in the parse cache."""
@@ -92,6 +93,30 @@ def test_a_warm_cache_reads_no_grammar(args: list[str], tmp_path: Path) -> None:
     assert code == 0 and "lark" in cold
     code, warm = _imported(argv, cache)
     assert code == 0 and "lark" not in warm
+
+
+#: What a warm ``gen --isabelle`` does not need: the tree's numbers and the algorithms over
+#: it (NumPy), the translator to SymPy, the printers of the other semantic targets.
+ISABELLE_UNNEEDED = ("cyphy.semantics.dynamics.rigid_body", "cyphy.semantics.dynamics.spatial",
+                     "cyphy.semantics.dynamics.tree_numbers", "cyphy.translate.to_sympy",
+                     "cyphy.backends.circus.latex", "cyphy.backends.circus.text")
+
+
+def test_a_warm_gen_isabelle_imports_no_heavy_library(tmp_path: Path) -> None:
+    """The main job with its equations of motion cached (every run after the first): the
+    kinematic tree is built and keyed as data, so neither NumPy nor SymPy is imported, nor
+    the algorithms, nor another target's printer. The first run (an empty cache) derives the
+    equations with both: the probe is not blind."""
+    argv = ["gen", "examples/marxbot", "--isabelle", "-o", str(tmp_path / "out")]
+    cache = tmp_path / "cache"
+    code, cold = _imported_modules(argv, cache)
+    assert code == 0 and {"numpy", "sympy"} <= {m.split(".")[0] for m in cold}
+    code, warm = _imported_modules(argv, cache)
+    assert code == 0
+    heavy = {m.split(".")[0] for m in warm} & set(HEAVY)
+    assert not heavy, sorted(heavy)
+    loaded = sorted(m for m in warm if m.startswith(ISABELLE_UNNEEDED))
+    assert not loaded, loaded
 
 
 def test_the_probe_sees_a_heavy_import(tmp_path: Path) -> None:

@@ -4,19 +4,18 @@ LaTeX (``--cyphycircus``, ``--latex``) and the Isabelle session (``--isabelle``)
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from pathlib import Path
 from typing import Any, Sequence
 
-from cyphy.backends.circus.latex import STYLE, program_to_latex
-from cyphy.backends.circus.text import program_to_text
 from cyphy.deep import deep
 from cyphy.diagnostics import Report
 from cyphy.pipeline.check import CheckOptions, CheckResult, check
 from cyphy.pipeline.generated import Generated
+from cyphy.records import record
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class SemanticsGenOptions:
     """Options of the generators built on the CyPhyCircus semantics (``--cyphycircus``,
     ``--latex``, ``--isabelle``)."""
@@ -128,8 +127,14 @@ def generate_cyphycircus(paths: Sequence[str | Path], target: str,
         _report_unassigned(checked.report, built.scenario, built.program.pmodel.actions)
     stem = built.program.system.name
     if target == "text":
+        # lazy: each printer only for its own target (--isabelle needs neither)
+        from cyphy.backends.circus.text import program_to_text
+
         result.files[f"{stem}.cpc"] = program_to_text(built.program)
     else:
+        # lazy: each printer only for its own target (--isabelle needs neither)
+        from cyphy.backends.circus.latex import STYLE, program_to_latex
+
         document = program_to_latex(built.program)
         result.files[f"{stem}.tex"] = document
         result.files["cyphycircus.sty"] = STYLE

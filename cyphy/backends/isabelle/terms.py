@@ -24,12 +24,13 @@ integrals become integrator states before printing; any other is refused (Unsupp
 from __future__ import annotations
 
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import field
 from decimal import Decimal
 from typing import Any, Iterator
 
 from cyphy import expr as ex
 from cyphy.backends.isabelle.names import RESERVED, IsabelleNames
+from cyphy.records import record
 from cyphy.semantics.circus.names import identifier
 from cyphy.semantics.circus import ast as c
 
@@ -78,7 +79,7 @@ class UnsupportedNode(Exception):
         self.node = node
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Symbols:
     """What a name means where the printer meets it: state variables, constants (``nat``
     ones need ``real`` in real arithmetic), actions, functions, the channel constructors,

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from functools import lru_cache
 from importlib.resources import files
 from typing import Any
@@ -22,6 +22,7 @@ from cyphy import codes
 from cyphy.backends.isabelle.names import RESERVED, IsabelleNames, is_identifier
 from cyphy.backends.isabelle.terms import (HOL_FUNCTIONS, IsabellePrinter, Symbols, UnsupportedNode,
                                      bound_identifier)
+from cyphy.records import record
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel_cycle import is_cycle_process
 from cyphy.semantics.circus.names import NameTable, identifier
@@ -36,7 +37,7 @@ UNTRANSLATABLE = codes.code("E-ISABELLE", codes.E,
 PRELUDE = "CyPhyCircus_Prelude"
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Definition:
     """One action definition as the template writes it."""
 
@@ -49,7 +50,7 @@ class Definition:
     caveat: str = ""
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class IsabelleSession:
     """The session's files (relative path → text) and what the reader of the theory needs:
     the printed action ASTs by definition name, the identifier table and the caveats."""
@@ -231,7 +232,7 @@ def symbols_of(program: c.Program, taken: frozenset[str] = frozenset()) -> Symbo
     )
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class ScalarProgram:
     """The program with the p-model's state made scalar (:mod:`cyphy.semantics.scalarise`),
     and what that pass promoted to state and holds during evolutions."""

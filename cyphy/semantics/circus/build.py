@@ -3,7 +3,7 @@ of the d-model, elaborate the p-model, and apply Rule 1 (which applies the other
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 from cyphy import codes
 from cyphy import expr as ex
@@ -17,6 +17,7 @@ from cyphy.model.default_inertial import apply_default_inertial
 from cyphy.model.elaborate import elaborate_pmodel
 from cyphy.model.elements import ElaboratedModel
 from cyphy.model.machines import select_machines
+from cyphy.records import record
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel import dmodel_process
 from cyphy.semantics.circus.dmodel_cycle import cycle_process
@@ -56,7 +57,7 @@ def started_by_init(actions: "tuple[c.ActionDef, ...] | list[c.ActionDef]") -> s
     return out
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class SemanticsOptions:
     mapping: str | None = None  # the mapping (or its p-model) to translate
     system_name: str | None = None  # the name of N (default: the mapping's)
@@ -68,7 +69,7 @@ class SemanticsOptions:
     initial: dict[str, tuple[float, float]] | None = None
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Semantics:
     program: c.Program
     names: NameTable

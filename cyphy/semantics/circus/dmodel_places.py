@@ -8,14 +8,16 @@ reads as the interpreter's loop, and what it keys its modes by is stated once.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
+
+from cyphy.records import record
 
 #: A pending step of the interpreter: ``("stmt", statement)``, ``("do", action)`` (a binding
 #: already translated), ``("end", None)`` (exec: the cycle ends) or ``("enter", node)``.
 Item = tuple[str, object]
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class Frame:
     """A caller suspended in a call of an operation definition (the interpreter's
     :class:`~cyphy.semantics.machines.cycle.Frame`): what it runs (None: the machine),
@@ -29,7 +31,7 @@ class Frame:
     during_done: bool = False
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class Calls:
     """The operation running (None: the machine) and its callers, outermost first."""
 
@@ -41,7 +43,7 @@ class Calls:
         return replace(self, stack=tuple(replace(f, during_done=False) for f in self.stack))
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class Place:
     """Where the machine is at the end of a cycle inside an operation: the calls under way,
     the node, and the rest of an action cut by exec (None: it rests in the node)."""

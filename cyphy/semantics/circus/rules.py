@@ -10,13 +10,14 @@ Nothing here prints: the text, LaTeX and Isabelle printers in :mod:`cyphy.backen
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Iterable
 
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.model.elements import ElaboratedModel, Sensor
+from cyphy.records import record
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.apart import RULE_ACTIONS, claim_apart, derived_names, global_names
 from cyphy.semantics.circus.names import NameTable, capitalised
@@ -61,7 +62,7 @@ class SemanticsError(Exception):
         self.message, self.span, self.hint = message, span, hint
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class Service:
     """What the d-model's platform declares for a mapped name: parameter (or value) types."""
 
@@ -69,7 +70,7 @@ class Service:
     params: tuple[c.Binding, ...] = ()
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class DModel:
     """What the rules need of the d-model: its module name, cycle restriction and the
     parameters of the platform's operations, events (typed or not) and variables."""
@@ -81,7 +82,7 @@ class DModel:
     variables: dict[str, Service] = field(default_factory=dict)
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Context:
     """The inputs of the rules and the names they hand out."""
 

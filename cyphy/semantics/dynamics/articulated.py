@@ -53,7 +53,8 @@ from cyphy.model.elements import ElaboratedModel
 from cyphy.semantics.dynamics.joint_forces import AxisForces, axis_forces, passive_efforts
 from cyphy.semantics.dynamics.polynomial import Polynomial, _cos, _dot, _sin, _single
 from cyphy.semantics.dynamics.errors import DynamicsError
-from cyphy.semantics.dynamics.rigid_body import forward_dynamics, port_size
+from cyphy.semantics.dynamics.motion import port_size
+from cyphy.semantics.dynamics.rigid_body import forward_dynamics
 from cyphy.semantics.dynamics.spatial import (motion_subspace, motion_subspace_rate,
                                               parent_to_child, subspace_factors)
 from cyphy.semantics.dynamics.tree import (EULER, STANDARD_GRAVITY, KinematicTree, TreeJoint,

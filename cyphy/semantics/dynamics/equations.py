@@ -9,7 +9,7 @@ and element paths replaced by the ports they name). ``integral(e)`` becomes a ne
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from typing import Any, Callable
 
 from cyphy import codes
@@ -19,6 +19,7 @@ from cyphy.lang import ast
 from cyphy.lang.notation import to_notation
 from cyphy.model.elements import Device, ElaboratedModel
 from cyphy.model.evaluate import Value
+from cyphy.records import record
 from cyphy.semantics.dynamics.errors import AssemblyError
 
 
@@ -31,14 +32,14 @@ UNDERDETERMINED = codes.code("E-UNDERDETERMINED", codes.E,
                              "no equation determines a variable the evolution needs")
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class Equation:
     expr: ex.Expr  # lhs == rhs, in mangled names
     origin: str  # what it comes from: a device prefix, "relation" or "mapping move"
     span: Span
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class System:
     equations: list[Equation] = field(default_factory=list)
     variables: dict[str, ast.TypeRef] = field(default_factory=dict)  # time-dependent
@@ -337,7 +338,7 @@ def motion(model: ElaboratedModel,
     ``0 == M(q)*a + h(q, v)`` for its six coordinates). The one source of these equations for
     ``cyphy solve`` (through :func:`assemble`) and the CyPhyCircus ``Evolve``; raises
     ``DynamicsError`` when the tree has none."""
-    from cyphy.semantics.dynamics.rigid_body import motion_equations
+    from cyphy.semantics.dynamics.motion import motion_equations
     from cyphy.semantics.dynamics.tree import STANDARD_GRAVITY
 
     return [Equation(equation, f"{joint.prefix} motion", equation.span)
@@ -368,7 +369,7 @@ def _add_mapping_call(system: System, model: ElaboratedModel, mapping: ast.Platf
     system.equations.extend(found.equations)
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class MemberEquations:
     """One mapping element's equations in the p-model's names (see :func:`member_equations`)."""
 

@@ -116,7 +116,7 @@ def link_equations(tree: KinematicTree, theta: str = "theta", v: str = "v", a: s
         twist = motion if parent is None else _sum(_product(_name(p, "X"), _name(parent, "V")),
                                                     motion)
         base = _name(parent, "dV") if parent is not None else \
-            _column(np.concatenate([np.zeros(3), -tree.gravity]))
+            _column(np.concatenate([np.zeros(3), -np.asarray(tree.gravity, dtype=float)]))
         terms = [_product(_name(p, "X"), base), _product(_call("ad", _name(p, "V")), axis, rate),
                  _product(axis, accel)]
         pairs: list[tuple[ex.Expr, ex.Expr]]

@@ -8,18 +8,21 @@ Writing a tree's equations out takes SymPy (0.5-0.9 s to import here) and its ex
 is then not imported at all. A stale or wrong hit would make a theory silently wrong, worse
 than any slowness, so the key is a hash of **everything** the derivation reads (and more):
 
-* the kinematic tree the derivation runs on (:func:`key`): the gravity vector and, per joint
-  in tree order, every field of :class:`~cyphy.semantics.dynamics.tree.TreeJoint` (name,
-  device prefix, kind, parent, placement, axis, point, screw, spatial inertia, the links of
-  its body, frame, axes: the model's poses, inertias, axes and the floating base end up
-  here, as the exact bytes of the arrays), and of the element it comes from: its qualified
-  name, its span (equations carry it), its definition, AXIS, annotation (damping and
-  springs, the passive efforts), and its device's prefix and ports (names, kinds, types,
-  mangled names, values, initial values: the variables the equations name);
-* a fingerprint of the sources that decide the derivation and the pickled classes (the
-  dynamics modules, the translator to and from SymPy, the expression AST, spans, the
-  model's elements and types, this module and the storage) and of the libraries' versions
-  (Python, NumPy, SymPy, mpmath), in the name of the entries' folder.
+* the kinematic tree the derivation runs on (:func:`key`), as the data its numbers are
+  computed from (:class:`~cyphy.semantics.dynamics.tree.TreeJoint` without NumPy, so that a
+  hit imports neither NumPy nor SymPy): the gravity vector and, per joint in tree order,
+  every field of the tree joint (name, device prefix, kind, parent, the poses of its body,
+  of its parent body and of the joint frame, as the exact bits of their floats), each link
+  of its body (qualified name, span, pose, inertial: the masses, centres of mass and
+  inertias), and the element it comes from: its qualified name, its span (equations carry
+  it), its definition, AXIS, annotation (axes, damping and springs, the passive efforts),
+  and its device's prefix and ports (names, kinds, types, mangled names, values, initial
+  values: the axes, and the variables the equations name);
+* a fingerprint of the sources that decide the tree's numbers, the derivation and the
+  pickled classes (the dynamics modules, the translator to and from SymPy, the expression
+  AST, spans, the model's elements, values, poses and inertias, this module and the
+  storage) and of the libraries' versions (Python, NumPy, SymPy, mpmath, read from their
+  files), in the name of the entries' folder.
 
 Anything the encoder does not know (a new kind of value in a port) makes the key
 unavailable: the equations are then derived and not stored, never keyed on less. Errors
@@ -42,22 +45,22 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any, Callable
 
-import numpy as np
-
 from cyphy import disk_cache, progress
 from cyphy import expr as ex
 from cyphy.model.array import Array
 from cyphy.model.elements import Device, Joint, Link
+from cyphy.model.values import is_numpy
 from cyphy.semantics.dynamics.tree import KinematicTree, TreeJoint
 
 _PACKAGE = Path(__file__).resolve().parent.parent.parent
 _SOURCES = ("semantics/dynamics/*.py", "translate/to_sympy.py", "model/evaluate.py",
-            "model/elements.py", "model/inertia.py", "model/poses.py", "lang/ast/*.py",
-            "expr.py", "diagnostics.py", "codes.py", "pickling.py", "records.py",
-            "disk_cache.py")
-#: The libraries whose versions decide the equations (SymPy's expansion and its printing of
-#: floats, mpmath's digits), read from their files without importing them.
-_LIBRARIES = (("sympy", "release.py"), ("mpmath", "__init__.py"))
+            "model/elements.py", "model/inertia.py", "model/poses.py", "model/array.py",
+            "model/values.py", "model/roots.py", "lang/ast/*.py", "expr.py",
+            "diagnostics.py", "codes.py", "pickling.py", "records.py", "disk_cache.py")
+#: The libraries whose versions decide the equations (NumPy's arithmetic of the tree's
+#: numbers, SymPy's expansion and its printing of floats, mpmath's digits), read from their
+#: files without importing them.
+_LIBRARIES = (("numpy", "version.py"), ("sympy", "release.py"), ("mpmath", "__init__.py"))
 
 #: One equation of the tree and the index of its joint in ``KinematicTree.joints``.
 Derived = list[tuple[ex.Expr, int]]
@@ -67,7 +70,7 @@ Derived = list[tuple[ex.Expr, int]]
 def fingerprint() -> str | None:
     """A hash of the sources and library versions that decide a derivation; None without
     the sources (then nothing is cached)."""
-    versions = [sys.version, np.__version__]
+    versions = [sys.version]
     for name, file in _LIBRARIES:
         spec = importlib.util.find_spec(name)  # finds the package, imports nothing
         origin = Path(spec.origin) if spec is not None and spec.origin else None
@@ -121,9 +124,14 @@ def key(tree: KinematicTree) -> bytes | None:
 def _encode_joint(joint: TreeJoint, out: list[str]) -> None:
     out.append("TreeJoint")
     for f in dataclasses.fields(joint):
-        if f.name != "element":
+        if f.name not in ("element", "links"):
             out.append(f.name)
             _encode(getattr(joint, f.name), out)
+    out.append(f"links[{len(joint.links)}")
+    for link in joint.links:
+        for value in (link.qname, link.span, link.pose, link.inertial):
+            _encode(value, out)
+    out.append("]")
     element = joint.element
     if isinstance(element, Joint):
         out.append("Joint")
@@ -157,13 +165,13 @@ def _encode(value: Any, out: list[str]) -> None:
         out.append(f"float:{value.hex()}")
     elif isinstance(value, Array):
         out.append(f"Array:{value.shape}:" + ",".join(x.hex() for x in value.flat))
-    elif isinstance(value, np.ndarray):
-        if value.dtype.hasobject:
+    elif is_numpy(value, "ndarray"):  # given in an environment: NumPy is loaded then
+        if value.dtype.hasobject:  # type: ignore[attr-defined]
             raise TypeError("an array of objects")
-        out.append(f"ndarray:{value.dtype.str}:{value.shape}:"
-                   f"{np.ascontiguousarray(value).tobytes().hex()}")
-    elif isinstance(value, np.generic):
-        _encode(value.item(), out)
+        out.append(f"ndarray:{value.dtype.str}:{value.shape}:"  # type: ignore[attr-defined]
+                   f"{value.tobytes().hex()}")  # type: ignore[attr-defined]
+    elif type(value).__module__ == "numpy" and hasattr(value, "item"):  # a NumPy scalar
+        _encode(value.item(), out)  # type: ignore[attr-defined]
     elif isinstance(value, enum.Enum):
         out.append(f"{type(value).__qualname__}.{value.name}")
     elif isinstance(value, (tuple, list)):

@@ -15,7 +15,8 @@ from typing import Any, Sequence
 import numpy as np
 
 from cyphy.semantics.dynamics.errors import DynamicsError
-from cyphy.semantics.dynamics.tree import EULER, KinematicTree, TreeJoint, skew
+from cyphy.semantics.dynamics.tree import EULER, KinematicTree, TreeJoint
+from cyphy.semantics.dynamics.tree_numbers import skew
 
 
 def adjoint(rotation: np.ndarray, position: Any) -> np.ndarray:

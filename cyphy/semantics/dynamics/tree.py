@@ -4,7 +4,10 @@ the algorithms' data): its joints in tree order (:class:`TreeJoint`: kind, paren
 placement, axis, screw, spatial inertia) and the names of their coordinates. The algorithms
 over it are functions elsewhere (:mod:`cyphy.semantics.dynamics.rigid_body`,
 :mod:`cyphy.semantics.dynamics.articulated`, :mod:`cyphy.backends.pinocchio_tree`); this
-module imports none of them.
+module imports none of them, nor NumPy: a joint holds the poses and links its numbers come
+from, and computes the numbers (:mod:`cyphy.semantics.dynamics.tree_numbers`) when they are
+first read, so that the cache of equations of motion is keyed and read without NumPy
+(issue 24's start-up budget).
 
 The tree comes from the elaborated model: links joined by fixed connections (and by joints of
 the ``Fixed`` family) are merged into one body; a body that no joint moves is fixed to the
@@ -18,51 +21,90 @@ prismatic) or several (universal: two angles; ball: ZYX Euler angles, singular a
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any, Sequence
-
-import numpy as np
+from typing import TYPE_CHECKING, Any, Sequence
 
 from cyphy.model.elements import ElaboratedModel, FixedJoint, Joint, Link
-from cyphy.model.inertia import Inertial, combine, tensor
 from cyphy.model.poses import Pose
 from cyphy.model.roots import preferred_root
+from cyphy.records import record
 from cyphy.semantics.dynamics.errors import DynamicsError
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from cyphy.semantics.dynamics.tree_numbers import JointNumbers
 
 STANDARD_GRAVITY = (0.0, 0.0, -9.81)
 
-@dataclass(frozen=True)
+
+def _number(name: str, doc: str) -> Any:
+    """A tree joint's property read from its numbers (:meth:`TreeJoint.numbers`)."""
+    return property(lambda joint: getattr(joint.numbers(), name), doc=doc)
+
+
+@record(frozen=True, slots=False)
 class TreeJoint:
-    """One joint of the tree, with its ``dof`` coordinates (:data:`DOF`).
+    """One joint of the tree, with its ``dof`` coordinates (:data:`DOF`): its place in the
+    tree and the poses and links it is built from, as the model gives them (pure Python:
+    this is what the cache of equations of motion is keyed on, without NumPy), and its
+    numbers as properties, computed with NumPy from those on first use
+    (:mod:`cyphy.semantics.dynamics.tree_numbers`, which also raises the errors the numbers
+    can have: an axis that is not numeric or of zero length, a body without mass).
 
     ``parent`` is the index of the parent joint's body in ``KinematicTree.joints`` (−1: a body
-    fixed to the world); ``placement`` is the child body's frame in the parent body's frame
-    (the world's for −1) at ``q = 0``; ``screw`` the joint's screw axis in the child body frame
-    (angular part first; for a joint of several coordinates its first column at ``q = 0``);
-    ``point`` the joint's origin (a point of a revolute axis) in the child frame; ``frame`` the
-    joint frame's axes in the child frame (the columns: a ball joint's and the floating base's
-    Euler angles turn about them); ``axes`` a universal joint's two unit axes in the child
-    frame. The floating base (``kind`` ``floating``, ``--floating-base``) is the joint of a
-    root body to the world: its frame has the world's axes and its origin is the body's."""
+    fixed to the world); ``body_pose`` and ``parent_pose`` are the child and parent bodies'
+    frames in the world at ``q = 0`` (the parent's is the identity for −1); ``joint_pose`` the
+    joint's frame in the child body's frame (None for the floating base). The numbers:
+    ``placement`` is the child body's frame in the parent body's frame (the world's for −1) at
+    ``q = 0``; ``screw`` the joint's screw axis in the child body frame (angular part first;
+    for a joint of several coordinates its first column at ``q = 0``); ``point`` the joint's
+    origin (a point of a revolute axis) in the child frame; ``frame`` the joint frame's axes in
+    the child frame (the columns: a ball joint's and the floating base's Euler angles turn
+    about them); ``axes`` a universal joint's two unit axes in the child frame. The floating
+    base (``kind`` ``floating``, ``--floating-base``) is the joint of a root body to the world:
+    its frame has the world's axes and its origin is the body's."""
 
     name: str  # the joint's qualified name (the root link's name for the floating base)
     prefix: str  # the joint's device prefix (its variables are ``<prefix>_theta`` …)
     kind: str  # revolute, prismatic, universal, spherical or floating
     parent: int
-    placement: np.ndarray  # 4x4
-    axis: np.ndarray  # unit 3-vector, child body frame
-    point: np.ndarray  # 3-vector, child body frame
-    screw: np.ndarray  # 6-vector
-    inertia: np.ndarray  # 6x6 spatial inertia of the child body about its frame origin
-    body: tuple[str, ...]  # the links the joint moves as one body (child link first)
+    links: tuple[Link, ...]  # the links the joint moves as one body (child link first)
     element: Joint | Link  # what a diagnostic points at (the root link: floating base)
-    frame: np.ndarray = field(default_factory=lambda: np.eye(3))  # 3x3, child body frame
-    axes: tuple[np.ndarray, ...] = ()  # universal: AXIS1, AXIS2 in the child body frame
+    body_pose: Pose  # the child body's frame in the world, q = 0
+    parent_pose: Pose  # the parent body's frame in the world (identity: the world)
+    joint_pose: Pose | None = None  # the joint's frame in the child body's frame
+
+    @property
+    def body(self) -> tuple[str, ...]:
+        """The names of the links the joint moves as one body (child link first)."""
+        return tuple(link.name for link in self.links)
 
     @property
     def dof(self) -> int:
         """How many coordinates the joint has (:data:`DOF`)."""
         return DOF[self.kind]
+
+    def numbers(self) -> JointNumbers:
+        """The joint's numbers (NumPy), computed once; ``DynamicsError`` when they cannot be
+        (see :func:`cyphy.semantics.dynamics.tree_numbers.joint_numbers`)."""
+        cached = self.__dict__.get("_numbers")
+        if cached is None:
+            # lazy: NumPy (0.1 s to import): a tree whose equations of motion are cached is
+            # built and keyed without it
+            from cyphy.semantics.dynamics.tree_numbers import joint_numbers
+
+            cached = joint_numbers(self.kind, self.element, self.links, self.body_pose,
+                                   self.parent_pose, self.joint_pose)
+            object.__setattr__(self, "_numbers", cached)
+        return cached
+
+    placement = _number("placement", "4x4: the child body's frame in the parent body's, q = 0")
+    axis = _number("axis", "unit 3-vector, child body frame")
+    point = _number("point", "3-vector, child body frame")
+    screw = _number("screw", "6-vector")
+    inertia = _number("inertia", "6x6 spatial inertia of the child body about its frame origin")
+    frame = _number("frame", "3x3, child body frame")
+    axes = _number("axes", "universal: AXIS1, AXIS2 in the child body frame")
 
     @property
     def scale(self) -> float:
@@ -70,7 +112,7 @@ class TreeJoint:
         is measured against."""
         cached = self.__dict__.get("_scale")
         if cached is None:
-            cached = max(float(np.abs(self.inertia).max()), 1e-300)
+            cached = max(float(abs(self.inertia).max()), 1e-300)
             object.__setattr__(self, "_scale", cached)
         return cached
 
@@ -79,6 +121,9 @@ class TreeJoint:
         """``[a]`` of the axis (Rodrigues' formula), computed once."""
         cached = self.__dict__.get("_turn")
         if cached is None:
+            # lazy: NumPy, as numbers() (the module is loaded by then)
+            from cyphy.semantics.dynamics.tree_numbers import skew
+
             cached = skew(self.axis).astype(float)
             object.__setattr__(self, "_turn", cached)
             object.__setattr__(self, "_turn2", cached @ cached)
@@ -107,14 +152,14 @@ EULER = frozenset({"spherical", "floating"})
 FLOATING = ("x", "y", "z", "yaw", "pitch", "roll")
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class KinematicTree:
     """The joints in tree order (parents before children) and the gravity vector. ``q``,
     ``q̇``, ``τ`` and the rows of ``M`` and ``h`` hold each joint's ``dof`` coordinates in
     this order (``offsets``)."""
 
     joints: tuple[TreeJoint, ...]
-    gravity: np.ndarray
+    gravity: tuple[float, ...]  # m/s², the model frame's axes
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -188,7 +233,7 @@ def coordinate_names(joint: TreeJoint, variable: str) -> tuple[str, ...]:
 
 def kinematic_tree(model: ElaboratedModel,
                    gravity: Sequence[float] = STANDARD_GRAVITY,
-                   floating_base: bool = False) -> KinematicTree:
+                   floating_base: bool = False, numeric: bool = True) -> KinematicTree:
     """The model's kinematic tree, joints in **tree order**: depth first from the root bodies
     (those no joint moves, in the model's link order), a body's child joints in the order of
     the elaborated model's joint list. This is the order of ``q``, ``M``'s rows and ``h``.
@@ -201,7 +246,9 @@ def kinematic_tree(model: ElaboratedModel,
 
     Raises ``DynamicsError`` for a joint family the equations do not cover, a zero axis, a
     loop (a body moved by two joints, or a cycle), or a link without mass properties in a
-    moving body."""
+    moving body: the first in tree order. ``numeric=False`` builds the tree without its
+    numbers (no NumPy): they, and their errors, come when first read, and a loop is then
+    reported before the numbers of the joints visited ahead of it."""
     links = list(model.links)
     group = {link.name: link.name for link in links}
 
@@ -256,7 +303,7 @@ def kinematic_tree(model: ElaboratedModel,
             raise _loop(joint)
         frame = child_link.pose or Pose.identity()
         parent_frame = frame_of.get(find(joint.parent.name), Pose.identity())  # type: ignore
-        ordered.append(_tree_joint(joint, parent, parent_frame, frame, members[key]))
+        ordered.append(_tree_joint(joint, parent, parent_frame, frame, members[key], numeric))
         body_index[key] = len(ordered) - 1
         frame_of[key] = frame
         for sub in children.get(key, []):
@@ -270,7 +317,9 @@ def kinematic_tree(model: ElaboratedModel,
         if floating_base:  # the body's frame is its root link's, the one a user expects
             root = preferred_root(members[key], fixed_children, order)
             frame_of[key] = root.pose or Pose.identity()
-            ordered.append(_floating_joint(root, frame_of[key], members[key]))
+            ordered.append(_with_numbers(TreeJoint(
+                root.name, root.qname[-1], "floating", -1, tuple(members[key]), root,
+                frame_of[key], Pose.identity()), numeric))
             parent = body_index[key] = len(ordered) - 1
         else:
             frame_of[key] = Pose.identity()  # fixed to the world: world coordinates
@@ -279,7 +328,7 @@ def kinematic_tree(model: ElaboratedModel,
     for joint in moving:
         if find(joint.child.name) not in body_index:  # type: ignore[union-attr]
             raise _loop(joint)  # a cycle of joints that no world-fixed body reaches
-    return KinematicTree(tuple(ordered), np.asarray(gravity, dtype=float))
+    return KinematicTree(tuple(ordered), tuple(float(g) for g in gravity))
 
 
 def _loop(element: Joint | FixedJoint) -> DynamicsError:
@@ -290,108 +339,23 @@ def _loop(element: Joint | FixedJoint) -> DynamicsError:
         "have one parent)")
 
 
-def _vector3(value: object) -> np.ndarray | None:
-    try:
-        out = np.asarray(value, dtype=float).reshape(3)
-    except (TypeError, ValueError):
-        return None
-    return out if np.all(np.isfinite(out)) else None
-
-
-def _axis(joint: Joint, constant: str, annotation: str) -> np.ndarray:
-    """The joint's unit axis: its definition's ``constant`` (``AXIS``, ``AXIS1``, ``AXIS2``),
-    else the annotation's ``annotation`` field (``axis``, ``axis2``)."""
-    value: object = joint.axis if constant == "AXIS" else None
-    if value is None and joint.device is not None:
-        port = joint.device.port(constant)
-        value = port.value if port is not None else None
-    if value is None and joint.annotation is not None:
-        found = joint.annotation.get(annotation)
-        value = found.get("xyz") if hasattr(found, "get") else None  # type: ignore
-    axis = _vector3(value)
-    if axis is None:
-        raise DynamicsError(f"joint {joint.name} has no numeric {constant}", joint.span,
-                            f"give the joint `instantiation {constant} = (|0, 0, 1|)`")
-    length = float(np.linalg.norm(axis))
-    if not length > 1e-12:
-        raise DynamicsError(f"joint {joint.name} has an axis of zero length ({constant})",
-                            joint.span, "give the axis a direction, for example (|0, 0, 1|)")
-    return axis / length
-
-
-def _body_inertia(element: Joint | Link, what: str, frame: Pose,
-                  links: list[Link]) -> np.ndarray:
-    """The 6x6 spatial inertia of ``links`` (one body) about ``frame``, in its axes."""
-    parts: list[Inertial] = []
-    to_body = frame.inverse()
-    for link in links:
-        if link.inertial is None or link.inertial.mass is None:
-            raise DynamicsError(
-                f"link {link.name} has no mass properties but is moved by {what}",
-                link.span, "give the link an `inertial information` (mass and inertia) or "
-                "bodies with masses")
-        com = to_body.compose(link.pose or Pose.identity()).compose(link.inertial.com)
-        parts.append(Inertial(link.inertial.mass, com, link.inertial.inertia))
-    try:
-        body = combine(parts)
-    except ValueError:
-        raise DynamicsError(f"the body moved by {what} has no positive mass",
-                            element.span, "give its links positive masses") from None
-    return spatial_inertia(body.mass, np.array(body.com.position), tensor(body.inertia))
-
-
 def _tree_joint(joint: Joint, parent: int, parent_frame: Pose, frame: Pose,
-                links: list[Link]) -> TreeJoint:
-    kind = joint_kind(joint) or ""
+                links: list[Link], numeric: bool) -> TreeJoint:
+    """The tree joint of ``joint``, whose child body (``links``) has the frame ``frame`` and
+    its parent body ``parent_frame``, both in the world at ``q = 0``."""
     placement = (joint.child.pose or Pose.identity()).compose(  # type: ignore[union-attr]
         joint.pose) if joint.pose is not None else \
         (joint.parent.pose or Pose.identity()).compose(  # type: ignore[union-attr]
             joint.local_pose or Pose.identity())
-    in_child = frame.inverse().compose(placement)
-    rotation = np.array(in_child.rotation, dtype=float)
-    point = np.array(in_child.position, dtype=float)
-    axes: tuple[np.ndarray, ...] = ()
-    if kind in ("revolute", "prismatic"):
-        axis_c = rotation @ _axis(joint, "AXIS", "axis")
-    elif kind == "universal":
-        axes = (rotation @ _axis(joint, "AXIS1", "axis"), rotation @ _axis(joint, "AXIS2", "axis2"))
-        if not np.linalg.norm(np.cross(*axes)) > 1e-9:
-            raise DynamicsError(f"universal joint {joint.name} has parallel axes", joint.span,
-                                "give AXIS1 and AXIS2 different directions")
-        axis_c = axes[0]
-    else:  # spherical: the first angle (yaw) turns about the joint frame's z
-        axis_c = rotation[:, 2]
-    screw = np.concatenate([np.zeros(3), axis_c]) if kind == "prismatic" else \
-        np.concatenate([axis_c, np.cross(point, axis_c)])
-    inertia = _body_inertia(joint, f"joint {joint.name}", frame, links)
-    return TreeJoint(joint.name, joint.device.prefix if joint.device else joint.simple_name,
-                     kind, -1 if parent < 0 else parent,
-                     parent_frame.inverse().compose(frame).matrix(), axis_c, point, screw,
-                     inertia, tuple(link.name for link in links), joint, rotation, axes)
+    return _with_numbers(TreeJoint(
+        joint.name, joint.device.prefix if joint.device else joint.simple_name,
+        joint_kind(joint) or "", -1 if parent < 0 else parent, tuple(links), joint, frame,
+        parent_frame, frame.inverse().compose(placement)), numeric)
 
 
-def _floating_joint(root: Link, frame: Pose, links: list[Link]) -> TreeJoint:
-    """The floating base of the root body whose frame (at rest, in the world) is ``frame``:
-    its joint frame has the world's axes (in the body frame, ``R0ᵀ``) and the body's
-    origin."""
-    world_axes = np.array(frame.rotation, dtype=float).T
-    inertia = _body_inertia(root, "the floating base", frame, links)
-    screw = np.concatenate([np.zeros(3), world_axes[:, 0]])
-    return TreeJoint(root.name, root.qname[-1], "floating", -1, frame.matrix(),
-                     world_axes[:, 0], np.zeros(3), screw, inertia,
-                     tuple(link.name for link in links), root, world_axes)
-
-
-def spatial_inertia(mass: float, com: np.ndarray, inertia: np.ndarray) -> np.ndarray:
-    """The 6x6 spatial inertia about a frame's origin of a body with ``mass``, centre of mass
-    ``com`` and rotational ``inertia`` about the centre of mass, both in the frame's axes
-    (MR eq. 8.32 moved to the origin: ``[[I − m[c]², m[c]], [−m[c], m·E]]``)."""
-    c = skew(com)
-    top = np.hstack([inertia - mass * (c @ c), mass * c])
-    bottom = np.hstack([-mass * c, mass * np.eye(3)])
-    return np.vstack([top, bottom])
-
-
-def skew(v: Any) -> np.ndarray:
-    """``[v]``, the matrix of ``v ×``."""
-    return np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+def _with_numbers(joint: TreeJoint, numeric: bool) -> TreeJoint:
+    """``joint``, its numbers computed now when ``numeric`` (their errors raised in tree
+    order, as the tree is built)."""
+    if numeric:
+        joint.numbers()
+    return joint

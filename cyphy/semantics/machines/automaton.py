@@ -39,11 +39,11 @@ from __future__ import annotations
 import copy
 import itertools
 import math
-from dataclasses import dataclass
 from typing import Any, Callable, Sequence, TypeVar
 
 from cyphy import expr as ex
 from cyphy.model.machines import Machine, expressions
+from cyphy.records import record
 from cyphy.semantics.machines.cycle import Configuration, MachineError, MachineInterpreter, Output
 from cyphy.semantics.machines.relevance import unread_variables
 
@@ -57,21 +57,21 @@ _COMPARISONS = {"<", "<=", ">", ">=", "==", "!="}
 Literal = tuple[str, bool]  # (event, negated)
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class Mode:
     name: str
     node: str  # the machine node the mode rests in (in the operation running, if any)
     calls: tuple[tuple[str, tuple[float, ...]], ...]
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class Edge:
     source: str
     target: str
     guard: tuple[Literal, ...]  # a conjunction; () is true
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class Automaton:
     events: tuple[str, ...]
     modes: tuple[Mode, ...]

@@ -49,13 +49,13 @@ arrays indexed from 1.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any, Mapping
 
 from cyphy import codes
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
+from cyphy.records import record
 from cyphy.semantics.machines import scalars
 from cyphy.model.evaluate import MATH_FUNCTIONS, EvalError, evaluate
 from cyphy.model.machines import Machine, MachineTransition
@@ -78,17 +78,17 @@ class MachineError(Exception):
         self.message, self.span, self.hint = message, span, hint
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class _Exec:
     """A cycle boundary inside an action (``exec``, or one cycle of ``wait``)."""
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class _Enter:
     key: str
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class _Stmt:
     statement: ast.Statement
 
@@ -96,7 +96,7 @@ class _Stmt:
 _Step = _Exec | _Enter | _Stmt
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class Frame:
     """A caller suspended in an operation call: what it runs (``None``: the machine, else
     the operation's name), where it is, the rest of its action after the call, its
@@ -112,7 +112,7 @@ class Frame:
     during_done: bool = False
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class Configuration:
     """Everything the next cycles depend on, hashable: where the machine is, the rest of an
     action interrupted by ``exec``, the variables and the clocks' cycle counts, and the
@@ -157,6 +157,7 @@ class MachineInterpreter:
         self.op_constants = {name: self._constants(op, dict(constants or {}))
                              for name, op in self.operations.items()}
         self.period = self._period()
+        self._reads: dict[int, tuple[Any, Any]] = {}  # id(node) → (node, what it reads)
         start = machine.initial(None)
         if start is None:
             raise MachineError(f"machine {machine.name} has no initial junction",
@@ -353,13 +354,12 @@ class MachineInterpreter:
         return None
 
     def _bindings(self, t: ast.Transition) -> dict[str, object]:
-        out: dict[str, object] = {}
-        for e in (t.trigger, t.condition):
-            for node in e.walk() if e is not None else ():
-                if isinstance(node, ex.PlatformRef) and node.binding is not None \
-                        and node.name[-1] in self.events:
-                    out[node.binding] = self.events[node.name[-1]]
-        return out
+        if id(t) not in self._reads:  # walked once (a compile runs hundreds of cycles)
+            self._reads[id(t)] = (t, [
+                (node.binding, node.name[-1]) for e in (t.trigger, t.condition)
+                for node in (e.walk() if e is not None else ())
+                if isinstance(node, ex.PlatformRef) and node.binding is not None])
+        return {b: self.events[name] for b, name in self._reads[id(t)][1] if name in self.events}
 
     def _take(self, chosen: tuple[MachineTransition, str, dict[str, object]]) -> None:
         t, source, bindings = chosen
@@ -534,8 +534,10 @@ class MachineInterpreter:
                 return ex.Name(("$" + node.name[-1],), span=node.span)
             return None
 
+        if id(e) not in self._reads:  # its $-form, once (the node is kept: its id stays)
+            self._reads[id(e)] = (e, ex.transform(e, platform))
         try:
-            return evaluate(ex.transform(e, platform), self._env(bindings), self.functions)
+            return evaluate(self._reads[id(e)][1], self._env(bindings), self.functions)
         except EvalError as err:
             raise MachineError(err.message, err.span, err.hint) from None
 

@@ -6,16 +6,17 @@ for every ODE) the evolving locals and running integrals promoted to state.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 from cyphy import expr as ex
+from cyphy.records import record
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.values import within
 from cyphy.semantics.scalarise.scalariser import Scalariser
 from cyphy.semantics.scalarise.shapes import Shape, ScalariseError, components, shape_of_type
 
 
-@dataclass(frozen=True)
+@record(frozen=True, slots=False)
 class ScalarProcess:
     """The p-model process with scalar state: ``process`` has every vector or matrix field
     of fixed size replaced by its components, and (with ``evolving_as_state``) the locals

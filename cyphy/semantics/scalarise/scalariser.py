@@ -4,17 +4,17 @@ every subterm, refuses what does not fit and writes component ``k`` of each side
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Callable
 
 from cyphy import expr as ex
+from cyphy.records import record
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.scalarise.expansions import EXPANSIONS, SIZE_ARGUMENTS, add_all, times
 from cyphy.semantics.scalarise.shapes import (SCALAR, Shape, ScalariseError, as_matrix,
                                               component_name, components, describe, size_of)
 
 
-@dataclass
+@record(frozen=False, slots=False)
 class Scalariser:
     """``shapes``: the names that are vectors or matrices, with their shapes; ``split``: those
     among them that become scalar variables (state and locals; the others, constants, are
