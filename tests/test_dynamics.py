@@ -101,8 +101,9 @@ def _pinocchio_joint_space(model: ElaboratedModel, names, q, qd):
 
 def _close(a, b, rel=1e-9):
     """Within ``rel`` of the largest reference entry; an all-zero reference (a wheel on a
-    horizontal axis has no bias force) within rounding (1e-15 absolute)."""
-    scale = max(np.abs(b).max(), 1e-6)
+    horizontal axis has no bias force) within rounding (1e-13 absolute: the terms that
+    cancel are of the order of g, and Hypothesis found a sum of them rounding to 1.26e-15)."""
+    scale = max(np.abs(b).max(), 1e-4)
     assert np.abs(np.asarray(a, float) - b).max() <= rel * scale, (a, b)
 
 
