@@ -55,9 +55,9 @@ def test_dcmotor_d_is_the_speed_machine_by_hand() -> None:
 
 
 def test_a_machine_d_cannot_express_is_a_warning_at_the_machine(tmp_path: Path) -> None:
-    """A typed input event in a machine with a vector variable: the automaton models events
-    as present or absent only, and the cycle written out (dmodel_cycle.py) holds numbers and
-    Booleans."""
+    """A typed input event in a machine with a matrix variable: the automaton models events
+    as present or absent only, and the cycle written out (dmodel_cycle.py) holds numbers,
+    Booleans and vectors of numbers."""
     (tmp_path / "DCMotorBase.rsm").write_text((DCMOTOR / "DCMotorBase.rsm").read_text())
     mapping = (DCMOTOR / "Mapping.rsm").read_text()
     (tmp_path / "Mapping.rsm").write_text(mapping.replace(
@@ -70,7 +70,7 @@ def test_a_machine_d_cannot_express_is_a_warning_at_the_machine(tmp_path: Path) 
     sem, checked = _semantics([tmp_path / "Mapping.rsm"])
     assert sem is not None and isinstance(sem.program.dmodel, c.BasicProcess)  # flat: written
     vector = software.replace("\tconst wref: real = 10.0\n",
-                              "\tconst wref: real = 10.0\n\tvar w: vector(real, 2)\n")
+                              "\tconst wref: real = 10.0\n\tvar w: matrix(real, 2, 2)\n")
     assert vector != software
     (tmp_path / "DCMotorSoftware.rsm").write_text(vector)
     sem, checked = _semantics([tmp_path / "Mapping.rsm"])
@@ -78,7 +78,7 @@ def test_a_machine_d_cannot_express_is_a_warning_at_the_machine(tmp_path: Path) 
     [warning] = [d for d in checked.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
     assert "variable w is not a number" in warning.message and "SSpeed" in warning.message
     assert warning.span.file.endswith("DCMotorSoftware.rsm")
-    assert warning.span.line == vector.splitlines().index("\tvar w: vector(real, 2)") + 1
+    assert warning.span.line == vector.splitlines().index("\tvar w: matrix(real, 2, 2)") + 1
 
 
 def test_gen_machine_option_chooses_d_and_an_unknown_one_is_an_error(tmp_path: Path,

@@ -243,11 +243,11 @@ def test_follower_animated_demand_is_the_reading_times_k(tmp_path: Path,
 
 
 def test_a_typed_machine_d_cannot_write_is_refused_with_the_reason(tmp_path: Path) -> None:
-    """A vector variable in a machine that reads a typed event: D stays opaque with the
-    reason at the declaration (W-SEMANTICS-DMODEL), and gen still writes the rest."""
+    """A vector of truth values in a machine that reads a typed event: D stays opaque with
+    the reason at the declaration (W-SEMANTICS-DMODEL), and gen still writes the rest."""
     software = (FOLLOW / "FollowSoftware.rsm").read_text()
     vector = software.replace("\tvar d: real = 0\n",
-                              "\tvar d: real = 0\n\tvar w: vector(real, 2)\n")
+                              "\tvar d: real = 0\n\tvar w: vector(boolean, 2)\n")
     assert vector != software
     (tmp_path / "FollowSoftware.rsm").write_text(vector)
     (tmp_path / "Mapping.rsm").write_text((FOLLOW / "Mapping.rsm").read_text())
@@ -256,8 +256,8 @@ def test_a_typed_machine_d_cannot_write_is_refused_with_the_reason(tmp_path: Pat
     sem = build_semantics(checked.workspace, checked.resolution, checked.report)
     assert sem is not None and isinstance(sem.program.dmodel, c.OpaqueProcess)
     [warning] = [d for d in checked.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
-    assert "SFollow" in warning.message and "variable w is not a number" in warning.message
-    assert warning.span.line == vector.splitlines().index("\tvar w: vector(real, 2)") + 1
+    assert "SFollow" in warning.message and "D holds a vector of numbers" in warning.message
+    assert warning.span.line == vector.splitlines().index("\tvar w: vector(boolean, 2)") + 1
 
 
 # ---------------------------------------------------------------- a second construction

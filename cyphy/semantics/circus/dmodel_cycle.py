@@ -99,8 +99,12 @@ under way, with each caller's continuation, and the node, or the rest of an acti
 (nodes, then the rests of its actions), so that a machine without operation definitions
 has the ``D`` it had before.
 
-Refused (``W-SEMANTICS-DMODEL``, with the reason): vector variables, parameters and open
-constants, an ``int`` or ``nat`` event value or call argument computed from the state (D
+A vector variable of numbers is a field per entry
+(:class:`~cyphy.semantics.circus.dmodel_terms.Terms`: entries at constant indices, whole
+vectors assigned at once).
+
+Refused (``W-SEMANTICS-DMODEL``, with the reason): matrices, vectors of truth values, vector
+open constants, an ``int`` or ``nat`` event value or call argument computed from the state (D
 holds numbers as reals), ``wait(n)`` with ``n`` not a constant, a name bound by ``$e?x``
 outside a conjunct of its guard, machines of one module with different cycles, a cycle that
 passes more than :data:`MAX_DEPTH` nodes (a loop without ``exec``), a recursive chain of
@@ -117,7 +121,7 @@ from cyphy.lang import ast
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel import MODE, read_events_action
 from cyphy.semantics.circus.dmodel_places import TOP, Calls, Frame, Item, Place
-from cyphy.semantics.circus.dmodel_terms import Terms, constant, default, name_expr
+from cyphy.semantics.circus.dmodel_terms import Terms, default, name_expr
 from cyphy.semantics.circus.path_facts import Facts
 from cyphy.semantics.circus.values import held_type, type_of
 from cyphy.semantics.circus.walk import map_action
@@ -189,7 +193,7 @@ class _Cycle:
             if terms.scope is self.machine:
                 declared += self.interpreter.open.items()
             for name, decl in declared:
-                if type_of(decl.type) not in _SCALARS:
+                if type_of(decl.type) not in _SCALARS and name not in terms.sizes:
                     what = "variable" if name in terms.variables else "open constant (no value)"
                     where = "" if terms.scope is self.machine else f" of {terms.where}"
                     raise self._refuse(f"{what} {name}{where} is not a number or a Boolean",
@@ -215,7 +219,8 @@ class _Cycle:
         """The machine's variables and clocks (its mode is :attr:`mode`), then each
         operation definition's variables, parameters and clocks."""
         return [f for t in self.terms.values() for f in
-                [c.SchemaField(t.field(x), held_type(d.type)) for x, d in t.variables.items()] +
+                [c.SchemaField(f, held_type(d.type)) for x, d in t.variables.items()
+                 for f in t.fields(x)] +
                 [c.SchemaField(t.field(k), c.REAL) for k in t.scope.clocks]]
 
     def open_constants(self) -> list[c.Constant]:
@@ -238,13 +243,12 @@ class _Cycle:
         it = self.interpreter
         it.reset()
         top = self.terms[None]
-        values = [constant(it.variables[x], held_type(d.type)) if it.variables[x] is not None
-                  else top.value(d.value, d)  # type: ignore[arg-type]  # from an open constant
-                  for x, d in self.machine.variables.items()]
+        values = [v for x, d in self.machine.variables.items()
+                  for v in top.initial(x, it.variables[x])]
         values += [ex.Num("0")] * len(self.machine.clocks)
         for op in it.operations:
             terms = self.terms[op]
-            values += [default(d) for d in terms.variables.values()]
+            values += [default(d) for x, d in terms.variables.items() for _ in terms.fields(x)]
             values += [ex.Num("0")] * len(terms.scope.clocks)
         return ex.Num(str(self.index[it.node])), values
 
@@ -349,7 +353,7 @@ class _Cycle:
             elif kind == "stmt":
                 out.append(terms.statement(item))  # type: ignore[arg-type]
                 if isinstance(out[-1], c.Assign):  # it tells its field (a clock reset: 0)
-                    facts = facts.assigned(out[-1].targets[0], out[-1].values[0])
+                    facts = facts.after(out[-1].targets, out[-1].values)
             else:
                 key = str(item)
                 return [*out, *self._enter(key, items[n + 1:], here, depth + 1, facts, calls)]
@@ -400,8 +404,9 @@ class _Cycle:
             raise self._refuse(f"operation {op} has no initial junction", scope.decl.span,
                                "add 'initial i0' (see STM2)")
         names = {p.name for p in params}
-        sets = [c.Assign((callee.field(p.name),),
-                         (caller.value(a, callee.variables[p.name]),))
+        sets = [c.Assign(tuple(callee.fields(p.name)), tuple(
+                    caller.components(a, callee.sizes[p.name]) if p.name in callee.sizes
+                    else [caller.value(a, callee.variables[p.name])]))
                 for p, a in zip(params, call.args)]
         for x, d in scope.variables.items():
             if x in names:
@@ -411,12 +416,13 @@ class _Cycle:
             if read & (set(scope.variables) - names):
                 raise self._refuse(f"the initial value of {x} of operation {op} reads another "
                                    "of its variables", d.span)
-            sets.append(c.Assign((callee.field(x),), (
-                callee.value(d.value, d) if d.value is not None
-                else default(d),)))
+            sets.append(c.Assign(tuple(callee.fields(x)), tuple(
+                callee.components(d.value, callee.sizes[x])
+                if x in callee.sizes and d.value is not None else [callee.value(d.value, d) if d.value is not None else default(d)]
+                * len(callee.fields(x)))))
         sets += [c.Assign((callee.field(k),), (ex.Num("0"),)) for k in scope.clocks]
         for a in sets:
-            facts = facts.assigned(a.targets[0], a.values[0])
+            facts = facts.after(a.targets, a.values)
         frame = Frame(calls.running, node, resting, rest, during_done)
         inside = Calls(op, (*calls.stack, frame))
         return [*sets, *self._run((), start.key, here, depth + 1, during_done, False, facts,

@@ -7,6 +7,10 @@ reads its own variables, clocks and constants (``<D>_x``), an operation definiti
 variables, parameters, clocks and constants (``<D>_<op>_x``), as the interpreter's
 environment (:meth:`~cyphy.semantics.machines.cycle.MachineInterpreter._env`) holds one or
 the other, never both. A :class:`Terms` is one such scope.
+
+A vector variable of numbers is held entry by entry (``<D>_v_1`` … ``<D>_v_n``): D's state is
+scalar, as P's is (:mod:`cyphy.semantics.scalarise`), and the interpreter's vectors are read
+and written at constant indices or whole (:meth:`Terms.components`).
 """
 
 from __future__ import annotations
@@ -15,10 +19,12 @@ from typing import Callable, Mapping
 
 from cyphy import expr as ex
 from cyphy.lang import ast
+from cyphy.model.evaluate import EvalError, evaluate
 from cyphy.model.machines import Machine, expressions
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel import literal
 from cyphy.semantics.circus.values import held_type, type_of, value_expr
+from cyphy.semantics.machines import scalars
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
 
 _CONNECTIVES = ("/\\", "\\/", "=>", "<=>")
@@ -66,6 +72,28 @@ class Terms:
         #: binds them as variables at each call), each a field of D's state
         self.variables: dict[str, ast.VarDecl] = {
             **scope.variables, **{n: d for n, d in scope.constants.items() if n in params}}
+        #: the vector variables and their sizes: a field per entry, ``<x>_1`` … ``<x>_n``
+        self.sizes = {x: self._size(x, d) for x, d in self.variables.items()
+                      if isinstance(d.type, ast.VectorType)}
+
+    def _size(self, name: str, decl: ast.VarDecl) -> int:
+        t = decl.type
+        assert isinstance(t, ast.VectorType)
+        try:
+            n = self.interpreter._value(t.size, self.constants) if t.size is not None else None
+        except MachineError:
+            n = None
+        if held_type(t.element) != c.REAL or isinstance(n, bool) or \
+                not isinstance(n, (int, float)) or n < 1 or n != int(n):
+            raise self.refuse(f"vector {name} of {self.where}: D holds a vector of numbers "
+                              "of a constant size, an entry per field", decl.span, "")
+        return int(n)
+
+    def fields(self, name: str) -> list[str]:
+        """The fields that hold a variable: itself, or a vector's entries."""
+        size = self.sizes.get(name)
+        return [self.field(name)] if size is None else \
+            [self.field(f"{name}_{k}") for k in range(1, size + 1)]
 
     def field(self, name: str) -> str:
         """The field of D's state that holds the scope's variable, parameter or clock."""
@@ -76,6 +104,16 @@ class Terms:
         variables are, one declared outside it (a package's) once for all of D's machines."""
         own = name in self.scope.constants and name not in self.variables
         return f"{self.prefix if own else self.name}_{name.replace('::', '_')}"
+
+    def initial(self, x: str, value: object) -> list[ex.Expr]:
+        """A machine variable's value in ``Init``, a vector's entry by entry: the
+        interpreter's ``value``, or its expression where it reads an open constant (None)."""
+        decl = self.variables[x]
+        if x in self.sizes:
+            return [constant(float(v), c.REAL) for v in value.ravel()] if value is not None \
+                else self.components(decl.value, self.sizes[x])  # type: ignore
+        return [constant(value, held_type(decl.type)) if value is not None
+                else self.value(decl.value, decl)]  # type: ignore[arg-type]
 
     def refers(self, name: str) -> bool:
         """Whether the scope declares ``name`` or names it (then an open constant of that
@@ -162,9 +200,14 @@ class Terms:
             if isinstance(n, ex.PlatformRef):
                 raise self.refuse(f"${n.text} is used as a value", n.span,
                                   "test events in guards only")
+            if isinstance(n, ex.Index) and isinstance(n.base, ex.Name) and \
+                    n.base.text in self.sizes:
+                return name_expr(self._entry(n.base.text, n.args, n.span))
             if isinstance(n, ex.Name):
                 if n.text in bound:
                     return name_expr(bound[n.text])
+                if n.text in self.sizes:
+                    return None  # a vector: only its entries are numbers (checked below)
                 if n.text in self.variables:
                     return name_expr(self.field(n.text))
                 value = self.constants.get(n.text)
@@ -185,7 +228,67 @@ class Terms:
             n.text == "since" or n.text in clocks)), None)
         if left is not None:
             raise self.refuse(f"'{left.text}' is used outside since(C)", left.span, "")
+        whole = next((n for n in out.walk() if isinstance(n, ex.Name) and n.text in self.sizes),
+                     None)
+        if whole is not None:
+            raise self.refuse(f"the vector {whole.text} is used where D needs a number",
+                              whole.span, f"read one entry, {whole.text}[1]")
         return out
+
+    def _entry(self, name: str, args: tuple[ex.Expr, ...], span: object) -> str:
+        """The field of ``name[k]`` (``args`` translated): ``k`` a constant from 1."""
+        try:
+            k = evaluate(args[0], {}) if len(args) == 1 else None
+        except EvalError:
+            k = None
+        size = self.sizes[name]
+        if isinstance(k, bool) or not isinstance(k, (int, float)) or k != int(k) or \
+                not 1 <= k <= size:
+            raise self.refuse(f"{name}[…]: D reads and writes a vector's entries at a constant "
+                              f"index from 1 to {size}", span, "")
+        return self.fields(name)[int(k) - 1]
+
+    def components(self, e: ex.Expr, size: int) -> list[ex.Expr]:
+        """A vector's value entry by entry, each over D's state: a vector variable, a
+        constant, a literal ``(|a, b|)``, and sums, differences, negations and scalings of
+        them; anything else is refused."""
+        if isinstance(e, ex.Name) and self.sizes.get(e.text) == size:
+            return [name_expr(f) for f in self.fields(e.text)]
+        value = self.constants.get(e.text) if isinstance(e, ex.Name) else None
+        if scalars.is_vector(value) and value.size == size:  # type: ignore[union-attr]
+            return [constant(float(x), c.REAL) for x in value.ravel()]  # type: ignore
+        if isinstance(e, ex.Vector):
+            items = [x for row in e.rows for x in row]
+            if len(items) == size and (len(e.rows) == 1 or all(len(r) == 1 for r in e.rows)):
+                return [self.expr(x) for x in items]
+        if isinstance(e, ex.UnaryOp) and e.op == "-":
+            return [ex.UnaryOp("-", x) for x in self.components(e.operand, size)]
+        if isinstance(e, ex.BinOp) and e.op in ("+", "-"):
+            return [ex.BinOp(e.op, a, b) for a, b in zip(self.components(e.left, size),
+                                                         self.components(e.right, size))]
+        if isinstance(e, ex.BinOp) and e.op in ("*", "/") and self._vector(e.left):
+            k = self.expr(e.right)
+            return [ex.BinOp(e.op, a, k) for a in self.components(e.left, size)]
+        if isinstance(e, ex.BinOp) and e.op == "*" and self._vector(e.right):
+            k = self.expr(e.left)
+            return [ex.BinOp("*", k, b) for b in self.components(e.right, size)]
+        raise self.refuse(f"this vector of {size} entries is not written in D: a vector "
+                          "variable, constant or literal, or sums and scalings of them",
+                          getattr(e, "span", None), "")
+
+    def _vector(self, e: ex.Expr) -> bool:
+        """Whether ``e`` is vector-valued, as :meth:`components` reads it."""
+        if isinstance(e, ex.Name):
+            return e.text in self.sizes or scalars.is_vector(self.constants.get(e.text))
+        if isinstance(e, ex.Vector):
+            return True
+        if isinstance(e, ex.UnaryOp):
+            return self._vector(e.operand)
+        if isinstance(e, ex.BinOp) and e.op in ("+", "-"):
+            return self._vector(e.left) or self._vector(e.right)
+        if isinstance(e, ex.BinOp) and e.op in ("*", "/"):
+            return self._vector(e.left) or (e.op == "*" and self._vector(e.right))
+        return False
 
     def value(self, e: ex.Expr, decl: ast.VarDecl) -> ex.Expr:
         """``e`` as the value of the variable ``decl`` (a Boolean one is a predicate)."""
@@ -196,6 +299,14 @@ class Terms:
         """A statement that is not a call of an operation definition (the unrolling runs
         those) nor ``exec``/``wait`` (the unrolling's ends of the cycle)."""
         if isinstance(s, ast.Assign):
+            t = s.target
+            if isinstance(t, ex.Index) and isinstance(t.base, ex.Name) and \
+                    t.base.text in self.sizes:  # one entry: v[k] = e
+                entry = self._entry(t.base.text, tuple(self.expr(a) for a in t.args), t.span)
+                return c.Assign((entry,), (self.expr(s.value),))
+            if isinstance(t, ex.Name) and t.text in self.sizes:  # every entry, at once
+                fields = self.fields(t.text)
+                return c.Assign(tuple(fields), tuple(self.components(s.value, len(fields))))
             if not isinstance(s.target, ex.Name) or s.target.text not in self.variables:
                 raise self.refuse(f"only a variable of {self.where} can be assigned",
                                   s.span, "")

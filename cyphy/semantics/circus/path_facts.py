@@ -89,6 +89,13 @@ class Facts:
             out.known[field] = folded
         return out
 
+    def after(self, fields: tuple[str, ...], values: tuple[ex.Expr, ...]) -> Facts:
+        """After ``(f1, …) := (v1, …)``: one field as :meth:`assigned` says; several at once
+        (a vector's entries, which may read each other) forgotten."""
+        if len(fields) == 1:
+            return self.assigned(fields[0], values[0])
+        return self.forgotten(fields)
+
     def forgotten(self, fields: tuple[str, ...]) -> Facts:
         out = Facts(self.known)
         for f in fields:
