@@ -76,3 +76,31 @@ def test_what_d_cannot_write_of_a_vector_is_refused_with_the_reason(
     opaque = [d for d in generated.report.diagnostics if d.code.id == "W-SEMANTICS-DMODEL"]
     assert opaque and reason in opaque[0].message, [d.message for d in
                                                     generated.report.diagnostics]
+
+
+@pytest.mark.parametrize("dialect", ("utp", "axiomatic"))
+def test_library_functions_in_guards_and_calls(tmp_path: Path, dialect: str) -> None:
+    """``abs`` and ``sqrt`` (the library's, which HOL has) in a guard over the clock and in a
+    call's argument over a variable: applied in ``D`` as the interpreter applies them.
+    Before, ``D`` was left opaque ("'abs' has no value in the machine")."""
+    folder, scenario = bench(tmp_path / "bench", DATA, SCENARIO.format(distance=10.0)
+                             .replace("horizon = 1.6", "horizon = 3.2"))
+    machine = folder / "PulseSoftware.rsm"
+    text = machine.read_text()
+    for old, new in (("entry $drive(fast)", "entry $drive(sqrt(fast * fast) + abs(n - 3))"),
+                     ("Fast to Slow condition since(c) >= 5",
+                      "Fast to Slow condition abs(since(c) - 2.5) >= 2.5"),
+                     ("Fast to Fast condition since(c) < 5",
+                      "Fast to Fast condition abs(since(c) - 2.5) < 2.5")):
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    machine.write_text(text)
+    written_session(folder, scenario, dialect, tmp_path / "thy")
+    animated_as_simulated(tmp_path / "thy", folder, scenario, 65, ("Motor_av", "Motor_i"))
+    # by hand: Fast demands 10 + |n - 3|, n counting the moves to Slow so far; Slow 4
+    anim = run_json("animate", tmp_path / "thy", scenario, 65)
+    demands = [e["value"] for e in anim["events"] if e["channel"] == "registerWrite_drive"]
+    changes = [v for i, v in enumerate(demands) if i == 0 or v != demands[i - 1]]
+    fast = [10.0 + abs(n - 3) for n in range(len(changes))]
+    assert changes == [x for pair in zip(fast, [4.0] * len(fast)) for x in pair][:len(changes)]
+    assert len(changes) >= 8

@@ -250,9 +250,13 @@ def scalar_program(program: c.Program, evolving_as_state: bool = True) -> Scalar
         scalar = scalar_process(program.pmodel, evolving_as_state)
     except ScalariseError as err:
         raise IsabelleError(str(err), getattr(err.node, "span", None), shapes=True) from None
-    # transpose and the like are gone once written per component: declare only what is used
+    # transpose and the like are gone once written per component: declare only what is used,
+    # by P and by D (a machine's guards and calls may apply abs, sqrt…)
+    dm = program.dmodel
+    used = {f.name: f for f in (*functions(scalar.process),
+                                *(functions(dm) if isinstance(dm, c.BasicProcess) else ()))}
     return ScalarProgram(replace(program, pmodel=scalar.process,
-                                 functions=functions(scalar.process)),
+                                 functions=tuple(used[n] for n in sorted(used))),
                          scalar.promoted, scalar.held)
 
 

@@ -21,6 +21,7 @@ from cyphy import expr as ex
 from cyphy.lang import ast
 from cyphy.model.evaluate import EvalError, evaluate
 from cyphy.model.machines import Machine, expressions
+from cyphy.model.math_functions import MATH_FUNCTIONS
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.dmodel import literal
 from cyphy.semantics.circus.values import held_type, type_of, value_expr
@@ -208,6 +209,8 @@ class Terms:
                     return name_expr(bound[n.text])
                 if n.text in self.sizes:
                     return None  # a vector: only its entries are numbers (checked below)
+                if n.text in MATH_FUNCTIONS and n.text not in self.constants:
+                    return None  # a library function (abs, sqrt…), applied (checked below)
                 if n.text in self.variables:
                     return name_expr(self.field(n.text))
                 value = self.constants.get(n.text)
@@ -228,6 +231,12 @@ class Terms:
             n.text == "since" or n.text in clocks)), None)
         if left is not None:
             raise self.refuse(f"'{left.text}' is used outside since(C)", left.span, "")
+        applied = {id(n.func) for n in out.walk() if isinstance(n, ex.Call)}
+        bare = next((n for n in out.walk() if isinstance(n, ex.Name) and n.text in
+                     MATH_FUNCTIONS and n.text not in self.constants and id(n) not in applied),
+                    None)
+        if bare is not None:
+            raise self.refuse(f"the function {bare.text} is used as a value", bare.span, "")
         whole = next((n for n in out.walk() if isinstance(n, ex.Name) and n.text in self.sizes),
                      None)
         if whole is not None:
