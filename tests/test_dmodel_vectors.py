@@ -58,8 +58,30 @@ def test_vector_variables_animate_as_simulate_runs_them(tmp_path: Path, dialect:
     assert changes == [10.0, 5.0, 7.5, 16.0, 24.0, 12.25, 18.375]
 
 
+@pytest.mark.parametrize("dialect", ("utp", "axiomatic"))
+def test_a_constant_vector_read_in_guards(tmp_path: Path, dialect: str) -> None:
+    """``const gains: vector(real, 2)`` with a value, read at constant indices in the guards
+    (``since(c) >= gains[2] + 1``): each entry is its number, so the unrolling knows the clock
+    guards as before. Before, the entry stayed an index of a literal, the unrolling could not
+    fold it, and D was refused as a loop without exec."""
+    folder, scenario = bench(tmp_path / "bench", DATA, SCENARIO.format(distance=10.0))
+    machine = folder / "PulseSoftware.rsm"
+    text = machine.read_text()
+    for old, new in (("const slow: real = 4.0",
+                      "const slow: real = 4.0, gains: vector(real, 2) = (|10.0, 4.0|)"),
+                     ("entry $drive(fast)", "entry $drive(gains[1])")):
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    machine.write_text(text.replace("since(c) >= 5", "since(c) >= gains[2] + 1")
+                       .replace("since(c) < 5", "since(c) < gains[2] + 1"))
+    written_session(folder, scenario, dialect, tmp_path / "thy")
+    animated_as_simulated(tmp_path / "thy", folder, scenario, 33, ("Motor_av", "Motor_i"))
+
+
 @pytest.mark.parametrize("declaration, entry, reason", [
     ("var speeds: vector(boolean, 2)", "entry $drive(fast)", "D holds a vector of numbers"),
+    ("var speeds: vector(real, 2)", "entry $drive(norm(speeds))",
+     "the function norm takes or gives vectors or matrices"),
     ("var speeds: vector(real, 2)", "entry $drive(speeds[3])",
      "entries at a constant index from 1 to 2"),
     ("var speeds: vector(real, 2)", "entry $drive(speeds[n])",

@@ -29,6 +29,11 @@ from cyphy.semantics.machines import scalars
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
 
 _CONNECTIVES = ("/\\", "\\/", "=>", "<=>")
+#: The library's functions (``physmod::math``) of numbers to a number, which D applies as the
+#: interpreter does; the others take or give vectors and matrices, which D holds entry by
+#: entry, and are refused.
+SCALAR_FUNCTIONS = frozenset({"sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt",
+                              "exp", "log", "abs", "sgn"})
 #: How a :class:`Terms` reports what it cannot write: message, span, hint.
 Refuse = Callable[[str, object, str], MachineError]
 
@@ -204,25 +209,38 @@ class Terms:
             if isinstance(n, ex.Index) and isinstance(n.base, ex.Name) and \
                     n.base.text in self.sizes:
                 return name_expr(self._entry(n.base.text, n.args, n.span))
+            if isinstance(n, ex.Index) and isinstance(n.base, ex.Name) and \
+                    self._vector_constant(n.base.text):  # gains[2]: a number
+                try:
+                    entry = evaluate(n, {n.base.text: self.constants[n.base.text]})
+                except EvalError:
+                    entry = None
+                if isinstance(entry, (bool, int, float)):
+                    return constant(entry, c.REAL)
+                raise self.refuse(f"{n.base.text}[…]: D reads a constant vector's entries at "
+                                  "constant indices", n.span, "")
             if isinstance(n, ex.Name):
                 if n.text in bound:
                     return name_expr(bound[n.text])
-                if n.text in self.sizes:
-                    return None  # a vector: only its entries are numbers (checked below)
-                if n.text in MATH_FUNCTIONS and n.text not in self.constants:
-                    return None  # a library function (abs, sqrt…), applied (checked below)
                 if n.text in self.variables:
-                    return name_expr(self.field(n.text))
+                    return None if n.text in self.sizes else name_expr(self.field(n.text))
                 value = self.constants.get(n.text)
                 if isinstance(value, (bool, int, float)):
                     return constant(value, c.REAL)
+                if self._vector_constant(n.text):
+                    return None  # only its entries are numbers (checked below)
                 if n.text in self.interpreter.open:
                     return name_expr(self.open_name(n.text))
                 decl = self.scope.constants.get(n.text)
-                if decl is not None and decl.value is not None:  # computed from an open one
+                if decl is not None and decl.value is not None and \
+                        n.text in self.interpreter.unknown:  # computed from an open one
                     return self.expr(decl.value)
-                if n.text == "since" or n.text in clocks:
-                    return None  # since(C) is rewritten at the call (bottom-up)
+                if n.text in SCALAR_FUNCTIONS or n.text == "since" or n.text in clocks:
+                    return None  # applied, or since(C): rewritten at the call (bottom-up)
+                if n.text in MATH_FUNCTIONS:
+                    raise self.refuse(f"the function {n.text} takes or gives vectors or "
+                                      "matrices, which D holds entry by entry", n.span,
+                                      "compute with the entries (v[1], v[2], …)")
                 raise self.refuse(f"'{n.text}' has no value in {self.where}", n.span, "")
             return None
 
@@ -232,17 +250,19 @@ class Terms:
         if left is not None:
             raise self.refuse(f"'{left.text}' is used outside since(C)", left.span, "")
         applied = {id(n.func) for n in out.walk() if isinstance(n, ex.Call)}
-        bare = next((n for n in out.walk() if isinstance(n, ex.Name) and n.text in
-                     MATH_FUNCTIONS and n.text not in self.constants and id(n) not in applied),
-                    None)
+        bare = next((n for n in out.walk() if isinstance(n, ex.Name) and
+                     n.text in SCALAR_FUNCTIONS and id(n) not in applied), None)
         if bare is not None:
             raise self.refuse(f"the function {bare.text} is used as a value", bare.span, "")
-        whole = next((n for n in out.walk() if isinstance(n, ex.Name) and n.text in self.sizes),
-                     None)
+        whole = next((n for n in out.walk() if isinstance(n, ex.Name) and (
+            n.text in self.sizes or self._vector_constant(n.text))), None)
         if whole is not None:
             raise self.refuse(f"the vector {whole.text} is used where D needs a number",
                               whole.span, f"read one entry, {whole.text}[1]")
         return out
+
+    def _vector_constant(self, name: str) -> bool:
+        return name not in self.variables and scalars.is_vector(self.constants.get(name))
 
     def _entry(self, name: str, args: tuple[ex.Expr, ...], span: object) -> str:
         """The field of ``name[k]`` (``args`` translated): ``k`` a constant from 1."""
@@ -288,7 +308,7 @@ class Terms:
     def _vector(self, e: ex.Expr) -> bool:
         """Whether ``e`` is vector-valued, as :meth:`components` reads it."""
         if isinstance(e, ex.Name):
-            return e.text in self.sizes or scalars.is_vector(self.constants.get(e.text))
+            return e.text in self.sizes or self._vector_constant(e.text)
         if isinstance(e, ex.Vector):
             return True
         if isinstance(e, ex.UnaryOp):
