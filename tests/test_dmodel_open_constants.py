@@ -217,3 +217,10 @@ def test_an_open_boolean_constant_is_given_as_true_or_false(
     assert main(["animate", str(tmp_path / "thy"), "--scenario", str(scenario), "-q",
                  "--const", "enabled=2"]) == 2
     assert "a Boolean constant takes true or false" in capsys.readouterr().err
+    # simulate refuses a value of the wrong kind, rather than sending true as 1.0
+    for given, said in (("enabled=2", "the constant enabled is a boolean, not 2"),
+                        ("fast=true", "the constant fast is a number, not true")):
+        assert main(["simulate", str(family), "--scenario", str(scenario), "-q",
+                     "--const", given, "-o", str(tmp_path / "s.csv")]) == 1
+        assert said in capsys.readouterr().err
+    assert not (tmp_path / "s.csv").exists()

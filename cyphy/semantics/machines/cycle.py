@@ -176,7 +176,7 @@ class MachineInterpreter:
             if name in params or name in unknown:
                 continue
             if name in given:
-                values[name] = given[name]
+                values[name] = _given(name, decl, given[name])
             elif decl.value is not None and unknown & {n.text for n in decl.value.walk()
                                                        if isinstance(n, ex.Name)}:
                 unknown.add(name)
@@ -563,6 +563,21 @@ class MachineInterpreter:
     def state(self) -> str:
         """The node the machine rests in (a state, or a junction it is stuck at)."""
         return self.node
+
+
+def _given(name: str, decl: ast.VarDecl, value: object) -> object:
+    """A value given for a machine's constant (``--const``, ``[consts]``), of its declared
+    kind: a truth value for a ``boolean``, a number for a number (``fast=true`` would
+    otherwise be sent as 1.0)."""
+    t = decl.type
+    boolean = isinstance(t, ast.PrimitiveType) and t.name == "boolean"
+    numeric = isinstance(t, ast.PrimitiveType) and t.name in ("real", "int", "nat")
+    if (boolean and not scalars.is_truth(value)) or (numeric and not scalars.is_number(value)):
+        shown = str(value).lower() if scalars.is_truth(value) else repr(value)
+        raise MachineError(f"the constant {name} is {'a boolean' if boolean else 'a number'}, "
+                           f"not {shown}", decl.span,
+                           f"give {name} {'true or false' if boolean else 'a number'}")
+    return value
 
 
 def _frozen_vars(variables: Mapping[str, object]) -> tuple[tuple[str, Any], ...]:
