@@ -71,12 +71,25 @@ def _link(k: int, children: list[int], x: float, z: float, yaw: float, sensors: 
 """
 
 
+def _lean_link(k: int, children: list[int], x: float, z: float, yaw: float) -> str:
+    """A link of :func:`tree_model`'s ``lean`` form: a pose, a mass, a box and a revolute
+    joint per child, no sensor, no motor (about 300 bytes a link)."""
+    joints = "".join(f"\n\t\tjref J{c - 1} = Revolute {{ instantiation AXIS = (|0,0,1|) "
+                     f"flexibly connected to L{c} }}" for c in children)
+    return f"""\tlocal link L{k} {{
+\t\tpose {{ x = {_num(x)} y = 0.0 z = {_num(z)} roll = 0.0 pitch = 0.0 yaw = {_num(yaw)} }}
+\t\tdef {{ inertial information {{ mass 1.0 }} }}
+\t\tlocal body B{k} {{ def {{ box(length = 0.1, width = 0.05, height = 0.1) }} }}{joints}
+\t}}
+"""
+
+
 def _axis(joint: int, bent: bool) -> str:
     return _BENT_AXES[joint % 3] if bent else "0,0,1"
 
 
 def _model(name: str, n: int, parent_of: list[int | None], sensors: int,
-           bent: bool = False) -> str:
+           bent: bool = False, lean: bool = False) -> str:
     if n < 1:
         raise ValueError("a synthetic model needs at least one link")
     children: list[list[int]] = [[] for _ in range(n)]
@@ -90,7 +103,11 @@ def _model(name: str, n: int, parent_of: list[int | None], sensors: int,
     for k in range(n):
         sibling = children[parent_of[k]].index(k) if parent_of[k] is not None else 0
         x = 0.1 * (sibling + depth[k]) if bent else 0.1 * sibling
-        parts.append(_link(k, children[k], x, 0.1 * depth[k], 0.1 * (k % 7), sensors, bent))
+        if lean:
+            parts.append(_lean_link(k, children[k], x, 0.1 * depth[k], 0.1 * (k % 7)))
+        else:
+            parts.append(_link(k, children[k], x, 0.1 * depth[k], 0.1 * (k % 7), sensors,
+                               bent))
     parts.append("}\n")
     return "".join(parts)
 
@@ -106,13 +123,16 @@ def chain_model(n: int, *, sensors_per_link: int = 1, bent: bool = False) -> str
     return _model(f"Chain{n}", n, [None, *range(n - 1)], sensors_per_link, bent)
 
 
-def tree_model(n: int, branching: int = 3, *, sensors_per_link: int = 1) -> str:
+def tree_model(n: int, branching: int = 3, *, sensors_per_link: int = 1,
+               lean: bool = False) -> str:
     """RoboSim text of a p-model ``Tree<n>``: a ``branching``-ary tree of ``n`` links, ``L0`` the
-    root and ``L{(k-1)//branching}`` the parent of ``Lk``; the joint to ``Lk`` is ``J{k-1}``."""
+    root and ``L{(k-1)//branching}`` the parent of ``Lk``; the joint to ``Lk`` is ``J{k-1}``.
+    ``lean``: links without sensors or motors (:func:`_lean_link`), a model about half the
+    size in bytes."""
     if branching < 1:
         raise ValueError("branching must be at least 1")
     return _model(f"Tree{n}", n, [None, *((k - 1) // branching for k in range(1, n))],
-                  sensors_per_link)
+                  sensors_per_link, lean=lean)
 
 
 def write_model(folder: Path, text: str, name: str = "synthetic.pm") -> Path:

@@ -224,3 +224,53 @@ def test_an_open_boolean_constant_is_given_as_true_or_false(
                      "--const", given, "-o", str(tmp_path / "s.csv")]) == 1
         assert said in capsys.readouterr().err
     assert not (tmp_path / "s.csv").exists()
+
+
+@pytest.mark.parametrize("dialect", ("utp", "axiomatic"))
+@pytest.mark.parametrize("kind, embedding, bad", [("int", "real_of_int", "6.5"),
+                                                  ("nat", "real", "-3")])
+def test_a_whole_open_constant_stays_whole_in_the_theory(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], dialect: str, kind: str,
+        embedding: str, bad: str) -> None:
+    """``const fast: int`` (or ``nat``) left open: the theory's constant has the declared
+    type, so its family is the model's (held as a real it admitted 6.5), and D embeds it in
+    the reals where it computes with it (HOL has no implicit coercion: Real.thy's
+    ``real_of_int`` and ``real``), in the calls and in a variable's initial value. Animated
+    with ``--const fast=7`` it runs as ``simulate`` runs the model with 7 written in; a value
+    the declared type cannot take is refused by ``animate`` (exit 2, nothing written)."""
+    scenario = tmp_path / "pulse.toml"
+    scenario.write_text(SCENARIO)
+    family = _model(tmp_path / "family", f"const fast: {kind}", "const slow: real = fast * 0.4")
+    machine = family / "PulseSoftware.rsm"
+    machine.write_text(machine.read_text().replace("entry $drive(fast)", "entry $drive(top)")
+                       .replace("var n: int = 0", "var n: int = 0\n\tvar top: real = fast"))
+    theory, names, codes = _session(family, dialect, scenario, tmp_path / "thy")
+    assert "W-SEMANTICS-DMODEL" not in codes, codes
+    assert f"consts PulseSoftware_fast :: {kind}" in theory
+    assert f"(({embedding} PulseSoftware_fast) * 0.4)" in theory  # the slow speed, a real
+    init = next(line for line in theory.splitlines() if "PulseSoftwareInit =" in line)
+    assert f"({embedding} PulseSoftware_fast)" in init  # top starts at fast, a real
+    assert "PulseSoftware_fast :: real" not in theory
+    assert main(["check-theory", str(tmp_path / "thy")]) == 0
+
+    anim = _run(["animate", str(tmp_path / "thy"), "--scenario", str(scenario),
+                 "--const", "fast=7"])
+    member = _model(tmp_path / "member", f"const fast: {kind} = 7", "const slow: real = 2.8")
+    member_machine = member / "PulseSoftware.rsm"
+    member_machine.write_text(member_machine.read_text().replace(
+        "entry $drive(fast)", "entry $drive(top)").replace(
+        "var n: int = 0", "var n: int = 0\n\tvar top: real = fast"))
+    sim = _run(["simulate", str(member), "--scenario", str(scenario)])
+    columns, rows = anim["columns"], np.array(anim["rows"])
+    for col in ("Motor_av", "Motor_i"):
+        gap = np.max(np.abs(rows[:, columns.index(col)] - sim["columns"][col]))
+        assert gap < 1e-5, (col, gap)
+    assert max(sim["columns"]["Motor_av"]) > 1.0  # the value reached the motor
+
+    capsys.readouterr()
+    out = tmp_path / "bad.csv"
+    assert main(["animate", str(tmp_path / "thy"), "--scenario", str(scenario), "-q",
+                 "--const", f"fast={bad}", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "E-ANIMATE-OPTION" in err and f"declared {kind}" in err, err
+    assert not out.exists()

@@ -82,13 +82,14 @@ class UnsupportedNode(Exception):
 @record(frozen=False, slots=False)
 class Symbols:
     """What a name means where the printer meets it: state variables, constants (``nat``
-    ones need ``real`` in real arithmetic), actions, functions, the channel constructors,
-    and the globals' Isabelle identifiers."""
+    and ``int`` ones need ``real`` and ``real_of_int`` in real arithmetic), actions,
+    functions, the channel constructors, and the globals' Isabelle identifiers."""
 
     names: IsabelleNames
     state: frozenset[str] = frozenset()
     constants: frozenset[str] = frozenset()
     nat: frozenset[str] = frozenset()
+    ints: frozenset[str] = frozenset()
     actions: frozenset[str] = frozenset()
     functions: dict[str, str] = field(default_factory=dict)
     constructors: dict[tuple[str, str | None], str] = field(default_factory=dict)
@@ -243,8 +244,13 @@ class IsabellePrinter:
         if self._mode != "hol" and self._is_state(text):
             return ("$" if self._mode == "rel" else "&") + self.symbols.names[text]
         ident = self.name(text)
-        if self._coerce_nat and text in self.symbols.nat and self._bound_ident(text) is None:
-            return f"(real {ident})"
+        if self._coerce_nat and self._bound_ident(text) is None:
+            # HOL has no implicit coercion into the reals (Real.thy: real = of_nat,
+            # real_of_int = of_int)
+            if text in self.symbols.nat:
+                return f"(real {ident})"
+            if text in self.symbols.ints:
+                return f"(real_of_int {ident})"
         whole = self._whole_params.get(text)
         if self._coerce_nat and whole is not None and self._bound_ident(text) is not None:
             # an int or nat parameter of a call in the p-model's real arithmetic: HOL has no

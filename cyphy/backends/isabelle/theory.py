@@ -189,6 +189,8 @@ def symbols_of(program: c.Program, taken: frozenset[str] = frozenset()) -> Symbo
         names.add(g)
     nat = {b.name for b in program.globals.constants if b.type == c.NAT}
     nat |= {k.name for k in c.program_constants(program) if k.type == c.NAT}
+    ints = {b.name for b in program.globals.constants if b.type == c.INT}
+    ints |= {k.name for k in c.program_constants(program) if k.type == c.INT}
     for b in program.globals.constants:
         names.add(b.name)
     for k in c.program_constants(program):
@@ -224,6 +226,7 @@ def symbols_of(program: c.Program, taken: frozenset[str] = frozenset()) -> Symbo
         constants=frozenset({b.name for b in program.globals.constants}
                             | {k.name for k in c.program_constants(program)}),
         nat=frozenset(nat),
+        ints=frozenset(ints),
         actions=frozenset(d.name for d in pm.actions) | frozenset(d_actions),
         functions=functions,
         constructors=constructors,

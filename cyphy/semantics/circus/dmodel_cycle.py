@@ -123,7 +123,7 @@ from cyphy.semantics.circus.dmodel import MODE, read_events_action
 from cyphy.semantics.circus.dmodel_places import TOP, Calls, Frame, Item, Place
 from cyphy.semantics.circus.dmodel_terms import Terms, default, name_expr
 from cyphy.semantics.circus.path_facts import Facts
-from cyphy.semantics.circus.values import held_type, type_of
+from cyphy.semantics.circus.values import held_type, open_type, type_of
 from cyphy.semantics.circus.walk import map_action
 from cyphy.semantics.machines.cycle import MachineError, MachineInterpreter
 from cyphy.semantics.machines.parallel import same_cycle
@@ -225,15 +225,16 @@ class _Cycle:
 
     def open_constants(self) -> list[c.Constant]:
         """The open constants (no value, none given) that the machine or an operation reads:
-        parameters of the theory, held as D holds numbers
-        (:func:`~cyphy.semantics.circus.values.held_type`)."""
+        parameters of the theory of their declared type (an ``int`` or ``nat`` one stays
+        whole, so the theory's family is the model's; the printer embeds it in D's reals
+        where it is read), a ``real`` one as D holds numbers."""
         out: dict[str, c.Constant] = {}
         for n, d in self.interpreter.open.items():
             for terms in self.terms.values():
                 if terms.refers(n) and terms.open_name(n) not in out:
                     scope = terms.scope.name
                     out[terms.open_name(n)] = c.Constant(
-                        terms.open_name(n), held_type(d.type), None,
+                        terms.open_name(n), open_type(d.type), None,
                         f"{scope}::{n}" if n in terms.scope.constants else n)
         return list(out.values())
 

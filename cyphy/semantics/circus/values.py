@@ -47,6 +47,15 @@ def held_type(t: ast.TypeRef | None) -> c.Type:
     return c.BOOL if type_of(t) == c.BOOL else c.REAL
 
 
+def open_type(t: ast.TypeRef | None) -> c.Type:
+    """How the theory declares a machine's open constant: an ``int`` or ``nat`` as one
+    (a real would widen the family to values the model cannot take; where ``D`` computes
+    with it, the printer embeds it in the reals: ``real_of_int``, ``real``), a Boolean as
+    one, any other number as a real."""
+    declared = type_of(t)
+    return declared if declared in (c.INT, c.NAT) else held_type(t)
+
+
 def _size(e: ex.Expr | None) -> int | None:
     """A declared size when it is a positive literal (``matrix(real, 0, 0)`` is the
     notation's "any size")."""

@@ -567,16 +567,15 @@ class MachineInterpreter:
 
 def _given(name: str, decl: ast.VarDecl, value: object) -> object:
     """A value given for a machine's constant (``--const``, ``[consts]``), of its declared
-    kind: a truth value for a ``boolean``, a number for a number (``fast=true`` would
-    otherwise be sent as 1.0)."""
+    type: a truth value for a ``boolean`` (``fast=true`` would be sent as 1.0), a number
+    for a ``real``, a whole number for an ``int`` (at least 0 for a ``nat``: ``count=2.5``
+    would run a model its type rules out)."""
     t = decl.type
-    boolean = isinstance(t, ast.PrimitiveType) and t.name == "boolean"
-    numeric = isinstance(t, ast.PrimitiveType) and t.name in ("real", "int", "nat")
-    if (boolean and not scalars.is_truth(value)) or (numeric and not scalars.is_number(value)):
+    wrong = scalars.misfit(t.name if isinstance(t, ast.PrimitiveType) else "", value)
+    if wrong is not None:
         shown = str(value).lower() if scalars.is_truth(value) else repr(value)
-        raise MachineError(f"the constant {name} is {'a boolean' if boolean else 'a number'}, "
-                           f"not {shown}", decl.span,
-                           f"give {name} {'true or false' if boolean else 'a number'}")
+        raise MachineError(f"the constant {name} is {wrong[0]}, not {shown}", decl.span,
+                           f"give {name} {wrong[1]}")
     return value
 
 

@@ -26,6 +26,21 @@ def is_number(value: object) -> bool:
     return isinstance(value, numbers.Real) and not is_truth(value)
 
 
+#: Per primitive type of a machine's constant: what it is, and what to give it.
+_TYPES = {"boolean": ("a boolean", "true or false"), "real": ("a number", "a number"),
+          "int": ("declared int", "a whole number"),
+          "nat": ("declared nat", "a whole number of at least 0")}
+
+
+def misfit(type_name: str, value: object) -> tuple[str, str] | None:
+    """Why ``value`` cannot be a constant of the primitive type ``type_name`` (what the
+    constant is, what to give it), or None when it can (any value for another type)."""
+    whole = is_number(value) and float(value).is_integer()  # type: ignore[arg-type]
+    fits = {"boolean": is_truth(value), "real": is_number(value), "int": whole,
+            "nat": whole and value >= 0}  # type: ignore[operator]
+    return None if fits.get(type_name, True) else _TYPES[type_name]
+
+
 def is_vector(value: object) -> bool:
     return isinstance(value, Array) or is_numpy(value, "ndarray")
 

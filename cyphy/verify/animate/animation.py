@@ -57,6 +57,15 @@ class _Constants:
                 raise AnimateError("E-ANIMATE-OPTION", f"--const {name}: a Boolean constant "
                                    "takes true or false (1 or 0)", status=2)
             self.values[name] = bool(self.values[name])
+        for name, kind in model.wholes.items():  # an int or nat one: a whole number
+            if name in self.values:
+                value = self.values[name]
+                if value != int(value) or (kind == "nat" and value < 0):
+                    raise AnimateError("E-ANIMATE-OPTION", f"--const {name}={value:g}: the "
+                                       f"constant is declared {kind}", hint="give a whole "
+                                       "number" + (" of at least 0" if kind == "nat" else ""),
+                                       status=2)
+                self.values[name] = int(value)
         for tree, line in model.axioms:
             if (getattr(tree, "data", "") == "binop" and op_name(tree.children[1]) == "="
                     and getattr(tree.children[0], "data", "") == "name"):

@@ -157,6 +157,8 @@ def read_ax_model(path: Path, text: str) -> TheoryModel:
                       for name in th.constants if name not in values
                       and declared(text, name, "real|nat|int|bool")}
     truths = {name for name in open_constants if declared(text, name, "bool")}
+    wholes = {name: kind for name in open_constants for kind in ("int", "nat")
+              if declared(text, name, kind)}
     axioms = [(_parse(ax, "expr", path, line_of(text, re.escape(ax))),
                line_of(text, re.escape(ax))) for ax in th.axioms]
     fields = {name for name in th.lenses}
@@ -192,4 +194,4 @@ def read_ax_model(path: Path, text: str) -> TheoryModel:
         own = [str(c) for c in names.children]
         processes.append(Process(main, main, {f: types.get(f, "") for f in own}))
     return TheoryModel(path, definitions, values, open_constants, sets[str(cs)], processes,
-                       name, axioms, dialect="axiomatic", truths=truths)
+                       name, axioms, dialect="axiomatic", truths=truths, wholes=wholes)

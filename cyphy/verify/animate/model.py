@@ -43,6 +43,7 @@ class TheoryModel:
     axioms: list[tuple[Any, int]] = field(default_factory=list)  # parsed hol terms, line
     dialect: str = "utp"  # or "axiomatic" (ax_reader.py)
     truths: set[str] = field(default_factory=set)  # the open constants declared bool
+    wholes: dict[str, str] = field(default_factory=dict)  # those declared int or nat → which
 
 
 def line_of(text: str, pattern: str) -> int:

@@ -101,6 +101,8 @@ def read_model(folder: Path) -> TheoryModel:
                       and name not in {d[0] for d in th.definitions}
                       and declared(text, name, "real|nat|int|bool")}
     truths = {name for name in open_constants if declared(text, name, "bool")}
+    wholes = {name: kind for name in open_constants for kind in ("int", "nat")
+              if declared(text, name, kind)}
     axioms = [(_parse(ax, "hol", path, line_of(text, re.escape(ax))),
                line_of(text, re.escape(ax))) for ax in th.axioms]
     definitions: dict[str, Definition] = {}
@@ -126,7 +128,7 @@ def read_model(folder: Path) -> TheoryModel:
                                status=2)
         processes.append(Process(state, main, fields.get(state, {})))
     return TheoryModel(path, definitions, values, open_constants, _channel_set(channel_expr),
-                       processes, name, axioms, truths=truths)
+                       processes, name, axioms, truths=truths, wholes=wholes)
 
 
 
