@@ -183,9 +183,9 @@ class _Cycle:
     # ----- what the translation refuses
     def _refuse(self, message: str, span: object = None, hint: str = "") -> MachineError:
         return MachineError(message, span or self.machine.decl.span,  # type: ignore[arg-type]
-                            hint or "the theory's D for typed events is written for machines "
-                            "of states, junctions, variables, clocks, operation definitions, "
-                            "and calls made in one cycle")
+                            hint or "the theory's D is written out for machines of states, "
+                            "junctions, scalar and vector variables, clocks, operation "
+                            "definitions, and calls made in one cycle")
 
     def _refuse_unsupported(self) -> None:
         for terms in self.terms.values():
