@@ -20,7 +20,10 @@ CPU / 0.19 GiB cold (main 23.8-24.6 s / 0.26 GiB); 20,000 links 71.0-73.6 s / 0.
 382 s / 2.37 GiB cold (load 5-7, 933 s of wall time). Not met: 6.4 times the time, 1.6 times
 the memory.
 
-    python3 benchmarks/bench_large_check.py [--links N [N ...]] [--warm [--repeat K]]
+On a quiet machine (2026-11-27, nothing else running): 90,198 links cold 143 s / 2.36 GiB;
+``--lean`` (links without sensors or motors, 27.3 MB) 70 s / 1.35 GiB. Not met either.
+
+    python3 benchmarks/bench_large_check.py [--links N [N ...]] [--lean] [--warm [--repeat K]]
 """
 
 from __future__ import annotations
