@@ -60,6 +60,7 @@ from cyphy.semantics.dynamics.spatial import (motion_subspace, motion_subspace_r
 from cyphy.semantics.dynamics.tree import (EULER, STANDARD_GRAVITY, KinematicTree, TreeJoint,
                                            coordinate_names, joint_kind, kinematic_tree)
 from cyphy.semantics.scalarise.shapes import component_name
+from cyphy.semantics.dynamics.rigid_body import mass_matrix
 
 
 @dataclass(frozen=True)
@@ -327,7 +328,6 @@ def _annotated(joint: TreeJoint, tau: list[Any], variables: Callable[[TreeJoint,
 def _rest_inertia(tree: KinematicTree) -> np.ndarray:
     """The diagonal of the mass matrix at ``q = 0`` (a stop's stiffness scales with it);
     zeros when no joint is bounded (nothing to compute)."""
-    from cyphy.semantics.dynamics.rigid_body import mass_matrix
 
     if not any(f.limited for j in tree.joints for f in axis_forces(j.kind, j.element)):
         return np.zeros(tree.dof)

@@ -20,7 +20,12 @@ from cyphy.lang.notation import to_notation
 from cyphy.model.elements import Device, ElaboratedModel
 from cyphy.model.evaluate import Value
 from cyphy.records import record
-from cyphy.semantics.dynamics.errors import AssemblyError
+from cyphy.semantics.dynamics.errors import AssemblyError, DynamicsError
+from cyphy.semantics.dynamics.tree import STANDARD_GRAVITY, coordinate_names
+from cyphy.semantics.scalarise.shapes import component_name, components, type_shape
+from cyphy.semantics.dynamics.joint_forces import stop_expr
+from cyphy.semantics.dynamics.motion import motion_equations
+from cyphy.lang.scopes import Scopes, is_interface
 
 
 ASSEMBLY = codes.code("E-SOLVE", codes.E, "the equations to solve cannot be assembled")
@@ -152,7 +157,6 @@ def _add_motion(system: System, model: ElaboratedModel,
     it, a link coupled to joints left out does not. A tree without equations of motion (too
     large to write out, a link without mass elsewhere) is then reported only for the whole
     model: chosen elements keep the equations they had before."""
-    from cyphy.semantics.dynamics.errors import DynamicsError
 
     if known is not None and not any(j.device is not None and
                                      any(p.mangled in known for p in j.device.ports)
@@ -189,10 +193,8 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
     it, a link coupled to joints left out does not. A tree without equations of motion (a
     link without mass elsewhere) is then reported only for the whole model: chosen elements
     keep the equations they had before."""
+    # lazy: NumPy, through the algorithms; a cached tree needs neither
     from cyphy.semantics.dynamics.articulated import model_motion
-    from cyphy.semantics.dynamics.errors import DynamicsError
-    from cyphy.semantics.dynamics.tree import STANDARD_GRAVITY, coordinate_names
-    from cyphy.semantics.scalarise.shapes import component_name
 
     if known is not None and not any(j.device is not None and
                                      any(p.mangled in known for p in j.device.ports)
@@ -214,7 +216,6 @@ def _add_explicit_motion(system: System, model: ElaboratedModel,
         for atom in d.value.atoms():
             names |= uses.get(atom, {atom})
         uses[d.name] = names
-    from cyphy.semantics.scalarise.shapes import components, type_shape
 
     taken = set(system.variables) | set(system.parameters) | {  # and their components
         c for n, t in system.variables.items() for c in components(n, type_shape(t) or ())}
@@ -276,7 +277,6 @@ def _add_stops(system: System, stops: tuple[Any, ...]) -> None:
     """Each bounded coordinate's limit effort ``<q>_stop`` (a local variable the definitions
     use) and its equation, the contact model of
     :func:`cyphy.semantics.dynamics.joint_forces.stop_expr`."""
-    from cyphy.semantics.dynamics.joint_forces import stop_expr
 
     for stop in stops:
         span = stop.joint.element.span
@@ -338,8 +338,6 @@ def motion(model: ElaboratedModel,
     ``0 == M(q)*a + h(q, v)`` for its six coordinates). The one source of these equations for
     ``cyphy solve`` (through :func:`assemble`) and the CyPhyCircus ``Evolve``; raises
     ``DynamicsError`` when the tree has none."""
-    from cyphy.semantics.dynamics.motion import motion_equations
-    from cyphy.semantics.dynamics.tree import STANDARD_GRAVITY
 
     return [Equation(equation, f"{joint.prefix} motion", equation.span)
             for equation, joint in motion_equations(model, gravity or STANDARD_GRAVITY,
@@ -517,6 +515,7 @@ def _defined_by_others(system: System) -> set[str]:
 
 def parse_call(text: str) -> ex.Call:
     """``move(0.1, 0)`` as an expression (the value of ``--mapping-call``)."""
+    # lazy: the parser loads Lark, which a warm run must not
     from cyphy.lang.parser import parse_text
 
     result = parse_text(f"const call: real = {text}", "<--mapping-call>")
@@ -532,7 +531,6 @@ def mapping_operation(ws: Any, resolution: Any, model: ElaboratedModel, text: st
     """The mapping of the model's p-model, the parsed call and the operation's parameter
     names (from the d-model's operation signature); a "call" ``e(v)`` of an output event
     the mapping maps (``output event e ? p { … }``) has the mapping's parameter ``p``."""
-    from cyphy.lang.scopes import Scopes, is_interface
 
     call = parse_call(text)
     mappings = [(f, i) for f in ws.user_files() for i in f.items

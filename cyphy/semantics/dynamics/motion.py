@@ -88,7 +88,7 @@ def _checked_derivation(tree: KinematicTree) -> list[tuple[Any, int]]:
     the cache only: an entry is stored after they passed on the same inputs."""
     # lazy: NumPy (0.1 s to import), which the numbers and the algorithms need and a
     # cached derivation does not
-    from cyphy.semantics.dynamics.rigid_body import forward_dynamics
+    from cyphy.semantics.dynamics.rigid_body import forward_dynamics  # lazy: see above
 
     for joint in tree.joints:
         joint.numbers()

@@ -14,6 +14,7 @@ from cyphy.lang.workspace import LIBRARY_ROOT
 from cyphy.semantics.dynamics.equations import (OBSTACLE, OVERDETERMINED, UNDERDETERMINED,
                                                 Equation)
 from cyphy.semantics.dynamics.structure import Competition
+from cyphy.semantics.dynamics.errors import TREE
 
 
 @dataclass(frozen=True)
@@ -80,7 +81,6 @@ _OBSTACLE_HINTS = {
 def obstacle_code(o: Obstacle) -> Any:
     """``E-OVERDETERMINED``, ``E-UNDERDETERMINED``, ``E-DYNAMICS`` (too large) or
     ``E-REDUCE``."""
-    from cyphy.semantics.dynamics.errors import TREE
 
     return {"overdetermined": OVERDETERMINED, "underdetermined": UNDERDETERMINED,
             "too-large": TREE}.get(o.kind, OBSTACLE)

@@ -6,6 +6,7 @@ assumption queries on every product made a 10-link arm take 20 s (measured with 
 from __future__ import annotations
 
 from typing import Any, Callable, Sequence
+from cyphy import expr as ex
 
 
 def _accumulate(terms: dict[tuple[str, ...], float], key: tuple[str, ...], c: float) -> None:
@@ -129,7 +130,7 @@ class Polynomial:
     def to_sympy(self, symbols: dict[str, Any]) -> Any:
         """The SymPy expression (``symbols``: name → SymPy value, filled with real symbols
         for the names not in it)."""
-        import sympy
+        import sympy  # lazy: SymPy (0.5-1 s); only the symbolic form needs it
 
         def atom(name: str) -> Any:
             kind, _, arg = name.partition(":")
@@ -174,7 +175,6 @@ class Polynomial:
     def to_expr(self) -> Any:
         """As the shared expression AST (``cyphy.expr``): a sum of products, coefficients as
         decimal numbers (``repr`` of the float), ``cos``/``sin`` calls, ``1/D`` a division."""
-        from cyphy import expr as ex
 
         def atom(name: str) -> ex.Expr:
             kind, _, arg = name.partition(":")

@@ -207,7 +207,7 @@ def ad_numeric(twist: np.ndarray) -> np.ndarray:
 def math_functions(values: Sequence[Any]) -> tuple[Any, Any, bool]:
     """``cos`` and ``sin`` for the scalars given, and whether they are symbolic."""
     if any(not isinstance(v, (int, float, np.floating, np.integer)) for v in values):
-        import sympy
+        import sympy  # lazy: SymPy (0.5-1 s); only symbolic arguments need it
 
         return sympy.cos, sympy.sin, True
     return np.cos, np.sin, False

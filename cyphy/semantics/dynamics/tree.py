@@ -91,7 +91,7 @@ class TreeJoint:
         if cached is None:
             # lazy: NumPy (0.1 s to import): a tree whose equations of motion are cached is
             # built and keyed without it
-            from cyphy.semantics.dynamics.tree_numbers import joint_numbers
+            from cyphy.semantics.dynamics.tree_numbers import joint_numbers  # lazy: see above
 
             cached = joint_numbers(self.kind, self.element, self.links, self.body_pose,
                                    self.parent_pose, self.joint_pose)

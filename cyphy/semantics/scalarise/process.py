@@ -14,6 +14,7 @@ from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.values import within
 from cyphy.semantics.scalarise.scalariser import Scalariser
 from cyphy.semantics.scalarise.shapes import Shape, ScalariseError, components, shape_of_type
+from cyphy.semantics.circus.walk import action_nodes, map_action
 
 
 @record(frozen=True, slots=False)
@@ -117,7 +118,6 @@ def scalar_process(pm: c.BasicProcess, evolving_as_state: bool = True) -> Scalar
             return replace(a, args=tuple(sc.whole(x) for x in a.args))
         return None
 
-    from cyphy.semantics.circus.walk import action_nodes, map_action
 
     actions = tuple(replace(d, body=map_action(d.body, rewrite)) for d in pm.actions)
     main = map_action(pm.main, rewrite)
