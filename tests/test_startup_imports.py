@@ -196,3 +196,17 @@ def test_the_command_keeps_openblas_to_one_thread_unless_told(given: str | None,
     out = subprocess.run([sys.executable, "-c", _ENV_PROBE], env=env, capture_output=True,
                          text=True, timeout=60, check=True)
     assert out.stdout.strip() == expected
+
+
+
+def test_simulate_numeric_imports_no_sympy(tmp_path: Path) -> None:
+    """``simulate --numeric`` (issue 31: a 10-link chain in a second as a whole command)
+    integrates the tree with Pinocchio and SciPy: SymPy (0.5-1 s to import) and matplotlib
+    stay out, whatever the scenario machinery that ``cyphy.api.simulate`` imports."""
+    args = ["simulate", "examples/manipulator", "--numeric", "--t-end", "0.1", "-q",
+            "-o", str(tmp_path / "out.csv")]
+    code, modules = _imported(args)
+    assert code == 0
+    assert "scipy" in modules and "numpy" in modules  # the probe sees the integrator
+    assert modules.isdisjoint({"sympy", "matplotlib"}), sorted(modules & {"sympy",
+                                                                          "matplotlib"})

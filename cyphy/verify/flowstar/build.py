@@ -23,6 +23,26 @@ from cyphy.verify.flowstar.printer import FUNCTIONS, NotExpressible, valid_name
 from cyphy.verify.flowstar.problem import CLOCK, TIMER, Problem, symbol
 from cyphy.verify.flowstar.scenario import EXPORT, Scenario
 from cyphy.verify.flowstar.time_functions import replace_time_functions
+from cyphy.verify.flowstar.machine import machine_controller
+from cyphy.semantics.dynamics.obstacles import report_obstacles
+from cyphy.semantics.dynamics.reduce import reduce_system
+from cyphy.semantics.dynamics.equations import (
+    AssemblyError,
+    assemble,
+    Equation,
+    mapping_operation,
+    input_event_predicate,
+)
+from cyphy.lang import ast
+from cyphy.translate.to_sympy import to_sympy, UnsupportedNode
+from cyphy.verify.flowstar.typed_events import (
+    machine_events,
+    not_one_number,
+    typed_event,
+    ValueRefused,
+    solve_value,
+)
+from cyphy.verify.flowstar.first_cycle import settle, unreadable
 
 if TYPE_CHECKING:
     from cyphy.verify.flowstar.typed_events import TypedEvent
@@ -53,7 +73,6 @@ def build_problem(paths: Sequence[str | Path], scenario: Scenario, report: Repor
         return None, sources
     machine = None
     if not scenario.states:  # no [controller]: the d-model's state machine is the controller
-        from cyphy.verify.flowstar.machine import machine_controller
 
         machine = machine_controller(result.check, result.model.name, scenario, report,
                                      sampled)
@@ -85,9 +104,6 @@ class _Builder:
         return _Stop()
 
     def build(self) -> Problem:
-        from cyphy.semantics.dynamics.obstacles import report_obstacles
-        from cyphy.semantics.dynamics.reduce import reduce_system
-        from cyphy.semantics.dynamics.equations import AssemblyError, assemble
 
         s = self.s
         self._check_elements()
@@ -211,6 +227,7 @@ class _Builder:
                             "controller state cannot be called that", self.s.span("controller"))
 
     def expression(self, text: str, span: Span) -> ex.Expr:
+        # lazy: the parser loads Lark, which a model read from the parse cache does not need
         from cyphy.lang.parser import parse_text
 
         parsed = parse_text(f"const scenario_value: real = {text}", span.file)
@@ -232,7 +249,6 @@ class _Builder:
 
     # ----- the environment: sensor inputs as states or constants
     def _environment(self, system: Any) -> None:
-        from cyphy.semantics.dynamics.equations import Equation
 
         for env in self.s.environment.values():
             name = self.mangled(env.name, env.span)
@@ -256,7 +272,6 @@ class _Builder:
     def _constant(value: float, type_: Any) -> ex.Expr:
         """``{ value = v }`` for an input of that type: a number, or a vector of fixed size
         with every entry v (a joint's parent twist on a base fixed to the world: 0)."""
-        from cyphy.lang import ast
 
         number = ex.Num(repr(value))
         if isinstance(type_, ast.VectorType) and isinstance(type_.size, ex.Num):
@@ -280,8 +295,6 @@ class _Builder:
 
     # ----- calls: Rule 5's OpCall, the mapping's equations solved for the actuator inputs
     def _effects(self) -> tuple[dict[str, dict[str, Any]], list[str]]:
-        from cyphy.translate.to_sympy import to_sympy
-        from cyphy.semantics.dynamics.equations import AssemblyError, assemble, mapping_operation
 
         check = self.elaborated.check
         cache: dict[str, dict[str, Any]] = {}
@@ -346,8 +359,6 @@ class _Builder:
         evaluates it for whatever arguments a cycle computes. An operation whose equations do
         not fix its inputs uniquely, or set inputs the export's frame lacks (``None``: no
         frame, the machine is not compiled), is left out (a call of it is then reported)."""
-        from cyphy.translate.to_sympy import to_sympy
-        from cyphy.semantics.dynamics.equations import AssemblyError, assemble, mapping_operation
 
         check = self.elaborated.check
         out: dict[str, tuple[tuple[Any, ...], dict[str, Any]]] = {}
@@ -402,7 +413,6 @@ class _Builder:
 
     # ----- events and the unsafe set
     def _mapping(self) -> Any:
-        from cyphy.lang import ast
 
         check = self.elaborated.check
         for f in check.workspace.user_files():
@@ -416,9 +426,6 @@ class _Builder:
         """Each input event a transition names (a machine run uncompiled: each it reads),
         as its mapping predicate (mangled names); a typed event of an uncompiled machine
         also gets its value's equations (``self.typed``)."""
-        from cyphy.semantics.dynamics.equations import input_event_predicate
-        from cyphy.verify.flowstar.typed_events import machine_events, not_one_number, \
-            typed_event
 
         wanted = machine_events(self.machine) if self.uncompiled else \
             [(name, t.span, None) for t in [*self.s.first, *self.s.transitions]
@@ -453,8 +460,6 @@ class _Builder:
         """For each model variable the predicates mention, a probe state ``p' = v``: the
         reducer then gives ``v`` as a function of the states (it solves only what some
         derivative needs), and the probe is dropped afterwards."""
-        from cyphy.lang import ast
-        from cyphy.semantics.dynamics.equations import Equation
 
         names = sorted({n.text for e in exprs for n in e.walk() if isinstance(n, ex.Name)
                         and n.text in system.variables})
@@ -487,7 +492,6 @@ class _Builder:
         (:func:`cyphy.verify.flowstar.first_cycle.settle`); refused when an event the first
         cycle reads has a predicate over an actuator input, which has no value before the
         first cycle's calls."""
-        from cyphy.verify.flowstar.first_cycle import settle, unreadable
 
         if not self.s.first:
             return p
@@ -553,7 +557,6 @@ class _Scope:
     def value(self, b: _Builder, t: "TypedEvent") -> tuple[Any, dict[Any, Any]]:
         """The typed event's value over the states and inputs, and the substitution of its
         parameter and solved locals for the predicate (:func:`typed_events.solve_value`)."""
-        from cyphy.verify.flowstar.typed_events import ValueRefused, solve_value
 
         consts = {n: v for n, v in b.s.consts.items() if isinstance(v, (int, float))
                   and not isinstance(v, bool) and "::" not in n}
@@ -564,7 +567,6 @@ class _Scope:
 
     def predicate(self, b: _Builder, e: ex.Expr, span: Span, what: str,
                   given: dict[Any, Any] | None = None) -> Any:
-        from cyphy.translate.to_sympy import UnsupportedNode, to_sympy
 
         try:
             value = to_sympy(e, symbols=self.names)

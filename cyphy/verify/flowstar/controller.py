@@ -20,9 +20,10 @@ Calls = tuple[tuple[str, tuple[float, ...]], ...]
 def parse_calls(texts: tuple[str, ...], consts: Mapping[str, Any]) -> Calls:
     """``("drive(10)", "stop()")`` → ``(("drive", (10.0,)), ("stop", ()))``; arguments may
     name the scenario's ``[consts]``. Raises ``ValueError`` for an argument without a value."""
-    import sympy
+    import sympy  # lazy: SymPy (0.5-1 s); `simulate --numeric` loads this module, parses no call
 
-    from cyphy.translate.to_sympy import to_sympy
+    from cyphy.translate.to_sympy import to_sympy  # lazy: SymPy, as above
+    # lazy: the assembly of equations, which `simulate --numeric` does not need either
     from cyphy.semantics.dynamics.equations import parse_call
 
     values = {sympy.Symbol(n, real=True): v for n, v in consts.items()

@@ -13,14 +13,19 @@ absent): ``reach`` refuses it, ``simulate`` runs its interpreter alone
 
 from __future__ import annotations
 
+import tomllib
 from typing import TYPE_CHECKING, Any
 
 from cyphy.diagnostics import Report, Span
 from cyphy.verify.flowstar.scenario import EXPORT, Scenario, Transition
+from cyphy.lang.scopes import Scopes
+from cyphy.model.machines import select_machines
+from cyphy.semantics.machines.cycle import MachineError
+from cyphy.semantics.machines.interpreters import interpreter_for, machine_constants
+from cyphy.semantics.machines.parallel import ModuleInterpreter, compile_module
 
 if TYPE_CHECKING:
     from cyphy.semantics.machines.cycle import MachineInterpreter
-    from cyphy.semantics.machines.parallel import ModuleInterpreter
 
 
 def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Report,
@@ -38,11 +43,6 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
     ``gen --flowstar``) the machine is refused. So is, for ``sampled``, a machine the
     automaton cannot hold (a first cycle that reads the inputs, too many configurations):
     the interpreter runs it."""
-    from cyphy.lang.scopes import Scopes
-    from cyphy.model.machines import select_machines
-    from cyphy.semantics.machines.cycle import MachineError
-    from cyphy.semantics.machines.interpreters import interpreter_for, machine_constants
-    from cyphy.semantics.machines.parallel import ModuleInterpreter
 
     files = list(check.workspace.user_files())
     span = scenario.span("machine") if scenario.machine else Span(scenario.path, 1, 1, 1, 2)
@@ -109,7 +109,6 @@ def _compiled(interpreters: "list[MachineInterpreter]", sampled: bool) -> Any:
     itself."""
     # lazy: NumPy, as the rest of this module imports the machines' semantics
     from cyphy.semantics.machines.cycle import MachineError
-    from cyphy.semantics.machines.parallel import compile_module
 
     try:
         return compile_module(interpreters, first_cycle=not sampled)
@@ -124,8 +123,6 @@ def _same_cycle(interpreter: "MachineInterpreter", scenario: Scenario, report: R
     """The controller runs every ``cycle × tscale`` seconds with the machine's own cycle
     (``cycleDef cycle == k``): a scenario without ``cycle`` takes it; one that gives another
     is reported, as is a cycle that is not a whole number of time units."""
-    import tomllib
-
     period = interpreter.period
     name = interpreter.machine.name
     if period != int(period):

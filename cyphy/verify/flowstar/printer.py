@@ -16,6 +16,7 @@ import re
 from typing import Any
 
 from cyphy import expr as ex
+from cyphy.translate.to_sympy import NotAnExpression, to_expr
 
 #: Words Flow* 2.1.0 reserves: none of them may name a variable (spec §4.1).
 RESERVED = frozenset(
@@ -139,7 +140,6 @@ class FlowstarPrinter:
 def flowstar_text(e: Any, polynomial: bool = True) -> str:
     """A SymPy expression (the reducer's output) in Flow* syntax: brought into the shared
     AST with rationals as decimals (``poly ode`` has no division), then printed."""
-    from cyphy.translate.to_sympy import NotAnExpression, to_expr
 
     try:
         tree = to_expr(e, decimals=True)

@@ -23,8 +23,12 @@ import re
 from dataclasses import dataclass
 from typing import Any, Callable
 
+import numpy as np
+import sympy
+
 from cyphy import expr as ex
 from cyphy.verify.flowstar.syntax import Constraint, FlowModel, parse_model
+from cyphy.translate.to_sympy import to_sympy
 
 RTOL, ATOL = 1e-10, 1e-12
 MARGIN = 1e-7  # relative margin a decision needs to count as clear
@@ -69,8 +73,6 @@ class Automaton:
     """A parsed hybrid model compiled to NumPy functions."""
 
     def __init__(self, text: str) -> None:
-        import sympy
-
         model: FlowModel = parse_model(text)
         if model.kind != "hybrid":
             raise ValueError("only hybrid models are simulated")
@@ -96,10 +98,6 @@ class Automaton:
         self.step = float(steps)  # Flow*'s step: the trajectory is sampled at an eighth
 
     def _sympy(self, e: ex.Expr) -> Any:
-        import sympy
-
-        from cyphy.translate.to_sympy import to_sympy
-
         names = {n.text: sympy.Symbol(n.text, real=True) for n in e.walk()
                  if isinstance(n, ex.Name)}
         value = to_sympy(e, symbols=names)
@@ -107,8 +105,6 @@ class Automaton:
                                for k, v in self.params.items()})
 
     def _function(self, e: ex.Expr) -> Callable[..., Any]:
-        import sympy
-
         return sympy.lambdify(self._syms, self._sympy(e), "numpy")
 
     def _bound(self, b: str) -> float:
@@ -122,8 +118,6 @@ class Automaton:
     def _status(value: Any, rel: str, bounds: tuple[float, ...]) -> Any:
         """+1 where the constraint clearly holds, -1 where it clearly fails, 0 in between
         (element-wise for arrays)."""
-        import numpy as np
-
         v = np.asarray(value, dtype=float)
         scale = MARGIN * (1.0 + np.abs(v) + max(abs(b) for b in bounds))
         if rel == "=":  # only reachable exactly, as the timer reaches the sampling instant
@@ -136,8 +130,6 @@ class Automaton:
         return np.where(d > scale, 1, np.where(d < -scale, -1, 0))
 
     def _conjunction(self, cons: list, x: Any) -> Any:
-        import numpy as np
-
         status = np.ones(np.shape(x)[1:] or (), dtype=int)
         for f, rel, bounds in cons:
             value = np.broadcast_to(np.asarray(f(*x), dtype=float), status.shape)
@@ -171,8 +163,6 @@ class Automaton:
     def sample(self, start: dict[str, float], times: Any) -> dict[str, Any]:
         """The values of every variable at ``times`` (NaN after the path ends); at a jump
         whose guard is on its boundary the first such jump in file order is taken."""
-        import numpy as np
-
         out = {v: np.full(len(times), np.nan) for v in self.variables}
         for _, sol, begin, end, _ in self._segments(start, strict=False):
             inside = (times >= begin) & (times <= end)
@@ -186,7 +176,7 @@ class Automaton:
     def _segments(self, start: dict[str, float], strict: bool) -> Any:
         """The flows of the trajectory from ``start``, one per mode visit: (mode, solution,
         start time, end time, jumps so far)."""
-        import numpy as np
+        # lazy: SciPy's integrators (0.5-1 s to import): only a witness is integrated
         from scipy.integrate import solve_ivp
 
         mode = self.model.initial_mode
@@ -220,8 +210,6 @@ class Automaton:
 
     def _entry(self, mode: str, sol: Any, start: float, end: float, step: float
                ) -> Point | None:
-        import numpy as np
-
         cons = self.unsafe.get(mode)
         if not cons:  # cyphy lists every mode; an empty list would be everything
             return None
@@ -300,8 +288,6 @@ class Automaton:
         return rho, guided
 
     def _robustness(self, mode: str, sol: Any, start: float, end: float) -> float:
-        import numpy as np
-
         cons = self.unsafe.get(mode)
         if not cons:
             return math.inf
@@ -408,7 +394,7 @@ class _Search:
 
     def optimise(self) -> None:
         """Nelder-Mead on the guided score from the best point, within the budget left."""
-        import numpy as np
+        # lazy: SciPy's optimisers: only a search its first samples did not end uses them
         from scipy.optimize import minimize
 
         left = self.budget - len(self.seen)

@@ -19,6 +19,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from cyphy.verify.flowstar import processes
+from cyphy.verify.flowstar.syntax import parse_model
 
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
 _VERDICT = re.compile(r"Result of (?:the )?safety verification(?: on the computed flowpipes)?"
@@ -98,7 +99,6 @@ def model_problems(text: str, required_jumps: int | None = None) -> list[str]:
     """What would make Flow*'s SAFE on this model meaningless: a mode not listed under
     ``unsafe`` (it counts as entirely unsafe, or the check is vacuous), or ``max jumps``
     below what the horizon needs (the paths stop early, silently)."""
-    from cyphy.verify.flowstar.syntax import parse_model
 
     model = parse_model(text)
     problems = []
