@@ -60,9 +60,11 @@ class _Constants:
         for name, kind in model.wholes.items():  # an int or nat one: a whole number
             if name in self.values:
                 value = self.values[name]
-                if value != int(value) or (kind == "nat" and value < 0):
-                    raise AnimateError("E-ANIMATE-OPTION", f"--const {name}={value:g}: the "
-                                       f"constant is declared {kind}", hint="give a whole "
+                if not float(value).is_integer() or (kind == "nat" and value < 0):
+                    where = f"--const {name}={value:g}" if name in given else \
+                        f"the scenario's [consts] {name} = {value:g}"
+                    raise AnimateError("E-ANIMATE-OPTION", f"{where}: the constant is "
+                                       f"declared {kind}", hint="give a whole "
                                        "number" + (" of at least 0" if kind == "nat" else ""),
                                        status=2)
                 self.values[name] = int(value)
