@@ -150,3 +150,23 @@ def test_output_is_byte_identical_across_runs(capsys) -> None:
     first = capsys.readouterr().out
     assert main(args) == 0
     assert capsys.readouterr().out == first
+
+
+def test_a_machine_that_does_not_run_is_named(tmp_path: Path, capsys) -> None:
+    """Without ``--scenario`` the d-model's machine cannot run (its cycle needs the scenario's
+    tscale and initial values): the run is the p-model alone, its inputs 0 unless given, and
+    stderr names the machine left out rather than leave a flat trajectory unexplained. With
+    the scenario it runs and no such line appears; a p-model without a d-model has none."""
+    out = tmp_path / "a.csv"
+    assert main(["simulate", str(EXAMPLES / "dcmotor"), "--t-end", "0.5", "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "the d-model's machine SSpeed is not run" in err and "--scenario" in err, err
+    assert max(abs(v) for v in _csv(out.read_text())["Motor_av"]) == 0.0  # nothing drives it
+    assert main(["simulate", str(EXAMPLES / "dcmotor"), "--scenario",
+                 str(EXAMPLES / "dcmotor" / "sampled_stop.toml"), "-o", str(out)]) == 0
+    assert "not run" not in capsys.readouterr().err
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    (alone / "DCMotorBase.rsm").write_text((EXAMPLES / "dcmotor" / "DCMotorBase.rsm").read_text())
+    assert main(["simulate", str(alone), "--t-end", "0.5", "-o", str(out)]) == 0
+    assert "not run" not in capsys.readouterr().err

@@ -11,6 +11,7 @@ from typing import Any, Sequence
 from cyphy import codes
 from cyphy.deep import deep
 from cyphy.diagnostics import Report, Span
+from cyphy.model.machines import select_machines
 from cyphy.pipeline.check import CheckResult
 from cyphy.pipeline.elaborate import ElaborateOptions, ElaborateResult, elaborate
 from cyphy.verify.flowstar.controller import CallEffects, ScenarioController
@@ -37,6 +38,8 @@ class SimulateResult:
     elaboration: ElaborateResult
     trajectory: Any = None  # cyphy.backends.simulate.Trajectory
     numeric: bool = False  # whether the numeric (tree-only) path ran
+    #: the d-model's machines that control the p-model but did not run (no scenario)
+    idle_machines: tuple[str, ...] = ()
 
     @property
     def report(self) -> Report:
@@ -75,6 +78,8 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
         return result
     report = elaborated.report
     settings = options.simulation or sim.SimulationOptions()
+    if not options.numeric:  # (the tree alone says so itself)
+        result.idle_machines = _idle_machines(elaborated.check, model.name)
     try:
         numeric = options.numeric
         gravity = options.gravity or dynamics.STANDARD_GRAVITY
@@ -123,6 +128,15 @@ def simulate(paths: Sequence[str | Path], options: SimulateOptions = SimulateOpt
         else:
             report.report(sim.SIMULATE, err.message, span, hint)
     return result
+
+
+def _idle_machines(check: CheckResult, pmodel: str) -> tuple[str, ...]:
+    """The d-model's machines that control ``pmodel`` (as a scenario would choose them):
+    without a scenario they do not run, since a cycle needs the scenario's ``tscale`` and
+    initial values; the command says so rather than leave the run's flat inputs unexplained."""
+    machines, _ = select_machines(list(check.workspace.user_files()), check.resolution, pmodel,
+                                  None)
+    return tuple(m.name for m in machines)
 
 
 def _simulate_scenario(paths: Sequence[str | Path], options: SimulateOptions

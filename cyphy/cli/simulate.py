@@ -122,6 +122,12 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(render_text(diagnostics, dict(result.elaboration.check.sources)))
     if result.trajectory is None or result.report.has_errors:
         return 1
+    if result.idle_machines:
+        idle = result.idle_machines
+        which = f"machine {idle[0]} is" if len(idle) == 1 else f"machines {', '.join(idle)} are"
+        sys.stderr.write(f"cyphy simulate: the d-model's {which} not run: a machine runs "
+                         "under --scenario (its tscale and initial values); this is the "
+                         "p-model alone, its inputs as --input gives them, else 0\n")
     if result.numeric:
         sys.stderr.write("cyphy simulate: the kinematic tree alone (articulated-body "
                          "algorithm): the other devices' equations are not simulated\n")
