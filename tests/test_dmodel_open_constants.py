@@ -274,3 +274,33 @@ def test_a_whole_open_constant_stays_whole_in_the_theory(
     err = capsys.readouterr().err
     assert "E-ANIMATE-OPTION" in err and f"declared {kind}" in err, err
     assert not out.exists()
+
+
+def test_a_packages_open_constant_is_named_by_its_package(tmp_path: Path) -> None:
+    """``const fast: real`` declared by the package, not the machine: ``names.tsv`` gives its
+    full RoboSim name (``pulseSoftware::fast``, it gave the bare ``fast``), and ``animate``
+    takes the value by that name or the bare one, running as ``simulate`` runs the model
+    with the value written in."""
+    scenario = tmp_path / "pulse.toml"
+    scenario.write_text(SCENARIO)
+
+    def package_level(folder: Path, value: str) -> Path:
+        _model(folder, "", "const slow: real = 4.0")
+        machine = folder / "PulseSoftware.rsm"
+        machine.write_text(machine.read_text().replace(
+            "interface SpeedI {", f"const fast: real{value}\n\ninterface SpeedI {{", 1))
+        return folder
+
+    family = package_level(tmp_path / "family", "")
+    theory, names, codes = _session(family, "utp", scenario, tmp_path / "thy")
+    assert "W-SEMANTICS-DMODEL" not in codes and "STM15" in codes, codes
+    assert "consts PulseSoftware_fast :: real" in theory
+    assert "pulseSoftware::fast\tPulseSoftware_fast\t" in names, names
+    sim = _run(["simulate", str(package_level(tmp_path / "member", " = 7.0")), "--scenario",
+                str(scenario)])
+    for name in ("pulseSoftware::fast", "fast"):
+        anim = _run(["animate", str(tmp_path / "thy"), "--scenario", str(scenario),
+                     "--const", f"{name}=7"])
+        speed = np.array(anim["rows"])[:, anim["columns"].index("Motor_av")]
+        assert np.max(np.abs(speed - sim["columns"]["Motor_av"])) < 1e-5, name
+    assert max(sim["columns"]["Motor_av"]) > 1.0

@@ -235,7 +235,8 @@ class _Cycle:
                     scope = terms.scope.name
                     out[terms.open_name(n)] = c.Constant(
                         terms.open_name(n), open_type(d.type), None,
-                        f"{scope}::{n}" if n in terms.scope.constants else n)
+                        f"{scope}::{n}" if n in terms.scope.constants else
+                        self.interpreter.open_origins.get(n, n))
         return list(out.values())
 
     def initial(self) -> tuple[ex.Expr, list[ex.Expr]]:

@@ -148,6 +148,7 @@ class MachineInterpreter:
         #: raises where it needs one, as do those computed from them
         self.open: dict[str, ast.VarDecl] = dict(open_constants or {})
         self.unknown: set[str] = set(self.open)  # and those computed from them
+        self.open_origins: dict[str, str] = {}  # a package's open constant → pkg::name (caller)
         self.observable: frozenset[str] = frozenset()
         """Output events the platform mapping does not map (set by the caller): they reach
         no input of the p-model, so a simulation records them and the Flow* automaton

@@ -42,7 +42,19 @@ def interpreter_for(machine: Machine, files: list[ast.SourceFile], resolution: A
             left.update(open_constants(m, scopes, set(consts or {})))
     interpreter = MachineInterpreter(machine, {**known, **(consts or {})},
                                      operations=operations, open_constants=left)
+    interpreter.open_origins = _packages_own(left, scopes)
     if pmodel is not None:
         interpreter.observable = observable_events(
             [machine, *operations.values()], files, pmodel)
     return interpreter
+
+
+def _packages_own(constants: Mapping[str, ast.VarDecl], scopes: Any) -> dict[str, str]:
+    """The qualified name (``pkg::fast``) of each of ``constants`` that a package declares,
+    by the name the machine reads it with: the names table gives RoboSim's full name."""
+    out: dict[str, str] = {}
+    for name, decl in constants.items():
+        for qname, package in scopes.ws.packages.items():
+            if any(d is decl for d in package.members.get(decl.name, ())):
+                out[name] = "::".join((*qname, decl.name))
+    return out
