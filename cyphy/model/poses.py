@@ -143,7 +143,8 @@ class Pose:
 
         ``Rᵀp`` is summed as BLAS's ``dgemv`` sums a transposed product (from +0.0, left to
         right, no fused multiply-add), which NumPy computed here before: the same bits, so
-        that every pose printed stays as it was."""
+        that every pose printed stays as it was, now on every processor (OpenBLAS's kernel
+        for one with fused multiply-adds can differ in the last place)."""
         (r0, r1, r2), (p0, p1, p2) = self.rotation, self.position
         position = (-(0.0 + r0[0] * p0 + r1[0] * p1 + r2[0] * p2),
                     -(0.0 + r0[1] * p0 + r1[1] * p1 + r2[1] * p2),
