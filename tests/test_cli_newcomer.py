@@ -119,7 +119,7 @@ def test_progress_on_runs_over_a_second(tmp_path: Path) -> None:
     model.write_text("package b\nimport physmod::math::*\npmodel B {\n" + "".join(
         f"\tlocal link L{i} {{ def {{ inertial information {{ mass 1 }} }} "
         f"pose {{ x = {i} y = 0 z = 0 roll = 0 pitch = 0 yaw = 0 }} }}\n"
-        for i in range(3000)) + "}\n")
+        for i in range(12000)) + "}\n")  # over a second even on a fast processor
     env = {**ENV, "CYPHY_PROGRESS": "1", "CYPHY_NO_CACHE": "1"}
     done = cyphy_run("check", str(model), env=env)
     assert done.returncode == 0, done.stderr[-2000:]
