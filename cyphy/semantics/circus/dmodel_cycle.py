@@ -418,10 +418,7 @@ class _Cycle:
             if read & (set(scope.variables) - names):
                 raise self._refuse(f"the initial value of {x} of operation {op} reads another "
                                    "of its variables", d.span)
-            sets.append(c.Assign(tuple(callee.fields(x)), tuple(
-                callee.components(d.value, callee.sizes[x])
-                if x in callee.sizes and d.value is not None else [callee.value(d.value, d) if d.value is not None else default(d)]
-                * len(callee.fields(x)))))
+            sets.append(c.Assign(tuple(callee.fields(x)), tuple(callee.declared_value(x))))
         sets += [c.Assign((callee.field(k),), (ex.Num("0"),)) for k in scope.clocks]
         for a in sets:
             facts = facts.after(a.targets, a.values)

@@ -114,12 +114,22 @@ class Terms:
     def initial(self, x: str, value: object) -> list[ex.Expr]:
         """A machine variable's value in ``Init``, a vector's entry by entry: the
         interpreter's ``value``, or its expression where it reads an open constant (None)."""
-        decl = self.variables[x]
+        if value is None:
+            return self.declared_value(x)
         if x in self.sizes:
-            return [constant(float(v), c.REAL) for v in value.ravel()] if value is not None \
-                else self.components(decl.value, self.sizes[x])  # type: ignore
-        return [constant(value, held_type(decl.type)) if value is not None
-                else self.value(decl.value, decl)]  # type: ignore[arg-type]
+            return [constant(float(v), c.REAL) for v in value.ravel()]  # type: ignore
+        return [constant(value, held_type(self.variables[x].type))]
+
+    def declared_value(self, x: str) -> list[ex.Expr]:
+        """The variable's declared initial value over D's state, a vector's entry by entry,
+        or the interpreter's default where it declares none (an operation's variables are
+        set so at each call)."""
+        decl = self.variables[x]
+        if decl.value is None:
+            return [default(decl)] * len(self.fields(x))
+        if x in self.sizes:
+            return self.components(decl.value, self.sizes[x])
+        return [self.value(decl.value, decl)]
 
     def refers(self, name: str) -> bool:
         """Whether the scope declares ``name`` or names it (then an open constant of that
@@ -382,9 +392,9 @@ class Terms:
             if isinstance(value, (int, float)) and not isinstance(value, bool):
                 return literal(float(value), type_)
         if type_ in (c.INT, c.NAT):
-            raise self.refuse(f"an argument of {'int' if type_ == c.INT else 'nat'} type is "
-                              "computed from the machine's state, which D holds as reals: "
-                              "the conversion is not written", a.span, "")
+            raise self.refuse(f"an argument of {'int' if type_ == c.INT else 'nat'} type "
+                              "reads the machine's state or an open constant, with which D "
+                              "computes as reals: the conversion is not written", a.span, "")
         return translated
 
 

@@ -50,17 +50,16 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from cyphy.model.elements import ElaboratedModel
-from cyphy.semantics.dynamics.joint_forces import AxisForces, axis_forces, passive_efforts
-from cyphy.semantics.dynamics.polynomial import Polynomial, _cos, _dot, _sin, _single
 from cyphy.semantics.dynamics.errors import DynamicsError
+from cyphy.semantics.dynamics.joint_forces import AxisForces, axis_forces, passive_efforts
 from cyphy.semantics.dynamics.motion import port_size
-from cyphy.semantics.dynamics.rigid_body import forward_dynamics
+from cyphy.semantics.dynamics.polynomial import Polynomial, _cos, _dot, _sin, _single
+from cyphy.semantics.dynamics.rigid_body import forward_dynamics, mass_matrix
 from cyphy.semantics.dynamics.spatial import (motion_subspace, motion_subspace_rate,
                                               parent_to_child, subspace_factors)
 from cyphy.semantics.dynamics.tree import (EULER, STANDARD_GRAVITY, KinematicTree, TreeJoint,
                                            coordinate_names, joint_kind, kinematic_tree)
 from cyphy.semantics.scalarise.shapes import component_name
-from cyphy.semantics.dynamics.rigid_body import mass_matrix
 
 
 @dataclass(frozen=True)
@@ -328,7 +327,6 @@ def _annotated(joint: TreeJoint, tau: list[Any], variables: Callable[[TreeJoint,
 def _rest_inertia(tree: KinematicTree) -> np.ndarray:
     """The diagonal of the mass matrix at ``q = 0`` (a stop's stiffness scales with it);
     zeros when no joint is bounded (nothing to compute)."""
-
     if not any(f.limited for j in tree.joints for f in axis_forces(j.kind, j.element)):
         return np.zeros(tree.dof)
     return np.diag(mass_matrix(tree, [0.0] * tree.dof)).astype(float)

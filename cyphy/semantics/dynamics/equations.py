@@ -17,15 +17,15 @@ from cyphy import expr as ex
 from cyphy.diagnostics import Span
 from cyphy.lang import ast
 from cyphy.lang.notation import to_notation
+from cyphy.lang.scopes import Scopes, is_interface
 from cyphy.model.elements import Device, ElaboratedModel
 from cyphy.model.evaluate import Value
 from cyphy.records import record
 from cyphy.semantics.dynamics.errors import AssemblyError, DynamicsError
-from cyphy.semantics.dynamics.tree import STANDARD_GRAVITY, coordinate_names
-from cyphy.semantics.scalarise.shapes import component_name, components, type_shape
 from cyphy.semantics.dynamics.joint_forces import stop_expr
 from cyphy.semantics.dynamics.motion import motion_equations
-from cyphy.lang.scopes import Scopes, is_interface
+from cyphy.semantics.dynamics.tree import STANDARD_GRAVITY, coordinate_names
+from cyphy.semantics.scalarise.shapes import component_name, components, type_shape
 
 
 ASSEMBLY = codes.code("E-SOLVE", codes.E, "the equations to solve cannot be assembled")
@@ -157,7 +157,6 @@ def _add_motion(system: System, model: ElaboratedModel,
     it, a link coupled to joints left out does not. A tree without equations of motion (too
     large to write out, a link without mass elsewhere) is then reported only for the whole
     model: chosen elements keep the equations they had before."""
-
     if known is not None and not any(j.device is not None and
                                      any(p.mangled in known for p in j.device.ports)
                                      for j in model.joints):
@@ -277,7 +276,6 @@ def _add_stops(system: System, stops: tuple[Any, ...]) -> None:
     """Each bounded coordinate's limit effort ``<q>_stop`` (a local variable the definitions
     use) and its equation, the contact model of
     :func:`cyphy.semantics.dynamics.joint_forces.stop_expr`."""
-
     for stop in stops:
         span = stop.joint.element.span
         system.variables[stop.name] = ast.PrimitiveType("real")
@@ -338,7 +336,6 @@ def motion(model: ElaboratedModel,
     ``0 == M(q)*a + h(q, v)`` for its six coordinates). The one source of these equations for
     ``cyphy solve`` (through :func:`assemble`) and the CyPhyCircus ``Evolve``; raises
     ``DynamicsError`` when the tree has none."""
-
     return [Equation(equation, f"{joint.prefix} motion", equation.span)
             for equation, joint in motion_equations(model, gravity or STANDARD_GRAVITY,
                                                     floating_base)]
@@ -531,7 +528,6 @@ def mapping_operation(ws: Any, resolution: Any, model: ElaboratedModel, text: st
     """The mapping of the model's p-model, the parsed call and the operation's parameter
     names (from the d-model's operation signature); a "call" ``e(v)`` of an output event
     the mapping maps (``output event e ? p { … }``) has the mapping's parameter ``p``."""
-
     call = parse_call(text)
     mappings = [(f, i) for f in ws.user_files() for i in f.items
                 if isinstance(i, ast.PlatformMapping) and i.pmodel[-1] == model.name]

@@ -11,10 +11,9 @@ from typing import Any
 from cyphy.diagnostics import Report, Span
 from cyphy.lang.notation import to_notation
 from cyphy.lang.workspace import LIBRARY_ROOT
-from cyphy.semantics.dynamics.equations import (OBSTACLE, OVERDETERMINED, UNDERDETERMINED,
-                                                Equation)
-from cyphy.semantics.dynamics.structure import Competition
+from cyphy.semantics.dynamics.equations import OBSTACLE, OVERDETERMINED, UNDERDETERMINED, Equation
 from cyphy.semantics.dynamics.errors import TREE
+from cyphy.semantics.dynamics.structure import Competition
 
 
 @dataclass(frozen=True)
@@ -81,7 +80,6 @@ _OBSTACLE_HINTS = {
 def obstacle_code(o: Obstacle) -> Any:
     """``E-OVERDETERMINED``, ``E-UNDERDETERMINED``, ``E-DYNAMICS`` (too large) or
     ``E-REDUCE``."""
-
     return {"overdetermined": OVERDETERMINED, "underdetermined": UNDERDETERMINED,
             "too-large": TREE}.get(o.kind, OBSTACLE)
 

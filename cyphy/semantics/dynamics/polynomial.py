@@ -175,7 +175,6 @@ class Polynomial:
     def to_expr(self) -> Any:
         """As the shared expression AST (``cyphy.expr``): a sum of products, coefficients as
         decimal numbers (``repr`` of the float), ``cos``/``sin`` calls, ``1/D`` a division."""
-
         def atom(name: str) -> ex.Expr:
             kind, _, arg = name.partition(":")
             if not arg:

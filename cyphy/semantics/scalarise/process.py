@@ -12,9 +12,9 @@ from cyphy import expr as ex
 from cyphy.records import record
 from cyphy.semantics.circus import ast as c
 from cyphy.semantics.circus.values import within
-from cyphy.semantics.scalarise.scalariser import Scalariser
-from cyphy.semantics.scalarise.shapes import Shape, ScalariseError, components, shape_of_type
 from cyphy.semantics.circus.walk import action_nodes, map_action
+from cyphy.semantics.scalarise.scalariser import Scalariser
+from cyphy.semantics.scalarise.shapes import ScalariseError, Shape, components, shape_of_type
 
 
 @record(frozen=True, slots=False)

@@ -57,7 +57,9 @@ class _Constants:
                 raise AnimateError("E-ANIMATE-OPTION", f"--const {name}: a Boolean constant "
                                    "takes true or false (1 or 0)", status=2)
             self.values[name] = bool(self.values[name])
-        for name, kind in model.wholes.items():  # an int or nat one: a whole number
+        # an int or nat one: a whole number (judged here, not by the interpreter's
+        # scalars.misfit: the animator shares no code with what it is checked against)
+        for name, kind in model.wholes.items():
             if name in self.values:
                 value = self.values[name]
                 if not float(value).is_integer() or (kind == "nat" and value < 0):

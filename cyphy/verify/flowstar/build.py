@@ -15,34 +15,24 @@ import sympy
 
 from cyphy import expr as ex
 from cyphy.diagnostics import Report, Span, did_you_mean
+from cyphy.lang import ast
 from cyphy.pipeline.elaborate import ElaborateOptions, elaborate
+from cyphy.semantics.dynamics.equations import (AssemblyError, Equation, assemble,
+                                                input_event_predicate, mapping_operation)
+from cyphy.semantics.dynamics.obstacles import report_obstacles
+from cyphy.semantics.dynamics.reduce import reduce_system
+from cyphy.translate.to_sympy import UnsupportedNode, to_sympy
 from cyphy.verify.flowstar.constraints import dnf
+from cyphy.verify.flowstar.first_cycle import settle, unreadable
 from cyphy.verify.flowstar.limits import MAX_JUMPS
+from cyphy.verify.flowstar.machine import machine_controller
 from cyphy.verify.flowstar.mapping_vectors import per_component
 from cyphy.verify.flowstar.printer import FUNCTIONS, NotExpressible, valid_name
 from cyphy.verify.flowstar.problem import CLOCK, TIMER, Problem, symbol
 from cyphy.verify.flowstar.scenario import EXPORT, Scenario
 from cyphy.verify.flowstar.time_functions import replace_time_functions
-from cyphy.verify.flowstar.machine import machine_controller
-from cyphy.semantics.dynamics.obstacles import report_obstacles
-from cyphy.semantics.dynamics.reduce import reduce_system
-from cyphy.semantics.dynamics.equations import (
-    AssemblyError,
-    assemble,
-    Equation,
-    mapping_operation,
-    input_event_predicate,
-)
-from cyphy.lang import ast
-from cyphy.translate.to_sympy import to_sympy, UnsupportedNode
-from cyphy.verify.flowstar.typed_events import (
-    machine_events,
-    not_one_number,
-    typed_event,
-    ValueRefused,
-    solve_value,
-)
-from cyphy.verify.flowstar.first_cycle import settle, unreadable
+from cyphy.verify.flowstar.typed_events import (ValueRefused, machine_events, not_one_number,
+                                                solve_value, typed_event)
 
 if TYPE_CHECKING:
     from cyphy.verify.flowstar.typed_events import TypedEvent
@@ -104,7 +94,6 @@ class _Builder:
         return _Stop()
 
     def build(self) -> Problem:
-
         s = self.s
         self._check_elements()
         try:
@@ -249,7 +238,6 @@ class _Builder:
 
     # ----- the environment: sensor inputs as states or constants
     def _environment(self, system: Any) -> None:
-
         for env in self.s.environment.values():
             name = self.mangled(env.name, env.span)
             if name not in system.inputs:
@@ -272,7 +260,6 @@ class _Builder:
     def _constant(value: float, type_: Any) -> ex.Expr:
         """``{ value = v }`` for an input of that type: a number, or a vector of fixed size
         with every entry v (a joint's parent twist on a base fixed to the world: 0)."""
-
         number = ex.Num(repr(value))
         if isinstance(type_, ast.VectorType) and isinstance(type_.size, ex.Num):
             return ex.Vector(((number,) * int(float(type_.size.text)),))
@@ -295,7 +282,6 @@ class _Builder:
 
     # ----- calls: Rule 5's OpCall, the mapping's equations solved for the actuator inputs
     def _effects(self) -> tuple[dict[str, dict[str, Any]], list[str]]:
-
         check = self.elaborated.check
         cache: dict[str, dict[str, Any]] = {}
         effects: dict[str, dict[str, Any]] = {}
@@ -359,7 +345,6 @@ class _Builder:
         evaluates it for whatever arguments a cycle computes. An operation whose equations do
         not fix its inputs uniquely, or set inputs the export's frame lacks (``None``: no
         frame, the machine is not compiled), is left out (a call of it is then reported)."""
-
         check = self.elaborated.check
         out: dict[str, tuple[tuple[Any, ...], dict[str, Any]]] = {}
         it = self.machine
@@ -413,7 +398,6 @@ class _Builder:
 
     # ----- events and the unsafe set
     def _mapping(self) -> Any:
-
         check = self.elaborated.check
         for f in check.workspace.user_files():
             for item in f.items:
@@ -426,7 +410,6 @@ class _Builder:
         """Each input event a transition names (a machine run uncompiled: each it reads),
         as its mapping predicate (mangled names); a typed event of an uncompiled machine
         also gets its value's equations (``self.typed``)."""
-
         wanted = machine_events(self.machine) if self.uncompiled else \
             [(name, t.span, None) for t in [*self.s.first, *self.s.transitions]
              for name, _ in t.literals]
@@ -460,7 +443,6 @@ class _Builder:
         """For each model variable the predicates mention, a probe state ``p' = v``: the
         reducer then gives ``v`` as a function of the states (it solves only what some
         derivative needs), and the probe is dropped afterwards."""
-
         names = sorted({n.text for e in exprs for n in e.walk() if isinstance(n, ex.Name)
                         and n.text in system.variables})
         probes = {}
@@ -492,7 +474,6 @@ class _Builder:
         (:func:`cyphy.verify.flowstar.first_cycle.settle`); refused when an event the first
         cycle reads has a predicate over an actuator input, which has no value before the
         first cycle's calls."""
-
         if not self.s.first:
             return p
         found = unreadable(p)
@@ -557,7 +538,6 @@ class _Scope:
     def value(self, b: _Builder, t: "TypedEvent") -> tuple[Any, dict[Any, Any]]:
         """The typed event's value over the states and inputs, and the substitution of its
         parameter and solved locals for the predicate (:func:`typed_events.solve_value`)."""
-
         consts = {n: v for n, v in b.s.consts.items() if isinstance(v, (int, float))
                   and not isinstance(v, bool) and "::" not in n}
         try:

@@ -49,13 +49,12 @@ import sympy
 
 from cyphy.verify.flowstar.constraints import dnf
 from cyphy.verify.flowstar.export import render
-from cyphy.verify.flowstar.problem import CLOCK, TIMER, Problem, symbol
+from cyphy.verify.flowstar.first_cycle import description, settle
+from cyphy.verify.flowstar.invariant import invariant_model
 from cyphy.verify.flowstar.limits import MAX_ORDER
+from cyphy.verify.flowstar.problem import CLOCK, TIMER, Problem, initial_interval, symbol
 from cyphy.verify.flowstar.simulate import BUDGET, Witness, find_witness, unsafe_paths
 from cyphy.verify.flowstar.verdict import Outcome, run_text
-from cyphy.verify.flowstar.problem import initial_interval
-from cyphy.verify.flowstar.first_cycle import settle, description
-from cyphy.verify.flowstar.invariant import invariant_model
 
 AUTO_SPLIT = 4  # boxes per part when a run without splitting ends UNKNOWN
 #: The refinement ladder: the changes to Flow*'s settings tried, one more a round, on a run
@@ -174,7 +173,6 @@ def _restrict(p: Problem, need: set[str], unsafe: Any) -> Problem:
 
 
 def _box(p: Problem, name: str) -> tuple[float, float]:
-
     lo, hi = initial_interval(p, name)
     return float(lo), float(hi)
 
@@ -184,7 +182,6 @@ def split(p: Problem, count: int) -> list[tuple[str, Problem]]:
     when no state is uncertain), labelled with that state's interval. A first cycle that
     reads the events is decided again on each box (one inside an event's region starts
     exactly: :func:`cyphy.verify.flowstar.first_cycle.settle`)."""
-
     widths = {x: hi - lo for x, (lo, hi) in ((x, _box(p, x)) for x in p.states)}
     wide = max(widths, key=lambda x: (widths[x], x), default=None)
     if count <= 1 or wide is None or widths[wide] <= 0:
@@ -230,7 +227,6 @@ def check(p: Problem, name: str, binary: str, timeout: float | None = None,
     """The verdict on ``p`` (:func:`_check`), its reason ending with what the first cycle
     of a machine that reads the events in it did (exact or over-approximated:
     :func:`cyphy.verify.flowstar.first_cycle.description`)."""
-
     result = _check(p, name, binary, timeout, boxes, auto_split, jobs)
     note = description(p)
     if note:
@@ -329,7 +325,6 @@ def _for_all_time(disjuncts: list[Problem], name: str, binary: str, timeout: flo
     initial box is an inductive invariant that one cycle keeps clear of the unsafe set
     (:mod:`cyphy.verify.flowstar.invariant`, one Flow* run per part), else up to the
     horizon. The runs are recorded in ``runs`` and ``notes``."""
-
     horizon = f"up to the horizon of {disjuncts[0].scenario.horizon:g} s"
     candidates = [(j, part, invariant_model(part, name)) for j, d in enumerate(disjuncts)
                   for part in parts(d)]

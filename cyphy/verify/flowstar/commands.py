@@ -6,12 +6,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Sequence
 
-from cyphy.pipeline.generated import Generated
 from cyphy.diagnostics import Report, Span
-from cyphy.verify.flowstar.scenario import EXPORT, SCENARIO, load_scenario
+from cyphy.pipeline.generated import Generated
 from cyphy.verify.flowstar.build import build_problem
 from cyphy.verify.flowstar.export import output_name, render
 from cyphy.verify.flowstar.printer import NotExpressible
+from cyphy.verify.flowstar.scenario import EXPORT, SCENARIO, load_scenario
 
 if TYPE_CHECKING:
     from cyphy.verify.flowstar.problem import Problem
@@ -26,7 +26,6 @@ def generate(paths: Sequence[str | Path], scenario_path: str | None, model: str 
     :func:`cyphy.verify.flowstar.check.check` decomposes, splits and runs. ``machine`` names the
     d-model's state machine that is the controller when the scenario has no ``[controller]``;
     ``default_inertial`` (``"sdf"``) wins over the scenario's ``default_inertial``."""
-
     report = Report()
     if scenario_path is None:
         report.report(SCENARIO, "the Flow* export needs a scenario", Span.unknown("<command>"),

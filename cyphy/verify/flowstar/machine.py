@@ -17,12 +17,12 @@ import tomllib
 from typing import TYPE_CHECKING, Any
 
 from cyphy.diagnostics import Report, Span
-from cyphy.verify.flowstar.scenario import EXPORT, Scenario, Transition
 from cyphy.lang.scopes import Scopes
 from cyphy.model.machines import select_machines
 from cyphy.semantics.machines.cycle import MachineError
 from cyphy.semantics.machines.interpreters import interpreter_for, machine_constants
 from cyphy.semantics.machines.parallel import ModuleInterpreter, compile_module
+from cyphy.verify.flowstar.scenario import EXPORT, Scenario, Transition
 
 if TYPE_CHECKING:
     from cyphy.semantics.machines.cycle import MachineInterpreter
@@ -43,7 +43,6 @@ def machine_controller(check: Any, pmodel: str, scenario: Scenario, report: Repo
     ``gen --flowstar``) the machine is refused. So is, for ``sampled``, a machine the
     automaton cannot hold (a first cycle that reads the inputs, too many configurations):
     the interpreter runs it."""
-
     files = list(check.workspace.user_files())
     span = scenario.span("machine") if scenario.machine else Span(scenario.path, 1, 1, 1, 2)
     machines, problem = select_machines(files, check.resolution, pmodel, scenario.machine)

@@ -140,7 +140,6 @@ class FlowstarPrinter:
 def flowstar_text(e: Any, polynomial: bool = True) -> str:
     """A SymPy expression (the reducer's output) in Flow* syntax: brought into the shared
     AST with rationals as decimals (``poly ode`` has no division), then printed."""
-
     try:
         tree = to_expr(e, decimals=True)
     except NotAnExpression:

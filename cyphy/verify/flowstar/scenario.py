@@ -20,8 +20,8 @@ from typing import Any
 
 from cyphy import codes
 from cyphy.diagnostics import Report, Span, did_you_mean
-from cyphy.verify.flowstar.limits import MAX_BOUND, MAX_JUMPS, MAX_ORDER, MAX_PRECISION
 from cyphy.model.default_inertial import CHOICES
+from cyphy.verify.flowstar.limits import MAX_BOUND, MAX_JUMPS, MAX_ORDER, MAX_PRECISION
 
 SCENARIO = codes.code("E-SCENARIO", codes.E, "the scenario file cannot be used")
 EXPORT = codes.code("E-FLOWSTAR", codes.E,
@@ -224,7 +224,6 @@ def load_scenario(path: str | Path, report: Report, needs_unsafe: bool = True
             r.error("'machine' must be the name of a state machine of the d-model",
                     ("machine",))
     if "default_inertial" in data:
-
         if data["default_inertial"] in CHOICES:
             s.default_inertial = data["default_inertial"]
         else:

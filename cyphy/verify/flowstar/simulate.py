@@ -27,8 +27,8 @@ import numpy as np
 import sympy
 
 from cyphy import expr as ex
-from cyphy.verify.flowstar.syntax import Constraint, FlowModel, parse_model
 from cyphy.translate.to_sympy import to_sympy
+from cyphy.verify.flowstar.syntax import Constraint, FlowModel, parse_model
 
 RTOL, ATOL = 1e-10, 1e-12
 MARGIN = 1e-7  # relative margin a decision needs to count as clear

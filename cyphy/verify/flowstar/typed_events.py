@@ -17,12 +17,12 @@ import sympy
 
 from cyphy import expr as ex
 from cyphy.diagnostics import Span
-from cyphy.verify.flowstar.problem import symbol
-from cyphy.model.machines import expressions
 from cyphy.lang import ast
-from cyphy.lang.notation import type_to_notation, to_notation
+from cyphy.lang.notation import to_notation, type_to_notation
+from cyphy.model.machines import expressions
 from cyphy.semantics.dynamics.equations import member_equations
 from cyphy.translate.to_sympy import UnsupportedNode, to_sympy
+from cyphy.verify.flowstar.problem import symbol
 
 #: The event types whose values are one number.
 NUMBERS = ("real", "int", "nat")
@@ -57,7 +57,6 @@ def machine_events(machine: Any) -> list[tuple[str, Span, Any]]:
     """The input events the machines of ``machine`` (an interpreter, or a module's: its
     ``parts``) and the operation definitions they call read, each with where it is first
     read and its declared type, in the order read."""
-
     out: dict[str, tuple[str, Span, Any]] = {}
     for part in machine.parts:
         for m in [part.machine, *part.operations.values()]:
@@ -72,7 +71,6 @@ def machine_events(machine: Any) -> list[tuple[str, Span, Any]]:
 
 def not_one_number(name: str, type_: Any) -> ValueRefused | None:
     """Why a typed event of this type cannot be simulated (None: it can)."""
-
     if isinstance(type_, ast.PrimitiveType) and type_.name in NUMBERS:
         return None
     return ValueRefused(f"the input event {name} carries a {type_to_notation(type_)}: "
@@ -82,7 +80,6 @@ def not_one_number(name: str, type_: Any) -> ValueRefused | None:
 
 def typed_event(model: Any, mapping: Any, event: Any) -> TypedEvent:
     """The event's mapping (:class:`cyphy.lang.ast.EventMapping`) in the model's names."""
-
     param = f"cyphy_event_{event.name}"
     members = member_equations(model, mapping, event, {event.param: ex.Name((param,))})
     preds = [p.expr for p in members.predicates]
@@ -99,7 +96,6 @@ def solve_value(t: TypedEvent, names: Mapping[str, Any], variables: set[Any],
     outputs they read replaced by ``in_states`` and the plain ``consts`` by their values;
     also the substitution of the parameter and the locals solved, for the predicate. Raises
     :class:`ValueRefused` unless the equations give the parameter exactly one value."""
-
     what = f"the value of the input event {t.name}"
     hint = (f"give the parameter of {t.name} one value with an equation over sensor "
             "outputs, locals and constants (equation r == Link::Joint::Sensor.output)")

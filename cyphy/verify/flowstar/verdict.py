@@ -99,7 +99,6 @@ def model_problems(text: str, required_jumps: int | None = None) -> list[str]:
     """What would make Flow*'s SAFE on this model meaningless: a mode not listed under
     ``unsafe`` (it counts as entirely unsafe, or the check is vacuous), or ``max jumps``
     below what the horizon needs (the paths stop early, silently)."""
-
     model = parse_model(text)
     problems = []
     if model.unsafe is None:

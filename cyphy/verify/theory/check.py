@@ -6,13 +6,13 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from cyphy.verify.theory.ax_types import check_ax_theory
 from cyphy.verify.theory.findings import Finding
 from cyphy.verify.theory.grammar import ambiguous_terms, grammars
+from cyphy.verify.theory.reserved import reserved_for
 from cyphy.verify.theory.scope import (build_scope, duplicates, proofs, reserved_bindings,
                                        uses_before_definition)
 from cyphy.verify.theory.session import Session, Theory, read_session
-from cyphy.verify.theory.reserved import reserved_for
-from cyphy.verify.theory.ax_types import check_ax_theory
 from cyphy.verify.theory.utp_types import check_theory
 
 #: The prelude cyphy ships: its own terms are not type-checked (the signature table types
@@ -41,7 +41,6 @@ def dialect(session: Session, theory: Theory) -> str | None:
 
 def reserved_words(kind: str) -> dict[str, str]:
     """Word → where it is a keyword, for the grammar of ``kind`` (utp or axiomatic)."""
-
     return reserved_for(kind)
 
 
@@ -68,7 +67,6 @@ def _line(theory: Theory, message: str) -> int:
 
 
 def type_findings(session: Session, kinds: dict[str, str]) -> list[Finding]:
-
     out = []
     for th in session.theories:
         if th.name == PRELUDE:
