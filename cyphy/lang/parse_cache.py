@@ -40,7 +40,8 @@ from cyphy import disk_cache, pickling, progress
 from cyphy.lang.ast import ParseResult
 
 _PACKAGE = Path(__file__).resolve().parent.parent
-_SOURCES = ("lang/robosim.lark", "lang/grammar.py", "lang/parser.py", "lang/reductions.py",
+_SOURCES = ("lang/robosim.lark", "lang/grammar.py", "lang/lexer.py", "lang/parser.py",
+            "lang/reductions.py",
             "lang/syntax_errors.py", "lang/builder/*.py",
             "lang/ast/*.py", "expr.py", "diagnostics.py", "codes.py", "pickling.py", "records.py",
             "disk_cache.py", "lang/parse_cache.py")
