@@ -34,6 +34,8 @@ class ExpressionRules(BuilderBase):
 
     def expr(self, pos: Pos, c: list[Any]) -> ex.Expr:
         """Apply operator precedence to a flat row of operands and operators (Pratt)."""
+        if len(c) == 1 and not isinstance(c[0], (str, Tagged)):
+            return c[0]  # one operand, the commonest row (what Pratt would return)
         items: list[tuple[str, Any]] = []
         for child in c:
             if isinstance(child, str):
