@@ -21,8 +21,9 @@ def _write(tmp_path: Path, text: str) -> Path:
     return write_model(tmp_path, text)
 
 
-@pytest.mark.parametrize("text", [chain_model(5), tree_model(7), chain_model(3, sensors_per_link=4)],
-                         ids=["chain5", "tree7", "chain3x4"])
+@pytest.mark.parametrize("text", [chain_model(5), tree_model(7), chain_model(3, sensors_per_link=4),
+                                  tree_model(400, lean=True)],
+                         ids=["chain5", "tree7", "chain3x4", "lean tree400"])
 def test_synthetic_models_check_without_diagnostics(tmp_path: Path, text: str) -> None:
     result = api.check([_write(tmp_path, text)])
     assert [(d.code.id, d.message) for d in result.report.diagnostics] == []
