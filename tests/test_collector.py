@@ -4,8 +4,13 @@
 from __future__ import annotations
 
 import gc
+import os
 import pickle
+import subprocess
+import sys
 import weakref
+
+from conftest import EXAMPLES
 
 from cyphy import collector
 from cyphy.lang import ast
@@ -63,3 +68,46 @@ def test_a_pickled_tree_is_equal_and_its_caches_start_empty() -> None:
     copied_link = next(b for b in copy.items[1].members if isinstance(b, ast.Block))
     assert copied_link._views is None  # caches are not pickled, they are rebuilt
     assert copied_link.blocks == link.blocks and copied_link.blocks[0].span == link.blocks[0].span
+
+
+def test_a_command_keeps_what_a_pause_built_frozen() -> None:
+    """In the ``cyphy`` command (cli.run calls keep_frozen), what a pause built stays out of
+    every later collection: none of them traverses it again. A child process, as the flag
+    is for the whole process."""
+    code = (
+        "import gc\n"
+        "from cyphy import collector\n"
+        "with collector.paused():\n"
+        "    kept = [[i] for i in range(100_000)]\n"
+        "assert gc.get_freeze_count() == 0, gc.get_freeze_count()\n"
+        "collector.keep_frozen()\n"
+        "with collector.paused():\n"
+        "    more = [[i] for i in range(100_000)]\n"
+        "assert gc.isenabled()\n"
+        "assert gc.get_freeze_count() >= 200_000, gc.get_freeze_count()\n"
+        "print('ok')\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=60)
+    assert out.returncode == 0 and out.stdout == "ok\n", out.stderr
+
+
+def test_the_cyphy_command_leaves_the_checked_model_frozen() -> None:
+    """``cyphy check`` as the executable runs it (``cli.run``): when it exits, the syntax tree
+    and what the checks built are frozen (counted just before ``os._exit``)."""
+    code = (
+        "import gc, os, sys\n"
+        "exit = os._exit\n"
+        "def counted(status):\n"
+        "    sys.stdout.write(f'{gc.get_freeze_count()} {status}\\n'); sys.stdout.flush()\n"
+        "    exit(status)\n"
+        "os._exit = counted\n"
+        f"sys.argv = ['cyphy', 'check', '-q', {str(EXAMPLES / 'marxbot')!r}]\n"
+        "from cyphy import cli\n"
+        "cli.run()\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120, env={**os.environ, "CYPHY_NO_CACHE": "1"})
+    frozen, status = out.stdout.split()
+    assert status == "0", out.stderr
+    assert int(frozen) > 20_000, out.stdout  # the marXbot's trees and checks: ~10^5 objects

@@ -18,7 +18,7 @@ from types import ModuleType
 from typing import NoReturn, Sequence
 
 import cyphy
-from cyphy import interrupts, progress
+from cyphy import collector, interrupts, progress
 from cyphy.cli.options import common_options, joined_values
 from cyphy.cli.targets import output_problem
 from cyphy.deep import run_deep, where_too_deep
@@ -87,6 +87,7 @@ def run() -> NoReturn:
     time on every command that imports NumPy, for matrices of 3x3 to a few hundred rows, which
     one thread multiplies faster than several can share. A user's own setting wins."""
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    collector.keep_frozen()  # the command's results live until os._exit: never collected
     try:
         interrupts.raise_on_sigterm()
         progress.start()
