@@ -105,8 +105,11 @@ def _callback(shape: Shape, method: Callable[[Pos, list[Any]], Any] | None) -> C
     simple = nones_after == 0 and all(not splice and not nones for _, splice, nones in include)
     indices = tuple(i for i, _, _ in include)
     position = _positioner(shape)
-    if simple and len(indices) == 1 and method is not None and not expand1:
+    if simple and len(indices) == 1 and not expand1:
         return _one_child(indices[0], position, method)
+    if (method is None and not expand1 and not nones_after and len(include) == 2
+            and include[0] == (0, True, 0) and include[1][1:] == (False, 0)):
+        return _grown(include[1][0], position)
 
     def reduce(symbols: list[Any]) -> Any:
         pos = position(symbols)
@@ -143,9 +146,15 @@ def _first(symbols: list[Any]) -> Any:
 
 
 def _one_child(index: int, position: Callable[[list[Any]], Pos],
-               method: Callable[[Pos, list[Any]], Any]) -> Callback:
-    """``reduce`` for the commonest shape, a rule that keeps one symbol and makes a node
-    (``atom: NUMBER``, ``expr: unit``): the same result with less work per reduction."""
+               method: Callable[[Pos, list[Any]], Any] | None) -> Callback:
+    """``reduce`` for the commonest shape, a rule that keeps one symbol: it makes a node
+    (``atom: NUMBER``, ``expr: unit``) or starts a list (``_member*``'s first member). The
+    same result as ``reduce``'s, with less work per reduction."""
+    if method is None:
+        def first_member(symbols: list[Any]) -> Any:
+            s = symbols[index]
+            return ([s if type(s) is not tuple else s[0]], position(symbols))
+        return first_member
 
     def reduce_one(symbols: list[Any]) -> Any:
         pos = position(symbols)
@@ -153,6 +162,19 @@ def _one_child(index: int, position: Callable[[list[Any]], Pos],
         return (method(pos, [s if type(s) is not tuple else s[0]]), pos)
 
     return reduce_one
+
+
+def _grown(index: int, position: Callable[[list[Any]], Pos]) -> Callback:
+    """``reduce`` for a list that grows by one member (``_member*``'s ``list member``): the
+    list is extended in place, as ``reduce`` does."""
+
+    def grow(symbols: list[Any]) -> Any:
+        members = symbols[0][0]
+        s = symbols[index]
+        members.append(s if type(s) is not tuple else s[0])
+        return (members, position(symbols))
+
+    return grow
 
 
 def _positioner(shape: Shape) -> Callable[[list[Any]], Pos]:
