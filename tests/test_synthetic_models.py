@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import subprocess
 import sys
 from pathlib import Path
 
@@ -85,3 +86,17 @@ def test_index_expansion_gives_distinct_names(tmp_path: Path) -> None:
     for s in m.sensors:
         assert s.qname[-1].isdigit()
         assert s.pose.position[1] == pytest.approx(0.01 * int(s.qname[-1]), abs=1e-12)
+
+
+def test_the_large_check_benchmark_runs_and_reports(tmp_path: Path) -> None:
+    """``benchmarks/bench_large_check.py`` (run by hand at 90,198 links) at a small size: a
+    clean check in a process of its own, measured, and the target judged not met (too few
+    links to count)."""
+    out = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "bench_large_check.py"),
+                          "--links", "300"], capture_output=True, text=True, timeout=300,
+                         cwd=tmp_path)
+    assert out.returncode == 1, out.stdout + out.stderr
+    first, verdict = out.stdout.splitlines()
+    assert first.startswith("300 links (0.1 MB), cold: exit 0, "), first
+    assert first.endswith("last line: 1 file checked: 0 errors, 0 warnings"), first
+    assert verdict == "target (90,198 links cold: 60 s, 1.5 GB): NOT met", verdict
