@@ -32,7 +32,12 @@ from typing import Any, Callable
 
 from lark import Lark
 from lark.lexer import (BasicLexer, ContextualLexer, LexerState, LineCounter, PatternStr,
-                        TextSlice, UnlessCallback)
+                        UnlessCallback)
+
+try:  # Lark 1.3 lexes a slice of the text; Lark 1.1 and 1.2, the text itself
+    from lark.lexer import TextSlice
+except ImportError:  # pragma: no cover - tested by hand with Lark 1.2.2
+    TextSlice = None
 
 
 #: The name of the expression's last alternative, any one character: where no terminal
@@ -62,8 +67,9 @@ class Lexer:
         if self._contextual is None:
             conf = copy(self.lark.lexer_conf)
             conf.skip_validation = True  # validated when the grammar was loaded
-            states = {s: list(row) for s, row in self.lark.parser.parser._parse_table.states.items()}
-            self._contextual = ContextualLexer(conf, states)
+            table = self.lark.parser.parser._parse_table
+            self._contextual = ContextualLexer(conf, {s: list(row) for s, row in
+                                                      table.states.items()})
         return self._contextual
 
 
@@ -148,8 +154,8 @@ def _contextual_token(lexer: Lexer, state: int, text: str, pos: int, line: int, 
     counter = LineCounter("\n")
     counter.char_pos, counter.line, counter.line_start_pos = pos, line, line_start
     counter.column = pos - line_start + 1
-    cut = lexer.contextual().lex(LexerState(TextSlice(text, 0, len(text)), counter),
-                                 _InState(state))
+    whole = text if TextSlice is None else TextSlice(text, 0, len(text))
+    cut = lexer.contextual().lex(LexerState(whole, counter), _InState(state))
     lexed = next(cut)  # there is a token at pos: pos is not in white space
     return token_class(lexed.type, str(lexed), lexed.start_pos, lexed.line, lexed.column,
                        lexed.end_line, lexed.end_column, lexed.end_pos)
