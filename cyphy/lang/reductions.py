@@ -107,9 +107,13 @@ def _callback(shape: Shape, method: Callable[[Pos, list[Any]], Any] | None) -> C
     position = _positioner(shape)
     if simple and len(indices) == 1 and not expand1:
         return _one_child(indices[0], position, method)
-    if (method is None and not expand1 and not nones_after and len(include) == 2
-            and include[0] == (0, True, 0) and include[1][1:] == (False, 0)):
-        return _grown(include[1][0], position)
+    if simple and len(indices) == 2 and not expand1 and method is not None:
+        return _two_children(indices, position, method)
+    if method is None and not expand1 and not nones_after:
+        if include == ((0, True, 0),):
+            return _spliced(position)
+        if len(include) == 2 and include[0] == (0, True, 0) and include[1][2] == 0:
+            return _grown(include[1][0], include[1][1], position)
 
     def reduce(symbols: list[Any]) -> Any:
         pos = position(symbols)
@@ -164,9 +168,40 @@ def _one_child(index: int, position: Callable[[list[Any]], Pos],
     return reduce_one
 
 
-def _grown(index: int, position: Callable[[list[Any]], Pos]) -> Callback:
-    """``reduce`` for a list that grows by one member (``_member*``'s ``list member``): the
-    list is extended in place, as ``reduce`` does."""
+def _two_children(indices: tuple[int, ...], position: Callable[[list[Any]], Pos],
+                  method: Callable[[Pos, list[Any]], Any]) -> Callback:
+    """``reduce`` for a rule that keeps two symbols and makes a node (``pose_field: NAME
+    "=" expr``)."""
+    first, second = indices
+
+    def reduce_two(symbols: list[Any]) -> Any:
+        pos = position(symbols)
+        a, b = symbols[first], symbols[second]
+        return (method(pos, [a if type(a) is not tuple else a[0],
+                             b if type(b) is not tuple else b[0]]), pos)
+
+    return reduce_two
+
+
+def _spliced(position: Callable[[list[Any]], Pos]) -> Callback:
+    """``reduce`` for an inlined rule that is one inlined rule (``_member*``'s first member,
+    a ``_member``): its children, the same list, as ``reduce`` passes them on."""
+
+    def splice(symbols: list[Any]) -> Any:
+        return (symbols[0][0], position(symbols))
+
+    return splice
+
+
+def _grown(index: int, spliced: bool, position: Callable[[list[Any]], Pos]) -> Callback:
+    """``reduce`` for a list that grows by one member, or by an inlined rule's children
+    (``_member*``'s ``list _member``): the list is extended in place, as ``reduce`` does."""
+    if spliced:
+        def grow_by(symbols: list[Any]) -> Any:
+            members = symbols[0][0]
+            members += symbols[index][0]
+            return (members, position(symbols))
+        return grow_by
 
     def grow(symbols: list[Any]) -> Any:
         members = symbols[0][0]
