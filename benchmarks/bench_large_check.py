@@ -11,8 +11,8 @@ the report's 20 MB). ``--full`` gives every link an IR sensor and every joint a 
 motor (56.3 MB), and, as cousins share places there, V5 warns about most links.
 
 Measured on a quiet machine (2026-11-27, 2 cores, load below 1), cold: the default tree
-54.1, 56.4 and 57.5 s (one run 64.2 s) and 1.37 GiB (1.47 GB), the progress line still for
-at most 2.7 s: met. ``--full``: 118.6 s and 2.58 GiB (2.77 GB), still for at most 2.3 s. The
+52.3 and 53.8 s (earlier states of the same changes 54.1-57.5 s, once 64.2 s) and 1.37 GiB
+(1.47 GB), the progress line still for at most 1.9 s: met, narrowly. ``--full``: 118.6 s and 2.58 GiB (2.77 GB), still for at most 2.3 s. The
 history (docs/limits.md): 422 s / 6.10 GiB before the syntax tree was built during the parse,
 382 s / 2.37 GiB with lark-cython (shared machine), 143 s / 2.36 GiB (``--full``) and 70 s /
 1.35 GiB (the lean tree, then with coincident links) before cyphy's own lexer.
