@@ -261,3 +261,14 @@ def test_the_lines_and_columns_after_a_string_across_lines_and_a_comment_are_lar
     outcome, tokens = _shifted(fast, text)
     assert (outcome, tokens) == _shifted(pure(), text)
     assert outcome == "parsed" and ("NUMBER", "2", 70, 6, 11, 71, 6, 12) in tokens, tokens
+
+
+@pytest.mark.parametrize("text", ["", "  \n", "// only a comment\n", "/* x */", "package p",
+                                  "package p\n// end", '"', "/*", "package p\n@"])
+def test_texts_with_few_tokens_or_none_parse_as_larks(text):
+    """The end token's place when no token or one came before it, and an unfinished string
+    or comment at the end."""
+    fast = compiled()
+    assert fast is not None
+    assert _outcome(fast, text) == _outcome(pure(), text)
+    assert _shifted(fast, text) == _shifted(pure(), text)
