@@ -26,11 +26,14 @@ from typing import Iterator
 _KEEP_FROZEN = False
 
 
-def keep_frozen() -> None:
+def keep_frozen(keep: bool = True) -> None:
     """From now on, leave what a pause built frozen when it ends (see above): for a process
-    that exits without collecting."""
+    that exits without collecting. ``keep_frozen(False)`` turns it off again and hands what
+    was frozen back to the collector (the language server, started by the command)."""
     global _KEEP_FROZEN
-    _KEEP_FROZEN = True
+    _KEEP_FROZEN = keep
+    if not keep:
+        gc.unfreeze()
 
 
 @contextmanager

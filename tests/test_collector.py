@@ -10,6 +10,7 @@ import subprocess
 import sys
 import weakref
 
+import pytest
 from conftest import EXAMPLES
 
 from cyphy import collector
@@ -85,6 +86,11 @@ def test_a_command_keeps_what_a_pause_built_frozen() -> None:
         "    more = [[i] for i in range(100_000)]\n"
         "assert gc.isenabled()\n"
         "assert gc.get_freeze_count() >= 200_000, gc.get_freeze_count()\n"
+        "collector.keep_frozen(False)\n"  # handed back, and no longer kept
+        "assert gc.get_freeze_count() == 0, gc.get_freeze_count()\n"
+        "with collector.paused():\n"
+        "    last = [[i] for i in range(100_000)]\n"
+        "assert gc.get_freeze_count() == 0, gc.get_freeze_count()\n"
         "print('ok')\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
@@ -111,3 +117,23 @@ def test_the_cyphy_command_leaves_the_checked_model_frozen() -> None:
     frozen, status = out.stdout.split()
     assert status == "0", out.stderr
     assert int(frozen) > 20_000, out.stdout  # the marXbot's trees and checks: ~10^5 objects
+
+
+def test_the_language_server_collects_what_each_check_built() -> None:
+    """``cyphy lsp`` is started by the command, which keeps frozen; the server runs for hours
+    and must not: building it turns that off (a child process, as the flag is global)."""
+    pytest.importorskip("pygls")
+    code = (
+        "import gc\n"
+        "from cyphy import collector\n"
+        "collector.keep_frozen()\n"
+        "from cyphy.lsp.server import build\n"
+        "build(())\n"
+        "with collector.paused():\n"
+        "    built = [[i] for i in range(100_000)]\n"
+        "assert gc.get_freeze_count() == 0, gc.get_freeze_count()\n"
+        "print('ok')\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0 and out.stdout == "ok\n", out.stderr

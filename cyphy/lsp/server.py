@@ -22,6 +22,7 @@ from pygls.lsp.server import LanguageServer
 from pygls.uris import from_fs_path, to_fs_path
 
 import cyphy
+from cyphy import collector
 from cyphy.diagnostics import Diagnostic, Severity, Span
 from cyphy.lang import parse_cache
 from cyphy.lang.workspace import MODEL_SUFFIXES, model_files_in
@@ -202,6 +203,9 @@ def _guarded(default: Any) -> Callable[[Callable[..., Any]], Callable[..., Any]]
 
 def build(search_paths: tuple[str, ...] = ()) -> CyphyServer:
     parse_cache.keep_recent()  # unchanged files are checked again at every edit
+    # A server runs for hours, checking at every edit: the cycles among what one check built
+    # must be collected before the next (the ``cyphy`` command keeps its results frozen).
+    collector.keep_frozen(False)
     server = CyphyServer(search_paths)
 
     @server.feature(lsp.INITIALIZE)
