@@ -71,6 +71,14 @@ def test_a_pickled_tree_is_equal_and_its_caches_start_empty() -> None:
     assert copied_link.blocks == link.blocks and copied_link.blocks[0].span == link.blocks[0].span
 
 
+def _passes_in_a_child(code: str) -> None:
+    """``code`` run by a fresh interpreter (the collector's settings are per process), which
+    ends by printing ``ok``."""
+    out = subprocess.run([sys.executable, "-c", code + "print('ok')\n"], capture_output=True,
+                         text=True, timeout=120)
+    assert out.returncode == 0 and out.stdout == "ok\n", out.stderr
+
+
 def test_a_command_keeps_what_a_pause_built_frozen() -> None:
     """In the ``cyphy`` command (cli.run calls keep_frozen), what a pause built stays out of
     every later collection: none of them traverses it again. A child process, as the flag
@@ -91,11 +99,8 @@ def test_a_command_keeps_what_a_pause_built_frozen() -> None:
         "with collector.paused():\n"
         "    last = [[i] for i in range(100_000)]\n"
         "assert gc.get_freeze_count() == 0, gc.get_freeze_count()\n"
-        "print('ok')\n"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         timeout=60)
-    assert out.returncode == 0 and out.stdout == "ok\n", out.stderr
+    _passes_in_a_child(code)
 
 
 def test_the_cyphy_command_leaves_the_checked_model_frozen() -> None:
@@ -132,8 +137,5 @@ def test_the_language_server_collects_what_each_check_built() -> None:
         "with collector.paused():\n"
         "    built = [[i] for i in range(100_000)]\n"
         "assert gc.get_freeze_count() == 0, gc.get_freeze_count()\n"
-        "print('ok')\n"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         timeout=120)
-    assert out.returncode == 0 and out.stdout == "ok\n", out.stderr
+    _passes_in_a_child(code)
