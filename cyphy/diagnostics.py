@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Iterable, Iterator
 
 from cyphy.pickling import FastPickle, restore
-from cyphy.records import record
+from cyphy.records import record, slot_setter
 
 
 class Severity(str, Enum):
@@ -59,7 +59,7 @@ class Span(FastPickle):
 
 
 _SET_FILE, _SET_LINE, _SET_COLUMN, _SET_END_LINE, _SET_END_COLUMN = (
-    Span.__dict__[name].__set__ for name in ("file", "line", "column", "end_line", "end_column"))
+    slot_setter(Span, name) for name in ("file", "line", "column", "end_line", "end_column"))
 
 
 def _init_span(self: Span, file: str, line: int, column: int, end_line: int, end_column: int

@@ -22,6 +22,8 @@ from dataclasses import MISSING, fields
 from operator import attrgetter
 from typing import Any, Callable, Iterator
 
+from cyphy.records import slot_setter
+
 #: Per class: the setters of its pickled fields (the slots' own descriptors, which a frozen
 #: class's ``__setattr__`` does not guard), and (setter, default) of its cache fields.
 _Setter = Callable[[Any, Any], None]
@@ -36,12 +38,10 @@ def _pickled_names(cls: type) -> tuple[str, ...]:
 
 
 def _slot_setter(cls: type, name: str) -> _Setter:
-    """The ``__set__`` of the slot ``name``, from the class that declares it."""
-    for klass in cls.__mro__:
-        descriptor = klass.__dict__.get(name)
-        if descriptor is not None and hasattr(descriptor, "__set__"):
-            return descriptor.__set__  # type: ignore[no-any-return]
-    raise TypeError(f"{cls.__name__}.{name} is not a slot")
+    setter = slot_setter(cls, name)
+    if setter is None:
+        raise TypeError(f"{cls.__name__}.{name} is not a slot")
+    return setter
 
 
 def _layout(cls: type) -> tuple[tuple[_Setter, ...], tuple[tuple[_Setter, Any], ...]]:

@@ -38,14 +38,12 @@ TOKEN_TYPES: tuple[type, ...] = (Token,) if lark_cython is None else (Token, lar
 class Engine:
     """One way to run the grammar's LALR tables: the loaded ``Lark`` object and the classes
     of its parser's configuration and state (Lark's, or lark-cython's C versions), and the
-    lexer that feeds it when it is not the ``Lark`` object's own (lark-cython's class of
-    tokens then)."""
+    lexer that feeds it when it is not the ``Lark`` object's own."""
 
     lark: Lark
     parse_conf: type
     parser_state: type
     lexer: one_pass.Lexer | None = None
-    token: type | None = None
 
     def parse(self, text: str, callbacks: dict[Any, Any]) -> Any:
         """Run the parser over ``text`` with ``callbacks`` (one per rule) instead of the tree
@@ -54,7 +52,7 @@ class Engine:
         lalr = frontend.parser
         conf = self.parse_conf(lalr._parse_table, callbacks, "start")
         if self.lexer is not None:
-            return one_pass.parse(self.lexer, self.parser_state(conf, None), self.token, text)
+            return one_pass.parse(self.lexer, self.parser_state(conf, None), text)
         state = self.parser_state(conf, frontend._make_lexer_thread(text))
         return lalr.parser.parse_from_state(state)
 
@@ -83,7 +81,7 @@ def compiled() -> Engine | None:
     lark = _load(False, lark_cython.plugins)
     for rule in lark.rules:  # this instance's own objects, also those of its parse table
         rule.__class__ = _IdentityRule
-    return Engine(lark, module.ParseConf, module.ParserState, one_pass.build(lark), module.Token)
+    return Engine(lark, module.ParseConf, module.ParserState, one_pass.build(lark, module.Token))
 
 
 class _IdentityRule(Rule):

@@ -59,6 +59,7 @@ class Lexer:
     accepts: dict[int, frozenset[str]]  # parser state -> the terminals it takes
     callbacks: dict[str, Callable[[Any], Any]]  # the grammar's lexer callbacks, by terminal
     lark: Lark
+    token: type  # the class of the tokens the LALR loop takes (lark-cython's)
     _contextual: ContextualLexer | None = field(default=None, repr=False)
 
     def contextual(self) -> ContextualLexer:
@@ -73,8 +74,9 @@ class Lexer:
         return self._contextual
 
 
-def build(lark: Lark) -> Lexer | None:
-    """The lexer for ``lark``'s grammar, or None when the grammar uses what this pass does
+def build(lark: Lark, token: type) -> Lexer | None:
+    """The lexer for ``lark``'s grammar, making tokens of class ``token`` (the LALR loop's),
+    or None when the grammar uses what this pass does
     not reproduce (then lark-cython's own lexer runs): more than one root expression,
     case-insensitive keywords, or a keyword test other than Lark's ``UnlessCallback``."""
     conf = lark.lexer_conf
@@ -95,16 +97,17 @@ def build(lark: Lark) -> Lexer | None:
     states = lark.parser.parser._parse_table.states
     pattern = re.compile(f"{scanner._mres[0].pattern}|(?P<{UNMATCHED}>[\\s\\S])")
     return Lexer(pattern, keywords, frozenset(conf.ignore), frozenset(root.newline_types),
-                 {s: frozenset(row) for s, row in states.items()}, dict(conf.callbacks), lark)
+                 {s: frozenset(row) for s, row in states.items()}, dict(conf.callbacks), lark,
+                 token)
 
 
-def parse(lexer: Lexer, state: Any, token_class: type, text: str) -> Any:
+def parse(lexer: Lexer, state: Any, text: str) -> Any:
     """Feed ``text``'s tokens to ``state`` (lark-cython's ``ParserState``), its ``$END`` last;
     returns what the start rule's callback made. Raises Lark's ``UnexpectedInput``."""
     feed = state.feed_token
     stack = state.state_stack
     keywords, ignore, newline = lexer.keywords, lexer.ignore, lexer.newline
-    accepts, callbacks = lexer.accepts, lexer.callbacks
+    accepts, callbacks, token_class = lexer.accepts, lexer.callbacks, lexer.token
     line, line_start, pos = 1, 0, 0
     last = None
     while True:
@@ -137,7 +140,7 @@ def parse(lexer: Lexer, state: Any, token_class: type, text: str) -> Any:
             last = token
         else:
             break  # the pass reached the end of the text
-        last = _contextual_token(lexer, stack[-1], text, pos, line, line_start, token_class)
+        last = _contextual_token(lexer, stack[-1], text, pos, line, line_start)
         pos, line = last.end_pos, last.end_line
         line_start = pos - last.end_column + 1
         feed(last)
@@ -146,8 +149,8 @@ def parse(lexer: Lexer, state: Any, token_class: type, text: str) -> Any:
     return feed(end, True)
 
 
-def _contextual_token(lexer: Lexer, state: int, text: str, pos: int, line: int, line_start: int,
-                      token_class: type) -> Any:
+def _contextual_token(lexer: Lexer, state: int, text: str, pos: int, line: int, line_start: int
+                      ) -> Any:
     """The token at ``pos`` as Lark's contextual lexer cuts it in parser state ``state``
     (raising its ``UnexpectedCharacters``, or ``UnexpectedToken`` for a token of another
     state, as it does)."""
@@ -157,7 +160,7 @@ def _contextual_token(lexer: Lexer, state: int, text: str, pos: int, line: int, 
     whole = text if TextSlice is None else TextSlice(text, 0, len(text))
     cut = lexer.contextual().lex(LexerState(whole, counter), _InState(state))
     lexed = next(cut)  # there is a token at pos: pos is not in white space
-    return token_class(lexed.type, str(lexed), lexed.start_pos, lexed.line, lexed.column,
+    return lexer.token(lexed.type, str(lexed), lexed.start_pos, lexed.line, lexed.column,
                        lexed.end_line, lexed.end_column, lexed.end_pos)
 
 

@@ -215,8 +215,8 @@ def _grown(index: int, spliced: bool, position: Callable[[list[Any]], Pos]) -> C
 def _positioner(shape: Shape) -> Callable[[list[Any]], Pos]:
     """:func:`_position` for one rule: a rule that starts or ends with a token (a keyword,
     a brace) takes that token's start or end, the rule's first or last positioned symbol."""
-    if shape.size == 1:  # the one symbol's position
-        return _only_position
+    if shape.size == 1:  # the one symbol's position: no end to search for
+        return _first_position
     if shape.starts_with_token and shape.ends_with_token:
         def both(symbols: list[Any]) -> Pos:
             first, last = symbols[0], symbols[-1]
@@ -237,13 +237,6 @@ def _positioner(shape: Shape) -> Callable[[list[Any]], Pos]:
             return (start[0], start[1], last.end_line, last.end_column)
         return end
     return _position
-
-
-def _only_position(symbols: list[Any]) -> Pos:
-    s = symbols[0]
-    if type(s) is not tuple:
-        return (s.line, s.column, s.end_line, s.end_column)  # a token
-    return s[1]
 
 
 def _position(symbols: list[Any]) -> Pos:
